@@ -1,1 +1,16 @@
-//! confset
+//! # confset — state estimation with guaranteed sets
+//!
+//! (crate map: filled in below)
+
+pub mod error;
+pub mod experiment;
+pub mod kalman;
+pub mod linalg;
+pub mod model;
+pub mod plot;
+pub mod presets;
+pub mod scenario;
+pub mod scf;
+pub mod sets;
+
+pub use error::{Error, Result};

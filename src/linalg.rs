@@ -1,0 +1,188 @@
+//! Small dense linear-algebra helpers shared by every method: checks of user matrices,
+//! symmetric square roots, and the conversions between JSON rows and nalgebra matrices.
+
+use crate::error::{Error, Result};
+use nalgebra::{DMatrix, DVector};
+
+/// Relative tolerance for symmetry and semidefiniteness checks of user matrices.
+pub const SYM_TOL: f64 = 1e-9;
+
+/// Build a matrix from JSON rows (`[[a, b], [c, d]]`), checking that the rows have equal length
+/// and that every entry is finite.
+pub fn from_rows(field: &str, rows: &[Vec<f64>]) -> Result<DMatrix<f64>> {
+    if rows.is_empty() || rows[0].is_empty() {
+        return Err(Error::field(
+            field,
+            "must be a non-empty matrix (a list of rows)",
+        ));
+    }
+    let cols = rows[0].len();
+    for (i, r) in rows.iter().enumerate() {
+        if r.len() != cols {
+            return Err(Error::field(
+                field,
+                format!(
+                    "has rows of different lengths (row 0 has {cols}, row {i} has {})",
+                    r.len()
+                ),
+            ));
+        }
+        if let Some(j) = r.iter().position(|v| !v.is_finite()) {
+            return Err(Error::field(
+                field,
+                format!("has a non-finite entry at row {i}, column {j}"),
+            ));
+        }
+    }
+    Ok(DMatrix::from_fn(rows.len(), cols, |i, j| rows[i][j]))
+}
+
+/// Rows of a matrix, for JSON.
+pub fn to_rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+        .collect()
+}
+
+/// A vector from JSON, checking length and finiteness.
+pub fn vector(field: &str, v: &[f64], len: usize) -> Result<DVector<f64>> {
+    if v.len() != len {
+        return Err(Error::field(
+            field,
+            format!("must have {len} entries, found {}", v.len()),
+        ));
+    }
+    if let Some(j) = v.iter().position(|x| !x.is_finite()) {
+        return Err(Error::field(
+            field,
+            format!("has a non-finite entry at position {j}"),
+        ));
+    }
+    Ok(DVector::from_column_slice(v))
+}
+
+/// Check that `m` is `rows × cols`.
+pub fn expect_shape(field: &str, m: &DMatrix<f64>, rows: usize, cols: usize) -> Result<()> {
+    if m.nrows() != rows || m.ncols() != cols {
+        return Err(Error::field(
+            field,
+            format!("must be {rows}×{cols}, found {}×{}", m.nrows(), m.ncols()),
+        ));
+    }
+    Ok(())
+}
+
+fn scale(m: &DMatrix<f64>) -> f64 {
+    m.amax().max(f64::MIN_POSITIVE)
+}
+
+/// Smallest eigenvalue of a symmetric matrix.
+pub fn min_eigenvalue(m: &DMatrix<f64>) -> f64 {
+    m.clone().symmetric_eigen().eigenvalues.min()
+}
+
+/// Check that a covariance is symmetric and positive semidefinite (`definite = false`) or
+/// positive definite (`definite = true`), relative to its largest entry.
+pub fn check_covariance(field: &str, m: &DMatrix<f64>, definite: bool) -> Result<()> {
+    let kind = if definite {
+        "positive definite"
+    } else {
+        "positive semidefinite"
+    };
+    if !m.is_square() {
+        return Err(Error::field(
+            field,
+            format!("must be square, found {}×{}", m.nrows(), m.ncols()),
+        ));
+    }
+    let s = scale(m);
+    let asym = (m - m.transpose()).amax();
+    if asym > SYM_TOL * s {
+        return Err(Error::field(
+            field,
+            format!("must be symmetric {kind} (largest asymmetry {asym:.3e})"),
+        ));
+    }
+    let lmin = min_eigenvalue(m);
+    let bad = if definite {
+        lmin <= SYM_TOL * s
+    } else {
+        lmin < -SYM_TOL * s
+    };
+    if bad {
+        return Err(Error::field(
+            field,
+            format!("must be symmetric {kind} (smallest eigenvalue {lmin:.3e})"),
+        ));
+    }
+    Ok(())
+}
+
+/// (m + mᵀ)/2: removes the rounding asymmetry that products like F P Fᵀ accumulate.
+pub fn symmetrize(m: &DMatrix<f64>) -> DMatrix<f64> {
+    (m + m.transpose()) * 0.5
+}
+
+/// Lower-triangular L with L Lᵀ = m for a symmetric positive *semi*definite m (eigenvalues
+/// clipped at zero, then a QR makes the factor triangular). Used to draw Gaussian noise whose
+/// covariance may be singular, e.g. the backward noise V^b_2 = 0 when x_1 is known.
+pub fn psd_sqrt(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = m.nrows();
+    if let Some(c) = symmetrize(m).cholesky() {
+        return c.l();
+    }
+    let eig = symmetrize(m).symmetric_eigen();
+    let mut root = eig.eigenvectors.clone();
+    for j in 0..n {
+        let s = eig.eigenvalues[j].max(0.0).sqrt();
+        root.column_mut(j).scale_mut(s);
+    }
+    // root rootᵀ = m; make it lower triangular: rootᵀ = Q R  ⇒  root = Rᵀ Qᵀ, and Rᵀ Rᵀᵀ = m.
+    let r = root.transpose().qr().r();
+    let mut l = r.transpose();
+    for j in 0..n {
+        if l[(j, j)] < 0.0 {
+            l.column_mut(j).neg_mut();
+        }
+    }
+    l
+}
+
+/// Inverse of a square matrix, or an error naming what was being inverted.
+pub fn inverse(what: &str, m: &DMatrix<f64>) -> Result<DMatrix<f64>> {
+    let inv = m
+        .clone()
+        .try_inverse()
+        .filter(|i| i.iter().all(|v| v.is_finite()));
+    inv.ok_or_else(|| Error::field(what, "is singular"))
+}
+
+/// Reciprocal condition number estimate σ_min/σ_max (0 for a singular matrix).
+pub fn rcond(m: &DMatrix<f64>) -> f64 {
+    let sv = m.clone().singular_values();
+    let max = sv.max();
+    if max == 0.0 {
+        0.0
+    } else {
+        sv.min() / max
+    }
+}
+
+/// Spectral radius via the eigenvalues of the (real) Schur form.
+pub fn spectral_radius(m: &DMatrix<f64>) -> f64 {
+    m.clone()
+        .complex_eigenvalues()
+        .iter()
+        .map(|c| c.norm())
+        .fold(0.0, f64::max)
+}
+
+/// Select rows and columns `idx` of a square matrix.
+pub fn sub_matrix(m: &DMatrix<f64>, idx: &[usize]) -> DMatrix<f64> {
+    DMatrix::from_fn(idx.len(), idx.len(), |i, j| m[(idx[i], idx[j])])
+}
+
+/// Select entries `idx` of a vector.
+pub fn sub_vector(v: &DVector<f64>, idx: &[usize]) -> DVector<f64> {
+    DVector::from_fn(idx.len(), |i, _| v[idx[i]])
+}

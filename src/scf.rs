@@ -1,0 +1,316 @@
+//! State Conditional Filter — A. Carè, M. C. Campi, E. Weyer, *State Conditional Filtering*,
+//! IEEE TAC (seed 001).
+//!
+//! X^SCF_t = {x : (x − x̂_t)ᵀ Π_t⁻¹ (x − x̂_t) ≤ χ²(α, n)} (40) contains x_t with probability α
+//! *whatever the value of x_t* (Property 1), where, with the ratio matrix R_t = U_tA_t,
+//!
+//! * x̂_t = R_t⁻¹ x̂^KF_t (33), Π_t = R_t⁻¹ P_t (34);
+//! * R_t = F R_{t−1} F^b + K_t (H − H F R_{t−1} F^b), R_0 = 0 (38)–(39), which equals the closed
+//!   form R_t = I − P_t Γ_t⁻¹ (41) — tested along the recursion;
+//! * asymptotically R̄ = I − P̄ Γ⁻¹ (IV-B);
+//! * components ζ only: R^(s) = I − P^(s) (Γ^(s))⁻¹ with the upper-left blocks (V-A);
+//! * τ-step prediction: the same with P_{t+τ|t} and Γ_{t+τ} (V-B, V-C);
+//! * time-varying / non-stationary systems: Γ_t propagated, F^b_t from (45) (V-D);
+//! * measured inputs: x̂_t = R_t⁻¹ x̂^KF_t + (I − R_t⁻¹) d_t with d_t the input response
+//!   (V-E). We write it as x̂_t = m_t + R_t⁻¹(x̂^KF_t − m_t) with m_t = E[x_t], which is the same
+//!   formula and also covers a non-zero prior mean of x_1.
+
+use crate::error::{Error, Result};
+use crate::kalman::{self, KalmanGains, Offline};
+use crate::linalg::{self, sub_matrix, sub_vector, symmetrize};
+use crate::model::{Inputs, LinearModel};
+use crate::sets::{chi2_quantile, Ellipsoid};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// A ratio matrix is treated as singular below this reciprocal condition number: the SCF
+/// region would be unbounded in some direction (the data carry no information on it yet).
+pub const RATIO_RCOND_MIN: f64 = 1e-12;
+
+/// The ratio matrices R_t = U_tA_t, t = 1..=T, by the recursion (38) from R_0 = 0 (39).
+/// For t ≥ 2 the backward matrix is F^b_t = Γ_{t−1}F_{t−1}ᵀΓ_t⁻¹ ((30), or (45) when Γ_t moves).
+pub fn ratio_recursion(model: &LinearModel, offline: &Offline) -> Result<Vec<DMatrix<f64>>> {
+    let n = model.n();
+    let mut out: Vec<DMatrix<f64>> = Vec::with_capacity(offline.gains.steps.len());
+    for (i, g) in offline.gains.steps.iter().enumerate() {
+        let t = i + 1;
+        let h = model.h(t);
+        let r = if t == 1 {
+            &g.k * h // (38) with R_0 = 0
+        } else {
+            let f_b = model.backward_step(t, &offline.moments)?.f_b;
+            let m = model.f(t - 1) * &out[i - 1] * f_b;
+            &m + &g.k * (h - h * &m)
+        };
+        debug_assert_eq!(r.nrows(), n);
+        out.push(r);
+    }
+    Ok(out)
+}
+
+/// Closed form (41): R = I − P Γ⁻¹ (for components ζ: with the ζ blocks of P and Γ).
+pub fn ratio_closed_form(p: &DMatrix<f64>, gamma: &DMatrix<f64>) -> Result<DMatrix<f64>> {
+    let g_inv = linalg::inverse("Γ_t (prior covariance of the estimated components)", gamma)?;
+    Ok(DMatrix::identity(p.nrows(), p.ncols()) - p * g_inv)
+}
+
+/// SCF center and shape from the KF ones and a ratio matrix: x̂ = m + R⁻¹(x̂^KF − m) (33, V-E),
+/// Π = R⁻¹P (34). `None` while R is singular (fewer informative measurements than states).
+pub fn scf_from_ratio(
+    ratio: &DMatrix<f64>,
+    kf_mean: &DVector<f64>,
+    p: &DMatrix<f64>,
+    prior_mean: &DVector<f64>,
+) -> Option<(DVector<f64>, DMatrix<f64>)> {
+    if linalg::rcond(ratio) < RATIO_RCOND_MIN {
+        return None;
+    }
+    let r_inv = ratio.clone().try_inverse()?;
+    let center = prior_mean + &r_inv * (kf_mean - prior_mean);
+    let pi = symmetrize(&(&r_inv * p));
+    Some((center, pi))
+}
+
+/// KF and SCF regions of one target (components ζ of x at some time), at level α.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct RegionPair {
+    /// Time the region is about (t + τ).
+    pub time: usize,
+    /// State components (0-based) the regions are about.
+    pub components: Vec<usize>,
+    pub kf: Ellipsoid,
+    /// `None` while the ratio matrix is singular.
+    pub scf: Option<Ellipsoid>,
+    /// R for these components (closed form I − P Γ⁻¹).
+    pub ratio: Option<Vec<Vec<f64>>>,
+}
+
+/// KF/SCF regions for components `idx` from KF mean/cov and prior moments at the same time.
+pub fn region_pair(
+    time: usize,
+    idx: &[usize],
+    kf_mean: &DVector<f64>,
+    p: &DMatrix<f64>,
+    prior_mean: &DVector<f64>,
+    gamma: &DMatrix<f64>,
+    alpha: f64,
+) -> Result<RegionPair> {
+    let r2 = chi2_quantile(alpha, idx.len())?;
+    let (xk, pk) = (sub_vector(kf_mean, idx), sub_matrix(p, idx));
+    let (mk, gk) = (sub_vector(prior_mean, idx), sub_matrix(gamma, idx));
+    let kf = Ellipsoid::new(&xk, &pk, r2);
+    let (scf, ratio) = match linalg::inverse("Γ", &gk) {
+        Ok(_) => {
+            let ratio = ratio_closed_form(&pk, &gk)?;
+            let scf =
+                scf_from_ratio(&ratio, &xk, &pk, &mk).map(|(c, pi)| Ellipsoid::new(&c, &pi, r2));
+            (scf, Some(linalg::to_rows(&ratio)))
+        }
+        Err(_) => (None, None),
+    };
+    Ok(RegionPair {
+        time,
+        components: idx.to_vec(),
+        kf,
+        scf,
+        ratio,
+    })
+}
+
+/// Options of the filter run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScfOptions {
+    /// Probability level α ∈ (0, 1).
+    pub alpha: f64,
+    /// Components ζ for the extra region (V-A, V-C); `None` = all.
+    pub components: Option<Vec<usize>>,
+    /// Prediction horizon τ for the extra region (V-B, V-C); 0 = filtering.
+    pub tau: usize,
+    /// Use the asymptotic (constant-gain, constant-ratio) filter of IV-B.
+    pub asymptotic: bool,
+}
+
+/// Everything reported at time t.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ScfStep {
+    pub t: usize,
+    /// X^KF_t.
+    pub kf: Ellipsoid,
+    /// X^SCF_t (40); `None` before the ratio matrix is invertible (t < n, or no information yet).
+    pub scf: Option<Ellipsoid>,
+    /// Ratio matrix U_tA_t from the recursion (38).
+    pub ratio: Vec<Vec<f64>>,
+    /// Regions of the components ζ at t + τ given y_1..y_t, when components or τ were asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<RegionPair>,
+}
+
+/// Data-independent part of the asymptotic filter (IV-B).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Asymptotic {
+    /// Stationary covariance Γ.
+    pub gamma: Vec<Vec<f64>>,
+    /// P̄ = lim P_t.
+    pub p: Vec<Vec<f64>>,
+    /// K̄ = lim K_t.
+    pub k: Vec<Vec<f64>>,
+    /// R̄ = I − P̄Γ⁻¹.
+    pub ratio: Vec<Vec<f64>>,
+    /// Π̄ = R̄⁻¹P̄.
+    pub pi: Vec<Vec<f64>>,
+    /// Backward matrix F^b = ΓFᵀΓ⁻¹ (30).
+    pub f_b: Vec<Vec<f64>>,
+    /// Backward noise covariance V^b = Γ − F^bΓF^bᵀ.
+    pub v_b: Vec<Vec<f64>>,
+}
+
+/// Steady-state quantities of a stable time-invariant model.
+pub fn asymptotic(model: &LinearModel) -> Result<Asymptotic> {
+    let ss = kalman::steady_state(model)?;
+    let gamma = model.stationary_covariance()?;
+    let back = model.backward_representation()?;
+    let ratio = ratio_closed_form(&ss.p, &gamma)?;
+    let r_inv = linalg::inverse("asymptotic ratio matrix R̄", &ratio).map_err(|_| {
+        Error::field(
+            "model.H",
+            "does not make the state observable: the asymptotic ratio matrix is singular",
+        )
+    })?;
+    Ok(Asymptotic {
+        gamma: linalg::to_rows(&gamma),
+        p: linalg::to_rows(&ss.p),
+        k: linalg::to_rows(&ss.k),
+        ratio: linalg::to_rows(&ratio),
+        pi: linalg::to_rows(&symmetrize(&(r_inv * &ss.p))),
+        f_b: linalg::to_rows(&back.f_b),
+        v_b: linalg::to_rows(&back.v_b),
+    })
+}
+
+/// The SCF and KF over data y_1..y_T: regions at every step.
+pub struct ScfRun {
+    pub steps: Vec<ScfStep>,
+    /// KF means x̂^KF_t.
+    pub kf_means: Vec<DVector<f64>>,
+}
+
+/// Run KF and SCF over `y` (and inputs `u`).
+pub fn run(
+    model: &LinearModel,
+    y: &[DVector<f64>],
+    u: &Inputs,
+    opts: &ScfOptions,
+) -> Result<ScfRun> {
+    let steps = y.len();
+    let n = model.n();
+    if let Some(idx) = &opts.components {
+        Ellipsoid::new(&DVector::zeros(n), &DMatrix::identity(n, n), 1.0).project(idx)?;
+    }
+    let r2 = chi2_quantile(opts.alpha, n)?;
+    let mut offline = Offline::new(model, steps + opts.tau, u)?;
+    offline.gains.steps.truncate(steps);
+    let (gains, ratios) = if opts.asymptotic {
+        let ss = kalman::steady_state(model)?;
+        let gamma = model.stationary_covariance()?;
+        let ratio = ratio_closed_form(&ss.p, &gamma)?;
+        let gains = KalmanGains {
+            steps: (0..steps)
+                .map(|_| kalman::GainStep {
+                    p_pred: ss.p_pred.clone(),
+                    k: ss.k.clone(),
+                    p: ss.p.clone(),
+                })
+                .collect(),
+        };
+        (gains, vec![ratio; steps])
+    } else {
+        let ratios = ratio_recursion(model, &offline)?;
+        (offline.gains.clone(), ratios)
+    };
+    let kf_means = gains.filter(model, y, u);
+    let mut out = Vec::with_capacity(steps);
+    let mut any_scf = false;
+    for i in 0..steps {
+        let t = i + 1;
+        let g = &gains.steps[i];
+        let m_t = &offline.moments.mean[i];
+        let kf = Ellipsoid::new(&kf_means[i], &g.p, r2);
+        let scf = if t >= n {
+            scf_from_ratio(&ratios[i], &kf_means[i], &g.p, m_t)
+                .map(|(c, pi)| Ellipsoid::new(&c, &pi, r2))
+        } else {
+            None
+        };
+        any_scf |= scf.is_some();
+        let target = if opts.components.is_some() || opts.tau > 0 {
+            let idx: Vec<usize> = opts.components.clone().unwrap_or_else(|| (0..n).collect());
+            let (xp, pp) = kalman::predict(model, t, opts.tau, &kf_means[i], &g.p, u);
+            let (mp, gp) = if opts.asymptotic {
+                (m_t.clone(), model.stationary_covariance()?)
+            } else {
+                (
+                    offline.moments.mean[i + opts.tau].clone(),
+                    offline.moments.cov[i + opts.tau].clone(),
+                )
+            };
+            Some(region_pair(
+                t + opts.tau,
+                &idx,
+                &xp,
+                &pp,
+                &mp,
+                &gp,
+                opts.alpha,
+            )?)
+        } else {
+            None
+        };
+        out.push(ScfStep {
+            t,
+            kf,
+            scf,
+            ratio: linalg::to_rows(&ratios[i]),
+            target,
+        });
+    }
+    if steps >= n && !any_scf {
+        return Err(Error::field(
+            "model.H",
+            "does not make the state observable from the data: the ratio matrix U_tA_t stayed singular \
+             (the pair (F^b, H) is not observable, Assumption 3) — estimate observable components only",
+        ));
+    }
+    Ok(ScfRun {
+        steps: out,
+        kf_means,
+    })
+}
+
+/// P{x_t ∈ X_t | x_t = x̄} for KF and SCF — the conditional coverage of Fig. 1.
+///
+/// Given x_t = x̄, the KF estimate is Gaussian: x̂^KF_t − m_t ~ N(R_t(x̄ − m_t), P_t − P_tΓ_t⁻¹P_t)
+/// (the paper's footnote 1 in n dimensions: the conditional covariance is U Cov(ν) Uᵀ = P Rᵀ).
+/// For one dimension both probabilities are closed forms in the normal CDF.
+pub fn conditional_coverage_1d(
+    p: f64,
+    gamma: f64,
+    prior_mean: f64,
+    xbar: f64,
+    alpha: f64,
+) -> Result<(f64, f64)> {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let r = 1.0 - p / gamma;
+    let sd = (p * r).max(0.0).sqrt();
+    let chi = chi2_quantile(alpha, 1)?;
+    let phi = Normal::new(0.0, 1.0).map_err(|e| Error::field("", e.to_string()))?;
+    // KF: x̂ − x̄ ~ N((r − 1)(x̄ − m), p r); inside iff |x̂ − x̄| ≤ ρ = √(χ² p).
+    let rho = (chi * p).sqrt();
+    let mu = (r - 1.0) * (xbar - prior_mean);
+    let kf = phi.cdf((rho - mu) / sd) - phi.cdf((-rho - mu) / sd);
+    // SCF: x̂_SCF − x̄ ~ N(0, p r / r²) = N(0, Π); inside iff |x̂_SCF − x̄| ≤ √(χ² Π).
+    let pi = p / r;
+    let rho_s = (chi * pi).sqrt();
+    let sd_s = sd / r;
+    let scf = phi.cdf(rho_s / sd_s) - phi.cdf(-rho_s / sd_s);
+    Ok((kf, scf))
+}
