@@ -1,0 +1,108 @@
+// Browser end-to-end harness: node tests/e2e/run.mjs http://127.0.0.1:PORT/ [name-filter]
+//
+// Runs every tests/e2e/*.test.mjs (sorted by name) against Debian's Chromium through
+// playwright-core. A test module exports `default async function (ctx)`, where ctx is
+//   browser       the playwright Browser
+//   baseUrl       the served www/ root, always ending in "/"
+//   newPage(opts) a fresh context + page (opts go to browser.newContext: viewport,
+//                 deviceScaleFactor, ...); its console errors/warnings and page errors are recorded
+//   waitReady(page, timeoutMs?)  waits for document.body.dataset.ready === "1"
+//   assert        node:assert/strict
+//   screenshotDir tests/e2e/out (absolute; gitignored)
+// A test fails if it throws or if any of its pages logged a console error or threw a page error.
+import { createRequire } from 'node:module';
+import { readdirSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, dirname } from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import assert from 'node:assert/strict';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = join(here, '..', '..');
+const require = createRequire(join(root, 'www', 'package.json'));
+const { chromium } = require('playwright-core');
+
+const [baseArg, filter = ''] = process.argv.slice(2);
+if (!baseArg) { console.error('usage: node tests/e2e/run.mjs BASE_URL [name-filter]'); process.exit(2); }
+const baseUrl = baseArg.endsWith('/') ? baseArg : baseArg + '/';
+const screenshotDir = join(here, 'out');
+mkdirSync(screenshotDir, { recursive: true });
+for (const f of readdirSync(screenshotDir)) if (f.includes('-FAILED-')) rmSync(join(screenshotDir, f));
+const testTimeoutMs = Number(process.env.E2E_TEST_TIMEOUT_MS || 180_000);
+
+const files = readdirSync(here).filter((f) => f.endsWith('.test.mjs') && f.includes(filter)).sort();
+if (files.length === 0) { console.error(`no tests/e2e/*.test.mjs matching "${filter}"`); process.exit(1); }
+
+// Playwright gives each launch its own fresh temporary profile; keep its temp files apart too.
+const tmp = mkdtempSync(join(tmpdir(), 'confset-e2e-'));
+process.env.TMPDIR = tmp;
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync', '--no-first-run', '--disable-quic'],
+});
+console.log(`e2e: Chromium ${browser.version()}, ${files.length} test file(s), base ${baseUrl}`);
+
+async function waitReady(page, timeoutMs = 60_000) {
+  try {
+    await page.waitForFunction(() => document.body && document.body.dataset.ready === '1', null, { timeout: timeoutMs });
+  } catch (e) {
+    throw new Error(`page ${page.url()} did not set document.body.dataset.ready === "1" within ${timeoutMs} ms ` +
+      '(the page sets it once the wasm module is loaded and the first figure is drawn)');
+  }
+}
+
+let passed = 0, failed = 0;
+for (const file of files) {
+  const name = file.replace(/\.test\.mjs$/, '');
+  const contexts = [], pages = [], errors = [], warnings = [];
+  const newPage = async (opts = {}) => {
+    const context = await browser.newContext(opts);
+    contexts.push(context);
+    const page = await context.newPage();
+    pages.push(page);
+    page.on('console', (m) => {
+      const loc = m.location(), where = loc && loc.url ? ` (${loc.url}:${loc.lineNumber})` : '';
+      if (loc && /\/favicon\.ico$/.test(loc.url)) return; // browser-initiated, not the page's doing
+      if (m.type() === 'error') errors.push(`console.error: ${m.text()}${where}`);
+      else if (m.type() === 'warning') warnings.push(`console.warn: ${m.text()}${where}`);
+    });
+    page.on('pageerror', (e) => errors.push(`page error: ${e.stack || e.message}`));
+    return page;
+  };
+  const ctx = { browser, baseUrl, newPage, waitReady, assert, screenshotDir };
+  const t0 = Date.now();
+  let failure = null;
+  try {
+    const mod = await import(pathToFileURL(join(here, file)).href);
+    if (typeof mod.default !== 'function') throw new Error(`${file} has no default export function`);
+    let timer;
+    const timeout = new Promise((_, reject) => {
+      timer = setTimeout(() => reject(new Error(`test timed out after ${testTimeoutMs} ms`)), testTimeoutMs);
+    });
+    try { await Promise.race([mod.default(ctx), timeout]); } finally { clearTimeout(timer); }
+    if (errors.length) failure = new Error(`${errors.length} console/page error(s) recorded`);
+  } catch (e) {
+    failure = e;
+  }
+  const secs = ((Date.now() - t0) / 1000).toFixed(1);
+  for (const w of warnings) console.log(`  ${name}: ${w}`);
+  if (failure) {
+    failed++;
+    for (const [i, p] of pages.entries()) {
+      const shot = join(screenshotDir, `${name}-FAILED-${i}.png`);
+      await p.screenshot({ path: shot, fullPage: true }).then(() => console.log(`  failure screenshot: ${shot}`), () => {});
+    }
+    for (const err of errors) console.log(`  ${name}: ${err}`);
+    console.log(`FAIL ${name} (${secs} s): ${failure.stack || failure}`);
+  } else {
+    passed++;
+    console.log(`PASS ${name} (${secs} s)`);
+  }
+  for (const c of contexts) await c.close().catch(() => {});
+}
+await browser.close();
+rmSync(tmp, { recursive: true, force: true });
+console.log(`e2e: ${passed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);
