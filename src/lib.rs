@@ -12,5 +12,7 @@ pub mod presets;
 pub mod scenario;
 pub mod scf;
 pub mod sets;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
 
 pub use error::{Error, Result};

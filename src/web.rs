@@ -1,0 +1,280 @@
+//! WebAssembly bindings of the explorer page (`www/`): JSON in, JSON out, nothing computed here.
+//!
+//! ```js
+//! import init, { presets, Session, Experiment } from './pkg/confset.js';
+//! await init();
+//! const list = JSON.parse(presets());            // [{name, description, scenario}, …]
+//! const s = new Session();
+//! const report = JSON.parse(s.run(JSON.stringify(list[0].scenario)));
+//! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
+//! const svg = s.svg('{"panel":"coverage"}', 800, 500);
+//! const e = new Experiment(JSON.stringify(scenario));   // needs simulate.condition + experiment
+//! while (!e.finished()) counts = JSON.parse(e.step(500));
+//! ```
+//!
+//! Every error is thrown as a JS `Error` whose `message` is the crate [`Error`]'s text (it
+//! starts with the offending field, e.g. "model.V must be symmetric …") and whose `field`
+//! property is that field alone (`""` when the error is not about one field).
+//!
+//! Canvas and device pixels: [`Session::draw`] takes the canvas whose backing store the page
+//! sized as CSS size × devicePixelRatio, and the ratio. It scales the 2-D context by the ratio
+//! and hands the figure code a backend of the CSS size, so a figure has the same layout (font
+//! sizes, line widths in CSS pixels) at every ratio, only sharper. The returned [`Frame`]'s
+//! `plot_area` is therefore in CSS pixels of the canvas, like `MouseEvent.offsetX/Y`.
+
+use crate::error::Error;
+use crate::experiment::ConditionalExperiment;
+use crate::plot::{self, Frame, View};
+use crate::presets;
+use crate::scenario::{Report, Scenario};
+use plotters::prelude::DrawingBackend;
+use plotters_backend::{
+    BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind,
+};
+use plotters_canvas::CanvasBackend;
+use serde::Serialize;
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
+
+/// A JS `Error` with the crate error's message and a `field` property.
+fn js_error(e: &Error) -> JsValue {
+    let err = js_sys::Error::new(&e.to_string());
+    // Setting a property on a fresh Error object cannot fail; if it ever did, the message
+    // (which starts with the field) is still there.
+    let _ = js_sys::Reflect::set(
+        &err,
+        &JsValue::from_str("field"),
+        &JsValue::from_str(&e.field),
+    );
+    err.into()
+}
+
+fn to_json<T: Serialize>(what: &str, v: &T) -> Result<String, JsValue> {
+    serde_json::to_string(v).map_err(|e| {
+        js_error(&Error::field(
+            "",
+            format!("{what} could not be written as JSON: {e}"),
+        ))
+    })
+}
+
+fn parse_view(view_json: &str) -> Result<View, JsValue> {
+    serde_json::from_str(view_json)
+        .map_err(|e| js_error(&Error::field("view", format!("is not valid: {e}"))))
+}
+
+/// Install the panic hook (diagnostics only: no panic is reachable from any input).
+#[wasm_bindgen(start)]
+pub fn start() {
+    console_error_panic_hook::set_once();
+}
+
+/// Every preset as JSON: `[{"name", "description", "scenario"}, …]` in menu order.
+#[wasm_bindgen]
+pub fn presets() -> Result<String, JsValue> {
+    to_json("the preset list", &presets::all())
+}
+
+/// Runs scenarios and draws the last good report.
+#[wasm_bindgen]
+#[derive(Default)]
+pub struct Session {
+    report: Option<Report>,
+}
+
+#[wasm_bindgen]
+impl Session {
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Session {
+        Session::default()
+    }
+
+    /// Validate and run a scenario (JSON); returns the report (JSON) and keeps it for drawing.
+    /// On error the previous report stays and the error is thrown.
+    pub fn run(&mut self, scenario_json: &str) -> Result<String, JsValue> {
+        let report = Scenario::from_json(scenario_json)
+            .and_then(|s| s.run())
+            .map_err(|e| js_error(&e))?;
+        let json = to_json("the report", &report)?;
+        self.report = Some(report);
+        Ok(json)
+    }
+
+    /// Whether a report is kept (a `run` has succeeded).
+    #[wasm_bindgen(js_name = hasReport)]
+    pub fn has_report(&self) -> bool {
+        self.report.is_some()
+    }
+
+    /// Draw a view (JSON `{"panel": "state"|"series"|"coverage", "time": t}`) of the kept
+    /// report on `canvas`, whose backing store is `dpr` × its CSS size. Returns the frame (JSON)
+    /// with `plot_area` in CSS pixels.
+    pub fn draw(
+        &self,
+        canvas: HtmlCanvasElement,
+        view_json: &str,
+        dpr: f64,
+    ) -> Result<String, JsValue> {
+        let report = self.kept()?;
+        let view = parse_view(view_json)?;
+        let dpr = if dpr.is_finite() && dpr >= 0.25 {
+            dpr
+        } else {
+            1.0
+        };
+        let ctx: CanvasRenderingContext2d = canvas
+            .get_context("2d")
+            .ok()
+            .flatten()
+            .and_then(|c| c.dyn_into().ok())
+            .ok_or_else(|| js_error(&Error::field("canvas", "has no 2-D context")))?;
+        ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0)
+            .map_err(|_| js_error(&Error::field("canvas", "refused the pixel-ratio transform")))?;
+        let size = (
+            ((canvas.width() as f64) / dpr).round().max(1.0) as u32,
+            ((canvas.height() as f64) / dpr).round().max(1.0) as u32,
+        );
+        ctx.clear_rect(0.0, 0.0, size.0 as f64, size.1 as f64);
+        let inner = CanvasBackend::with_canvas_object(canvas)
+            .ok_or_else(|| js_error(&Error::field("canvas", "has no 2-D context")))?;
+        let frame: Frame =
+            plot::draw(Scaled { inner, size }, report, &view).map_err(|e| js_error(&e))?;
+        to_json("the frame", &frame)
+    }
+
+    /// A view of the kept report as SVG text, `w` × `h` pixels.
+    pub fn svg(&self, view_json: &str, w: u32, h: u32) -> Result<String, JsValue> {
+        let report = self.kept()?;
+        let view = parse_view(view_json)?;
+        if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+            return Err(js_error(&Error::field(
+                "size",
+                "must lie in 16..=8192 pixels",
+            )));
+        }
+        plot::report_svg(report, &view, w, h).map_err(|e| js_error(&e))
+    }
+}
+
+impl Session {
+    fn kept(&self) -> Result<&Report, JsValue> {
+        self.report
+            .as_ref()
+            .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))
+    }
+}
+
+/// The conditional Monte Carlo of a scenario with `simulate.condition` and `experiment`, run
+/// in chunks so the page stays responsive and can cancel (by dropping it).
+#[wasm_bindgen]
+pub struct Experiment {
+    inner: ConditionalExperiment,
+}
+
+#[wasm_bindgen]
+impl Experiment {
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario_json: &str) -> Result<Experiment, JsValue> {
+        let p = Scenario::from_json(scenario_json)
+            .and_then(|s| s.prepare())
+            .map_err(|e| js_error(&e))?;
+        let inner = ConditionalExperiment::new(&p).map_err(|e| js_error(&e))?;
+        Ok(Experiment { inner })
+    }
+
+    /// Run up to `runs` more realizations; returns the counts so far (JSON).
+    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
+        to_json("the counts", self.inner.step(runs as usize))
+    }
+
+    /// The counts so far (JSON).
+    pub fn counts(&self) -> Result<String, JsValue> {
+        to_json("the counts", self.inner.result())
+    }
+
+    pub fn finished(&self) -> bool {
+        self.inner.finished()
+    }
+}
+
+/// A canvas backend seen at CSS size: the context is scaled by the pixel ratio, so every
+/// coordinate, width and font size the figure code uses is in CSS pixels.
+struct Scaled {
+    inner: CanvasBackend,
+    size: (u32, u32),
+}
+
+type Err = DrawingErrorKind<<CanvasBackend as DrawingBackend>::ErrorType>;
+
+impl DrawingBackend for Scaled {
+    type ErrorType = <CanvasBackend as DrawingBackend>::ErrorType;
+
+    fn get_size(&self) -> (u32, u32) {
+        self.size
+    }
+    fn ensure_prepared(&mut self) -> Result<(), Err> {
+        self.inner.ensure_prepared()
+    }
+    fn present(&mut self) -> Result<(), Err> {
+        self.inner.present()
+    }
+    fn draw_pixel(&mut self, p: BackendCoord, c: BackendColor) -> Result<(), Err> {
+        self.inner.draw_pixel(p, c)
+    }
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        a: BackendCoord,
+        b: BackendCoord,
+        s: &S,
+    ) -> Result<(), Err> {
+        self.inner.draw_line(a, b, s)
+    }
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        a: BackendCoord,
+        b: BackendCoord,
+        s: &S,
+        fill: bool,
+    ) -> Result<(), Err> {
+        self.inner.draw_rect(a, b, s, fill)
+    }
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        s: &S,
+    ) -> Result<(), Err> {
+        self.inner.draw_path(path, s)
+    }
+    fn draw_circle<S: BackendStyle>(
+        &mut self,
+        c: BackendCoord,
+        r: u32,
+        s: &S,
+        fill: bool,
+    ) -> Result<(), Err> {
+        self.inner.draw_circle(c, r, s, fill)
+    }
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        s: &S,
+    ) -> Result<(), Err> {
+        self.inner.fill_polygon(vert, s)
+    }
+    fn draw_text<S: BackendTextStyle>(
+        &mut self,
+        text: &str,
+        s: &S,
+        p: BackendCoord,
+    ) -> Result<(), Err> {
+        self.inner.draw_text(text, s, p)
+    }
+    fn estimate_text_size<S: BackendTextStyle>(
+        &self,
+        text: &str,
+        s: &S,
+    ) -> Result<(u32, u32), Err> {
+        self.inner.estimate_text_size(text, s)
+    }
+}
