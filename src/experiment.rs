@@ -11,7 +11,7 @@
 use crate::error::{Error, Result};
 use crate::kalman::{self, Offline};
 use crate::linalg::{self, sub_matrix, sub_vector};
-use crate::model::{ConditionedSampler, Inputs, LinearModel};
+use crate::model::{Inputs, LinearModel};
 use crate::scenario::{CoverageCurve, CurveSpec, Prepared};
 use crate::scf::{self, ScfOptions};
 use crate::sets::{chi2_quantile, Ellipsoid, PlanarEllipse};
@@ -118,39 +118,36 @@ pub fn coverage_curve(
     })
 }
 
-/// Compressed-row sparse matrix: the robot model is block diagonal and mostly zeros, and the
-/// Monte Carlo loop is all matrix-vector products.
+/// A small matrix stored by its non-zero columns, for the Monte Carlo loop: every product is a
+/// few axpy's over contiguous columns (which vectorize), and the all-zero columns of block
+/// structured models (two independent robots) are skipped.
 #[derive(Debug, Clone)]
 struct Csr {
-    ptr: Vec<u32>,
-    col: Vec<u32>,
-    val: Vec<f64>,
+    rows: usize,
+    /// (column index, the column's entries).
+    cols: Vec<(usize, Vec<f64>)>,
 }
 
 impl Csr {
     fn new(m: &DMatrix<f64>) -> Self {
-        let (mut ptr, mut col, mut val) = (vec![0u32], Vec::new(), Vec::new());
-        for i in 0..m.nrows() {
-            for j in 0..m.ncols() {
-                if m[(i, j)] != 0.0 {
-                    col.push(j as u32);
-                    val.push(m[(i, j)]);
-                }
-            }
-            ptr.push(col.len() as u32);
+        let cols = (0..m.ncols())
+            .filter(|&j| m.column(j).iter().any(|&v| v != 0.0))
+            .map(|j| (j, m.column(j).iter().copied().collect()))
+            .collect();
+        Csr {
+            rows: m.nrows(),
+            cols,
         }
-        Csr { ptr, col, val }
     }
     /// out += M x
     #[inline]
     fn mul_add(&self, x: &[f64], out: &mut [f64]) {
-        for (i, o) in out.iter_mut().enumerate() {
-            let (a, b) = (self.ptr[i] as usize, self.ptr[i + 1] as usize);
-            let mut s = 0.0;
-            for k in a..b {
-                s += self.val[k] * x[self.col[k] as usize];
+        let out = &mut out[..self.rows];
+        for (j, col) in &self.cols {
+            let xj = x[*j];
+            for (o, a) in out.iter_mut().zip(col) {
+                *o += a * xj;
             }
-            *o += s;
         }
     }
 }
@@ -198,30 +195,47 @@ impl MovingRegion {
             axes,
         })
     }
-    /// Center for a KF estimate x̂ (full state).
-    fn center(&self, xhat: &[f64], out: &mut [f64]) {
-        let dev: Vec<f64> = self
-            .idx
-            .iter()
-            .zip(&self.m)
-            .map(|(&i, m)| xhat[i] - m)
-            .collect();
+    /// Center for a KF estimate x̂ (full state), written to `out[..k]`; `dev` is scratch.
+    #[inline]
+    fn center(&self, xhat: &[f64], out: &mut [f64], dev: &mut [f64]) {
+        for (k, (&i, m)) in self.idx.iter().zip(&self.m).enumerate() {
+            dev[k] = xhat[i] - m;
+        }
         out.copy_from_slice(&self.m);
-        self.a.mul_add(&dev, out);
+        self.a.mul_add(&dev[..self.idx.len()], out);
     }
-    fn contains(&self, xhat: &[f64], x: &[f64]) -> bool {
-        let mut c = vec![0.0; self.idx.len()];
-        self.center(xhat, &mut c);
-        let e = DVector::from_fn(self.idx.len(), |k, _| x[self.idx[k]] - c[k]);
-        e.dot(&(&self.s_inv * &e)) <= 1.0
+    /// Is the true state `x` inside the region centered by `xhat`? `scratch` holds ≥ 2k values.
+    fn contains(&self, xhat: &[f64], x: &[f64], scratch: &mut [f64]) -> bool {
+        let k = self.idx.len();
+        let (c, rest) = scratch.split_at_mut(k);
+        self.center(xhat, c, rest);
+        for (j, &i) in self.idx.iter().enumerate() {
+            c[j] = x[i] - c[j];
+        }
+        let mut q = 0.0;
+        for a in 0..k {
+            let mut row = 0.0;
+            for b in 0..k {
+                row += self.s_inv[(a, b)] * c[b];
+            }
+            q += c[a] * row;
+        }
+        q <= 1.0
     }
 }
 
 /// Distance-below-d test of two moving 2-D regions, with cheap exits before the exact distance.
-fn warns(ra: &MovingRegion, rb: &MovingRegion, xhat: &[f64], d_min: f64) -> bool {
-    let (mut ca, mut cb) = ([0.0; 2], [0.0; 2]);
-    ra.center(xhat, &mut ca);
-    rb.center(xhat, &mut cb);
+fn warns(
+    ra: &MovingRegion,
+    rb: &MovingRegion,
+    xhat: &[f64],
+    d_min: f64,
+    scratch: &mut [f64],
+) -> bool {
+    let (ca, rest) = scratch.split_at_mut(2);
+    let (cb, dev) = rest.split_at_mut(2);
+    ra.center(xhat, ca, dev);
+    rb.center(xhat, cb, dev);
     let dc = ((ca[0] - cb[0]).powi(2) + (ca[1] - cb[1]).powi(2)).sqrt();
     if dc - ra.axes.0 - rb.axes.0 >= d_min {
         return false; // even the circumscribed discs are d_min apart
@@ -229,10 +243,214 @@ fn warns(ra: &MovingRegion, rb: &MovingRegion, xhat: &[f64], d_min: f64) -> bool
     if dc - ra.axes.1 - rb.axes.1 < d_min {
         return true; // the inscribed discs are closer than d_min
     }
-    let (mut pa, mut pb) = (ra.planar.expect("2-D"), rb.planar.expect("2-D"));
-    pa.c = ca;
-    pb.c = cb;
-    pa.distance(&pb) < d_min
+    match (ra.planar, rb.planar) {
+        (Some(mut pa), Some(mut pb)) => {
+            pa.c = [ca[0], ca[1]];
+            pb.c = [cb[0], cb[1]];
+            pa.distance(&pb) < d_min
+        }
+        _ => false,
+    }
+}
+
+/// One step of the backward innovations model: given x_{t_c} and y_{t+1}, …, y_{t_c}, the state
+/// x_t − m_t is N(ẑ_t, Σ_t) and y_t = H_t(ẑ_t + m_t) + e_t with e_t ~ N(0, S_t),
+/// S_t = H_tΣ_tH_tᵀ + W_t; then ẑ⁺ = ẑ_t + G_t e_t, G_t = Σ_tH_tᵀS_t⁻¹, and
+/// ẑ_{t−1} = F^b_t ẑ⁺ (45). It draws q normals per step instead of n + q, with exactly the law
+/// of the measurements that a backward state simulation gives.
+#[derive(Debug, Clone)]
+struct InnovationStep {
+    h: DMatrix<f64>,
+    /// H_t m_t.
+    hm: DVector<f64>,
+    /// Lower Cholesky factor of S_t.
+    l_s: DMatrix<f64>,
+    g: DMatrix<f64>,
+    /// F^b_t (zero at t = 1, where it is not used).
+    f_b: DMatrix<f64>,
+}
+
+/// The steps t = 1..=t_c (index t−1) of the backward innovations model, from Σ_{t_c} = 0.
+fn backward_innovations(
+    model: &LinearModel,
+    moments: &crate::model::Moments,
+    t_c: usize,
+) -> Result<Vec<InnovationStep>> {
+    let n = model.n();
+    let mut sigma = DMatrix::zeros(n, n);
+    let mut out = Vec::with_capacity(t_c);
+    for t in (1..=t_c).rev() {
+        let h = model.h(t);
+        let s = linalg::symmetrize(&(h * &sigma * h.transpose() + model.w(t)));
+        let chol = s
+            .clone()
+            .cholesky()
+            .ok_or_else(|| Error::field("model.W", "gives a singular innovation covariance"))?;
+        let g = chol.solve(&(h * &sigma)).transpose();
+        let plus = linalg::symmetrize(&(&sigma - &g * &s * g.transpose()));
+        let f_b = if t >= 2 {
+            let step = model.backward_step(t, moments)?;
+            sigma = linalg::symmetrize(&(&step.f_b * plus * step.f_b.transpose() + step.v_b));
+            step.f_b
+        } else {
+            DMatrix::zeros(n, n)
+        };
+        out.push(InnovationStep {
+            h: h.clone(),
+            hm: h * &moments.mean[t - 1],
+            l_s: chol.l(),
+            g,
+            f_b,
+        });
+    }
+    out.reverse();
+    Ok(out)
+}
+
+/// An independent block of the model: states and outputs that no matrix of the Monte Carlo
+/// loop couples to the rest.
+#[derive(Debug, Clone)]
+struct Block {
+    states: Vec<usize>,
+    outputs: Vec<usize>,
+}
+
+/// Connected components of the coupling graph (states 0..n, outputs n..n+q) of every matrix the
+/// loop uses, so each block can run alone with exactly the same numbers.
+fn independent_blocks(
+    n: usize,
+    q: usize,
+    square: &[&DMatrix<f64>],
+    state_by_output: &[&DMatrix<f64>],
+) -> Vec<Block> {
+    let mut parent: Vec<usize> = (0..n + q).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    let join = |p: &mut Vec<usize>, a: usize, b: usize| {
+        let (ra, rb) = (find(p, a), find(p, b));
+        p[ra.max(rb)] = ra.min(rb);
+    };
+    for m in square {
+        for i in 0..m.nrows() {
+            for j in 0..m.ncols() {
+                if m[(i, j)] != 0.0 {
+                    let off = if m.nrows() == n { 0 } else { n };
+                    join(&mut parent, off + i, off + j);
+                }
+            }
+        }
+    }
+    for m in state_by_output {
+        // n×q (gains) or q×n (output matrices)
+        for i in 0..m.nrows() {
+            for j in 0..m.ncols() {
+                if m[(i, j)] != 0.0 {
+                    let (s, o) = if m.nrows() == n { (i, j) } else { (j, i) };
+                    join(&mut parent, s, n + o);
+                }
+            }
+        }
+    }
+    let mut blocks: Vec<(usize, Block)> = Vec::new();
+    for v in 0..n + q {
+        let root = find(&mut parent, v);
+        let k = match blocks.iter().position(|(r, _)| *r == root) {
+            Some(k) => k,
+            None => {
+                blocks.push((
+                    root,
+                    Block {
+                        states: vec![],
+                        outputs: vec![],
+                    },
+                ));
+                blocks.len() - 1
+            }
+        };
+        if v < n {
+            blocks[k].1.states.push(v);
+        } else {
+            blocks[k].1.outputs.push(v - n);
+        }
+    }
+    // An output block without states (pure noise) carries no information: merge into the first.
+    let mut out: Vec<Block> = Vec::new();
+    for (_, b) in blocks {
+        if b.states.is_empty() {
+            if let Some(first) = out.first_mut() {
+                first.outputs.extend(b.outputs);
+                first.outputs.sort_unstable();
+            }
+        } else {
+            out.push(b);
+        }
+    }
+    out
+}
+
+/// Backward innovations step on padded fixed-size arrays.
+/// (Matrices stored by columns: `[[f64; rows]; cols]`.)
+struct FixedInnovation<const N: usize, const Q: usize> {
+    h: [[f64; Q]; N],
+    hm: [f64; Q],
+    l_s: [[f64; Q]; Q],
+    g: [[f64; N]; Q],
+    f_b: [[f64; N]; N],
+}
+
+/// Forward filter step on padded fixed-size arrays.
+struct FixedForward<const N: usize, const Q: usize> {
+    k: [[f64; N]; Q],
+    h: [[f64; Q]; N],
+    f: [[f64; N]; N],
+    bu: [f64; N],
+}
+
+/// An R×C matrix zero-padded and stored by columns (`a[j][i]` = m_ij).
+fn fixed<const R: usize, const C: usize>(m: &DMatrix<f64>) -> [[f64; R]; C] {
+    let mut a = [[0.0; R]; C];
+    for i in 0..m.nrows().min(R) {
+        for j in 0..m.ncols().min(C) {
+            a[j][i] = m[(i, j)];
+        }
+    }
+    a
+}
+
+/// A vector zero-padded into an array.
+fn fixed_vec<const R: usize>(v: &DVector<f64>) -> [f64; R] {
+    let mut a = [0.0; R];
+    for (ai, vi) in a.iter_mut().zip(v.iter()) {
+        *ai = *vi;
+    }
+    a
+}
+
+/// Runs advanced together: independent runs side by side keep the pipeline full (one run's
+/// recursion is a chain of dependent operations) and vectorize.
+const LANES: usize = 8;
+
+/// M X for M stored by columns (`m[j]` is column j) and X holding one column per lane.
+#[inline(always)]
+fn lanes_mat_vec<const R: usize, const C: usize>(
+    m: &[[f64; R]; C],
+    x: &[[f64; LANES]; C],
+) -> [[f64; LANES]; R] {
+    let mut out = [[0.0; LANES]; R];
+    for j in 0..C {
+        for i in 0..R {
+            let a = m[j][i];
+            for l in 0..LANES {
+                out[i][l] += a * x[j][l];
+            }
+        }
+    }
+    out
 }
 
 /// Counts of a conditional Monte Carlo so far.
@@ -257,16 +475,19 @@ pub struct ExperimentResult {
 
 /// Chunked Monte Carlo over realizations conditioned on x_{t_c} = x_c.
 pub struct ConditionalExperiment {
-    rng: ChaCha8Rng,
+    /// One random stream per independent block.
+    rngs: Vec<ChaCha8Rng>,
+    blocks: Vec<Block>,
     n: usize,
-    q: usize,
     t_c: usize,
     x_c: Vec<f64>,
-    mean: Vec<Vec<f64>>,
-    back: Vec<(Csr, Csr)>,
-    out: Vec<(Csr, Csr)>,
-    kf: Vec<(Csr, Csr, Csr, Vec<f64>)>, // K_t, H_t, F_t, B_t u_t
-    x1_mean: Vec<f64>,
+    /// x_c − m_{t_c}: the conditioning state, centered.
+    x_c_dev: Vec<f64>,
+    /// Backward innovations model of y_1..y_{t_c} given x_{t_c}, index t−1.
+    innov: Vec<InnovationStep>,
+    /// K_t, H_t, F_t, B_t u_t of the forward filter, index t−1.
+    kf: Vec<(DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, DVector<f64>)>,
+    x1_mean: DVector<f64>,
     cover: (MovingRegion, MovingRegion),
     warning: Option<(usize, Csr, Vec<f64>, [MovingRegion; 4], f64)>, // t, Φ, c, [kf_a, kf_b, scf_a, scf_b], d_min
     result: ExperimentResult,
@@ -296,13 +517,11 @@ impl ConditionalExperiment {
         let model = &p.model;
         let (n, q, t_c) = (model.n(), model.q(), cond.t);
         let steps = t_c;
-        let sampler = ConditionedSampler::new(model, steps, &p.inputs, t_c).map_err(|e| {
-            if e.field == "condition.t" {
-                Error::field("simulate.condition.t", e.message)
-            } else {
-                e
-            }
-        })?;
+        if t_c < 1 || t_c > 100_000 {
+            return Err(Error::field("simulate.condition.t", "must be at least 1"));
+        }
+        let moments = model.moments(steps, &p.inputs);
+        let innov = backward_innovations(model, &moments, t_c)?;
         let off = Offline::new(model, steps + s.tau, &p.inputs)?;
         let r2c = chi2_quantile(s.alpha, e.components.len())?;
         let region = |idx: &[usize],
@@ -378,7 +597,6 @@ impl ConditionalExperiment {
                 ))
             }
         };
-        let vec = |v: &DVector<f64>| v.iter().copied().collect::<Vec<f64>>();
         let lo_hi = {
             let (nn, a) = (e.runs as f64, s.alpha);
             let sd = (nn * a * (1.0 - a)).sqrt();
@@ -387,37 +605,62 @@ impl ConditionalExperiment {
                 ((nn * a + 3.29 * sd).ceil().min(nn)) as usize,
             )
         };
+        let kf: Vec<_> = (1..=steps)
+            .map(|t| {
+                (
+                    off.gains.steps[t - 1].k.clone(),
+                    model.h(t).clone(),
+                    model.f(t).clone(),
+                    model.input_term(t, &p.inputs),
+                )
+            })
+            .collect();
+        let blocks = {
+            let square: Vec<&DMatrix<f64>> = innov
+                .iter()
+                .flat_map(|st| [&st.f_b, &st.l_s])
+                .chain(kf.iter().map(|(_, _, f, _)| f))
+                .collect();
+            let rect: Vec<&DMatrix<f64>> = innov
+                .iter()
+                .flat_map(|st| [&st.h, &st.g])
+                .chain(kf.iter().flat_map(|(k, h, _, _)| [k, h]))
+                .collect();
+            independent_blocks(n, q, &square, &rect)
+        };
+        if let Some(b) = blocks
+            .iter()
+            .find(|b| b.states.len() > 16 || b.outputs.len() > 8)
+        {
+            return Err(Error::field(
+                "model",
+                format!("couples {} states and {} outputs in one block: the Monte Carlo supports blocks of at most 16 states and 8 outputs", b.states.len(), b.outputs.len()),
+            ));
+        }
         Ok(ConditionalExperiment {
-            rng: ChaCha8Rng::seed_from_u64(e.seed),
+            rngs: (0..blocks.len())
+                .map(|b| {
+                    let mut r = ChaCha8Rng::seed_from_u64(e.seed);
+                    r.set_stream(b as u64);
+                    r
+                })
+                .collect(),
+            blocks,
             n,
-            q,
             t_c,
             x_c: linalg::vector("simulate.condition.x", &cond.x, n)?
                 .iter()
                 .copied()
                 .collect(),
-            mean: sampler.moments.mean.iter().map(vec).collect(),
-            back: sampler
-                .backward
+            x_c_dev: cond
+                .x
                 .iter()
-                .map(|(f, l)| (Csr::new(f), Csr::new(l)))
+                .zip(moments.mean[t_c - 1].iter())
+                .map(|(x, m)| x - m)
                 .collect(),
-            out: sampler
-                .output
-                .iter()
-                .map(|(h, l)| (Csr::new(h), Csr::new(l)))
-                .collect(),
-            kf: (1..=steps)
-                .map(|t| {
-                    (
-                        Csr::new(&off.gains.steps[t - 1].k),
-                        Csr::new(model.h(t)),
-                        Csr::new(model.f(t)),
-                        vec(&model.input_term(t, &p.inputs)),
-                    )
-                })
-                .collect(),
-            x1_mean: vec(&model.x1_mean),
+            innov,
+            kf,
+            x1_mean: model.x1_mean.clone(),
             cover,
             warning,
             result: ExperimentResult {
@@ -433,73 +676,166 @@ impl ConditionalExperiment {
     }
 
     /// Run up to `chunk` more realizations; returns the counts so far.
+    ///
+    /// The model is split into its independent blocks (the two robots are two blocks), and each
+    /// block runs on fixed-size arrays zero-padded to 2×1, 4×2, 8×4 or 16×8, so every product is
+    /// unrolled and vectorized; zeros change no number. Each block draws from its own ChaCha8
+    /// stream, so results do not depend on how the runs are chunked.
     pub fn step(&mut self, chunk: usize) -> &ExperimentResult {
-        let (n, q, tc) = (self.n, self.q, self.t_c);
-        let todo = chunk.min(self.result.runs_total - self.result.runs_done);
-        let mut x = vec![0.0; n * tc];
-        let mut z = vec![0.0; n.max(q)];
-        let mut dev = vec![0.0; n];
-        let mut y = vec![0.0; q];
-        let mut xhat = vec![0.0; n];
-        let mut xpred = vec![0.0; n];
-        let mut innov = vec![0.0; q];
-        for _ in 0..todo {
-            // Backward draw from x_{t_c} = x_c (SCF (45), footnote 2).
-            x[(tc - 1) * n..tc * n].copy_from_slice(&self.x_c);
-            for t in (2..=tc).rev() {
-                let (f_b, l) = &self.back[t - 2];
-                for i in 0..n {
-                    dev[i] = x[(t - 1) * n + i] - self.mean[t - 1][i];
-                    z[i] = self.rng.sample(StandardNormal);
-                }
-                let cur = &mut x[(t - 2) * n..(t - 1) * n];
-                cur.copy_from_slice(&self.mean[t - 2]);
-                f_b.mul_add(&dev, cur);
-                l.mul_add(&z[..n], cur);
+        // Whole batches of LANES runs (except the very last), so the random streams — and the
+        // counts — do not depend on how a caller chunks the work.
+        let todo = chunk
+            .max(1)
+            .div_ceil(LANES)
+            .saturating_mul(LANES)
+            .min(self.result.runs_total - self.result.runs_done);
+        let n = self.n;
+        let mut at_tc = vec![0.0; todo * n];
+        let mut at_tw = vec![0.0; todo * n];
+        let tw = self.warning.as_ref().map(|w| w.0);
+        for b in 0..self.blocks.len() {
+            let (nb, qb) = (self.blocks[b].states.len(), self.blocks[b].outputs.len());
+            let out = (&mut at_tc[..], &mut at_tw[..]);
+            match (nb, qb) {
+                (n, q) if n <= 2 && q <= 1 => self.run_block::<2, 1>(b, todo, tw, out),
+                (n, q) if n <= 4 && q <= 2 => self.run_block::<4, 2>(b, todo, tw, out),
+                (n, q) if n <= 8 && q <= 4 => self.run_block::<8, 4>(b, todo, tw, out),
+                _ => self.run_block::<16, 8>(b, todo, tw, out),
             }
-            // Measurements and the forward KF pass.
-            xpred.copy_from_slice(&self.x1_mean);
-            let mut warned = (false, false);
-            for t in 1..=tc {
-                let (h, lw) = &self.out[t - 1];
-                let (k, hk, f, bu) = &self.kf[t - 1];
-                y.iter_mut().for_each(|v| *v = 0.0);
-                for zi in z.iter_mut().take(q) {
-                    *zi = self.rng.sample(StandardNormal);
-                }
-                h.mul_add(&x[(t - 1) * n..t * n], &mut y);
-                lw.mul_add(&z[..q], &mut y);
-                innov.copy_from_slice(&y);
-                for v in innov.iter_mut() {
-                    *v = -*v;
-                }
-                hk.mul_add(&xpred, &mut innov); // −(y − H x̂⁻)
-                for v in innov.iter_mut() {
-                    *v = -*v;
-                }
-                xhat.copy_from_slice(&xpred);
-                k.mul_add(&innov, &mut xhat);
-                if let Some((tw, phi, c, regs, d)) = &self.warning {
-                    if *tw == t {
-                        let mut xp = c.clone();
-                        phi.mul_add(&xhat, &mut xp);
-                        warned = (
-                            warns(&regs[0], &regs[1], &xp, *d),
-                            warns(&regs[2], &regs[3], &xp, *d),
-                        );
+        }
+        let mut scratch = vec![0.0; 2 * n + 4];
+        for r in 0..todo {
+            let xhat = &at_tc[r * n..(r + 1) * n];
+            self.result.kf_inside += self.cover.0.contains(xhat, &self.x_c, &mut scratch) as usize;
+            self.result.scf_inside += self.cover.1.contains(xhat, &self.x_c, &mut scratch) as usize;
+            if let Some((_, phi, c, regs, d)) = &self.warning {
+                let mut xp = c.clone();
+                phi.mul_add(&at_tw[r * n..(r + 1) * n], &mut xp);
+                self.result.kf_warnings +=
+                    warns(&regs[0], &regs[1], &xp, *d, &mut scratch) as usize;
+                self.result.scf_warnings +=
+                    warns(&regs[2], &regs[3], &xp, *d, &mut scratch) as usize;
+            }
+        }
+        self.result.runs_done += todo;
+        &self.result
+    }
+
+    /// `todo` runs of block `b`: KF estimates at t_c (and at the warning time) are written into
+    /// the block's components of `out.0` (and `out.1`), one row of n per run.
+    fn run_block<const N: usize, const Q: usize>(
+        &mut self,
+        b: usize,
+        todo: usize,
+        tw: Option<usize>,
+        out: (&mut [f64], &mut [f64]),
+    ) {
+        let (tc, n) = (self.t_c, self.n);
+        let block = &self.blocks[b];
+        let (si, oi) = (&block.states, &block.outputs);
+        let sub = |m: &DMatrix<f64>, rows: &[usize], cols: &[usize]| {
+            DMatrix::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
+        };
+        let subv =
+            |v: &DVector<f64>, rows: &[usize]| DVector::from_fn(rows.len(), |i, _| v[rows[i]]);
+        let innov: Vec<FixedInnovation<N, Q>> = self
+            .innov
+            .iter()
+            .map(|st| FixedInnovation {
+                h: fixed(&sub(&st.h, oi, si)),
+                hm: fixed_vec(&subv(&st.hm, oi)),
+                l_s: fixed(&sub(&st.l_s, oi, oi)),
+                g: fixed(&sub(&st.g, si, oi)),
+                f_b: fixed(&sub(&st.f_b, si, si)),
+            })
+            .collect();
+        let forward: Vec<FixedForward<N, Q>> = self
+            .kf
+            .iter()
+            .map(|(k, h, f, bu)| FixedForward {
+                k: fixed(&sub(k, si, oi)),
+                h: fixed(&sub(h, oi, si)),
+                f: fixed(&sub(f, si, si)),
+                bu: fixed_vec(&subv(bu, si)),
+            })
+            .collect();
+        let x_c_dev: [f64; N] = fixed_vec(&subv(&DVector::from_column_slice(&self.x_c_dev), si));
+        let x1_mean: [f64; N] = fixed_vec(&subv(&self.x1_mean, si));
+        let qb = oi.len();
+        let rng = &mut self.rngs[b];
+        let mut y = vec![[[0.0; LANES]; Q]; tc];
+        for first in (0..todo).step_by(LANES) {
+            let lanes = LANES.min(todo - first);
+            // y_{t_c}, …, y_1 from their exact law given x_{t_c} = x_c: a Kalman filter run
+            // backwards in time on the backward representation (45), in innovations form.
+            let mut zhat = [[0.0; LANES]; N];
+            for (zi, xi) in zhat.iter_mut().zip(&x_c_dev) {
+                *zi = [*xi; LANES];
+            }
+            for t in (1..=tc).rev() {
+                let st = &innov[t - 1];
+                let mut z = [[0.0; LANES]; Q];
+                for zi in z.iter_mut().take(qb) {
+                    for zl in zi.iter_mut().take(lanes) {
+                        *zl = rng.sample(StandardNormal);
                     }
                 }
-                xpred.copy_from_slice(bu);
-                f.mul_add(&xhat, &mut xpred);
+                let e = lanes_mat_vec(&st.l_s, &z);
+                let hz = lanes_mat_vec(&st.h, &zhat);
+                let g_e = lanes_mat_vec(&st.g, &e);
+                for i in 0..Q {
+                    for l in 0..LANES {
+                        y[t - 1][i][l] = st.hm[i] + hz[i][l] + e[i][l];
+                    }
+                }
+                for i in 0..N {
+                    for l in 0..LANES {
+                        zhat[i][l] += g_e[i][l];
+                    }
+                }
+                zhat = lanes_mat_vec(&st.f_b, &zhat);
             }
-            let xt = &x[(tc - 1) * n..tc * n];
-            self.result.kf_inside += self.cover.0.contains(&xhat, xt) as usize;
-            self.result.scf_inside += self.cover.1.contains(&xhat, xt) as usize;
-            self.result.kf_warnings += warned.0 as usize;
-            self.result.scf_warnings += warned.1 as usize;
-            self.result.runs_done += 1;
+            // The forward KF pass over the drawn measurements (35a).
+            let mut xpred = [[0.0; LANES]; N];
+            for (xi, mi) in xpred.iter_mut().zip(&x1_mean) {
+                *xi = [*mi; LANES];
+            }
+            let mut xhat = xpred;
+            for t in 1..=tc {
+                let st = &forward[t - 1];
+                let hx = lanes_mat_vec(&st.h, &xpred);
+                let mut innov = [[0.0; LANES]; Q];
+                for i in 0..Q {
+                    for l in 0..LANES {
+                        innov[i][l] = y[t - 1][i][l] - hx[i][l];
+                    }
+                }
+                let k_i = lanes_mat_vec(&st.k, &innov);
+                for i in 0..N {
+                    for l in 0..LANES {
+                        xhat[i][l] = xpred[i][l] + k_i[i][l];
+                    }
+                }
+                if Some(t) == tw {
+                    for (k, &i) in si.iter().enumerate() {
+                        for l in 0..lanes {
+                            out.1[(first + l) * n + i] = xhat[k][l];
+                        }
+                    }
+                }
+                let fx = lanes_mat_vec(&st.f, &xhat);
+                for i in 0..N {
+                    for l in 0..LANES {
+                        xpred[i][l] = fx[i][l] + st.bu[i];
+                    }
+                }
+            }
+            for (k, &i) in si.iter().enumerate() {
+                for l in 0..lanes {
+                    out.0[(first + l) * n + i] = xhat[k][l];
+                }
+            }
         }
-        &self.result
     }
 
     /// Counts so far.
@@ -510,5 +846,71 @@ impl ConditionalExperiment {
     /// True when every run is done.
     pub fn finished(&self) -> bool {
         self.result.runs_done >= self.result.runs_total
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{Condition, ExperimentSpec, Scenario, SimulateSpec};
+
+    /// The backward-innovations sampler must reproduce the exact conditional law: on the scalar
+    /// example, with x_t fixed at x̄, the KF and SCF inside-counts must match the closed-form
+    /// conditional coverage of scf::conditional_coverage_1d within a 99.9 % binomial band.
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    fn experiment_counts_match_closed_form_conditional_coverage() {
+        let runs = 4000;
+        for (xbar, t) in [(1.0, 20usize), (9.0, 30), (-12.0, 25)] {
+            let mut s: Scenario = crate::presets::scalar();
+            s.simulate = Some(SimulateSpec {
+                steps: t,
+                seed: 3,
+                u: vec![],
+                condition: Some(Condition { t, x: vec![xbar] }),
+            });
+            s.experiment = Some(ExperimentSpec {
+                runs,
+                seed: 11,
+                components: vec![0],
+                warning_t: None,
+            });
+            let p = s.prepare().unwrap();
+            let mut e = ConditionalExperiment::new(&p).unwrap();
+            while !e.finished() {
+                e.step(333);
+            }
+            let r = e.result().clone();
+            let off = Offline::new(&p.model, t, &p.inputs).unwrap();
+            let (pt, gt) = (
+                off.gains.steps[t - 1].p[(0, 0)],
+                off.moments.cov[t - 1][(0, 0)],
+            );
+            let (kf, scf) = scf::conditional_coverage_1d(pt, gt, 0.0, xbar, s.alpha).unwrap();
+            for (count, prob, name) in [(r.kf_inside, kf, "KF"), (r.scf_inside, scf, "SCF")] {
+                let sd = (runs as f64 * prob * (1.0 - prob)).sqrt().max(0.5);
+                let z = (count as f64 - runs as f64 * prob) / sd;
+                assert!(z.abs() < 3.29, "{name} at x̄ = {xbar}: {count}/{runs} inside, closed form {prob:.4} (z = {z:.2})");
+            }
+        }
+    }
+
+    /// Chunking does not change the counts (whole batches, one stream per block).
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    fn chunking_does_not_change_counts() {
+        let mut s = crate::presets::robots(crate::presets::NoiseReading::Unscaled);
+        s.experiment.as_mut().unwrap().runs = 203;
+        let p = s.prepare().unwrap();
+        let run = |chunk: usize| {
+            let mut e = ConditionalExperiment::new(&p).unwrap();
+            while !e.finished() {
+                e.step(chunk);
+            }
+            e.result().clone()
+        };
+        let (a, b) = (run(1), run(1000));
+        assert_eq!(a, b);
+        assert_eq!(a.runs_done, 203);
     }
 }
