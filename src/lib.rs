@@ -1,6 +1,66 @@
 //! # confset — state estimation with guaranteed sets
 //!
-//! (crate map: filled in below)
+//! One estimation core, compiled natively (the `confset` command line, SVG figures) and to
+//! WebAssembly (the explorer page in `www/`). This page is the map of the code: read it first.
+//!
+//! ## One flow of data
+//!
+//! ```text
+//! Scenario (JSON) ──prepare/validate──▶ method (pure Rust) ──▶ Report (JSON)
+//!                                                              │
+//!               plot::draw (plotters, any DrawingBackend) ◀────┘
+//!                  ├─ SVG backend   (CLI: `confset figure`, `confset figures`)
+//!                  └─ canvas backend (browser, through `web`)
+//! ```
+//!
+//! ## Modules
+//!
+//! | module | what lives there |
+//! |---|---|
+//! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why |
+//! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots |
+//! | [`model`] | the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
+//! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`] |
+//! | [`kalman`] | Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state |
+//! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage |
+//! | [`experiment`] | conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo |
+//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch |
+//! | [`presets`] | the papers' examples as scenarios (used by page, CLI and tests) |
+//! | [`plot`] | figures on any plotters backend, one file per kind of picture |
+//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions |
+//!
+//! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there).
+//!
+//! ## Invariants
+//!
+//! * The core never imports wasm-bindgen, web-sys or `std::time`; timings come from the page
+//!   (`performance.now()`) or the native benchmark.
+//! * The page never computes an estimate: it builds a Scenario, calls wasm, draws.
+//! * Every public function that takes user input returns [`Result`]; no panic is reachable from
+//!   input, valid or not (a panic would kill the page).
+//! * Every random stream takes a seed and is a named generator (ChaCha8), so a scenario with a
+//!   seed gives the same report natively and in the browser.
+//! * Time is 1-based as in the papers; JSON matrices are lists of rows; every number in a report
+//!   is a JSON number; an ellipsoid is `{"center", "cov", "radius2"}` meaning
+//!   (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2.
+//!
+//! ## Where the papers are wrong, and what the code does
+//!
+//! * SCF robot model (3): row 4 printed (1 − K_u)·Δ; the axes are identical, so 1 − K_uΔ.
+//! * SCF robot noise: (3) adds v·Δ, i.e. covariance Δ²V_A; the `scf-robots` preset uses V_A
+//!   (the paper's "moderate enlargement"), `scf-robots-literal` uses Δ²V_A.
+//! * SCF Example 1: the ρ integrand should read exp(−x²/(2p̄)) (then ρ ≈ 2.00 as printed).
+//! * Backward noise covariance: Γ − F^bΓF^bᵀ = Γ − ΓFᵀΓ⁻¹FΓ (the LSCR paper's (7) prints
+//!   Π − FΠFᵀ).
+//!
+//! ## How the robot Monte Carlo is fast
+//!
+//! [`experiment::ConditionalExperiment`] draws, per run, the measurements y_1..y_{t_c} from
+//! their exact law given x_{t_c} = x_c by a Kalman filter run backwards on the backward
+//! representation (innovations form: q normals per step instead of n + q), then runs the KF
+//! forward; SCF regions are affine in the KF estimate with data-independent shapes. The model is
+//! split into independent blocks (the robots' four axes), each on fixed-size arrays, eight runs
+//! side by side.
 
 pub mod error;
 pub mod experiment;
