@@ -305,6 +305,7 @@ impl Scenario {
             components: self.components.clone(),
             tau: self.tau,
             asymptotic: self.asymptotic,
+            kf_only: self.method == "kf",
         };
         if self.asymptotic
             && !(model.is_time_invariant() && model.stationary_prior && model.m() == 0)
@@ -360,7 +361,8 @@ impl Prepared {
         let asymptotic =
             if self.model.is_time_invariant() && self.model.stationary_prior && self.model.m() == 0
             {
-                Some(scf::asymptotic(&self.model)?)
+                // Optional extra: omitted when the steady state has no invertible ratio (unobservable).
+            scf::asymptotic(&self.model).ok()
             } else {
                 None
             };

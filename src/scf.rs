@@ -128,6 +128,8 @@ pub struct ScfOptions {
     pub tau: usize,
     /// Use the asymptotic (constant-gain, constant-ratio) filter of IV-B.
     pub asymptotic: bool,
+    /// Kalman filter only (method "kf"): no SCF regions, so no observability requirement.
+    pub kf_only: bool,
 }
 
 /// Everything reported at time t.
@@ -273,7 +275,7 @@ pub fn run(
             target,
         });
     }
-    if steps >= n && !any_scf {
+    if steps >= n && !any_scf && !opts.kf_only {
         return Err(Error::field(
             "model.H",
             "does not make the state observable from the data: the ratio matrix U_tA_t stayed singular \
