@@ -1,0 +1,84 @@
+// One figure card: a canvas whose backing store is CSS size × devicePixelRatio, drawn by the wasm
+// Session; the cursor's position in chart units (from the returned Frame); SVG/PNG downloads.
+
+export function download(name, blob) {
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(blob);
+  a.download = name;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+const fmt = (v) => (Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toPrecision(4));
+
+export class Figure {
+  constructor(card, session, fileStem) {
+    this.card = card;
+    this.session = session;
+    this.fileStem = fileStem; // () => "scf-robots-t36"
+    this.canvas = card.querySelector('canvas');
+    this.panel = this.canvas.dataset.panel;
+    this.err = card.querySelector('.fig-err');
+    this.cursor = card.querySelector('.cursor');
+    this.frame = null;
+    this.time = null;
+    this.canvas.addEventListener('mousemove', (e) => this.showCursor(e.offsetX, e.offsetY));
+    this.canvas.addEventListener('mouseleave', () => { this.cursor.textContent = ''; });
+    card.querySelector('[data-dl=svg]').addEventListener('click', () => this.downloadSvg());
+    card.querySelector('[data-dl=png]').addEventListener('click', () => this.downloadPng());
+  }
+
+  get visible() { return !this.card.hidden; }
+
+  view() { return JSON.stringify({ panel: this.panel, time: this.time }); }
+
+  // Size the backing store to the CSS box times the pixel ratio; true if it changed.
+  fit() {
+    const dpr = window.devicePixelRatio || 1;
+    const w = Math.max(1, Math.round(this.canvas.clientWidth * dpr));
+    const h = Math.max(1, Math.round(this.canvas.clientHeight * dpr));
+    if (this.canvas.width === w && this.canvas.height === h) return false;
+    this.canvas.width = w;
+    this.canvas.height = h;
+    return true;
+  }
+
+  draw(time) {
+    this.time = time;
+    if (!this.visible) return;
+    this.fit();
+    try {
+      this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), window.devicePixelRatio || 1));
+      this.err.textContent = '';
+    } catch (e) {
+      this.frame = null;
+      this.err.textContent = e.message;
+    }
+  }
+
+  // Linear map of the plotting box (CSS pixels, as offsetX/Y) to the axis ranges.
+  showCursor(px, py) {
+    const f = this.frame;
+    if (!f) return;
+    const [l, t, r, b] = f.plot_area;
+    if (px < l || px > r || py < t || py > b || r <= l || b <= t) { this.cursor.textContent = ''; return; }
+    const x = f.x_range[0] + ((px - l) / (r - l)) * (f.x_range[1] - f.x_range[0]);
+    const y = f.y_range[1] - ((py - t) / (b - t)) * (f.y_range[1] - f.y_range[0]);
+    this.cursor.textContent = `${f.x_label || 'x'} = ${fmt(x)}, ${f.y_label || 'y'} = ${fmt(y)}`;
+  }
+
+  downloadSvg() {
+    try {
+      const svg = this.session.svg(this.view(), this.canvas.clientWidth, this.canvas.clientHeight);
+      download(`${this.fileStem()}-${this.panel}.svg`, new Blob([svg], { type: 'image/svg+xml' }));
+    } catch (e) {
+      this.err.textContent = e.message;
+    }
+  }
+
+  downloadPng() {
+    this.canvas.toBlob((blob) => blob && download(`${this.fileStem()}-${this.panel}.png`, blob), 'image/png');
+  }
+}

@@ -1,0 +1,86 @@
+// Monte Carlo over rare realizations (SCF paper, Section II-B), run by the wasm Experiment in
+// chunks: about 12 ms of work per task, so the page keeps painting and can cancel.
+import { Experiment } from './pkg/confset.js';
+
+const CHUNK = 500;
+const SLICE_MS = 12;
+// Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
+const channel = new MessageChannel();
+const waiting = [];
+channel.port1.onmessage = () => waiting.shift()?.();
+const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2.postMessage(0); });
+const n = (v) => v.toLocaleString('en-US');
+
+export function mountMonteCarlo(root, getScenario, setBusy) {
+  const q = (id) => root.querySelector(`#${id}`);
+  const [go, cancel, bar, status, err, nIn] = ['mc-go', 'mc-cancel', 'mc-progress', 'mc-status', 'mc-err', 'mc-n'].map(q);
+  let running = null; // { cancelled }
+
+  function show(c, done) {
+    const frac = (k) => `${n(k)} / ${n(c.runs_done)}`;
+    q('mc-kf-in').textContent = frac(c.kf_inside);
+    q('mc-scf-in').textContent = frac(c.scf_inside);
+    q('mc-kf-w').textContent = c.warning_t ? frac(c.kf_warnings) : '–';
+    q('mc-scf-w').textContent = c.warning_t ? frac(c.scf_warnings) : '–';
+    bar.max = c.runs_total;
+    bar.value = c.runs_done;
+    if (done) {
+      const [lo, hi] = c.scf_expected_range;
+      const ok = c.scf_inside >= lo && c.scf_inside <= hi;
+      q('mc-range').innerHTML = `At α = ${c.alpha}, the SCF count should lie in [${n(lo)}, ${n(hi)}] `
+        + `(99.9 % binomial range for ${n(c.runs_total)} runs): ${ok ? '<b class="good">it does</b>' : '<b class="warn">it does not</b>'}.`;
+    }
+  }
+
+  async function run() {
+    err.textContent = '';
+    q('mc-range').textContent = '';
+    const runs = Math.round(Number(nIn.value));
+    let exp;
+    try {
+      const { scenario, preset } = getScenario();
+      scenario.experiment = { ...preset.experiment, runs };
+      for (const el of root.querySelectorAll('.mc-tc')) el.textContent = scenario.simulate.condition.t;
+      for (const el of root.querySelectorAll('.mc-tw')) el.textContent = `${scenario.experiment.warning_t} (τ = ${scenario.tau})`;
+      exp = new Experiment(JSON.stringify(scenario));
+    } catch (e) {
+      err.textContent = e.message;
+      return;
+    }
+    const me = { cancelled: false };
+    running = me;
+    go.disabled = true;
+    cancel.disabled = false;
+    setBusy(+1);
+    const t0 = performance.now();
+    let compute = 0;
+    let c = null;
+    try {
+      while (!me.cancelled) {
+        const s0 = performance.now();
+        do c = JSON.parse(exp.step(CHUNK)); while (!exp.finished() && performance.now() - s0 < SLICE_MS);
+        compute += performance.now() - s0;
+        show(c, false);
+        status.textContent = `${n(c.runs_done)} / ${n(c.runs_total)} runs`;
+        if (exp.finished()) break;
+        await yieldToBrowser();
+      }
+      const wall = performance.now() - t0;
+      show(c, !me.cancelled);
+      status.textContent = me.cancelled
+        ? `cancelled after ${n(c.runs_done)} runs`
+        : `${n(c.runs_done)} runs in ${wall.toFixed(0)} ms (computing ${compute.toFixed(0)} ms, ${(1000 * compute / c.runs_done).toFixed(1)} µs per run)`;
+    } catch (e) {
+      err.textContent = e.message;
+    } finally {
+      exp.free();
+      running = null;
+      go.disabled = false;
+      cancel.disabled = true;
+      setBusy(-1);
+    }
+  }
+
+  go.addEventListener('click', run);
+  cancel.addEventListener('click', () => { if (running) running.cancelled = true; });
+}
