@@ -300,6 +300,25 @@ impl Scenario {
         if self.tau > 10_000 {
             return Err(Error::field("tau", "must be at most 10000"));
         }
+        // Index lists are checked here, before any method indexes a matrix with them (the
+        // experiment reads `collision` and `experiment.components` without a report).
+        let check_idx = |field: &str, idx: &[usize]| {
+            Ellipsoid::new(&DVector::zeros(n), &nalgebra::DMatrix::identity(n, n), 1.0)
+                .project(idx)
+                .map(|_| ())
+                .map_err(|e| Error::field(field, e.message))
+        };
+        if let Some(c) = &self.collision {
+            for (name, blk) in [("collision.a", &c.a), ("collision.b", &c.b)] {
+                if blk.len() != 2 {
+                    return Err(Error::field(name, "must name two state components"));
+                }
+                check_idx(name, blk)?;
+            }
+        }
+        if let Some(e) = &self.experiment {
+            check_idx("experiment.components", &e.components)?;
+        }
         let options = ScfOptions {
             alpha: self.alpha,
             components: self.components.clone(),
