@@ -183,7 +183,8 @@ impl Experiment {
         Ok(Experiment { inner })
     }
 
-    /// Run up to `runs` more realizations; returns the counts so far (JSON).
+    /// Run about `runs` more realizations (whole batches, never past the total); returns the
+    /// counts so far (JSON).
     pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
         to_json("the counts", self.inner.step(runs as usize))
     }
