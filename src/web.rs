@@ -139,7 +139,7 @@ impl Session {
         let inner = CanvasBackend::with_canvas_object(canvas)
             .ok_or_else(|| js_error(&Error::field("canvas", "has no 2-D context")))?;
         let frame: Frame =
-            plot::draw(Scaled { inner, size }, report, &view).map_err(|e| js_error(&e))?;
+            plot::draw(Scaled { inner, ctx, size }, report, &view).map_err(|e| js_error(&e))?;
         to_json("the frame", &frame)
     }
 
@@ -201,9 +201,37 @@ impl Experiment {
 
 /// A canvas backend seen at CSS size: the context is scaled by the pixel ratio, so every
 /// coordinate, width and font size the figure code uses is in CSS pixels.
+///
+/// Text is measured with the context's `measureText` in the very font string plotters-canvas
+/// draws with: plotters' own browser measurement appends a `<span>` to the page and reads its
+/// size, a forced layout of the whole document per label (most of a figure's drawing time).
 struct Scaled {
     inner: CanvasBackend,
+    ctx: CanvasRenderingContext2d,
     size: (u32, u32),
+}
+
+impl Scaled {
+    fn measure<S: BackendTextStyle>(&self, text: &str, s: &S) -> Option<(u32, u32)> {
+        use js_sys::{Function, Reflect};
+        self.ctx.set_font(&format!(
+            "{} {}px {}",
+            s.style().as_str(),
+            s.size(),
+            s.family().as_str()
+        ));
+        let get = |o: &JsValue, k: &str| Reflect::get(o, &JsValue::from_str(k)).ok();
+        let f: Function = get(&self.ctx, "measureText")?.dyn_into().ok()?;
+        let m = f.call1(&self.ctx, &JsValue::from_str(text)).ok()?;
+        let num = |k: &str| get(&m, k).and_then(|v| v.as_f64()).filter(|v| v.is_finite());
+        let w = num("width")?;
+        // The font's line box, like the height of plotters' measuring span.
+        let h = match (num("fontBoundingBoxAscent"), num("fontBoundingBoxDescent")) {
+            (Some(a), Some(d)) => a + d,
+            _ => 1.15 * s.size(),
+        };
+        Some((w.ceil().max(0.0) as u32, h.ceil().max(0.0) as u32))
+    }
 }
 
 type Err = DrawingErrorKind<<CanvasBackend as DrawingBackend>::ErrorType>;
@@ -276,6 +304,9 @@ impl DrawingBackend for Scaled {
         text: &str,
         s: &S,
     ) -> Result<(u32, u32), Err> {
-        self.inner.estimate_text_size(text, s)
+        match self.measure(text, s) {
+            Some(wh) => Ok(wh),
+            None => self.inner.estimate_text_size(text, s),
+        }
     }
 }

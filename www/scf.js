@@ -185,7 +185,6 @@ export async function mountScf(root, presets) {
       delete ui.time.dataset.preset;
     }
     coverageCard.hidden = !st.report.coverage_curve;
-    $('cov-how').textContent = st.report.coverage_curve ? `(${st.report.coverage_curve.how})` : '';
     redraw();
   }
 
