@@ -1,0 +1,112 @@
+// The SCF vs KF panel end to end: presets, sliders that change the picture, a bad matrix shown
+// inline while the last picture stays, the chunked Monte Carlo, and screenshots at DPR 1 and 2.
+import { join } from 'node:path';
+
+const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 60_000 });
+const pixels = (page, fig = 'fig-state') => page.$eval(`#${fig} canvas`, (c) => c.toDataURL());
+const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim());
+
+async function slide(page, id, value) {
+  await page.$eval(`#${id}`, (el, v) => {
+    el.value = v;
+    el.dispatchEvent(new Event('input', { bubbles: true }));
+  }, String(value));
+  await idle(page);
+}
+
+async function choose(page, name) {
+  await page.selectOption('#preset', name);
+  await idle(page);
+}
+
+export default async function scf({ baseUrl, newPage, waitReady, assert, screenshotDir }) {
+  for (const dpr of [1, 2]) {
+    const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
+    await page.goto(baseUrl);
+    await waitReady(page);
+    await idle(page);
+
+    // Hi-DPI: the backing store is the CSS size times the pixel ratio, and a figure was drawn.
+    const size = await page.$eval('#fig-state canvas', (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
+    assert.equal(size[0], Math.round(size[2] * dpr), `canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
+    assert.equal(size[1], Math.round(size[3] * dpr), `canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
+    assert.equal(await text(page, '#fig-state .fig-err'), '', 'the state figure is drawn without error');
+    assert.match(await text(page, '#t-run'), /^computed in [\d.]+ ms$/);
+    assert.match(await text(page, '#t-draw'), /drawn in [\d.]+ ms/);
+
+    // Every preset runs and draws; the robot presets show the Monte Carlo section.
+    for (const name of ['scf-robots', 'scf-robots-literal', 'custom', 'scf-scalar']) {
+      await choose(page, name);
+      assert.equal(await text(page, '#fig-state .fig-err'), '', `${name}: state figure drawn`);
+      assert.equal(await page.$eval('#mc', (e) => e.hidden), !name.startsWith('scf-robots'), `${name}: Monte Carlo section`);
+      assert.ok((await text(page, '#notes')).length > 20, `${name}: notes shown`);
+    }
+
+    // The scalar preset shows Fig. 1; its coverage curve changes with α.
+    assert.equal(await page.$eval('#fig-coverage', (e) => e.hidden), false, 'Fig. 1 is shown for the scalar preset');
+    const [state0, cov0] = [await pixels(page), await pixels(page, 'fig-coverage')];
+    await slide(page, 'alpha', 0.8);
+    assert.notEqual(await pixels(page), state0, 'moving α changes the state figure');
+    assert.notEqual(await pixels(page, 'fig-coverage'), cov0, 'moving α changes Fig. 1');
+
+    // The time slider changes the view only.
+    const computed = await text(page, '#t-run');
+    const before = await pixels(page);
+    await slide(page, 'time', 20);
+    assert.notEqual(await pixels(page), before, 'moving t changes the state figure');
+    assert.equal(await text(page, '#num-t'), '20');
+    assert.equal(await text(page, '#t-run'), computed, 'moving t does not recompute');
+
+    // The cursor's position is read out in chart units.
+    const box = await page.$eval('#fig-state canvas', (c) => { const r = c.getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; });
+    await page.mouse.move(box[0] + box[2] * 0.5, box[1] + box[3] * 0.45);
+    assert.match(await text(page, '#fig-state .cursor'), /=\s*-?[\d.]/, 'cursor coordinates shown');
+
+    // Robots: the time slider moves the ellipses.
+    await choose(page, 'scf-robots');
+    const r36 = await pixels(page);
+    await slide(page, 'time', 20);
+    assert.notEqual(await pixels(page), r36, 'robots: moving t changes the picture');
+
+    // Custom mode: a non-symmetric V is named inline, the last picture stays.
+    await choose(page, 'custom');
+    const good = await pixels(page);
+    await page.fill('#m-V', '0.01 0.5\n0 0.04');
+    await idle(page);
+    const err = await text(page, '.err[data-for="model.V"]');
+    assert.match(err, /^model\.V .*symmetric/, `inline error for V: "${err}"`);
+    assert.equal(await page.$eval('#m-V', (e) => e.getAttribute('aria-invalid')), 'true');
+    assert.equal(await page.$eval('#stale', (e) => e.hidden), false, 'the stale-picture note is shown');
+    assert.equal(await pixels(page), good, 'the last good picture stays');
+    await page.fill('#m-F', '0.9 x\n0 0.9');
+    await idle(page);
+    assert.match(await text(page, '.err[data-for="model.F"]'), /^model\.F .*not a number/);
+    await page.fill('#m-F', '0.98 0.1\n0 0.9');
+    await page.fill('#m-V', '0.01 0\n0 0.04');
+    await idle(page);
+    assert.equal(await text(page, '.err[data-for="model.V"]'), '', 'the error clears once V is valid');
+    assert.equal(await page.$eval('#stale', (e) => e.hidden), true);
+
+    if (dpr === 1) {
+      // Monte Carlo with a small N: counts and the binomial range appear.
+      await choose(page, 'scf-robots');
+      await page.fill('#mc-n', '300');
+      await page.click('#mc-go');
+      await page.waitForFunction(() => /runs in \d+ ms/.test(document.getElementById('mc-status').textContent), null, { timeout: 60_000 });
+      await idle(page);
+      const scfIn = await text(page, '#mc-scf-in');
+      const m = scfIn.match(/^(\d+) \/ 300$/);
+      assert.ok(m, `SCF count shown: "${scfIn}"`);
+      assert.ok(Number(m[1]) >= 250, `SCF covers the colliding state in most runs: ${scfIn}`);
+      assert.match(await text(page, '#mc-kf-in'), /^\d+ \/ 300$/);
+      assert.match(await text(page, '#mc-scf-w'), /^\d+ \/ 300$/);
+      assert.match(await text(page, '#mc-range'), /binomial range/);
+      assert.equal(await text(page, '#mc-err'), '');
+    }
+
+    for (const name of ['scf-scalar', 'scf-robots']) {
+      await choose(page, name);
+      await page.screenshot({ path: join(screenshotDir, `scf-${name}-dpr${dpr}.png`), fullPage: true });
+    }
+  }
+}
