@@ -1,6 +1,7 @@
 // Monte Carlo over rare realizations (SCF paper, Section II-B), run by the wasm Experiment in
 // chunks: about 12 ms of work per task, so the page keeps painting and can cancel.
 import { Experiment } from './pkg/confset.js';
+import { wholeNumber } from './parse.js';
 
 const CHUNK = 500;
 const SLICE_MS = 12;
@@ -35,9 +36,9 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
   async function run() {
     err.textContent = '';
     q('mc-range').textContent = '';
-    const runs = Math.round(Number(nIn.value));
     let exp;
     try {
+      const runs = wholeNumber('experiment.runs', nIn.value);
       const { scenario, preset } = getScenario();
       scenario.experiment = { ...preset.experiment, runs };
       for (const el of root.querySelectorAll('.mc-tc')) el.textContent = scenario.simulate.condition.t;

@@ -3,6 +3,7 @@
 import { Session } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
+import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
 
 const $ = (id) => document.getElementById(id);
 const clone = (v) => JSON.parse(JSON.stringify(v));
@@ -10,26 +11,6 @@ const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toFixed(3));
 const scale = (m, k) => (Array.isArray(m) ? m.map((r) => scale(r, k)) : m * k);
 const CUSTOM = 'custom';
-
-// "1 0; 0 1" or one row per line → [[1, 0], [0, 1]]; errors name the field like the core does.
-function parseMatrix(field, text) {
-  const rows = text.split(/[;\n]/).map((r) => r.trim()).filter((r) => r !== '');
-  if (rows.length === 0) throw { field, message: `${field} is empty: enter one row per line` };
-  return rows.map((r, i) => r.split(/[\s,]+/).map((s) => {
-    const v = Number(s);
-    if (s === '' || !Number.isFinite(v)) throw { field, message: `${field} has “${s}” in row ${i + 1}, which is not a number` };
-    return v;
-  }));
-}
-const matrixText = (m) => (Array.isArray(m) && Array.isArray(m[0]) && !Array.isArray(m[0][0])
-  ? m.map((r) => r.map((v) => +v.toPrecision(6)).join(' ')).join('\n') : '');
-
-function parseVector(field, text) {
-  const parts = text.split(/[\s,;]+/).filter((s) => s !== '');
-  const v = parts.map(Number);
-  if (v.length === 0 || v.some((x) => !Number.isFinite(x))) throw { field, message: `${field} must be numbers separated by spaces or commas` };
-  return v;
-}
 
 // The custom mode is one more "preset" whose model comes from the four text boxes.
 const CUSTOM_PRESET = {
@@ -40,7 +21,7 @@ const CUSTOM_PRESET = {
     model: { F: [[0.98, 0.1], [0, 0.9]], H: [[1, 0]], V: [[0.01, 0], [0, 0.04]], W: [[0.25]] },
     simulate: { steps: 50, seed: 1 }, alpha: 0.95, tau: 0,
     coverage_curve: { component: 0, from: -6, to: 6, points: 101 },
-    notes: 'A time-invariant model x_{t+1} = F x_t + v_t, y_t = H x_t + w_t with the stationary prior x₁ ~ N(0, Γ), '
+    notes: 'A time-invariant model xₜ₊₁ = F xₜ + vₜ, yₜ = H xₜ + wₜ with the stationary prior x₁ ~ N(0, Γ), '
       + 'Γ = FΓFᵀ + V (so F must be stable), simulated for 50 steps. The SCF region exists from t = n on, once the '
       + 'ratio matrix U_tA_t is invertible (the state must be observable). The example: position and velocity, only '
       + 'the position measured — the velocity is poorly observed, so its SCF extent is much larger than the KF one. '
@@ -118,8 +99,8 @@ export async function mountScf(root, presets) {
     s.alpha = Number(ui.alpha.value);
     s.model.V = scale(s.model.V, 10 ** Number(ui.sv.value));
     s.model.W = scale(s.model.W, 10 ** Number(ui.sw.value));
-    s.tau = Math.max(0, Math.round(Number(ui.tau.value) || 0));
-    s.simulate.seed = Math.max(0, Math.round(Number(ui.seed.value) || 0));
+    s.tau = wholeNumber('tau', ui.tau.value);
+    s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
     if (ui.components.value === 'all') delete s.components;
     else s.components = ui.components.value.split(',').map(Number);
     if (!ui.rare.checked) delete s.simulate.condition;
@@ -268,7 +249,8 @@ export async function mountScf(root, presets) {
   ui.time.addEventListener('input', () => { showOutputs(); schedule('redraw'); });
 
   // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
-  new ResizeObserver(() => schedule('redraw')).observe(root.querySelector('.figures'));
+  const resized = new ResizeObserver(() => schedule('redraw'));
+  for (const f of figures) resized.observe(f.canvas);
   const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
     .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
   watchDpr();

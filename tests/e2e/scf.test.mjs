@@ -106,7 +106,7 @@ export default async function scf({ baseUrl, newPage, waitReady, assert, screens
 
     for (const name of ['scf-scalar', 'scf-robots']) {
       await choose(page, name);
-      await page.screenshot({ path: join(screenshotDir, `scf-${name}-dpr${dpr}.png`), fullPage: true });
+      await page.screenshot({ path: join(screenshotDir, `${name}-dpr${dpr}.png`), fullPage: true });
     }
   }
 }
