@@ -1,6 +1,9 @@
 // The SCF vs KF panel end to end: presets, sliders that change the picture, a bad matrix shown
 // inline while the last picture stays, the chunked Monte Carlo, and screenshots at DPR 1 and 2.
 import { join } from 'node:path';
+import { readFile } from 'node:fs/promises';
+
+const readDownload = async (d) => readFile(await d.path(), 'utf8');
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 60_000 });
 const pixels = (page, fig = 'fig-state') => page.$eval(`#${fig} canvas`, (c) => c.toDataURL());
@@ -103,6 +106,26 @@ export default async function scf({ baseUrl, newPage, waitReady, assert, screens
       assert.match(await text(page, '#mc-range'), /binomial range/);
       assert.equal(await text(page, '#mc-err'), '');
     }
+
+    // Downloads: the figure as SVG (drawn by the same Rust code on plotters' SVG backend), the report.
+    const [svgDl] = await Promise.all([page.waitForEvent('download'), page.click('#fig-state [data-dl=svg]')]);
+    assert.match(svgDl.suggestedFilename(), /\.svg$/);
+    const svgText = await readDownload(svgDl);
+    assert.ok(svgText.includes('<svg'), 'the SVG download is SVG');
+    const [jsonDl] = await Promise.all([page.waitForEvent('download'), page.click('#dl-report')]);
+    const report = JSON.parse(await readDownload(jsonDl));
+    assert.ok(Array.isArray(report.steps) && report.steps.length > 0, 'the report download is the report');
+    const [pngDl] = await Promise.all([page.waitForEvent('download'), page.click('#fig-state [data-dl=png]')]);
+    assert.match(pngDl.suggestedFilename(), /\.png$/);
+
+    // A resize refits the backing stores (no recompute needed).
+    await page.setViewportSize({ width: 1000, height: 800 });
+    await page.waitForFunction((r) => {
+      const c = document.querySelector('#fig-state canvas');
+      return c.width === Math.round(c.clientWidth * r) && !document.body.dataset.busy;
+    }, dpr, { timeout: 10_000 });
+    await page.setViewportSize({ width: 1366, height: 900 });
+    await idle(page);
 
     for (const name of ['scf-scalar', 'scf-robots']) {
       await choose(page, name);
