@@ -28,6 +28,7 @@ const CUSTOM_PRESET = {
       + 'The Fig. 1 curve (for n ≤ 2) fixes the whole state at x̄ on component 1 and the prior mean elsewhere.',
   },
 };
+
 export async function mountScf(root, presets) {
   const session = new Session();
   const ui = Object.fromEntries(['preset', 'alpha', 'sv', 'sw', 'time', 'tau', 'seed', 'components', 'rare',
