@@ -7,9 +7,12 @@
 //! confset experiment SCENARIO.json|--preset NAME [--runs N]
 //!                                          conditional Monte Carlo (counts JSON)
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
-//! confset figures -o DIR                   every preset's figures as SVG
+//!         [--panel state|series|coverage] [--time T] [--zoom auto|regions|full] [--size WxH]
+//! confset figures -o DIR [--size WxH]      every useful panel of every preset as SVG
+//!                                          (DIR/PRESET-PANEL.svg)
 //! ```
 
+use confset::plot::{self, Panel, View, Zoom};
 use confset::scenario::Scenario;
 use confset::{presets, Error};
 use std::process::ExitCode;
@@ -19,7 +22,13 @@ const USAGE: &str = "usage:
   confset run (SCENARIO.json | --preset NAME)
   confset experiment (SCENARIO.json | --preset NAME) [--runs N]
   confset figure (SCENARIO.json | --preset NAME) -o FILE.svg
-  confset figures -o DIR";
+          [--panel state|series|coverage] [--time T] [--zoom auto|regions|full] [--size WxH]
+  confset figures -o DIR [--size WxH]";
+
+/// Flags that take a value (so the value is not mistaken for the scenario file).
+const VALUED: [&str; 7] = [
+    "-o", "--runs", "--preset", "--panel", "--time", "--zoom", "--size",
+];
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -46,12 +55,10 @@ fn scenario(args: &[String]) -> Result<Scenario, Error> {
     }
     let path = args
         .iter()
+        .enumerate()
         .skip(1)
-        .find(|a| {
-            !a.starts_with('-')
-                && Some(a.as_str()) != flag(args, "-o")
-                && Some(a.as_str()) != flag(args, "--runs")
-        })
+        .find(|(i, a)| !a.starts_with('-') && !VALUED.contains(&args[i - 1].as_str()))
+        .map(|(_, a)| a)
         .ok_or_else(|| {
             Error::field(
                 "",
@@ -61,6 +68,51 @@ fn scenario(args: &[String]) -> Result<Scenario, Error> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::field("", format!("cannot read {path}: {e}")))?;
     Scenario::from_json(&text)
+}
+
+/// `--size WxH` (default 960x640).
+fn size(args: &[String]) -> Result<(u32, u32), Error> {
+    let Some(v) = flag(args, "--size") else {
+        return Ok((960, 640));
+    };
+    let bad = || {
+        Error::field(
+            "--size",
+            format!("must read WIDTHxHEIGHT in pixels, e.g. 960x640, found \"{v}\""),
+        )
+    };
+    let (w, h) = v.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(Error::field(
+            "--size",
+            "must lie in 16..=8192 pixels per side",
+        ));
+    }
+    Ok((w, h))
+}
+
+/// The view asked for by `--panel`, `--time`, `--zoom`, with the scenario's context.
+fn view(args: &[String], s: &Scenario) -> Result<View, Error> {
+    let mut v = View::new(match flag(args, "--panel") {
+        Some(p) => Panel::from_name(p).map_err(|e| Error::field("--panel", e.message))?,
+        None => Panel::State,
+    });
+    if let Some(t) = flag(args, "--time") {
+        v.time = Some(
+            t.parse()
+                .map_err(|_| Error::field("--time", "must be a time step 1, 2, …"))?,
+        );
+    }
+    if let Some(z) = flag(args, "--zoom") {
+        v.zoom = match z {
+            "auto" => Zoom::Auto,
+            "regions" => Zoom::Regions,
+            "full" => Zoom::Full,
+            _ => return Err(Error::field("--zoom", "must be auto, regions or full")),
+        };
+    }
+    Ok(v.with_scenario(s))
 }
 
 fn json<T: serde::Serialize>(v: &T) -> Result<(), Error> {
@@ -99,18 +151,25 @@ fn run(args: &[String]) -> Result<(), Error> {
         Some("figure") => {
             let out = flag(args, "-o")
                 .ok_or_else(|| Error::field("-o", "is needed: the SVG file to write"))?;
-            let svg = confset::plot::scenario_svg(&scenario(args)?, 960, 640)?;
-            write(out, &svg)
+            let s = scenario(args)?;
+            let report = s.run()?;
+            let (w, h) = size(args)?;
+            write(out, &plot::report_svg(&report, &view(args, &s)?, w, h)?)
         }
         Some("figures") => {
             let dir = flag(args, "-o")
                 .ok_or_else(|| Error::field("-o", "is needed: the directory to write into"))?;
             std::fs::create_dir_all(dir)
                 .map_err(|e| Error::field("-o", format!("cannot create {dir}: {e}")))?;
+            let (w, h) = size(args)?;
             for p in presets::all() {
-                let path = format!("{dir}/{}.svg", p.name);
-                write(&path, &confset::plot::scenario_svg(&p.scenario, 960, 640)?)?;
-                eprintln!("wrote {path}");
+                let report = p.scenario.run()?;
+                for panel in plot::useful_panels(&report) {
+                    let path = format!("{dir}/{}-{}.svg", p.name, panel.name());
+                    let v = View::new(panel).with_scenario(&p.scenario);
+                    write(&path, &plot::report_svg(&report, &v, w, h)?)?;
+                    eprintln!("wrote {path}");
+                }
             }
             Ok(())
         }

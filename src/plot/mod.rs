@@ -1,11 +1,48 @@
 //! Figures, drawn with plotters on any backend (SVG natively, canvas in the browser).
 //!
-//! STUB — the drawing code is being written; the API below is the contract the CLI and the wasm
-//! bindings use.
+//! One entry point, [`draw`], generic over plotters' `DrawingBackend`: the CLI hands it an
+//! `SVGBackend` ([`report_svg`], [`scenario_svg`]), the wasm bindings a `CanvasBackend`. The
+//! pictures ([`Panel`]):
+//!
+//! * [`Panel::State`] (`state.rs`) — for two plotted components the state plane at the shown
+//!   time t: true trajectory, measurements (when they measure the plotted components
+//!   directly), the true state (+), the KF region (dashed) and the SCF region (solid, light
+//!   fill). When the report has a target (components ζ, τ-step prediction) those regions are
+//!   drawn (e.g. "SCF Z₄₀|₃₆"); with a collision check both bodies' predicted regions, their
+//!   true positions and the KF/SCF warnings. The window zooms on the regions when the
+//!   trajectory is much larger than they are, with an inset of the whole run. For one plotted
+//!   component: the state over time with KF/SCF interval bands and the shown time's intervals.
+//! * [`Panel::Series`] (`series.rs`) — each plotted component over time: truth, KF and SCF
+//!   centers and intervals (projections of the n-dimensional regions), time cursor; when the
+//!   intervals are tiny next to the trajectory, the estimates minus the true value.
+//! * [`Panel::Coverage`] (`coverage.rs`) — Fig. 1 of the SCF paper: P{x_t ∈ X_t | x_t = x̄}
+//!   against x̄ for KF and SCF, with the level α.
+//!
+//! Colors, fonts and the legend are shared (`style.rs`): KF vermillion dashed, SCF blue solid,
+//! truth black, measurements grey (Okabe–Ito, colorblind-safe).
+//!
+//! Fonts: on wasm32 plotters measures text with the browser. Natively it measures with a
+//! ~41 KB subset of DejaVu Sans embedded in the binary (`fonts/`, registered through plotters'
+//! `ab_glyph` feature, native only); SVG text names the generic family `sans-serif`.
+//!
+//! Nothing here panics on bad input: every drawing failure and every inconsistent view
+//! becomes a crate [`Error`].
+
+mod coverage;
+pub mod geom;
+mod series;
+mod state;
+pub mod style;
+
 use crate::error::{Error, Result};
-use crate::scenario::{Report, Scenario};
+use crate::model::MatrixSpec;
+use crate::scenario::{CollisionSpec, Report, Scenario};
+use crate::scf::ScfStep;
+use plotters::coord::Shift;
+use plotters::drawing::DrawingAreaErrorKind;
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
+use style::{sub, Fonts};
 
 /// Which picture.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -21,17 +58,160 @@ pub enum Panel {
     Coverage,
 }
 
+impl Panel {
+    /// Lower-case name as in JSON ("state", "series", "coverage").
+    pub fn name(&self) -> &'static str {
+        match self {
+            Panel::State => "state",
+            Panel::Series => "series",
+            Panel::Coverage => "coverage",
+        }
+    }
+    /// Parse a lower-case name.
+    pub fn from_name(s: &str) -> Result<Panel> {
+        match s {
+            "state" => Ok(Panel::State),
+            "series" => Ok(Panel::Series),
+            "coverage" => Ok(Panel::Coverage),
+            _ => Err(Error::field(
+                "panel",
+                format!("\"{s}\" is unknown: choose state, series or coverage"),
+            )),
+        }
+    }
+}
+
+/// Window of the state plane / series.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Zoom {
+    /// Zoom on the regions when the trajectory is much larger than they are (robots);
+    /// otherwise show everything.
+    #[default]
+    Auto,
+    /// Always the regions (state plane) / the estimates minus the true value (series).
+    Regions,
+    /// Always the whole run / the raw values.
+    Full,
+}
+
 /// What to draw.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+///
+/// Only `panel` and `time` are needed; the other fields are optional context from the
+/// scenario that makes the figure richer (axis names, measurement dots, the second body of a
+/// collision check, the title). [`View::with_scenario`] fills them; a page may send them in
+/// the view JSON too.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct View {
     #[serde(default)]
     pub panel: Panel,
     /// Time shown (default: the report's `time`).
     #[serde(default)]
     pub time: Option<usize>,
+    /// Window of the state plane and of the series.
+    #[serde(default)]
+    pub zoom: Zoom,
+    /// Figure title (default: a generic one naming the panel).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub title: Option<String>,
+    /// Axis names of the state components, indexed by component (0-based), e.g.
+    /// "position p_x of robot A [m]". Missing entries read "x₁ (state component 0)".
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub names: Vec<String>,
+    /// For each state component, the measurement row that measures it directly (an H row
+    /// equal to a unit vector), so measurements can be drawn in state coordinates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<Vec<Option<usize>>>,
+    /// The scenario's collision check (the two bodies' components and d_min).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collision: Option<CollisionSpec>,
+}
+
+impl View {
+    /// A view of `panel` at the report's time.
+    pub fn new(panel: Panel) -> View {
+        View {
+            panel,
+            ..View::default()
+        }
+    }
+
+    /// Fill the context fields left empty from the scenario the report came from.
+    pub fn with_scenario(mut self, s: &Scenario) -> View {
+        if self.title.is_none() {
+            self.title = s.title.clone();
+        }
+        if self.collision.is_none() {
+            self.collision = s.collision.clone();
+        }
+        if self.measured.is_none() {
+            self.measured = direct_measurements(s);
+        }
+        if self.names.is_empty() {
+            if let Some(c) = &s.collision {
+                let robot = s
+                    .title
+                    .as_deref()
+                    .is_some_and(|t| t.to_lowercase().contains("robot"));
+                let (who, unit) = if robot {
+                    ("robot", " [m]")
+                } else {
+                    ("body", "")
+                };
+                let n = c.a.iter().chain(&c.b).copied().max().map_or(0, |m| m + 1);
+                let mut names: Vec<String> = (0..n).map(default_name).collect();
+                for (body, idx) in [("A", &c.a), ("B", &c.b)] {
+                    for (k, &i) in idx.iter().enumerate() {
+                        let axis = if k == 0 { "x" } else { "y" };
+                        if let Some(slot) = names.get_mut(i) {
+                            *slot = format!("position p_{axis} of {who} {body}{unit}");
+                        }
+                    }
+                }
+                self.names = names;
+            }
+        }
+        self
+    }
+}
+
+/// For each state component, the row of a constant H that measures it directly.
+fn direct_measurements(s: &Scenario) -> Option<Vec<Option<usize>>> {
+    let rows = match s.model.h.as_ref()? {
+        MatrixSpec::Constant(rows) => rows.clone(),
+        MatrixSpec::Sequence(seq) => {
+            let first = seq.first()?.clone();
+            if seq.iter().all(|m| *m == first) {
+                first
+            } else {
+                return None;
+            }
+        }
+    };
+    let n = rows.first()?.len();
+    Some(
+        (0..n)
+            .map(|i| {
+                rows.iter().position(|r| {
+                    r.len() == n
+                        && r.iter()
+                            .enumerate()
+                            .all(|(j, &v)| if j == i { v == 1.0 } else { v == 0.0 })
+                })
+            })
+            .collect(),
+    )
+}
+
+fn default_name(i: usize) -> String {
+    format!("x{} (state component {i})", sub(i + 1))
 }
 
 /// Where the plotting area landed, so a page can map the cursor to chart units.
+///
+/// `plot_area` is in backend pixels (for the wasm bindings: CSS pixels of the canvas, like
+/// `MouseEvent.offsetX/Y`); chart x = x_range.0 + (px − left) / (right − left) · (x_range.1 −
+/// x_range.0), and y likewise but from the bottom (y_range.0 at `bottom`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Frame {
     pub x_range: (f64, f64),
@@ -40,11 +220,44 @@ pub struct Frame {
     pub plot_area: (i32, i32, i32, i32),
     pub x_label: String,
     pub y_label: String,
+    /// Further plotting areas of the same figure (the Series panel stacks one chart per
+    /// component: this frame is the top one, `more` the ones below, top to bottom).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub more: Vec<Frame>,
 }
 
+/// Smallest figure drawn (backend pixels).
+pub const MIN_SIZE: (u32, u32) = (240, 180);
+
 /// Draw `view` of `report` on any plotters backend.
-pub fn draw<DB: DrawingBackend>(_backend: DB, _report: &Report, _view: &View) -> Result<Frame> {
-    Err(Error::field("", "figures are not drawn yet"))
+pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Result<Frame> {
+    ensure_fonts()?;
+    let (w, h) = backend.get_size();
+    if w < MIN_SIZE.0 || h < MIN_SIZE.1 {
+        return Err(Error::field(
+            "size",
+            format!(
+                "{w} × {h} pixels is too small for a figure (at least {} × {})",
+                MIN_SIZE.0, MIN_SIZE.1
+            ),
+        ));
+    }
+    let cx = Ctx::new(report, view, Fonts::for_backend::<DB>((w, h)))?;
+    if view.panel == Panel::Coverage && report.coverage_curve.is_none() {
+        return Err(Error::field(
+            "coverage_curve",
+            "is not in this report: ask for it in the scenario (\"coverage_curve\": {\"component\", \"from\", \"to\"}) to draw the coverage panel",
+        ));
+    }
+    let root = backend.into_drawing_area();
+    root.fill(&WHITE).map_err(de)?;
+    let frame = match view.panel {
+        Panel::State => state::draw(&root, &cx)?,
+        Panel::Series => series::draw(&root, &cx)?,
+        Panel::Coverage => coverage::draw(&root, &cx)?,
+    };
+    root.present().map_err(de)?;
+    Ok(frame)
 }
 
 /// One view of a report as SVG text.
@@ -56,13 +269,170 @@ pub fn report_svg(report: &Report, view: &View, w: u32, h: u32) -> Result<String
 
 /// The scenario's default figure as SVG text.
 pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
-    report_svg(
-        &s.run()?,
-        &View {
-            panel: Panel::State,
-            time: None,
-        },
-        w,
-        h,
-    )
+    report_svg(&s.run()?, &View::new(Panel::State).with_scenario(s), w, h)
 }
+
+/// The panels worth drawing for a report: State and Series always, Coverage when the report
+/// has a coverage curve.
+pub fn useful_panels(report: &Report) -> Vec<Panel> {
+    let mut v = vec![Panel::State, Panel::Series];
+    if report.coverage_curve.is_some() {
+        v.push(Panel::Coverage);
+    }
+    v
+}
+
+/// A drawing error as a crate error.
+pub(crate) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
+    Error::field("figure", format!("could not be drawn: {e}"))
+}
+
+/// The embedded font (native only): registered once for the family "sans-serif".
+#[cfg(not(target_arch = "wasm32"))]
+fn ensure_fonts() -> Result<()> {
+    use std::sync::OnceLock;
+    static FONT: &[u8] = include_bytes!("fonts/DejaVuSans-subset.ttf");
+    static DONE: OnceLock<bool> = OnceLock::new();
+    let ok = *DONE.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::field(
+            "figure",
+            "the embedded font could not be loaded",
+        ))
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+fn ensure_fonts() -> Result<()> {
+    Ok(())
+}
+
+/// A checked report and view: everything a panel needs.
+pub(crate) struct Ctx<'a> {
+    pub report: &'a Report,
+    pub view: &'a View,
+    /// Shown time, 1 ≤ t ≤ number of steps.
+    pub t: usize,
+    pub fonts: Fonts,
+}
+
+impl<'a> Ctx<'a> {
+    fn new(report: &'a Report, view: &'a View, fonts: Fonts) -> Result<Self> {
+        let steps = report.steps.len();
+        if steps == 0 {
+            return Err(Error::field("report", "has no time steps to draw"));
+        }
+        let t = view.time.unwrap_or(report.time);
+        if t == 0 || t > steps {
+            return Err(Error::field(
+                if view.time.is_some() {
+                    "time"
+                } else {
+                    "report.time"
+                },
+                format!("must lie in 1..={steps} (the report's time steps), found {t}"),
+            ));
+        }
+        if report.plot.is_empty() || report.plot.len() > 2 {
+            return Err(Error::field(
+                "plot",
+                "must name one or two state components",
+            ));
+        }
+        if let Some(&i) = report.plot.iter().find(|&&i| i >= report.n) {
+            return Err(Error::field(
+                "plot",
+                format!(
+                    "names component {i}, but the state has {} components (0-based)",
+                    report.n
+                ),
+            ));
+        }
+        if report.steps.iter().any(|s| s.kf.dim() != report.n) {
+            return Err(Error::field(
+                "report.steps",
+                "hold regions of the wrong dimension",
+            ));
+        }
+        Ok(Ctx {
+            report,
+            view,
+            t,
+            fonts,
+        })
+    }
+
+    /// The shown step.
+    pub fn step(&self) -> &'a ScfStep {
+        // Checked in `new`.
+        &self.report.steps[self.t - 1]
+    }
+    /// True state at time s, if simulated.
+    pub fn x_true(&self, s: usize) -> Option<&'a [f64]> {
+        let xs = self.report.x_true.as_ref()?;
+        let x = xs.get(s.checked_sub(1)?)?;
+        (x.len() == self.report.n).then_some(x.as_slice())
+    }
+    /// True value of component i at time s.
+    pub fn truth(&self, s: usize, i: usize) -> Option<f64> {
+        self.x_true(s).and_then(|x| x.get(i).copied())
+    }
+    /// Measurement of component i at time s, when a row of y measures it directly.
+    pub fn measurement(&self, s: usize, i: usize) -> Option<f64> {
+        let row = (*self.view.measured.as_ref()?.get(i)?)?;
+        self.report.y.get(s.checked_sub(1)?)?.get(row).copied()
+    }
+    /// Axis name of component i.
+    pub fn name(&self, i: usize) -> String {
+        match self.view.names.get(i) {
+            Some(s) if !s.is_empty() => s.clone(),
+            _ if self.report.n == 1 => "state x_t".to_string(),
+            _ => default_name(i),
+        }
+    }
+    /// Short symbol of component i ("x₁").
+    pub fn symbol(&self, i: usize) -> String {
+        if self.report.n == 1 {
+            "x".to_string()
+        } else {
+            format!("x{}", sub(i + 1))
+        }
+    }
+    /// The figure title or a default.
+    pub fn title(&self, default: &str) -> String {
+        self.view
+            .title
+            .clone()
+            .unwrap_or_else(|| default.to_string())
+    }
+    /// Why there is no SCF region at the shown time.
+    pub fn scf_missing_note(&self) -> String {
+        if self.report.method == "kf" {
+            "method \"kf\": KF regions only".to_string()
+        } else {
+            let first = self
+                .report
+                .steps
+                .iter()
+                .find(|s| s.scf.is_some())
+                .map(|s| s.t);
+            match first {
+                Some(f) => format!(
+                    "no SCF region at t = {} yet (U_tA_t is invertible from t = {f}; n = {})",
+                    self.t, self.report.n
+                ),
+                None => "no SCF region in this report (U_tA_t never invertible)".to_string(),
+            }
+        }
+    }
+}
+
+/// Convenience for panels: split off the legend, then build axes.
+pub(crate) type Area<DB> = DrawingArea<DB, Shift>;
+
+#[cfg(test)]
+mod tests;
