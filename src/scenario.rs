@@ -191,6 +191,36 @@ pub struct Report {
     pub coverage_curve: Option<CoverageCurve>,
 }
 
+/// The first list entry that is not a number (every list of a scenario holds numbers or lists
+/// of numbers), as (field, message): e.g. `model.F`, "is not valid: entry [0][1] is null …".
+fn non_numeric_entry(v: &serde_json::Value, path: &str) -> Option<(String, String)> {
+    use serde_json::Value;
+    fn in_list(v: &Value, idx: &str) -> Option<String> {
+        match v {
+            Value::Number(_) => None,
+            Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .find_map(|(i, x)| in_list(x, &format!("{idx}[{i}]"))),
+            other => Some(format!(
+                "is not valid: entry {idx} is {other}, but entries must be numbers (JSON has no NaN or Infinity)"
+            )),
+        }
+    }
+    match v {
+        Value::Object(o) => o.iter().find_map(|(k, x)| {
+            let p = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            non_numeric_entry(x, &p)
+        }),
+        Value::Array(_) => in_list(v, "").map(|m| (path.to_string(), m)),
+        _ => None,
+    }
+}
+
 /// A validated scenario: the model, data (given or simulated) and options.
 pub struct Prepared {
     pub scenario: Scenario,
@@ -204,8 +234,20 @@ pub struct Prepared {
 impl Scenario {
     /// Parse JSON; errors say where the JSON is wrong.
     pub fn from_json(text: &str) -> Result<Self> {
-        serde_json::from_str(text)
-            .map_err(|e| Error::field("scenario", format!("is not valid: {e}")))
+        serde_json::from_str(text).map_err(|e| {
+            // serde cannot name the field of an untagged matrix ("data did not match any
+            // variant of untagged enum MatrixSpec"): find a non-number inside a list ourselves.
+            let found = serde_json::from_str::<serde_json::Value>(text)
+                .ok()
+                .and_then(|v| non_numeric_entry(&v, ""));
+            match found {
+                Some((field, message)) => Error::field(
+                    field,
+                    format!("{message} (line {}, column {})", e.line(), e.column()),
+                ),
+                None => Error::field("scenario", format!("is not valid: {e}")),
+            }
+        })
     }
 
     /// Validate everything and produce the data (simulating if asked).
@@ -285,6 +327,13 @@ impl Scenario {
                             })?
                     }
                 };
+                let finite = |v: &[DVector<f64>]| v.iter().all(|x| x.iter().all(|e| e.is_finite()));
+                if !(finite(&traj.x) && finite(&traj.y)) {
+                    return Err(Error::field(
+                        "simulate.steps",
+                        "the simulated trajectory overflows double precision: the model is too large or unstable over this many steps",
+                    ));
+                }
                 (u, traj.y, Some(traj.x))
             }
         };
@@ -381,7 +430,7 @@ impl Prepared {
             if self.model.is_time_invariant() && self.model.stationary_prior && self.model.m() == 0
             {
                 // Optional extra: omitted when the steady state has no invertible ratio (unobservable).
-            scf::asymptotic(&self.model).ok()
+                scf::asymptotic(&self.model).ok()
             } else {
                 None
             };

@@ -172,12 +172,27 @@ pub fn asymptotic(model: &LinearModel) -> Result<Asymptotic> {
     let gamma = model.stationary_covariance()?;
     let back = model.backward_representation()?;
     let ratio = ratio_closed_form(&ss.p, &gamma)?;
-    let r_inv = linalg::inverse("asymptotic ratio matrix R̄", &ratio).map_err(|_| {
+    let singular = || {
         Error::field(
             "model.H",
             "does not make the state observable: the asymptotic ratio matrix is singular",
         )
-    })?;
+    };
+    // The same threshold as the filter's regions: an unobservable direction leaves R̄ singular
+    // only up to rounding (≈1e-16), and inverting it would report a Π̄ of ≈1e16.
+    if !(linalg::rcond(&ratio) >= RATIO_RCOND_MIN) {
+        return Err(singular());
+    }
+    let r_inv = linalg::inverse("asymptotic ratio matrix R̄", &ratio).map_err(|_| singular())?;
+    let all_finite = [&gamma, &ss.p, &ss.k, &ratio, &r_inv, &back.f_b, &back.v_b]
+        .iter()
+        .all(|m| m.iter().all(|x| x.is_finite()));
+    if !all_finite {
+        return Err(Error::field(
+            "model",
+            "overflows double precision in the asymptotic filter: rescale the model",
+        ));
+    }
     Ok(Asymptotic {
         gamma: linalg::to_rows(&gamma),
         p: linalg::to_rows(&ss.p),
@@ -282,10 +297,51 @@ pub fn run(
              (the pair (F^b, H) is not observable, Assumption 3) — estimate observable components only",
         ));
     }
+    check_finite(&out)?;
     Ok(ScfRun {
         steps: out,
         kf_means,
     })
+}
+
+/// Every number of a run must be finite (a report is JSON numbers; NaN/∞ would become null).
+/// Finite but extreme inputs (entries near f64::MAX) can still overflow: say where. Shapes and
+/// ratios depend on the model only, centers also on the data.
+fn check_finite(steps: &[ScfStep]) -> Result<()> {
+    let fin = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    let shape = |e: &Ellipsoid| e.radius2.is_finite() && e.cov.iter().all(|r| fin(r));
+    let opt_shape = |e: &Option<Ellipsoid>| e.as_ref().is_none_or(shape);
+    let center = |e: &Ellipsoid| fin(&e.center);
+    let opt_center = |e: &Option<Ellipsoid>| e.as_ref().is_none_or(center);
+    for st in steps {
+        let mut shapes_ok = shape(&st.kf) && opt_shape(&st.scf) && st.ratio.iter().all(|r| fin(r));
+        let mut centers_ok = center(&st.kf) && opt_center(&st.scf);
+        if let Some(tg) = &st.target {
+            shapes_ok &= shape(&tg.kf)
+                && opt_shape(&tg.scf)
+                && tg.ratio.as_ref().is_none_or(|m| m.iter().all(|r| fin(r)));
+            centers_ok &= center(&tg.kf) && opt_center(&tg.scf);
+        }
+        if !shapes_ok {
+            return Err(Error::field(
+                "model",
+                format!(
+                    "overflows double precision at t = {}: the filter's covariances are not finite — rescale the model",
+                    st.t
+                ),
+            ));
+        }
+        if !centers_ok {
+            return Err(Error::field(
+                "data.y",
+                format!(
+                    "overflows double precision at t = {}: the estimates are not finite — rescale the measurements",
+                    st.t
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// P{x_t ∈ X_t | x_t = x̄} for KF and SCF — the conditional coverage of Fig. 1.

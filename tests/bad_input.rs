@@ -1,0 +1,747 @@
+//! Bad input: every rule gets a test asserting the error names the field and says why
+//! (DESIGN.md: "model.V must be symmetric positive semidefinite"), and no input — however
+//! garbled — panics.
+
+#[cfg(target_arch = "wasm32")]
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
+
+mod common;
+
+use confset::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
+use confset::scenario::{Condition, DataSpec, Scenario, SimulateSpec};
+use confset::scf::{self, ScfOptions};
+use confset::Error;
+use nalgebra::{DMatrix, DVector};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde_json::{json, Value};
+
+/// A valid 2-state scenario as JSON; tests break one field at a time.
+fn base() -> Value {
+    json!({
+        "method": "scf",
+        "model": {
+            "F": [[0.9, 0.1], [0.0, 0.8]],
+            "H": [[1.0, 0.0]],
+            "V": [[0.1, 0.0], [0.0, 0.1]],
+            "W": [[0.5]]
+        },
+        "data": {"y": [[0.1], [0.4], [-0.2], [0.3], [0.0]]},
+        "alpha": 0.9
+    })
+}
+
+fn run(v: &Value) -> Result<confset::scenario::Report, Error> {
+    Scenario::from_json(&v.to_string())?.run()
+}
+
+/// The scenario must fail with `field` and a message containing every one of `words`.
+#[track_caller]
+fn assert_err(v: &Value, field: &str, words: &[&str]) {
+    match run(v) {
+        Ok(_) => panic!("accepted, expected an error on {field}: {v}"),
+        Err(e) => {
+            assert_eq!(e.field, field, "wrong field in \"{e}\" for {v}");
+            let text = e.to_string();
+            assert!(
+                text.starts_with(field),
+                "message does not start with the field: {text}"
+            );
+            for w in words {
+                assert!(text.contains(w), "\"{text}\" does not say {w:?}");
+            }
+        }
+    }
+}
+
+fn with(mut v: Value, path: &[&str], x: Value) -> Value {
+    let mut cur = &mut v;
+    for p in &path[..path.len() - 1] {
+        cur = cur.get_mut(*p).unwrap();
+    }
+    cur.as_object_mut()
+        .unwrap()
+        .insert(path[path.len() - 1].into(), x);
+    v
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn base_scenario_is_valid() {
+    let r = run(&base()).unwrap();
+    assert_eq!((r.n, r.q, r.steps.len()), (2, 1, 5));
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn wrong_dimensions() {
+    let b = base();
+    assert_err(
+        &with(b.clone(), &["model", "H"], json!([[1.0, 0.0, 0.0]])),
+        "model.H",
+        &["1×2", "1×3"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "V"], json!([[1.0]])),
+        "model.V",
+        &["2×2", "1×1"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "W"], json!([[1.0, 0.0], [0.0, 1.0]])),
+        "model.W",
+        &["1×1"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "F"], json!([[0.9, 0.1]])),
+        "model.F",
+        &["square"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "F"], json!([[0.9, 0.1], [0.2]])),
+        "model.F",
+        &["rows of different lengths"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "F"], json!([])),
+        "model.F",
+        &["non-empty"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "x1_cov"], json!([[1.0]])),
+        "model.x1_cov",
+        &["2×2"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "x1_mean"], json!([1.0])),
+        "model.x1_mean",
+        &["2 entries"],
+    );
+    assert_err(
+        &with(b.clone(), &["model", "B"], json!([[1.0]])),
+        "model.B",
+        &["2×1"],
+    );
+    let mut no_h = b.clone();
+    no_h["model"].as_object_mut().unwrap().remove("H");
+    assert_err(&no_h, "model.H", &["missing"]);
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn covariances_must_be_symmetric_semidefinite() {
+    let b = base();
+    let v = |x: Value| with(b.clone(), &["model", "V"], x);
+    assert_err(
+        &v(json!([[1.0, 0.5], [0.0, 1.0]])),
+        "model.V",
+        &["symmetric", "asymmetry"],
+    );
+    assert_err(
+        &v(json!([[1.0, 2.0], [2.0, 1.0]])),
+        "model.V",
+        &["positive semidefinite", "eigenvalue"],
+    );
+    assert_err(
+        &v(json!([[-0.1, 0.0], [0.0, 0.1]])),
+        "model.V",
+        &["positive semidefinite"],
+    );
+    // A singular (rank-deficient) V is a valid covariance.
+    let ok = with(
+        with(b.clone(), &["model", "V"], json!([[0.1, 0.1], [0.1, 0.1]])),
+        &["model", "F"],
+        json!([[0.5, 0.1], [0.2, 0.6]]),
+    );
+    run(&ok).unwrap();
+    let w = |x: Value| with(b.clone(), &["model", "W"], x);
+    assert_err(&w(json!([[0.0]])), "model.W", &["positive definite"]);
+    assert_err(&w(json!([[-1.0]])), "model.W", &["positive definite"]);
+    let two = with(
+        with(
+            with(b.clone(), &["model", "H"], json!([[1.0, 0.0], [0.0, 1.0]])),
+            &["data", "y"],
+            json!([[0.1, 0.2], [0.3, 0.4]]),
+        ),
+        &["model", "W"],
+        json!([[1.0, 0.2], [0.2, 1.0]]),
+    );
+    run(&two).unwrap();
+    assert_err(
+        &with(
+            two.clone(),
+            &["model", "W"],
+            json!([[1.0, 1.0], [1.0, 1.0]]),
+        ),
+        "model.W",
+        &["positive definite"],
+    );
+    assert_err(
+        &with(two, &["model", "W"], json!([[1.0, 0.0], [0.3, 1.0]])),
+        "model.W",
+        &["symmetric"],
+    );
+    assert_err(
+        &with(
+            b.clone(),
+            &["model", "x1_cov"],
+            json!([[1.0, 0.0], [0.0, -1.0]]),
+        ),
+        "model.x1_cov",
+        &["positive semidefinite"],
+    );
+}
+
+/// JSON has no NaN: a Rust-built ModelSpec carries it; in JSON text a string or null where a
+/// number belongs must give a readable parse error that points at the field.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn non_finite_entries() {
+    let mut s = Scenario::from_json(&base().to_string()).unwrap();
+    s.model.f = Some(MatrixSpec::Constant(vec![
+        vec![f64::NAN, 0.1],
+        vec![0.0, 0.8],
+    ]));
+    let e = s.run().unwrap_err();
+    assert_eq!(e.field, "model.F");
+    assert!(
+        e.to_string()
+            .contains("non-finite entry at row 0, column 0"),
+        "{e}"
+    );
+
+    let mut s = Scenario::from_json(&base().to_string()).unwrap();
+    s.model.v = Some(MatrixSpec::Constant(vec![
+        vec![0.1, 0.0],
+        vec![0.0, f64::INFINITY],
+    ]));
+    let e = s.run().unwrap_err();
+    assert_eq!(e.field, "model.V");
+    assert!(e.to_string().contains("non-finite"), "{e}");
+
+    let mut s = Scenario::from_json(&base().to_string()).unwrap();
+    s.data.as_mut().unwrap().y[2][0] = f64::NAN;
+    let e = s.run().unwrap_err();
+    assert_eq!(e.field, "data.y[2]");
+    assert!(e.to_string().contains("non-finite"), "{e}");
+
+    let spec = ModelSpec {
+        f: Some(MatrixSpec::Constant(vec![vec![0.5]])),
+        h: Some(MatrixSpec::Constant(vec![vec![f64::NEG_INFINITY]])),
+        v: Some(MatrixSpec::Constant(vec![vec![1.0]])),
+        w: Some(MatrixSpec::Constant(vec![vec![1.0]])),
+        ..Default::default()
+    };
+    assert_eq!(LinearModel::from_spec(&spec).unwrap_err().field, "model.H");
+
+    for bad in [json!("NaN"), Value::Null, json!("1.0"), json!(true)] {
+        let text = with(base(), &["model", "F"], json!([[0.9, 0.1], [0.0, bad]])).to_string();
+        let e = Scenario::from_json(&text).unwrap_err();
+        let msg = e.to_string();
+        assert_eq!(
+            e.field, "model.F",
+            "parse error does not name the field: {msg}"
+        );
+        assert!(msg.contains(&format!("entry [1][1] is {bad}")), "{msg}");
+        assert!(
+            msg.contains("must be numbers") && msg.contains("NaN"),
+            "{msg}"
+        );
+        assert!(msg.contains("line 1, column"), "no position: {msg}");
+    }
+    let text = with(base(), &["data", "y"], json!([[0.1], [null], [0.2]])).to_string();
+    let e = Scenario::from_json(&text).unwrap_err();
+    assert_eq!(e.field, "data.y", "{e}");
+    assert!(e.to_string().contains("entry [1][0] is null"), "{e}");
+    // A list where a number belongs: serde's own message, with the position.
+    let text = with(base(), &["model", "F"], json!([[[0.9], 0.1], [0.0, 0.8]])).to_string();
+    let e = Scenario::from_json(&text).unwrap_err();
+    assert!(
+        e.to_string().starts_with("scenario is not valid") && e.to_string().contains("column"),
+        "{e}"
+    );
+    // Bare NaN is not JSON at all.
+    let e = Scenario::from_json(r#"{"method": "scf", "model": {"F": [[NaN]]}}"#).unwrap_err();
+    assert!(e.to_string().contains("scenario is not valid"), "{e}");
+    // Unknown fields are named.
+    let e = Scenario::from_json(&with(base(), &["model", "Q"], json!([[1.0]])).to_string())
+        .unwrap_err();
+    assert!(e.to_string().contains("`Q`"), "{e}");
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn unstable_f_needs_a_prior() {
+    let unstable = with(base(), &["model", "F"], json!([[1.1, 0.1], [0.0, 0.5]]));
+    assert_err(
+        &unstable,
+        "model.x1_cov",
+        &["is needed", "model.F", "stable"],
+    );
+    // With a prior the non-stationary model is fine.
+    run(&with(
+        unstable.clone(),
+        &["model", "x1_cov"],
+        json!([[1.0, 0.0], [0.0, 1.0]]),
+    ))
+    .unwrap();
+    // ... but not the asymptotic filter, which needs stationarity.
+    let asy = with(
+        with(
+            unstable,
+            &["model", "x1_cov"],
+            json!([[1.0, 0.0], [0.0, 1.0]]),
+        ),
+        &["asymptotic"],
+        json!(true),
+    );
+    assert_err(&asy, "asymptotic", &["stable"]);
+    // A unit-circle eigenvalue is not stable either.
+    assert_err(
+        &with(base(), &["model", "F"], json!([[1.0, 0.0], [0.0, 0.5]])),
+        "model.x1_cov",
+        &["model.F"],
+    );
+}
+
+/// (F^b, H) not observable (Assumption 3): the ratio matrix stays singular; scf::run and
+/// Scenario::run say so on model.H. The KF alone does not need observability.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn unobservable_pair() {
+    let zero_h = with(base(), &["model", "H"], json!([[0.0, 0.0]]));
+    assert_err(&zero_h, "model.H", &["observable"]);
+    // x_2 never reaches the output (diagonal F, H = [1 0]).
+    let hidden = with(base(), &["model", "F"], json!([[0.5, 0.0], [0.0, 0.7]]));
+    assert_err(&hidden, "model.H", &["observable"]);
+    run(&with(hidden.clone(), &["method"], json!("kf"))).unwrap();
+    // Directly through scf::run.
+    let m = LinearModel::time_invariant(
+        DMatrix::from_row_slice(2, 2, &[0.5, 0.0, 0.0, 0.7]),
+        DMatrix::from_row_slice(1, 2, &[1.0, 0.0]),
+        DMatrix::identity(2, 2),
+        DMatrix::identity(1, 1),
+    )
+    .unwrap();
+    let y = vec![DVector::from_element(1, 0.3); 6];
+    let opts = ScfOptions {
+        alpha: 0.9,
+        components: None,
+        tau: 0,
+        asymptotic: false,
+        kf_only: false,
+    };
+    let e = scf::run(&m, &y, &Inputs::none(), &opts)
+        .err()
+        .expect("must fail");
+    assert_eq!(e.field, "model.H");
+    // The observable component alone is fine (V-A).
+    let opts = ScfOptions {
+        components: Some(vec![0]),
+        ..opts
+    };
+    let e = scf::run(&m, &y, &Inputs::none(), &opts).err();
+    assert!(e.is_none() || e.unwrap().field == "model.H");
+    let a = scf::asymptotic(&m).unwrap_err();
+    assert_eq!(a.field, "model.H");
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn alpha_outside_unit_interval() {
+    for a in [0.0, 1.0, -0.5, 1.5] {
+        assert_err(
+            &with(base(), &["alpha"], json!(a)),
+            "alpha",
+            &["strictly between 0 and 1"],
+        );
+    }
+    let mut s = Scenario::from_json(&base().to_string()).unwrap();
+    s.alpha = f64::NAN;
+    assert_eq!(s.run().unwrap_err().field, "alpha");
+    for a in [0.0, 1.0, -0.5, 1.5, f64::NAN] {
+        assert_eq!(
+            confset::sets::chi2_quantile(a, 2).unwrap_err().field,
+            "alpha"
+        );
+    }
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn data_problems() {
+    let b = base();
+    assert_err(
+        &with(b.clone(), &["data", "y"], json!([[0.1]])),
+        "data.y",
+        &["at least n = 2"],
+    );
+    assert_err(
+        &with(b.clone(), &["data", "y"], json!([])),
+        "data.y",
+        &["empty"],
+    );
+    assert_err(
+        &with(b.clone(), &["data", "y"], json!([[0.1], [0.2, 0.3], [0.0]])),
+        "data.y[1]",
+        &["1 entries", "found 2"],
+    );
+    assert_err(
+        &with(b.clone(), &["data", "u"], json!([[1.0]])),
+        "data.u",
+        &["no B"],
+    );
+    let with_b = with(b.clone(), &["model", "B"], json!([[1.0], [0.0]]));
+    assert_err(&with_b, "data.u", &["missing"]);
+    assert_err(
+        &with(with_b.clone(), &["data", "u"], json!([[1.0, 2.0]])),
+        "data.u[0]",
+        &["1 entries"],
+    );
+    run(&with(with_b, &["data", "u"], json!([[1.0]]))).unwrap();
+    let mut neither = b.clone();
+    neither.as_object_mut().unwrap().remove("data");
+    assert_err(&neither, "data", &["missing"]);
+    let both = with(b.clone(), &["simulate"], json!({"steps": 5}));
+    assert_err(&both, "data", &["both"]);
+    assert_err(&with(b.clone(), &["time"], json!(9)), "time", &["1..=5"]);
+    assert_err(&with(b.clone(), &["time"], json!(0)), "time", &["1..=5"]);
+    assert_err(&with(b.clone(), &["plot"], json!([0, 2])), "plot", &[]);
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn simulate_problems() {
+    let mut b = base();
+    b.as_object_mut().unwrap().remove("data");
+    let sim = |x: Value| with(b.clone(), &["simulate"], x);
+    run(&sim(
+        json!({"steps": 10, "seed": 3, "condition": {"t": 10, "x": [1.0, -1.0]}}),
+    ))
+    .unwrap();
+    run(&sim(
+        json!({"steps": 10, "seed": 3, "condition": {"t": 1, "x": [1.0, -1.0]}}),
+    ))
+    .unwrap();
+    for t in [0, 11, 1000] {
+        assert_err(
+            &sim(json!({"steps": 10, "condition": {"t": t, "x": [1.0, -1.0]}})),
+            "simulate.condition.t",
+            &["1..=10"],
+        );
+    }
+    assert_err(
+        &sim(json!({"steps": 10, "condition": {"t": 3, "x": [1.0]}})),
+        "simulate.condition.x",
+        &["2 entries"],
+    );
+    assert_err(&sim(json!({"steps": 0})), "simulate.steps", &[]);
+    assert_err(
+        &sim(json!({"steps": 1})),
+        "simulate.steps",
+        &["at least n = 2"],
+    );
+    assert_err(&sim(json!({"steps": 100_000_000})), "simulate.steps", &[]);
+    // A Rust-built condition with a NaN state.
+    let mut s = Scenario::from_json(&sim(json!({"steps": 10})).to_string()).unwrap();
+    s.simulate = Some(SimulateSpec {
+        steps: 10,
+        seed: 0,
+        u: vec![],
+        condition: Some(Condition {
+            t: 4,
+            x: vec![f64::NAN, 0.0],
+        }),
+    });
+    assert_eq!(s.run().unwrap_err().field, "simulate.condition.x");
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn components_and_method() {
+    let b = base();
+    assert_err(
+        &with(b.clone(), &["components"], json!([0, 2])),
+        "components",
+        &["2", "0-based"],
+    );
+    assert_err(
+        &with(b.clone(), &["components"], json!([1, 1])),
+        "components",
+        &["twice"],
+    );
+    assert_err(
+        &with(b.clone(), &["components"], json!([])),
+        "components",
+        &["at least one"],
+    );
+    run(&with(b.clone(), &["components"], json!([1, 0]))).unwrap();
+    assert_err(
+        &with(b.clone(), &["method"], json!("ekf")),
+        "method",
+        &["\"ekf\""],
+    );
+    assert_err(&with(b.clone(), &["method"], json!("")), "method", &[]);
+    // Directly through scf::run.
+    let s = Scenario::from_json(&b.to_string()).unwrap();
+    let p = s.prepare().unwrap();
+    for comps in [vec![5], vec![0, 0]] {
+        let opts = ScfOptions {
+            components: Some(comps),
+            ..p.options.clone()
+        };
+        let e = scf::run(&p.model, &p.y, &p.inputs, &opts)
+            .err()
+            .expect("must fail");
+        assert_eq!(e.field, "components");
+    }
+}
+
+/// Random garbage through Scenario::run: random sizes (sometimes inconsistent), entries from
+/// ordinary to huge (1e300), tiny (1e-300), zero and negative, random α, method, components,
+/// τ and prior. Every outcome must be Ok or Err — no panic (checked with catch_unwind natively;
+/// in wasm a panic aborts the test) — and an Ok report must hold finite numbers only.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn fuzz_garbage_never_panics() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0xbad);
+    let cases = if cfg!(target_arch = "wasm32") {
+        500
+    } else {
+        4000
+    };
+    let (mut oks, mut failures) = (0, Vec::new());
+    let mut fields = std::collections::BTreeMap::<String, usize>::new();
+    for case in 0..cases {
+        let s = random_scenario(&mut rng);
+        let json = || serde_json::to_string(&s).unwrap();
+        match run_guarded(&s) {
+            Some(Ok(r)) => {
+                oks += 1;
+                if let Some(what) = first_non_finite(&r) {
+                    failures.push(format!(
+                        "case {case}: Ok report with a non-finite {what}: {}",
+                        json()
+                    ));
+                }
+            }
+            Some(Err(e)) => {
+                *fields.entry(e.field.clone()).or_default() += 1;
+                if e.message.is_empty() {
+                    failures.push(format!("case {case}: empty error message: {}", json()));
+                }
+            }
+            None => failures.push(format!("case {case} panicked: {}", json())),
+        }
+    }
+    eprintln!("fuzz: {oks}/{cases} accepted; errors by field: {fields:?}");
+    assert!(
+        failures.is_empty(),
+        "{} of {cases} cases failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    // The generator is not all garbage: some scenarios must run.
+    assert!(
+        oks > cases / 20,
+        "only {oks}/{cases} random scenarios were accepted"
+    );
+}
+
+/// The first non-finite number of a report (JSON would carry it as null), if any.
+fn first_non_finite(r: &confset::scenario::Report) -> Option<String> {
+    let bad = |v: &[f64]| v.iter().any(|x| !x.is_finite());
+    let bad2 = |m: &[Vec<f64>]| m.iter().any(|r| bad(r));
+    let ell =
+        |e: &confset::sets::Ellipsoid| bad(&e.center) || bad2(&e.cov) || !e.radius2.is_finite();
+    for st in &r.steps {
+        if ell(&st.kf) {
+            return Some(format!("KF region at t = {}", st.t));
+        }
+        if st.scf.as_ref().is_some_and(ell) {
+            return Some(format!("SCF region at t = {}", st.t));
+        }
+        if bad2(&st.ratio) {
+            return Some(format!("ratio at t = {}", st.t));
+        }
+        if let Some(tg) = &st.target {
+            if ell(&tg.kf)
+                || tg.scf.as_ref().is_some_and(ell)
+                || tg.ratio.as_ref().is_some_and(|m| bad2(m))
+            {
+                return Some(format!("target region at t = {}", st.t));
+            }
+        }
+    }
+    if r.prior_mean.iter().any(|m| bad(m)) || r.y.iter().any(|m| bad(m)) {
+        return Some("prior mean or measurement".into());
+    }
+    if r.x_true.as_ref().is_some_and(|x| x.iter().any(|m| bad(m))) {
+        return Some("true state".into());
+    }
+    if let Some(a) = &r.asymptotic {
+        if [&a.gamma, &a.p, &a.k, &a.ratio, &a.pi, &a.f_b, &a.v_b]
+            .iter()
+            .any(|m| bad2(m))
+        {
+            return Some("asymptotic block".into());
+        }
+    }
+    None
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn run_guarded(s: &Scenario) -> Option<Result<confset::scenario::Report, Error>> {
+    let s = s.clone();
+    std::panic::catch_unwind(move || s.run()).ok()
+}
+
+#[cfg(target_arch = "wasm32")]
+fn run_guarded(s: &Scenario) -> Option<Result<confset::scenario::Report, Error>> {
+    Some(s.run())
+}
+
+fn random_entry(rng: &mut ChaCha8Rng) -> f64 {
+    let sign = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    match rng.random_range(0..10) {
+        0 => sign * 1e300,
+        1 => sign * 1e-300,
+        2 => 0.0,
+        3 => sign * 10f64.powi(rng.random_range(-20..20)),
+        4 => sign * f64::MAX,
+        _ => rng.random_range(-1.5..1.5),
+    }
+}
+
+fn random_matrix(rng: &mut ChaCha8Rng, r: usize, c: usize) -> Vec<Vec<f64>> {
+    (0..r)
+        .map(|_| (0..c).map(|_| random_entry(rng)).collect())
+        .collect()
+}
+
+/// A sane random matrix: entries in ±scale.
+fn sane(rng: &mut ChaCha8Rng, r: usize, c: usize, scale: f64) -> DMatrix<f64> {
+    DMatrix::from_fn(r, c, |_, _| rng.random_range(-scale..scale))
+}
+
+/// A random scenario: a sane one (stable F, PSD V, PD W, enough data) with 0–3 corruptions —
+/// an entry replaced by an extreme value (±1e300, ±f64::MAX, 1e-300, 0, 10^±20), a matrix
+/// replaced by garbage of a random (possibly wrong) size, bad α, method, components, τ,
+/// steps, condition — so that both the accepted and the rejected paths are exercised.
+fn random_scenario(rng: &mut ChaCha8Rng) -> Scenario {
+    let n = rng.random_range(1..=4usize);
+    let q = rng.random_range(1..=3usize);
+    let f = sane(rng, n, n, 0.9 / n as f64);
+    let h = sane(rng, q, n, 2.0);
+    let a = sane(rng, n, n, 1.0);
+    let v = &a * a.transpose() + DMatrix::identity(n, n) * 0.01;
+    let b = sane(rng, q, q, 1.0);
+    let w = &b * b.transpose() + DMatrix::identity(q, q) * 0.1;
+    let steps = rng.random_range(n..n + 10);
+    let mut m = vec![
+        common::rows(&f),
+        common::rows(&h),
+        common::rows(&v),
+        common::rows(&w),
+    ];
+    let mut y: Vec<Vec<f64>> = (0..steps)
+        .map(|_| (0..q).map(|_| rng.random_range(-3.0..3.0)).collect())
+        .collect();
+    let mut s = Scenario::from_json(&base().to_string()).unwrap();
+    s.alpha = rng.random_range(0.01..0.999);
+    let mut x1_cov = None;
+    let mut simulate = None;
+    if rng.random_range(0..4) == 0 {
+        simulate = Some(SimulateSpec {
+            steps,
+            seed: rng.random(),
+            u: vec![],
+            condition: None,
+        });
+    }
+    for _ in 0..rng.random_range(0..4) {
+        match rng.random_range(0..12) {
+            0..=3 => {
+                // One extreme entry in F, H, V or W (symmetric for V, W half the time).
+                let k = rng.random_range(0..4);
+                let (r, c) = (
+                    rng.random_range(0..m[k].len()),
+                    rng.random_range(0..m[k][0].len()),
+                );
+                let x = random_entry(rng);
+                m[k][r][c] = x;
+                if k >= 2 && rng.random::<bool>() && c < m[k].len() && r < m[k][c].len() {
+                    m[k][c][r] = x;
+                }
+            }
+            4 => {
+                let k = rng.random_range(0..4);
+                let (r, c) = (rng.random_range(1..=5), rng.random_range(1..=5));
+                m[k] = random_matrix(rng, r, c);
+            }
+            5 => {
+                if !y.is_empty() {
+                    let (r, c) = (rng.random_range(0..y.len()), rng.random_range(0..q));
+                    y[r][c] = random_entry(rng);
+                }
+            }
+            6 => {
+                let len = rng.random_range(0..y.len() + 1);
+                y.truncate(len);
+                if let Some(r) = y.last_mut() {
+                    if rng.random::<bool>() {
+                        r.push(1.0);
+                    }
+                }
+            }
+            7 => s.alpha = [0.0, 1.0, -0.5, 1.5, 1e-300, 1.0 - 1e-16][rng.random_range(0..6)],
+            8 => s.method = ["kf", "lscr", "", "SCF"][rng.random_range(0..4)].into(),
+            9 => {
+                s.components = Some(
+                    (0..rng.random_range(0..4))
+                        .map(|_| rng.random_range(0..5))
+                        .collect(),
+                );
+                s.tau = rng.random_range(0..30);
+            }
+            10 => {
+                x1_cov = Some(if rng.random::<bool>() {
+                    common::rows(&(DMatrix::identity(n, n) * random_entry(rng).abs()))
+                } else {
+                    random_matrix(rng, n, n)
+                });
+                s.asymptotic = rng.random::<bool>();
+            }
+            _ => {
+                simulate = Some(SimulateSpec {
+                    steps: rng.random_range(0..200),
+                    seed: rng.random(),
+                    u: vec![],
+                    condition: Some(Condition {
+                        t: rng.random_range(0..20),
+                        x: (0..n).map(|_| random_entry(rng)).collect(),
+                    }),
+                });
+            }
+        }
+    }
+    let [f, h, v, w] = [0, 1, 2, 3].map(|k| Some(MatrixSpec::Constant(m[k].clone())));
+    s.model = ModelSpec {
+        f,
+        h,
+        v,
+        w,
+        x1_cov,
+        ..Default::default()
+    };
+    if rng.random_range(0..6) == 0 {
+        s.asymptotic = true;
+    }
+    match simulate {
+        Some(sim) => {
+            s.data = None;
+            s.simulate = Some(sim);
+        }
+        None => s.data = Some(DataSpec { y, u: vec![] }),
+    }
+    s
+}
