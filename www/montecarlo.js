@@ -15,7 +15,7 @@ const n = (v) => v.toLocaleString('en-US');
 export function mountMonteCarlo(root, getScenario, setBusy) {
   const q = (id) => root.querySelector(`#${id}`);
   const [go, cancel, bar, status, err, nIn] = ['mc-go', 'mc-cancel', 'mc-progress', 'mc-status', 'mc-err', 'mc-n'].map(q);
-  let running = null; // { cancelled }
+  let running = null; // { cancelled, stale }
 
   function show(c, done) {
     const frac = (k) => `${n(k)} / ${n(c.runs_done)}`;
@@ -67,6 +67,7 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
         await yieldToBrowser();
       }
       const wall = performance.now() - t0;
+      if (me.stale) return; // the scenario changed: these counts belong to the old one
       show(c, !me.cancelled);
       status.textContent = me.cancelled
         ? `cancelled after ${n(c.runs_done)} runs`
@@ -84,4 +85,12 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
 
   go.addEventListener('click', run);
   cancel.addEventListener('click', () => { if (running) running.cancelled = true; });
+
+  // A new scenario: stop a run and clear counts that belong to the old one.
+  return function reset() {
+    if (running) Object.assign(running, { cancelled: true, stale: true });
+    for (const id of ['mc-kf-in', 'mc-scf-in', 'mc-kf-w', 'mc-scf-w']) q(id).textContent = '–';
+    for (const el of [status, err, q('mc-range')]) el.textContent = '';
+    bar.value = 0;
+  };
 }

@@ -241,7 +241,7 @@ export async function mountScf(root, presets) {
   }
 
   // ----- wiring -----
-  ui.preset.addEventListener('change', () => { loadPreset(ui.preset.value); schedule('compute'); });
+  ui.preset.addEventListener('change', () => { resetMonteCarlo(); loadPreset(ui.preset.value); schedule('compute'); });
   for (const id of ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W']) {
     ui[id].addEventListener('input', () => { showOutputs(); schedule('compute'); });
   }
@@ -261,7 +261,7 @@ export async function mountScf(root, presets) {
   $('dl-scenario').addEventListener('click', () => st.scenario
     && download(`${stem()}-scenario.json`, new Blob([JSON.stringify(st.scenario, null, 2)], { type: 'application/json' })));
 
-  mountMonteCarlo($('mc'), () => {
+  const resetMonteCarlo = mountMonteCarlo($('mc'), () => {
     const s = buildScenario();
     s.simulate.condition = clone(st.preset.scenario.simulate.condition);
     return { scenario: s, preset: st.preset.scenario };

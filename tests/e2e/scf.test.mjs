@@ -105,6 +105,9 @@ export default async function scf({ baseUrl, newPage, waitReady, assert, screens
       assert.match(await text(page, '#mc-scf-w'), /^\d+ \/ 300$/);
       assert.match(await text(page, '#mc-range'), /binomial range/);
       assert.equal(await text(page, '#mc-err'), '');
+      // Counts belong to their scenario: switching preset clears them.
+      await choose(page, 'scf-robots-literal');
+      assert.equal(await text(page, '#mc-scf-in'), '–', 'Monte Carlo counts cleared on a preset change');
     }
 
     // Downloads: the figure as SVG (drawn by the same Rust code on plotters' SVG backend), the report.
