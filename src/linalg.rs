@@ -168,6 +168,22 @@ pub fn rcond(m: &DMatrix<f64>) -> f64 {
     }
 }
 
+/// Inverse and reciprocal 1-norm condition number 1/(‖m‖₁‖m⁻¹‖₁) (LU, no SVD), or `None`
+/// when m is singular in floating point.
+pub fn inverse_rcond(m: &DMatrix<f64>) -> Option<(DMatrix<f64>, f64)> {
+    let inv = m
+        .clone()
+        .try_inverse()
+        .filter(|i| i.iter().all(|v| v.is_finite()))?;
+    let norm1 = |a: &DMatrix<f64>| {
+        a.column_iter()
+            .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max)
+    };
+    let rc = 1.0 / (norm1(m) * norm1(&inv));
+    Some((inv, rc))
+}
+
 /// Spectral radius via the eigenvalues of the (real) Schur form.
 pub fn spectral_radius(m: &DMatrix<f64>) -> f64 {
     m.clone()

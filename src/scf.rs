@@ -62,10 +62,10 @@ pub fn scf_from_ratio(
     p: &DMatrix<f64>,
     prior_mean: &DVector<f64>,
 ) -> Option<(DVector<f64>, DMatrix<f64>)> {
-    if linalg::rcond(ratio) < RATIO_RCOND_MIN {
+    let (r_inv, rc) = linalg::inverse_rcond(ratio)?;
+    if !(rc >= RATIO_RCOND_MIN) {
         return None;
     }
-    let r_inv = ratio.clone().try_inverse()?;
     let center = prior_mean + &r_inv * (kf_mean - prior_mean);
     let pi = symmetrize(&(&r_inv * p));
     Some((center, pi))

@@ -13,6 +13,20 @@ use statrs::distribution::{ChiSquared, Continuous, ContinuousCDF};
 /// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip
 /// checked (statrs 0.18 returned NaN in the lower tail; DESIGN.md), so no NaN ellipse escapes.
 pub fn chi2_quantile(alpha: f64, k: usize) -> Result<f64> {
+    // A report asks for the same (α, k) at every time step: remember the last answer.
+    thread_local! {
+        static LAST: std::cell::Cell<(f64, usize, f64)> = const { std::cell::Cell::new((f64::NAN, 0, 0.0)) };
+    }
+    let (a, kk, r) = LAST.with(|c| c.get());
+    if a == alpha && kk == k {
+        return Ok(r);
+    }
+    let r2 = chi2_quantile_uncached(alpha, k)?;
+    LAST.with(|c| c.set((alpha, k, r2)));
+    Ok(r2)
+}
+
+fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
     if !(alpha > 0.0 && alpha < 1.0) {
         return Err(Error::field(
             "alpha",
@@ -327,7 +341,7 @@ impl PlanarEllipse {
             let (s, c) = th.sin_cos();
             -self.support(c, s) - other.support(-c, -s)
         };
-        const GRID: usize = 72;
+        const GRID: usize = 36;
         let step = std::f64::consts::TAU / GRID as f64;
         let (mut best, mut arg) = (f64::NEG_INFINITY, 0.0);
         for i in 0..GRID {
@@ -343,7 +357,7 @@ impl PlanarEllipse {
         let r = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (b - r * (b - a), a + r * (b - a));
         let (mut g1, mut g2) = (gap(x1), gap(x2));
-        for _ in 0..40 {
+        for _ in 0..32 {
             if g1 > g2 {
                 b = x2;
                 x2 = x1;
