@@ -95,7 +95,7 @@ export async function mountScf(root, presets) {
       // Fig. 1 is a closed form for n = 1 and a Monte Carlo (2000 draws per point) otherwise:
       // keep it quick enough for a slider.
       if (s.model.F.length > 2) delete s.coverage_curve;
-      else if (s.model.F.length === 2) s.coverage_curve.points = 25;
+      else if (s.model.F.length === 2) s.coverage_curve.points = 17;
     }
     s.alpha = Number(ui.alpha.value);
     s.model.V = scale(s.model.V, 10 ** Number(ui.sv.value));
