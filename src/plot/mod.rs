@@ -29,6 +29,7 @@
 //! becomes a crate [`Error`].
 
 mod coverage;
+mod erase;
 pub mod geom;
 mod series;
 mod state;
@@ -249,7 +250,9 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
             "is not in this report: ask for it in the scenario (\"coverage_curve\": {\"component\", \"from\", \"to\"}) to draw the coverage panel",
         ));
     }
-    let root = backend.into_drawing_area();
+    // All figure code runs on one backend type (see erase.rs).
+    let mut adapter = erase::Adapter(backend);
+    let root = erase::Erased(&mut adapter).into_drawing_area();
     root.fill(&WHITE).map_err(de)?;
     let frame = match view.panel {
         Panel::State => state::draw(&root, &cx)?,

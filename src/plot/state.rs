@@ -434,20 +434,19 @@ fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> R
             }
         }
     }
-    // Tags on the regions when no truth is known.
-    if truth_pred.is_empty() {
-        for b in &bodies {
-            if let (Some(tag), Some(k)) = (b.tag, &b.kf) {
-                if let Some(top) = k.iter().copied().max_by(|a, c| a.1.total_cmp(&c.1)) {
-                    let q = style::px(&chart, top);
-                    style::text(
-                        root,
-                        tag,
-                        (q.0, q.1 - 4),
-                        &label_style,
-                        (HPos::Center, VPos::Bottom),
-                    )?;
-                }
+    // Each body's letter above its KF region (in the KF color), so the reader can tell which
+    // dashed region belongs to whom.
+    for b in &bodies {
+        if let (Some(tag), Some(k)) = (b.tag, &b.kf) {
+            if let Some(top) = k.iter().copied().max_by(|a, c| a.1.total_cmp(&c.1)) {
+                let q = style::px(&chart, top);
+                style::text(
+                    root,
+                    tag,
+                    (q.0, q.1 - 3),
+                    &label_style.color(&KF),
+                    (HPos::Center, VPos::Bottom),
+                )?;
             }
         }
     }

@@ -229,7 +229,7 @@ pub fn shorten<DB: DrawingBackend>(
     let chars: Vec<char> = s.chars().collect();
     let (mut lo, mut hi) = (0, chars.len());
     while lo < hi {
-        let mid = (lo + hi + 1) / 2;
+        let mid = (lo + hi).div_ceil(2);
         let cand: String = chars[..mid].iter().collect::<String>() + "…";
         if text_size(area, &cand, style)?.0 <= max_w {
             lo = mid;
@@ -358,12 +358,7 @@ pub fn polyline<DB: DrawingBackend>(
     match dash {
         None => root.draw(&PathElement::new(rel, st)).map_err(de),
         Some((a, b)) => root
-            .draw(&plotters::element::DashedPathElement::new(
-                rel.into_iter(),
-                a,
-                b,
-                st,
-            ))
+            .draw(&plotters::element::DashedPathElement::new(rel, a, b, st))
             .map_err(de),
     }
 }
