@@ -223,7 +223,11 @@ impl Scaled {
         let get = |o: &JsValue, k: &str| Reflect::get(o, &JsValue::from_str(k)).ok();
         let f: Function = get(&self.ctx, "measureText")?.dyn_into().ok()?;
         let m = f.call1(&self.ctx, &JsValue::from_str(text)).ok()?;
-        let num = |k: &str| get(&m, k).and_then(|v| v.as_f64()).filter(|v| v.is_finite());
+        let num = |k: &str| {
+            get(&m, k)
+                .and_then(|v| v.as_f64())
+                .filter(|v| v.is_finite())
+        };
         let w = num("width")?;
         // The font's line box, like the height of plotters' measuring span.
         let h = match (num("fontBoundingBoxAscent"), num("fontBoundingBoxDescent")) {

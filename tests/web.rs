@@ -31,7 +31,10 @@ fn thrown(e: JsValue) -> (String, String) {
 }
 
 fn canvas(w: u32, h: u32) -> web_sys::HtmlCanvasElement {
-    let doc = web_sys::window().expect("window").document().expect("document");
+    let doc = web_sys::window()
+        .expect("window")
+        .document()
+        .expect("document");
     let c: web_sys::HtmlCanvasElement = doc
         .create_element("canvas")
         .expect("canvas")
@@ -74,7 +77,10 @@ fn session_runs_a_preset_and_keeps_it_on_error() {
     bad["model"]["F"] = serde_json::json!([[0.5, 0.0], [0.0, 0.5]]);
     bad["model"]["H"] = serde_json::json!([[1.0, 0.0]]);
     bad["model"]["V"] = serde_json::json!([[1.0, 2.0], [0.0, 1.0]]);
-    let (msg, field) = thrown(s.run(&bad.to_string()).expect_err("non-symmetric V is refused"));
+    let (msg, field) = thrown(
+        s.run(&bad.to_string())
+            .expect_err("non-symmetric V is refused"),
+    );
     assert!(msg.starts_with("model.V "), "message: {msg}");
     assert!(msg.contains("symmetric"), "message: {msg}");
     assert_eq!(field, "model.V");
