@@ -314,17 +314,13 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
             .filter_map(|(q, v)| Some((xs(q), (*v)?)))
             .collect();
         style::path(root, &chart, &truth, &TRUTH, 2, None)?;
-        for (q, m) in c.meas.iter().enumerate() {
-            if let Some(m) = m {
-                style::marker(
-                    root,
-                    style::px(&chart, (xs(q), *m)),
-                    Marker::Dot,
-                    &MEASURE,
-                    2,
-                )?;
-            }
-        }
+        let meas: Vec<(f64, f64)> = c
+            .meas
+            .iter()
+            .enumerate()
+            .filter_map(|(q, v)| Some((xs(q), (*v)?)))
+            .collect();
+        style::dots(root, &chart, &meas, &MEASURE, 2)?;
         style::path(root, &chart, &line(&c.kf, 0), &KF, 2, Some(style::DASH))?;
         style::path(root, &chart, &line(&c.scf, 0), &SCF, 2, None)?;
         style::cursor(root, &chart, &fonts, t as f64, &format!("t = {t}"))?;

@@ -38,6 +38,15 @@ struct Body {
 }
 
 fn boundary(e: &Ellipsoid) -> Result<Vec<(f64, f64)>> {
+    let finite = e.radius2.is_finite()
+        && e.center.iter().all(|v| v.is_finite())
+        && e.cov.iter().flatten().all(|v| v.is_finite());
+    if !finite {
+        return Err(Error::field(
+            "report",
+            "holds a region with non-finite numbers: it cannot be drawn",
+        ));
+    }
     e.boundary_2d(BOUNDARY)
 }
 
@@ -398,11 +407,7 @@ fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> R
         }
         style::path(root, &chart, &tr[..cut], &TRUTH, 1, None)?;
     }
-    for &p in &meas {
-        if cwin.contains(p.0, p.1) {
-            style::marker(root, style::px(&chart, p), Marker::Dot, &MEASURE, 2)?;
-        }
-    }
+    style::dots(root, &chart, &meas, &MEASURE, 2)?;
     for b in &bodies {
         if let Some(s) = &b.scf {
             style::region(root, &chart, s, &SCF, false, true)?;
@@ -729,9 +734,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     let khi: Vec<(f64, f64)> = xs.iter().zip(&kf).map(|(x, v)| (*x, v.1)).collect();
     style::path(root, &chart, &klo, &KF, 2, Some(style::DASH))?;
     style::path(root, &chart, &khi, &KF, 2, Some(style::DASH))?;
-    for &p in &meas {
-        style::marker(root, style::px(&chart, p), Marker::Dot, &MEASURE, 3)?;
-    }
+    style::dots(root, &chart, &meas, &MEASURE, 3)?;
     let tr: Vec<(f64, f64)> = xs
         .iter()
         .zip(&truth)

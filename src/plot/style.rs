@@ -341,6 +341,27 @@ pub fn marker<DB: DrawingBackend>(
     }
 }
 
+/// Dots at chart coordinates inside the window, one per pixel position.
+pub fn dots<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    pts: &[(f64, f64)],
+    color: &RGBColor,
+    radius: i32,
+) -> Result<()> {
+    let win = Win::of_chart(chart);
+    let mut seen = std::collections::HashSet::new();
+    for &p in pts {
+        if win.contains(p.0, p.1) {
+            let q = px(chart, p);
+            if seen.insert(q) {
+                marker(root, q, Marker::Dot, color, radius)?;
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A polyline in absolute pixels, solid or dashed.
 pub fn polyline<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -353,7 +374,7 @@ pub fn polyline<DB: DrawingBackend>(
         return Ok(());
     }
     let (bx, by) = root.get_base_pixel();
-    let rel: Vec<(i32, i32)> = pts.iter().map(|(x, y)| (x - bx, y - by)).collect();
+    let rel: Vec<(i32, i32)> = thin(pts).iter().map(|(x, y)| (x - bx, y - by)).collect();
     let st = color.stroke_width(width);
     match dash {
         None => root.draw(&PathElement::new(rel, st)).map_err(de),
@@ -361,6 +382,42 @@ pub fn polyline<DB: DrawingBackend>(
             .draw(&plotters::element::DashedPathElement::new(rel, a, b, st))
             .map_err(de),
     }
+}
+
+/// Drop pixel points that change nothing: repeats, and within a run of points on one pixel
+/// column all but the first, lowest, highest and last (long time series stay the same picture
+/// with a few points per column).
+pub fn thin(pts: &[(i32, i32)]) -> Vec<(i32, i32)> {
+    let mut out: Vec<(i32, i32)> = Vec::with_capacity(pts.len().min(4096));
+    let mut i = 0;
+    while i < pts.len() {
+        let x = pts[i].0;
+        let mut j = i;
+        while j + 1 < pts.len() && pts[j + 1].0 == x {
+            j += 1;
+        }
+        let run = &pts[i..=j];
+        if run.len() <= 4 {
+            out.extend_from_slice(run);
+        } else {
+            let (mut lo, mut hi) = (0, 0);
+            for (k, p) in run.iter().enumerate() {
+                if p.1 < run[lo].1 {
+                    lo = k;
+                }
+                if p.1 > run[hi].1 {
+                    hi = k;
+                }
+            }
+            let mut keep = vec![0, lo, hi, run.len() - 1];
+            keep.sort_unstable();
+            keep.dedup();
+            out.extend(keep.into_iter().map(|k| run[k]));
+        }
+        i = j + 1;
+    }
+    out.dedup();
+    out
 }
 
 const SWATCH_W: i32 = 34;
@@ -921,7 +978,10 @@ pub fn band<DB: DrawingBackend>(
     for (x, y) in xs.iter().zip(lo).rev() {
         p.push(clamp(*x, *y));
     }
-    let p: Vec<(i32, i32)> = p.into_iter().map(|(x, y)| (x - bx, y - by)).collect();
+    let n = p.len() / 2;
+    let mut edge = thin(&p[..n]);
+    edge.extend(thin(&p[n..]));
+    let p: Vec<(i32, i32)> = edge.into_iter().map(|(x, y)| (x - bx, y - by)).collect();
     root.draw(&Polygon::new(p, fill(color))).map_err(de)
 }
 

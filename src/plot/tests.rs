@@ -198,3 +198,49 @@ fn view_json_accepts_the_short_form_and_the_context() {
         serde_json::from_str(&serde_json::to_string(&v).expect("json")).expect("parses");
     assert_eq!(back, v);
 }
+
+#[test]
+fn every_preset_draws_every_useful_panel_at_page_sizes() {
+    for p in presets::all() {
+        let r = p.scenario.run().expect("preset runs");
+        for panel in useful_panels(&r) {
+            for (w, h) in [(960, 640), (900, 450), (400, 250)] {
+                let v = View::new(panel).with_scenario(&p.scenario);
+                let out = report_svg(&r, &v, w, h)
+                    .unwrap_or_else(|e| panic!("{} {} {w}×{h}: {e}", p.name, panel.name()));
+                assert!(
+                    out.contains("KF"),
+                    "{} {}: no KF legend",
+                    p.name,
+                    panel.name()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn thinning_keeps_the_envelope_of_dense_columns() {
+    let pts: Vec<(i32, i32)> = (0..100).map(|k| (k / 10, (k * 37) % 23)).collect();
+    let t = style::thin(&pts);
+    assert!(t.len() <= 40, "{}", t.len());
+    for x in 0..10 {
+        let col: Vec<i32> = pts.iter().filter(|p| p.0 == x).map(|p| p.1).collect();
+        let kept: Vec<i32> = t.iter().filter(|p| p.0 == x).map(|p| p.1).collect();
+        assert_eq!(kept.iter().min(), col.iter().min());
+        assert_eq!(kept.iter().max(), col.iter().max());
+        assert_eq!(kept.first(), col.first());
+        assert_eq!(kept.last(), col.last());
+    }
+}
+
+#[test]
+fn numbers_read_well() {
+    assert_eq!(style::num(-0.0001, 2), "0.00");
+    assert_eq!(style::num(-1.5, 1), "−1.5");
+    assert_eq!(style::sig(0.2), "0.2");
+    assert_eq!(style::sig(0.65654), "0.657");
+    assert_eq!(style::sci(2.1664e-5), "2.17 × 10⁻⁵");
+    assert_eq!(style::sub(40), "₄₀");
+    assert_eq!(style::pct(0.95), "95 %");
+}
