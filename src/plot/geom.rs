@@ -198,7 +198,7 @@ pub fn clip_polyline(pts: &[(f64, f64)], w: &Win) -> Vec<Vec<(f64, f64)>> {
     out
 }
 
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::*;
 

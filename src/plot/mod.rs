@@ -437,5 +437,6 @@ impl<'a> Ctx<'a> {
 /// Convenience for panels: split off the legend, then build axes.
 pub(crate) type Area<DB> = DrawingArea<DB, Shift>;
 
-#[cfg(test)]
+// Native only: they measure text with the embedded font (the wasm build has none).
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests;

@@ -620,7 +620,11 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     let mut entries = Vec::new();
     if truth.iter().any(|v| v.is_some()) {
         entries.push(Entry::new(
-            format!("true state {}_t", cx.symbol(k)),
+            if r.n == 1 {
+                "true state x_t".to_string()
+            } else {
+                format!("true value of {}", cx.symbol(k))
+            },
             Swatch::Line {
                 color: TRUTH,
                 dashed: false,
@@ -674,13 +678,12 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
                 "outside"
             }
         };
-        let mut s = format!(
-            "true {}{} = {}: {} KF",
-            cx.symbol(k),
-            sub(t),
-            sig(x),
-            inside(kf[t - 1])
-        );
+        let what = if r.n == 1 {
+            format!("x{}", sub(t))
+        } else {
+            format!("{} at t = {t}", cx.symbol(k))
+        };
+        let mut s = format!("true {what} = {}: {} KF", sig(x), inside(kf[t - 1]));
         if let Some(si) = scf[t - 1] {
             s.push_str(&format!(", {} SCF", inside(si)));
         }

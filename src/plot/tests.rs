@@ -244,3 +244,13 @@ fn numbers_read_well() {
     assert_eq!(style::sub(40), "₄₀");
     assert_eq!(style::pct(0.95), "95 %");
 }
+
+#[test]
+fn one_plotted_component_of_a_larger_state_draws_over_time() {
+    let (mut s, _) = preset("scf-robots");
+    s.plot = Some(vec![1]);
+    let r = s.run().expect("runs");
+    let out = svg(&s, &r, Panel::State, None);
+    assert!(out.contains("KF interval") && out.contains("projection of the 8-dimensional regions"));
+    std::fs::write(std::env::temp_dir().join("confset-one-component.svg"), &out).ok();
+}
