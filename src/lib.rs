@@ -76,3 +76,9 @@ pub mod sets;
 pub mod web;
 
 pub use error::{Error, Result};
+
+// The unit tests (`#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test)]` in the modules) run in
+// Chromium under `wasm-pack test --chrome`; without this line wasm-bindgen-test skips them
+// ("only configured to run in node.js").
+#[cfg(all(test, target_arch = "wasm32"))]
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
