@@ -66,6 +66,7 @@ pub mod error;
 pub mod experiment;
 pub mod kalman;
 pub mod linalg;
+pub mod lscr;
 pub mod model;
 pub mod plot;
 pub mod presets;

@@ -166,10 +166,12 @@ impl LinearModel {
                     "must be a finite variance ≥ 0",
                 ));
             }
-            if !(sw.is_finite() && sw > 0.0) {
+            // σ_w² = 0 is allowed (LSCR's MA(1) example has no measurement noise); the Kalman
+            // filter then fails with a clear error if H P Hᵀ is singular.
+            if !(sw.is_finite() && sw >= 0.0) {
                 return Err(Error::field(
                     "model.sigma_w2",
-                    "must be a finite variance > 0",
+                    "must be a finite variance ≥ 0",
                 ));
             }
             (

@@ -4,8 +4,9 @@
 use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
+use crate::lscr::Construction;
 use crate::scenario::{
-    CollisionSpec, Condition, CurveSpec, ExperimentSpec, Scenario, SimulateSpec,
+    CollisionSpec, Condition, CurveSpec, ExperimentSpec, LscrSpec, Scenario, SimulateSpec,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -36,7 +37,112 @@ pub fn all() -> Vec<Preset> {
             description: "The same robots with eq. (3) read literally: process noise covariance Δ²·V_A".into(),
             scenario: robots(NoiseReading::Literal),
         },
+        Preset {
+            name: "lscr-predict".into(),
+            description: "LSCR paper, Fig. 1: 90 % confidence set for x₃₁ of the cascade of V-A (t = 30, M = 80, q = 2) with the BLUE ellipse".into(),
+            scenario: lscr_cascade(LscrTarget::Predict),
+        },
+        Preset {
+            name: "lscr-smooth".into(),
+            description: "LSCR paper, Fig. 2: 90 % confidence set for x₁₅ from y₁..y₃₀ (smoothing, forward + backward representation)".into(),
+            scenario: lscr_cascade(LscrTarget::Smooth),
+        },
+        Preset {
+            name: "lscr-ma1".into(),
+            description: "LSCR paper, Fig. 3: MA(1) y_t = v_t + v_{t−1}, prediction of x₂₁ — an unbounded LSCR band vs the Kalman ellipse".into(),
+            scenario: lscr_ma1(),
+        },
     ]
+}
+
+/// Which cascade figure of the LSCR paper.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LscrTarget {
+    /// Fig. 1: x_31 from y_1..y_30.
+    Predict,
+    /// Fig. 2: x_15 from y_1..y_30.
+    Smooth,
+}
+
+fn lscr_scenario(title: &str, model: ModelSpec, simulate: SimulateSpec, lscr: LscrSpec, notes: &str) -> Scenario {
+    Scenario {
+        method: "lscr".into(),
+        title: Some(title.into()),
+        model,
+        data: None,
+        simulate: Some(simulate),
+        alpha: 0.9,
+        components: None,
+        tau: 0,
+        asymptotic: false,
+        time: None,
+        plot: Some(vec![0, 1]),
+        collision: None,
+        coverage_curve: None,
+        experiment: None,
+        lscr: Some(lscr),
+        notes: Some(notes.into()),
+    }
+}
+
+fn lscr_spec(estimate: &str, index: Option<usize>) -> LscrSpec {
+    LscrSpec {
+        estimate: estimate.into(),
+        index,
+        m: Some(80),
+        q: Some(2),
+        level: None,
+        construction: Construction::Random,
+        seed: 1,
+        strings: None,
+        window: None,
+        resolution: None,
+        probes: vec![],
+        slice_at: None,
+        coverage: None,
+    }
+}
+
+/// Section V-A of the LSCR paper: x_{t+1} = [[0.5, 0], [1, 0.7]] x_t + [1, 0]ᵀ v_t, y_t = [0 1] x_t + w_t.
+pub fn lscr_cascade(target: LscrTarget) -> Scenario {
+    let model = ModelSpec {
+        f: Some(MatrixSpec::Constant(vec![vec![0.5, 0.0], vec![1.0, 0.7]])),
+        h: Some(MatrixSpec::Constant(vec![vec![0.0, 1.0]])),
+        g: Some(vec![vec![1.0], vec![0.0]]),
+        sigma_v2: Some(0.005),
+        sigma_w2: Some(0.005),
+        ..Default::default()
+    };
+    let (title, spec) = match target {
+        LscrTarget::Predict => ("Confidence set for x₃₁ (LSCR paper, Fig. 1)", lscr_spec("predict", None)),
+        LscrTarget::Smooth => ("Confidence set for x₁₅ (LSCR paper, Fig. 2)", lscr_spec("smooth", Some(15))),
+    };
+    lscr_scenario(
+        title,
+        model,
+        SimulateSpec { steps: 30, seed: 5, u: vec![], condition: None },
+        spec,
+        "Cascade of two first-order systems, σ_v² = σ_w² = 0.005 (used only to simulate and for the BLUE).          F^b = [[0.2450, 0.3315], [−0.3500, 0.9550]], Q′ = [[0.49, −0.70], [−0.70, 1.00]] (Q′ = Π′ − F^bΠ′F^bᵀ; the printed (7) is a typo).          M = 80 strings, q = 2: each X̂_l holds the true state with probability 1 − 2q/M = 0.95, X̂ with ≥ 1 − 2qn/M = 0.90 — the paper's 90 %.          (The text says q = 4 but computes 1 − 2·2·2/80; Theorem 3.2 needs q = 2 for 90 %.)          For smoothing the Karhunen–Loève eigenvalues come in exact pairs; the basis is fixed block by block          (data after, at and before the estimated time), before seeing the data.",
+    )
+}
+
+/// Section V-B of the LSCR paper: the MA(1) process y_t = v_t + v_{t−1}, σ_v² = 0.1, σ_w² = 0.
+pub fn lscr_ma1() -> Scenario {
+    let model = ModelSpec {
+        f: Some(MatrixSpec::Constant(vec![vec![0.0, 0.0], vec![1.0, 0.0]])),
+        h: Some(MatrixSpec::Constant(vec![vec![0.0, 1.0]])),
+        g: Some(vec![vec![1.0], vec![1.0]]),
+        sigma_v2: Some(0.1),
+        sigma_w2: Some(0.0),
+        ..Default::default()
+    };
+    lscr_scenario(
+        "MA(1): LSCR vs Kalman prediction of x₂₁ (LSCR paper, Fig. 3)",
+        model,
+        SimulateSpec { steps: 20, seed: 3, u: vec![], condition: Some(Condition { t: 21, x: vec![1.0, 1.2] }) },
+        lscr_spec("predict", None),
+        "x_t = [[0, 0], [1, 0]] x_{t−1} + [1, 1]ᵀ v_t, y_t = [0 1] x_t, no measurement noise. F^b = [[−1, 1], [−1, 1]] is singular,          so X̂ is invariant along [1, 1]ᵀ: an unbounded band. The first state is white noise (σ_v² = 0.1); the true x₂₁ is placed at          x₁ = 1.0 (3.2 σ): the Kalman ellipse, always centred at x₁ = 0, misses it, while the LSCR band holds it with probability ≥ 0.9          whatever its value. (The paper's caption says x₂₀; the text and the data say x₂₁.)",
+    )
 }
 
 /// Look a preset up by name.
@@ -82,6 +188,7 @@ pub fn scalar() -> Scenario {
         collision: None,
         coverage_curve: Some(CurveSpec { component: 0, from: -50.0, to: 50.0, points: 201 }),
         experiment: None,
+        lscr: None,
         notes: Some(
             "Γ = 6, p̄ = 3/5, ratio U_tA_t → 0.9: the SCF interval is the KF center / 0.9 with half-width ρ·√(1/0.9). \
              The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed."
@@ -262,6 +369,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
         collision: Some(CollisionSpec { a: vec![0, 1], b: vec![4, 5], d_min: D_MIN }),
         coverage_curve: None,
         experiment: Some(ExperimentSpec { runs: 10_000, seed: 2021, components: vec![0, 1, 2, 3], warning_t: Some(36) }),
+        lscr: None,
         notes: Some(format!(
             "Robots start at rest at (∓1, 20) and return to bases (∓1, 0); Δ = 1/20, K_p = K_u = 5, W = 0.05²I, \
              d_min = 0.2. Row 4 of eq. (3) is read as 1 − K_uΔ (erratum). Process-noise covariance: {}. \

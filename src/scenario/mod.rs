@@ -15,6 +15,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+pub mod lscr;
+pub use lscr::{LscrReport, LscrSpec};
+
 /// Observed data.
 #[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -124,6 +127,9 @@ pub struct Scenario {
     pub coverage_curve: Option<CurveSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub experiment: Option<ExperimentSpec>,
+    /// LSCR options (method "lscr"): see [`lscr::LscrSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lscr: Option<LscrSpec>,
     /// Free text shown with the preset (where the numbers come from, which reading of the paper).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub notes: Option<String>,
@@ -189,6 +195,9 @@ pub struct Report {
     pub collision: Option<Vec<CollisionReport>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coverage_curve: Option<CoverageCurve>,
+    /// The LSCR result (method "lscr"; `steps` is then empty).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lscr: Option<LscrReport>,
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists
@@ -252,11 +261,14 @@ impl Scenario {
 
     /// Validate everything and produce the data (simulating if asked).
     pub fn prepare(&self) -> Result<Prepared> {
+        if self.lscr.is_some() && self.method != "lscr" {
+            return Err(Error::field("lscr", format!("is only used with \"method\": \"lscr\" (found \"{}\")", self.method)));
+        }
         if !matches!(self.method.as_str(), "scf" | "kf") {
             return Err(Error::field(
                 "method",
                 format!(
-                    "\"{}\" is not available yet (this build has \"scf\" and \"kf\")",
+                    "\"{}\" is not available yet (this build has \"scf\", \"kf\" and \"lscr\")",
                     self.method
                 ),
             ));
@@ -395,8 +407,37 @@ impl Scenario {
 
     /// Validate and run: the report of this scenario.
     pub fn run(&self) -> Result<Report> {
+        if self.method == "lscr" {
+            return self.run_lscr();
+        }
         let p = self.prepare()?;
         p.report()
+    }
+
+    /// An LSCR scenario's report: the SCF fields stay empty, `lscr` holds the result.
+    fn run_lscr(&self) -> Result<Report> {
+        let p = self.prepare_lscr()?;
+        let mut l = p.report()?;
+        if p.spec.coverage.is_some() {
+            let x = &self.simulate.as_ref().and_then(|s| s.condition.as_ref()).expect("checked").x;
+            l.coverage = Some(p.coverage(x)?);
+        }
+        Ok(Report {
+            method: self.method.clone(),
+            alpha: l.level,
+            n: p.estimator.problem.n(),
+            q: 1,
+            time: l.time,
+            plot: l.plot.to_vec(),
+            steps: Vec::new(),
+            y: p.y.iter().map(|v| vec![*v]).collect(),
+            x_true: None,
+            prior_mean: Vec::new(),
+            asymptotic: None,
+            collision: None,
+            coverage_curve: None,
+            lscr: Some(l),
+        })
     }
 }
 
@@ -464,6 +505,7 @@ impl Prepared {
             asymptotic,
             collision,
             coverage_curve,
+            lscr: None,
         })
     }
 

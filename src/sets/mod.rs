@@ -1,14 +1,18 @@
 //! Set types shared by every method and every plot.
 //!
-//! Today: [`Ellipsoid`] (KF, SCF, BLUE regions) and [`BoxSet`] (interval hulls, plot windows).
-//! Polytopes and grid regions join here when the set-membership and LSCR methods land, so that
-//! plots and reports speak one vocabulary of sets.
+//! [`Ellipsoid`] (KF, SCF, BLUE regions), [`BoxSet`] (interval hulls, plot windows), and in
+//! [`sign_region`] the LSCR set type [`SignRegion`] with its exact raster [`GridRegion`],
+//! boundary polygons [`Loop`] and line pieces [`Span`]. Polytopes join here with the
+//! set-membership methods, so that plots and reports speak one vocabulary of sets.
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, symmetrize};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ChiSquared, Continuous, ContinuousCDF};
+
+pub mod sign_region;
+pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 
 /// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip
 /// checked (statrs 0.18 returned NaN in the lower tail; DESIGN.md), so no NaN ellipse escapes.

@@ -1,0 +1,558 @@
+//! The `lscr` block of a scenario and the LSCR part of a report (method `"lscr"`).
+//!
+//! ```json
+//! {"method": "lscr",
+//!  "model": {"F": [[0.5,0],[1,0.7]], "H": [[0,1]], "G": [[1],[0]], "sigma_v2": 0.005, "sigma_w2": 0.005},
+//!  "simulate": {"steps": 30, "seed": 7, "condition": {"t": 31, "x": [0.1, -0.2]}},
+//!  "lscr": {"estimate": "predict", "M": 80, "q": 2, "construction": "random", "seed": 1,
+//!           "window": {"lo": [-1,-1], "hi": [1,1]}, "resolution": [256, 256],
+//!           "probes": [[0,0]], "coverage": {"runs": 2000, "seed": 3}}}
+//! ```
+//!
+//! `simulate.steps` (or the length of `data.y`) is t, the number of measurements; the true
+//! state of a simulation is reported at the estimated time (t + 1 for prediction).
+//! `simulate.condition` fixes the state at a time (usually the estimated one) and draws the data
+//! from their law given it. `M`, `q` default to the choice of [`lscr::choose_m_q`] for `level`
+//! (default 0.9, the paper's).
+
+use super::{Scenario, SimulateSpec};
+use crate::error::{Error, Result};
+use crate::linalg;
+use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
+use crate::model::{ConditionedSampler, Inputs};
+use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// Coverage experiment at the fixed true state `simulate.condition.x`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LscrCoverageSpec {
+    pub runs: usize,
+    #[serde(default)]
+    pub seed: u64,
+}
+
+/// The `lscr` block.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LscrSpec {
+    /// "predict" (x_{t+1}), "filter" (x_t) or "smooth" (x_index).
+    #[serde(default = "default_estimate")]
+    pub estimate: String,
+    /// Smoothing time i, 1 ≤ i < t.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub index: Option<usize>,
+    #[serde(rename = "M", default, skip_serializing_if = "Option::is_none")]
+    pub m: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q: Option<usize>,
+    /// Target joint level when M and q are not given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub level: Option<f64>,
+    #[serde(default = "default_construction")]
+    pub construction: Construction,
+    /// Seed of the random strings (point 4) or generators (point 4a).
+    #[serde(default)]
+    pub seed: u64,
+    /// Explicit strings "0110…" over the Karhunen–Loève components (overrides M).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strings: Option<Vec<String>>,
+    /// Window of the figure and of the raster (2-D, in the plotted components).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<BoxSet>,
+    /// [width, height] of a membership raster over the window.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resolution: Option<[usize; 2]>,
+    /// Points whose membership in every X̂_l and in X̂ is reported.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<Vec<f64>>,
+    /// For n > 2: the point the 2-D slice goes through (default: the BLUE, else least squares).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slice_at: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage: Option<LscrCoverageSpec>,
+}
+
+fn default_estimate() -> String {
+    "predict".into()
+}
+fn default_construction() -> Construction {
+    Construction::Random
+}
+
+/// Membership of one probe point.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Probe {
+    pub x: Vec<f64>,
+    pub inside_each: Vec<bool>,
+    pub inside: bool,
+}
+
+/// Coverage counts with the promised levels and 99.9 % binomial bands.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CoverageReport {
+    pub truth: Vec<f64>,
+    #[serde(flatten)]
+    pub counts: Coverage,
+    pub level_each: f64,
+    pub level: f64,
+    /// 99.9 % band of a Binomial(runs, level_each) count.
+    pub band_each: [usize; 2],
+    /// 99.9 % band of a Binomial(runs, level) count (the joint count must reach band[0]).
+    pub band: [usize; 2],
+}
+
+/// The LSCR part of a report.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct LscrReport {
+    pub estimate: String,
+    /// Time of the estimated state.
+    pub time: usize,
+    /// Number of measurements.
+    pub t: usize,
+    #[serde(rename = "M")]
+    pub m: usize,
+    pub q: usize,
+    /// 1 − 2q/M (18).
+    pub level_each: f64,
+    /// 1 − 2qn/M (19).
+    pub level: f64,
+    pub construction: Construction,
+    /// Whether Theorem 3.2 applies (random or group strings).
+    pub guaranteed: bool,
+    /// F^b and Q′ (σ_v² = 1) of the backward representation (6)–(7).
+    pub f_b: Vec<Vec<f64>>,
+    pub q_prime: Vec<Vec<f64>>,
+    /// Karhunen–Loève eigenvalues D (decreasing).
+    pub kl_variances: Vec<f64>,
+    pub singular_values: Vec<f64>,
+    pub rank: usize,
+    /// X̂ in the full state space: g_{i,l}(x) = c − d·x per group l.
+    pub region: SignRegion,
+    /// Components drawn.
+    pub plot: [usize; 2],
+    /// Point the 2-D slice goes through (n > 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slice_at: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_true: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_inside_each: Option<Vec<bool>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_inside: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blue: Option<Ellipsoid>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blue_note: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kf: Option<Ellipsoid>,
+    /// Directions along which X̂ is invariant (null space of A): unbounded along them.
+    pub invariant_directions: Vec<Vec<f64>>,
+    /// Unit directions in the plotted plane along which the (sliced) region contains rays.
+    pub recession: Vec<[f64; 2]>,
+    pub bounded: bool,
+    /// The figure's window (given, or fitted to the region, truth and ellipses).
+    pub window: BoxSet,
+    /// Exact area of the (sliced) region inside the window.
+    pub area: f64,
+    /// Boundary of the (sliced) region inside the window.
+    pub boundary: Vec<Loop>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raster: Option<GridRegion>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<Probe>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage: Option<CoverageReport>,
+    /// The strings h_1..h_{M−1} as "0110…" over the KL components.
+    pub strings: Vec<String>,
+}
+
+/// A validated LSCR scenario.
+pub struct LscrPrepared {
+    pub estimator: Estimator,
+    pub spec: LscrSpec,
+    pub y: Vec<f64>,
+    /// The simulated state at the estimated time.
+    pub x_true: Option<Vec<f64>>,
+    pub plot: [usize; 2],
+}
+
+impl LscrSpec {
+    fn options(&self, n: usize, t: usize) -> Result<Options> {
+        let target = match (self.estimate.as_str(), self.index) {
+            ("predict", None) => Target::Predict,
+            ("filter", None) => Target::Filter,
+            ("smooth", Some(i)) => Target::Smooth(i),
+            ("smooth", None) => return Err(Error::field("lscr.index", "is needed for smoothing: the time i < t of the state")),
+            ("predict" | "filter", Some(_)) => {
+                return Err(Error::field("lscr.index", "is only used with \"estimate\": \"smooth\""))
+            }
+            (other, _) => {
+                return Err(Error::field(
+                    "lscr.estimate",
+                    format!("must be \"predict\", \"filter\" or \"smooth\", found \"{other}\""),
+                ))
+            }
+        };
+        let (m, q) = match (self.m, self.q, self.level) {
+            (Some(m), Some(q), None) => (m, q),
+            (None, None, level) => lscr::choose_m_q(level.unwrap_or(0.9), n, self.construction)?,
+            (Some(m), None, None) => (m, 1),
+            (None, Some(_), None) => return Err(Error::field("lscr.M", "is needed with q")),
+            (_, _, Some(_)) => {
+                return Err(Error::field("lscr.level", "chooses M and q: give either level or M and q"))
+            }
+        };
+        if let Some(s) = &self.strings {
+            if s.is_empty() {
+                return Err(Error::field("lscr.strings", "is empty"));
+            }
+        }
+        let _ = t;
+        Ok(Options { target, m, q, construction: self.construction, seed: self.seed, strings: self.strings.clone() })
+    }
+}
+
+fn simulate(
+    model: &LscrModel,
+    s: &SimulateSpec,
+    t: usize,
+    tau: usize,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    if !s.u.is_empty() {
+        return Err(Error::field("simulate.u", "is not used by LSCR (no inputs)"));
+    }
+    let n = model.f.nrows();
+    let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
+    let traj = match &s.condition {
+        None => model.linear.simulate(t.max(tau), &Inputs::none(), None, &mut rng),
+        Some(c) => {
+            let steps = t.max(tau).max(c.t);
+            if c.t < 1 {
+                return Err(Error::field("simulate.condition.t", "must be at least 1"));
+            }
+            let xc = linalg::vector("simulate.condition.x", &c.x, n)?;
+            ConditionedSampler::new(&model.linear, steps, &Inputs::none(), c.t)
+                .map_err(|e| Error::field("simulate.condition.t", e.message))?
+                .draw(&model.linear, &xc, &mut rng)
+        }
+    };
+    let y: Vec<f64> = traj.y[..t].iter().map(|v| v[0]).collect();
+    if !y.iter().all(|v| v.is_finite()) {
+        return Err(Error::field("simulate.steps", "the simulated data overflow double precision"));
+    }
+    Ok((y, traj.x[tau - 1].iter().copied().collect()))
+}
+
+impl Scenario {
+    /// Validate an LSCR scenario and produce its data.
+    pub fn prepare_lscr(&self) -> Result<LscrPrepared> {
+        let spec = self
+            .lscr
+            .clone()
+            .ok_or_else(|| Error::field("lscr", "is missing: the method \"lscr\" needs an lscr block (estimate, M, q, …)"))?;
+        let model = LscrModel::from_spec(&self.model)?;
+        let n = model.f.nrows();
+        let t = match (&self.data, &self.simulate) {
+            (Some(_), Some(_)) => return Err(Error::field("data", "and simulate are both given: choose one")),
+            (None, None) => return Err(Error::field("data", "is missing (give data.y or a simulate block)")),
+            (Some(d), None) => d.y.len(),
+            (None, Some(s)) => s.steps,
+        };
+        if t < n {
+            let field = if self.data.is_some() { "data.y" } else { "simulate.steps" };
+            return Err(Error::field(field, format!("gives t = {t} measurements: LSCR needs t ≥ n = {n}")));
+        }
+        if t > 2000 {
+            let field = if self.data.is_some() { "data.y" } else { "simulate.steps" };
+            return Err(Error::field(field, format!("gives t = {t} measurements: at most 2000 are supported")));
+        }
+        let options = spec.options(n, t)?;
+        let tau = options.target.time(t);
+        let (y, x_true) = match (&self.data, &self.simulate) {
+            (Some(d), _) => {
+                if !d.u.is_empty() {
+                    return Err(Error::field("data.u", "is not used by LSCR (no inputs)"));
+                }
+                let y = d
+                    .y
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, 1).map(|v| v[0]))
+                    .collect::<Result<Vec<_>>>()?;
+                (y, None)
+            }
+            (None, Some(s)) => {
+                let (y, x) = simulate(&model, s, t, tau)?;
+                (y, Some(x))
+            }
+            _ => unreachable!("checked above"),
+        };
+        let plot = match &self.plot {
+            None => [0, 1.min(n - 1)],
+            Some(p) if p.len() == 2 && p[0] < n && p[1] < n && p[0] != p[1] => [p[0], p[1]],
+            Some(_) => return Err(Error::field("plot", format!("must name two distinct state components below n = {n}"))),
+        };
+        if n < 2 {
+            return Err(Error::field("model.F", "is 1×1: the LSCR figure needs n ≥ 2 (the region of a scalar state is an interval)"));
+        }
+        let estimator = Estimator::new(&model, t, &options)?;
+        for (k, p) in spec.probes.iter().enumerate() {
+            linalg::vector(&format!("lscr.probes[{k}]"), p, n)?;
+        }
+        if let Some(p) = &spec.slice_at {
+            linalg::vector("lscr.slice_at", p, n)?;
+        }
+        if let Some(w) = &spec.window {
+            SignRegion { dim: 2, q: 1, groups: vec![] }
+                .raster(w, 1, 1)
+                .map_err(|e| Error::field("lscr.window", e.message))?;
+        }
+        if let Some([w, h]) = spec.resolution {
+            if w == 0 || h == 0 || w > 4096 || h > 4096 {
+                return Err(Error::field("lscr.resolution", "must be [width, height] with 1..=4096 pixels each"));
+            }
+        }
+        if spec.coverage.is_some() && self.simulate.as_ref().and_then(|s| s.condition.as_ref()).is_none() {
+            return Err(Error::field(
+                "simulate.condition",
+                "is needed by lscr.coverage: the experiment fixes the true state x̄ and draws the data given it",
+            ));
+        }
+        Ok(LscrPrepared { estimator, spec, y, x_true, plot })
+    }
+
+    /// A chunked coverage experiment for the scenario's conditioned true state.
+    pub fn lscr_experiment(&self) -> Result<lscr::Experiment> {
+        let p = self.prepare_lscr()?;
+        let c = p.spec.coverage.clone().ok_or_else(|| Error::field("lscr.coverage", "is missing (runs, seed)"))?;
+        let cond = self.simulate.as_ref().and_then(|s| s.condition.as_ref()).expect("checked in prepare");
+        let tau = p.estimator.problem.regression.target.time(p.y.len());
+        if cond.t != tau {
+            return Err(Error::field(
+                "simulate.condition.t",
+                format!("must be the estimated time {tau} for the coverage experiment, found {}", cond.t),
+            ));
+        }
+        lscr::Experiment::new(p.estimator, &cond.x, c.runs, c.seed)
+    }
+}
+
+/// The 2-D region drawn: X̂ itself (n = 2, axes in order) or its slice through `at`.
+pub fn plane_region(region: &SignRegion, plot: [usize; 2], at: Option<&[f64]>) -> Result<SignRegion> {
+    match at {
+        Some(p) => region.slice(p, plot),
+        None if plot == [0, 1] => Ok(region.clone()),
+        None => region.slice(&vec![0.0; region.dim], plot),
+    }
+}
+
+/// A window showing the whole region when it is bounded (the box of every vertex of the line
+/// arrangement contains all cells, so the boundary found there is the full one), plus the
+/// truth and the ellipses.
+fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(BoxSet, Vec<Loop>)> {
+    let mut pts: Vec<[f64; 2]> = Vec::new();
+    let lines: Vec<(f64, [f64; 2])> = region
+        .groups
+        .iter()
+        .flat_map(|g| g.c.iter().zip(&g.d).map(|(&c, d)| (c, [d[0], d[1]])))
+        .filter(|(_, d)| d[0] != 0.0 || d[1] != 0.0)
+        .collect();
+    let mut big = BoxSet { lo: vec![f64::INFINITY; 2], hi: vec![f64::NEG_INFINITY; 2] };
+    for a in 0..lines.len() {
+        for b in a + 1..lines.len() {
+            let ((c1, d1), (c2, d2)) = (lines[a], lines[b]);
+            let det = d1[0] * d2[1] - d1[1] * d2[0];
+            if det.abs() > 1e-12 * (d1[0].hypot(d1[1]) * d2[0].hypot(d2[1])) {
+                let x = (c1 * d2[1] - c2 * d1[1]) / det;
+                let y = (d1[0] * c2 - d2[0] * c1) / det;
+                if x.is_finite() && y.is_finite() {
+                    pts.push([x, y]);
+                }
+            }
+        }
+    }
+    for p in &pts {
+        for k in 0..2 {
+            big.lo[k] = big.lo[k].min(p[k]);
+            big.hi[k] = big.hi[k].max(p[k]);
+        }
+    }
+    let mut win: Option<BoxSet> = None;
+    let mut loops = Vec::new();
+    if bounded && big.lo[0].is_finite() {
+        let big = big.padded(0.01);
+        loops = region.boundary(&big)?;
+        let mut b = BoxSet { lo: vec![f64::INFINITY; 2], hi: vec![f64::NEG_INFINITY; 2] };
+        for lp in &loops {
+            for p in &lp.points {
+                for k in 0..2 {
+                    b.lo[k] = b.lo[k].min(p[k]);
+                    b.hi[k] = b.hi[k].max(p[k]);
+                }
+            }
+        }
+        if b.lo[0].is_finite() {
+            win = Some(b);
+        }
+    }
+    for e in extra {
+        win = Some(match win {
+            Some(w) => w.union(e),
+            None => e.clone(),
+        });
+    }
+    let mut w = win.unwrap_or(BoxSet { lo: vec![-1.0, -1.0], hi: vec![1.0, 1.0] }).padded(0.08);
+    // Never degenerate: at least 1e-6 of the larger side, or 1 when everything is a point.
+    let side = (w.hi[0] - w.lo[0]).max(w.hi[1] - w.lo[1]).max(1e-300);
+    for k in 0..2 {
+        let need = (side * 0.05).max(if side < 1e-12 { 1.0 } else { 0.0 });
+        if w.hi[k] - w.lo[k] < need {
+            let mid = 0.5 * (w.hi[k] + w.lo[k]);
+            w.lo[k] = mid - need / 2.0;
+            w.hi[k] = mid + need / 2.0;
+        }
+    }
+    Ok((w, loops))
+}
+
+fn ellipse_box(e: &Ellipsoid, plot: [usize; 2]) -> Option<BoxSet> {
+    e.project(&plot).ok().map(|p| p.bounding_box())
+}
+
+impl LscrPrepared {
+    /// The report.
+    pub fn report(&self) -> Result<LscrReport> {
+        let est = &self.estimator;
+        let n = est.problem.n();
+        let t = self.y.len();
+        let target = est.problem.regression.target;
+        let s = est.problem.s(&self.y);
+        let region = est.problem.region(&s, &est.strings, est.q);
+        let (level_each, level) = est.levels();
+        let blue = est.blue(&self.y);
+        let kf = est.kalman(&self.y);
+        // Least-squares point (minimum norm): the slice's default when there is no BLUE.
+        let ls: Vec<f64> = est
+            .problem
+            .kl
+            .a
+            .clone()
+            .pseudo_inverse(1e-12)
+            .map(|p| (p * &s).iter().copied().collect())
+            .unwrap_or_else(|_| vec![0.0; n]);
+        let slice_at = if n > 2 {
+            Some(
+                self.spec
+                    .slice_at
+                    .clone()
+                    .or_else(|| blue.as_ref().map(|b| b.center.clone()))
+                    .unwrap_or_else(|| ls.clone()),
+            )
+        } else {
+            None
+        };
+        let plane = plane_region(&region, self.plot, slice_at.as_deref())?;
+        let recession = plane.recession_2d()?;
+        let bounded = recession.is_empty();
+        let mut extra: Vec<BoxSet> = Vec::new();
+        if let Some(x) = &self.x_true {
+            extra.push(BoxSet::point(&[x[self.plot[0]], x[self.plot[1]]]));
+        }
+        for e in [&blue, &kf].into_iter().flatten() {
+            extra.extend(ellipse_box(e, self.plot));
+        }
+        if extra.is_empty() || !bounded {
+            extra.push(BoxSet::point(&[ls[self.plot[0]], ls[self.plot[1]]]));
+        }
+        let (window, loops) = match &self.spec.window {
+            Some(w) => (w.clone(), plane.boundary(w)?),
+            None => {
+                let (w, loops) = fit_window(&plane, &extra, bounded)?;
+                if bounded && !loops.is_empty() {
+                    (w, loops)
+                } else {
+                    let l = plane.boundary(&w)?;
+                    (w, l)
+                }
+            }
+        };
+        let area = loops.iter().map(|l| crate::sets::sign_region::signed_area(&l.points)).sum();
+        let raster = match self.spec.resolution {
+            Some([w, h]) => Some(plane.raster(&window, w, h)?),
+            None => None,
+        };
+        let probes = self
+            .spec
+            .probes
+            .iter()
+            .map(|p| {
+                let mask = region.excluded(p);
+                Probe { x: p.clone(), inside_each: (0..n).map(|l| mask & (1 << l.min(31)) == 0).collect(), inside: mask == 0 }
+            })
+            .collect();
+        let (truth_inside_each, truth_inside) = match &self.x_true {
+            Some(x) => {
+                let mask = region.excluded(x);
+                (Some((0..n).map(|l| mask & (1 << l.min(31)) == 0).collect()), Some(mask == 0))
+            }
+            None => (None, None),
+        };
+        let b = &est.problem.regression.backward;
+        Ok(LscrReport {
+            estimate: target.name().into(),
+            time: target.time(t),
+            t,
+            m: est.strings.m(),
+            q: est.q,
+            level_each,
+            level,
+            construction: est.strings.construction,
+            guaranteed: est.guaranteed(),
+            f_b: linalg::to_rows(&b.f_b),
+            q_prime: linalg::to_rows(&b.v_b),
+            kl_variances: est.problem.kl.d.iter().copied().collect(),
+            singular_values: est.problem.kl.singular.clone(),
+            rank: est.problem.kl.rank,
+            invariant_directions: region.invariant_directions(),
+            region,
+            plot: self.plot,
+            slice_at,
+            x_true: self.x_true.clone(),
+            truth_inside_each,
+            truth_inside,
+            blue_note: est.blue.as_ref().err().cloned(),
+            blue,
+            kf,
+            recession,
+            bounded,
+            window,
+            area,
+            boundary: loops,
+            raster,
+            probes,
+            coverage: None,
+            strings: est.strings.texts(),
+        })
+    }
+
+    /// Run the scenario's coverage experiment to the end (CLI, tests).
+    pub fn coverage(&self, truth: &[f64]) -> Result<CoverageReport> {
+        let c = self.spec.coverage.clone().ok_or_else(|| Error::field("lscr.coverage", "is missing"))?;
+        let mut e = lscr::Experiment::new(self.estimator.clone(), truth, c.runs, c.seed)?;
+        while !e.finished() {
+            e.step(1000);
+        }
+        Ok(coverage_report(&self.estimator, truth, e.counts.clone()))
+    }
+}
+
+/// Counts with their promised levels and 99.9 % bands.
+pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> CoverageReport {
+    let (level_each, level) = est.levels();
+    let (a, b) = lscr::binomial_band(counts.runs, level_each, 0.0005);
+    let (c, d) = lscr::binomial_band(counts.runs, level.max(0.0), 0.0005);
+    CoverageReport { truth: truth.to_vec(), counts, level_each, level, band_each: [a, b], band: [c, d] }
+}
