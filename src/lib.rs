@@ -20,11 +20,12 @@
 //! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why |
 //! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots |
 //! | [`model`] | the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
-//! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`] |
+//! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q affine functions are > 0 and ≥ q are < 0) with its exact pixel raster [`sets::GridRegion`], line pieces, boundary polygons, 2-D slices and recession directions |
 //! | [`kalman`] | Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state |
 //! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage |
+//! | [`lscr`] | LSCR (Weyer & Campi): the data as a regression on x_{t+1}, x_t or x_i ((11), (20), (21)), the block-wise Karhunen–Loève basis (12)–(15), the SVD of A (16), random/group/explicit strings (points 4, 4a), the region (17) as a `SignRegion`, Theorem 3.2 levels, BLUE and Kalman comparisons, the chunked coverage experiment |
 //! | [`experiment`] | conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo |
-//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch |
+//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage) |
 //! | [`presets`] | the papers' examples as scenarios (used by page, CLI and tests) |
 //! | [`plot`] | figures on any plotters backend, one file per kind of picture |
 //! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions |
@@ -52,6 +53,20 @@
 //! * SCF Example 1: the ρ integrand should read exp(−x²/(2p̄)) (then ρ ≈ 2.00 as printed).
 //! * Backward noise covariance: Γ − F^bΓF^bᵀ = Γ − ΓFᵀΓ⁻¹FΓ (the LSCR paper's (7) prints
 //!   Π − FΠFᵀ).
+//! * LSCR V-A: the text says q = 4 but computes 1 − 2·2·2/80 = 0.9; Theorem 3.2 needs q = 2 for
+//!   a 90 % joint level with M = 80, n = 2 — the presets use q = 2.
+//! * LSCR Lemma 3.1: Cov n̄ = σ_v²D + σ_w²I (the paper swaps the variances); used by the BLUE.
+//! * LSCR smoothing: the Karhunen–Loève eigenvalues come in exact pairs, so the basis is not
+//!   unique; [`lscr::KarhunenLoeve`] fixes it block by block before seeing the data.
+//!
+//! ## How the LSCR region is exact and fast
+//!
+//! Every g_{i,l}(x) = c − d·x is affine, so X̂ is a union of cells of a line arrangement. The
+//! raster finds, per pixel row and function, the one column where g changes sign (starting
+//! from the analytic root and checking with the same floating-point expression the brute force
+//! uses, so both agree bit for bit) and counts signs with difference arrays; hatching and
+//! boundaries are exact pieces of lines ([`sets::SignRegion::spans`],
+//! [`sets::SignRegion::boundary`]).
 //!
 //! ## How the robot Monte Carlo is fast
 //!

@@ -357,7 +357,7 @@ impl LinearModel {
         Ok(())
     }
 
-    /// Prior moments m_t = E[x_t], Γ_t = Cov(x_t) for t = 1..=steps (index t−1).
+    /// Prior moments m_t = E(x_t), Γ_t = Cov(x_t) for t = 1..=steps (index t−1).
     /// Γ_{t+1} = F_t Γ_t F_tᵀ + V_t, m_{t+1} = F_t m_t + B_t u_t (SCF V-D, V-E).
     pub fn moments(&self, steps: usize, u: &Inputs) -> Moments {
         let mut mean = Vec::with_capacity(steps);

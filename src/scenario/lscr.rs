@@ -100,7 +100,7 @@ pub struct CoverageReport {
     pub level: f64,
     /// 99.9 % band of a Binomial(runs, level_each) count.
     pub band_each: [usize; 2],
-    /// 99.9 % band of a Binomial(runs, level) count (the joint count must reach band[0]).
+    /// 99.9 % band of a Binomial(runs, level) count (the joint count must reach `band[0]`).
     pub band: [usize; 2],
 }
 

@@ -118,7 +118,7 @@ pub struct Scenario {
     /// Time the figure shows (default: the last step).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
-    /// The two state components drawn in the state-plane figure (default [0, 1], or [0] if n = 1).
+    /// The two state components drawn in the state-plane figure (default `[0, 1]`, or `[0]` if n = 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plot: Option<Vec<usize>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -186,7 +186,7 @@ pub struct Report {
     /// True states (simulation only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x_true: Option<Vec<Vec<f64>>>,
-    /// Prior means m_t = E[x_t].
+    /// Prior means m_t = E(x_t).
     pub prior_mean: Vec<Vec<f64>>,
     /// Steady-state quantities (stable, time-invariant, stationary prior).
     #[serde(default, skip_serializing_if = "Option::is_none")]
