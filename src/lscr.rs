@@ -399,6 +399,20 @@ fn xor(a: &Bits, b: &Bits) -> Bits {
     a.iter().zip(b).map(|(x, y)| x ^ y).collect()
 }
 
+/// M − 1 distinct non-zero strings of t fair bits (duplicates and zero redrawn); needs M ≤ 2^t.
+fn random_rows<R: Rng>(m: usize, t: usize, rng: &mut R) -> Vec<Bits> {
+    let mut seen = std::collections::HashSet::new();
+    seen.insert(vec![0u64; t.div_ceil(64)]);
+    let mut rows = Vec::with_capacity(m - 1);
+    while rows.len() < m - 1 {
+        let b = random_bits(t, rng);
+        if seen.insert(b.clone()) {
+            rows.push(b);
+        }
+    }
+    rows
+}
+
 /// Whether another M − 1 distinct non-zero strings of length t exist: M ≤ 2^t.
 fn fits(m: usize, t: usize) -> bool {
     t >= 63 || (m as u64) <= (1u64 << t)
@@ -425,18 +439,20 @@ impl Strings {
         if !fits(m, t) {
             return Err(Error::field("lscr.M", format!("must be at most 2^t = {} (distinct strings of length t = {t})", 1u64 << t)));
         }
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let zero = vec![0u64; t.div_ceil(64)];
-        let mut seen = std::collections::HashSet::new();
-        seen.insert(zero);
-        let mut rows = Vec::with_capacity(m - 1);
-        while rows.len() < m - 1 {
-            let b = random_bits(t, &mut rng);
-            if seen.insert(b.clone()) {
-                rows.push(b);
+        let rows = random_rows(m, t, &mut ChaCha8Rng::seed_from_u64(seed));
+        Ok(Self::from_bits(Construction::Random, t, &rows))
+    }
+
+    /// Redraw random strings in place (same M, t), skipping the group check: the coverage
+    /// experiment draws fresh strings per run, since the probability of Theorem 3.2 for
+    /// point 4 is over the strings as well as the noise.
+    fn redraw_random<R: Rng>(&mut self, rng: &mut R) {
+        let (m, t) = (self.h.nrows() + 1, self.h.ncols());
+        for (i, row) in random_rows(m, t, rng).iter().enumerate() {
+            for k in 0..t {
+                self.h[(i, k)] = ((row[k / 64] >> (k % 64)) & 1) as f64;
             }
         }
-        Ok(Self::from_bits(Construction::Random, t, &rows))
     }
 
     /// Point 4a: M = 2^k elements spanned by k random generators independent over GF(2).
@@ -754,9 +770,14 @@ pub struct Coverage {
 
 /// A chunked coverage experiment: N realizations of the data given x_τ = x̄, counting how often
 /// each region holds x̄ (Theorem 3.2 made visible). Membership needs only g_{i,l}(x̄), so a run
-/// costs a draw of the data, s = Uᵀy and (M − 1)·n·t additions.
+/// costs a draw of the data, s = Uᵀy and (M − 1)·n·t additions. Random strings (point 4) are
+/// redrawn for every run, because Theorem 3.2's probability is over the strings as well as the
+/// noise (one fixed random draw can sit a little above or below the level); group and explicit
+/// strings stay fixed, for which the theorem holds given the strings.
 pub struct Experiment {
     est: Estimator,
+    /// The strings of the runs: the estimator's, redrawn per run for point 4 (random).
+    strings: Strings,
     sampler: ConditionedSampler,
     truth: DVector<f64>,
     rng: ChaCha8Rng,
@@ -799,11 +820,22 @@ impl Experiment {
             blue: blue_inv.as_ref().map(|_| 0),
             kf: kf.as_ref().map(|_| 0),
         };
-        Ok(Experiment { est, sampler, truth, rng: ChaCha8Rng::seed_from_u64(seed), total: runs, counts, blue_r2, blue_inv, kf })
+        let strings = est.strings.clone();
+        Ok(Experiment { est, strings, sampler, truth, rng: ChaCha8Rng::seed_from_u64(seed), total: runs, counts, blue_r2, blue_inv, kf })
     }
 
     pub fn finished(&self) -> bool {
         self.counts.runs >= self.total
+    }
+
+    /// The estimator the runs use (levels, for [`crate::scenario::lscr::coverage_report`]).
+    pub fn estimator(&self) -> &Estimator {
+        &self.est
+    }
+
+    /// The fixed true state x̄.
+    pub fn truth(&self) -> &[f64] {
+        self.truth.as_slice()
     }
 
     /// Run up to `k` more realizations.
@@ -814,7 +846,11 @@ impl Experiment {
         let t = p.regression.t;
         let ax = &p.kl.a * &self.truth;
         let mut z = DVector::zeros(t);
+        let redraw = est.strings.construction == Construction::Random;
         for _ in 0..k.min(self.total - self.counts.runs) {
+            if redraw {
+                self.strings.redraw_random(&mut self.rng);
+            }
             let traj = self.sampler.draw(&est.model.linear, &self.truth, &mut self.rng);
             let y: Vec<f64> = traj.y[..t].iter().map(|v| v[0]).collect();
             let s = p.s(&y);
@@ -824,7 +860,7 @@ impl Experiment {
                 for kk in 0..t {
                     z[kk] = p.kl.u_a[(kk, l)] * resid[kk];
                 }
-                let g = &est.strings.h * &z;
+                let g = &self.strings.h * &z;
                 let pos = g.iter().filter(|&&v| v > 0.0).count();
                 let neg = g.iter().filter(|&&v| v < 0.0).count();
                 if pos >= est.q && neg >= est.q {

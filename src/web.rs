@@ -10,6 +10,13 @@
 //! const svg = s.svg('{"panel":"coverage"}', 800, 500);
 //! const e = new Experiment(JSON.stringify(scenario));   // needs simulate.condition + experiment
 //! while (!e.finished()) counts = JSON.parse(e.step(500));
+//!
+//! // LSCR (method "lscr"): the kept report's 2-D region as a membership raster over its window,
+//! // and the chunked coverage experiment at a fixed true state.
+//! const r = JSON.parse(s.run(JSON.stringify(lscrScenario)));
+//! const mask = s.raster(512, 512);        // Uint32Array, row 0 on top: 0 = in X̂, bit l = outside X̂_l
+//! const c = new LscrExperiment(JSON.stringify(withCoverage)); // simulate.condition + lscr.coverage
+//! while (!c.finished()) report = JSON.parse(c.step(200));    // counts, levels, 99.9 % bands
 //! ```
 //!
 //! Every error is thrown as a JS `Error` whose `message` is the crate [`Error`]'s text (it
@@ -26,6 +33,8 @@ use crate::error::Error;
 use crate::experiment::ConditionalExperiment;
 use crate::plot::{self, Frame, View};
 use crate::presets;
+use crate::lscr;
+use crate::scenario::lscr::{coverage_report, plane_region};
 use crate::scenario::{Report, Scenario};
 use plotters::prelude::DrawingBackend;
 use plotters_backend::{
@@ -107,7 +116,7 @@ impl Session {
         self.report.is_some()
     }
 
-    /// Draw a view (JSON `{"panel": "state"|"series"|"coverage", "time": t}`) of the kept
+    /// Draw a view (JSON `{"panel": "state"|"series"|"coverage"|"region", "time": t}`) of the kept
     /// report on `canvas`, whose backing store is `dpr` × its CSS size. Returns the frame (JSON)
     /// with `plot_area` in CSS pixels.
     pub fn draw(
@@ -157,6 +166,32 @@ impl Session {
     }
 }
 
+#[wasm_bindgen]
+impl Session {
+    /// Membership raster of the kept LSCR report's drawn region (X̂, or its 2-D slice for
+    /// n > 2) over the report's window, `width` × `height` pixel centres, row 0 on top:
+    /// entry 0 when the pixel centre is in X̂, else bit l set when it is outside X̂_l (bit 31
+    /// for every l ≥ 31). Exact, like the figure (`SignRegion::raster`).
+    pub fn raster(&self, width: u32, height: u32) -> Result<Vec<u32>, JsValue> {
+        let l = self.kept()?.lscr.as_ref().ok_or_else(|| {
+            js_error(&Error::field(
+                "method",
+                "the kept report is not an LSCR report: run a scenario with \"method\": \"lscr\" first",
+            ))
+        })?;
+        if !(1..=4096).contains(&width) || !(1..=4096).contains(&height) {
+            return Err(js_error(&Error::field(
+                "size",
+                format!("{width} × {height}: the raster must have 1..=4096 pixels each way"),
+            )));
+        }
+        plane_region(&l.region, l.plot, l.slice_at.as_deref())
+            .and_then(|p| p.raster(&l.window, width as usize, height as usize))
+            .map(|g| g.excluded)
+            .map_err(|e| js_error(&e))
+    }
+}
+
 impl Session {
     fn kept(&self) -> Result<&Report, JsValue> {
         self.report
@@ -192,6 +227,52 @@ impl Experiment {
     /// The counts so far (JSON).
     pub fn counts(&self) -> Result<String, JsValue> {
         to_json("the counts", self.inner.result())
+    }
+
+    pub fn finished(&self) -> bool {
+        self.inner.finished()
+    }
+}
+
+/// The LSCR coverage experiment (Theorem 3.2 made visible) of a scenario with
+/// `simulate.condition` (the fixed true state at the estimated time) and `lscr.coverage`
+/// (`runs`, `seed`), run in chunks so the page stays responsive and can cancel (by dropping it).
+#[wasm_bindgen]
+pub struct LscrExperiment {
+    inner: lscr::Experiment,
+}
+
+#[wasm_bindgen]
+impl LscrExperiment {
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario_json: &str) -> Result<LscrExperiment, JsValue> {
+        let inner = Scenario::from_json(scenario_json)
+            .and_then(|s| s.lscr_experiment())
+            .map_err(|e| js_error(&e))?;
+        Ok(LscrExperiment { inner })
+    }
+
+    /// Run up to `runs` more realizations; returns the coverage report so far (JSON): the
+    /// truth, `runs`, `inside_each`, `inside`, `blue`, `kf` (counts, null when there is no
+    /// such region), the promised `level_each` (1 − 2q/M) and `level` (1 − 2qn/M), and the
+    /// 99.9 % binomial bands `band_each`, `band` (counts) for the runs so far.
+    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
+        self.inner.step(runs as usize);
+        self.counts()
+    }
+
+    /// The coverage report so far (JSON, as [`LscrExperiment::step`]).
+    pub fn counts(&self) -> Result<String, JsValue> {
+        let e = &self.inner;
+        to_json(
+            "the coverage report",
+            &coverage_report(e.estimator(), e.truth(), e.counts.clone()),
+        )
+    }
+
+    /// Total number of runs asked for.
+    pub fn total(&self) -> usize {
+        self.inner.total
     }
 
     pub fn finished(&self) -> bool {

@@ -1,9 +1,10 @@
 //! The wasm bindings in a real browser (`wasm-pack test --headless --chrome`): presets, a
-//! Session running and drawing a preset, errors thrown as JS Errors naming the field, and a
-//! chunk of the conditional Monte Carlo.
+//! Session running and drawing a preset, errors thrown as JS Errors naming the field, a
+//! chunk of the conditional Monte Carlo; LSCR: a preset's level, the membership raster and the
+//! chunked coverage experiment.
 #![cfg(target_arch = "wasm32")]
 
-use confset::web::{presets, Experiment, Session};
+use confset::web::{presets, Experiment, LscrExperiment, Session};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -154,4 +155,157 @@ fn experiment_runs_in_chunks() {
             .expect("no experiment in the scalar preset"),
     );
     assert_eq!(field, "experiment", "{msg}");
+}
+
+fn num(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+#[wasm_bindgen_test]
+fn lscr_session_runs_the_fig1_preset() {
+    let mut s = Session::new();
+    let report: Value = serde_json::from_str(
+        &s.run(&preset("lscr-predict").to_string())
+            .unwrap_or_else(|e| panic!("lscr-predict runs: {:?}", thrown(e))),
+    )
+    .expect("report JSON");
+    let l = &report["lscr"];
+    assert!((num(&l["level"]) - 0.9).abs() < 1e-12, "joint level {}", l["level"]);
+    assert!((num(&l["level_each"]) - 0.95).abs() < 1e-12, "level per X̂_l {}", l["level_each"]);
+    assert_eq!(l["M"], 80);
+    assert_eq!(l["q"], 2);
+    assert_eq!(l["time"], 31);
+    assert_eq!(l["guaranteed"], true);
+    assert_eq!(l["bounded"], true);
+    assert!(num(&l["area"]) > 0.0);
+    // The backward representation of Section V-A, to the printed digits.
+    let fb = [[0.2450, 0.3315], [-0.3500, 0.9550]];
+    for (i, row) in fb.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            assert!((num(&l["f_b"][i][j]) - v).abs() < 5e-5, "F^b[{i}][{j}] = {}", l["f_b"][i][j]);
+        }
+    }
+}
+
+#[wasm_bindgen_test]
+fn lscr_raster_of_the_kept_region() {
+    let mut s = Session::new();
+    let (_, field) = thrown(s.raster(64, 48).expect_err("no report yet"));
+    assert_eq!(field, "");
+    s.run(&preset("scf-scalar").to_string()).expect("scalar preset");
+    let (msg, field) = thrown(s.raster(64, 48).expect_err("an SCF report has no LSCR region"));
+    assert_eq!(field, "method", "{msg}");
+
+    s.run(&preset("lscr-predict").to_string()).expect("lscr-predict");
+    let r = s.raster(64, 48).expect("raster");
+    assert_eq!(r.len(), 64 * 48);
+    let inside = r.iter().filter(|&&e| e == 0).count();
+    assert!(inside > 0 && inside < r.len(), "{inside} of {} pixels inside", r.len());
+    // Only bits of the two groups X̂_1, X̂_2 are used.
+    assert!(r.iter().all(|&e| e & !0b11 == 0));
+    assert!(r.iter().any(|&e| e == 1) && r.iter().any(|&e| e == 2), "both X̂_1 and X̂_2 exclude somewhere");
+    // The fitted window holds the whole bounded region: its border pixels are outside.
+    assert!((0..64).all(|j| r[j] != 0 && r[47 * 64 + j] != 0));
+
+    let big = s.raster(512, 512).expect("512²");
+    assert_eq!(big.len(), 512 * 512);
+    let (_, field) = thrown(s.raster(0, 10).expect_err("zero width"));
+    assert_eq!(field, "size");
+    let (_, field) = thrown(s.raster(10, 5000).expect_err("too tall"));
+    assert_eq!(field, "size");
+
+    // The MA(1) band: unbounded, so inside pixels reach the window's border.
+    s.run(&preset("lscr-ma1").to_string()).expect("lscr-ma1");
+    let r = s.raster(100, 100).expect("raster");
+    let inside = r.iter().filter(|&&e| e == 0).count();
+    assert!(inside > 0 && inside < r.len());
+    let border = (0..100).any(|k| r[k] == 0 || r[99 * 100 + k] == 0 || r[k * 100] == 0 || r[k * 100 + 99] == 0);
+    assert!(border, "the band crosses the window's border");
+}
+
+#[wasm_bindgen_test]
+fn lscr_experiment_steps_to_completion() {
+    let mut sc = preset("lscr-predict");
+    sc["simulate"]["condition"] = serde_json::json!({"t": 31, "x": [0.1, 0.2]});
+    sc["lscr"]["coverage"] = serde_json::json!({"runs": 300, "seed": 4});
+    let mut e = LscrExperiment::new(&sc.to_string())
+        .unwrap_or_else(|err| panic!("experiment: {:?}", thrown(err)));
+    assert_eq!(e.total(), 300);
+    assert!(!e.finished());
+    let first: Value = serde_json::from_str(&e.step(100).expect("step")).expect("JSON");
+    assert_eq!(first["runs"], 100);
+    let mut last = first;
+    let mut chunks = 1;
+    while !e.finished() {
+        last = serde_json::from_str(&e.step(64).expect("step")).expect("JSON");
+        chunks += 1;
+        assert!(chunks < 100, "the experiment does not finish");
+    }
+    assert_eq!(last["runs"], 300);
+    assert_eq!(serde_json::from_str::<Value>(&e.counts().expect("counts")).expect("JSON"), last);
+    assert!((num(&last["level_each"]) - 0.95).abs() < 1e-12);
+    assert!((num(&last["level"]) - 0.9).abs() < 1e-12);
+    assert_eq!(last["truth"], serde_json::json!([0.1, 0.2]));
+    let band_each = [num(&last["band_each"][0]), num(&last["band_each"][1])];
+    let band = [num(&last["band"][0]), num(&last["band"][1])];
+    assert!(band_each[0] < 0.95 * 300.0 && band_each[1] > 0.95 * 300.0 && band_each[1] <= 300.0, "{band_each:?}");
+    assert!(band[0] < 0.9 * 300.0 && band[1] > 0.9 * 300.0, "{band:?}");
+    let each: Vec<f64> = last["inside_each"].as_array().expect("inside_each").iter().map(num).collect();
+    assert_eq!(each.len(), 2);
+    for (l, c) in each.iter().enumerate() {
+        assert!(*c >= band_each[0] && *c <= band_each[1], "X̂_{} holds the truth {c} times of 300, band {band_each:?}", l + 1);
+    }
+    let joint = num(&last["inside"]);
+    assert!(joint <= each[0].min(each[1]) && joint >= band[0], "X̂ {joint} of 300, band {band:?}");
+    for k in ["blue", "kf"] {
+        let c = num(&last[k]);
+        assert!((0.0..=300.0).contains(&c), "{k}: {c}");
+        // A typical true state: both ellipses hold it most of the time.
+        assert!(c >= 200.0, "{k}: {c} of 300");
+    }
+
+    // Without a fixed true state, or without the coverage block: errors naming the field.
+    let mut no_cond = sc.clone();
+    no_cond["simulate"].as_object_mut().expect("simulate").remove("condition");
+    let (msg, field) = thrown(LscrExperiment::new(&no_cond.to_string()).err().expect("needs a condition"));
+    assert_eq!(field, "simulate.condition", "{msg}");
+    let mut no_cov = sc.clone();
+    no_cov["lscr"].as_object_mut().expect("lscr").remove("coverage");
+    let (msg, field) = thrown(LscrExperiment::new(&no_cov.to_string()).err().expect("needs lscr.coverage"));
+    assert_eq!(field, "lscr.coverage", "{msg}");
+    let mut wrong_t = sc.clone();
+    wrong_t["simulate"]["condition"]["t"] = serde_json::json!(30);
+    let (msg, field) = thrown(LscrExperiment::new(&wrong_t.to_string()).err().expect("condition at the wrong time"));
+    assert_eq!(field, "simulate.condition.t", "{msg}");
+}
+
+#[wasm_bindgen_test]
+fn lscr_errors_name_the_field() {
+    let mut s = Session::new();
+    let good = preset("lscr-predict");
+    s.run(&good.to_string()).expect("lscr-predict");
+    let cases: Vec<(&str, Value)> = vec![
+        ("lscr.q", serde_json::json!({"lscr": {"q": 21}})),
+        ("lscr.q", serde_json::json!({"lscr": {"q": 0}})),
+        ("lscr.M", serde_json::json!({"lscr": {"M": 200000}})),
+        ("lscr.M", serde_json::json!({"simulate": {"steps": 5}, "lscr": {"M": 80}})),
+        ("lscr.M", serde_json::json!({"lscr": {"construction": "group"}})),
+        ("simulate.steps", serde_json::json!({"simulate": {"steps": 1}})),
+        ("lscr.index", serde_json::json!({"lscr": {"estimate": "smooth", "index": 30}})),
+        ("lscr.estimate", serde_json::json!({"lscr": {"estimate": "guess"}})),
+        ("model.F", serde_json::json!({"model": {"F": [[1.2, 0.0], [1.0, 0.7]]}})),
+    ];
+    for (want, patch) in cases {
+        let mut sc = good.clone();
+        for (k, v) in patch.as_object().expect("object") {
+            for (k2, v2) in v.as_object().expect("object") {
+                sc[k][k2] = v2.clone();
+            }
+        }
+        let (msg, field) = thrown(s.run(&sc.to_string()).expect_err(&format!("{patch} is refused")));
+        assert_eq!(field, want, "{patch}: {msg}");
+        assert!(msg.starts_with(want), "{patch}: {msg}");
+    }
+    assert!(s.has_report(), "the last good report is kept");
+    assert_eq!(s.raster(8, 8).expect("raster of the kept report").len(), 64);
 }

@@ -274,9 +274,16 @@ impl SignRegion {
         let x0 = window.lo[0];
         let xs: Vec<f64> = (0..width).map(|j| x0 + (j as f64 + 0.5) * dx).collect();
         let (mut pos, mut neg) = (vec![0i32; width + 1], vec![0i32; width + 1]);
-        // Per function: the root column at row 0 as a fractional index and its change per row
-        // (the search for the exact sign change starts there and usually takes two evaluations).
-        let guides: Vec<Vec<(f64, f64)>> = self
+        // Per function: the root column at row 0 as a fractional index, its change per row, and
+        // a bound (in columns) on every rounding error between that estimate and the sign of
+        // the floating-point evaluation at a pixel centre. When the estimate is farther than
+        // the bound from every pixel centre, the sign pattern of the row follows without
+        // evaluating g; otherwise the exact search decides. Either way the result is the
+        // brute-force one.
+        let xmax = window.lo[0].abs().max(window.hi[0].abs());
+        let ymax = window.lo[1].abs().max(window.hi[1].abs());
+        let y0 = window.hi[1] - 0.5 * dy;
+        let guides: Vec<Vec<(f64, f64, f64)>> = self
             .groups
             .iter()
             .map(|g| {
@@ -284,11 +291,20 @@ impl SignRegion {
                     .zip(&g.d)
                     .map(|(&c, d)| {
                         if d[0] == 0.0 {
-                            (0.0, 0.0)
-                        } else {
-                            let y0 = window.hi[1] - 0.5 * dy;
-                            (((c - d[1] * y0) / d[0] - x0) / dx - 0.5, d[1] * dy / d[0] / dx)
+                            return (0.0, 0.0, f64::INFINITY);
                         }
+                        let g0 = ((c - d[1] * y0) / d[0] - x0) / dx - 0.5;
+                        let slope = d[1] * dy / d[0] / dx;
+                        let scale = c.abs() + d[0].abs() * xmax + d[1].abs() * ymax;
+                        let tol = 256.0
+                            * f64::EPSILON
+                            * (scale / (d[0].abs() * dx)
+                                + xmax / dx
+                                + g0.abs()
+                                + height as f64 * slope.abs()
+                                + width as f64
+                                + 4.0);
+                        (g0, slope, if tol.is_finite() { tol } else { f64::INFINITY })
                     })
                     .collect()
             })
@@ -299,7 +315,7 @@ impl SignRegion {
             for (l, g) in self.groups.iter().enumerate() {
                 pos.iter_mut().for_each(|v| *v = 0);
                 neg.iter_mut().for_each(|v| *v = 0);
-                for ((&c, d), &(g0, slope)) in g.c.iter().zip(&g.d).zip(&guides[l]) {
+                for ((&c, d), &(g0, slope, tol)) in g.c.iter().zip(&g.d).zip(&guides[l]) {
                     let (d0, d1) = (d[0], d[1]);
                     let f = |j: usize| eval2(c, d0, d1, xs[j], y);
                     if d0 == 0.0 {
@@ -313,7 +329,28 @@ impl SignRegion {
                         }
                         continue;
                     }
-                    let guess = (g0 + r as f64 * slope).ceil();
+                    let root = g0 + r as f64 * slope;
+                    let near = (root - root.round()).abs() <= tol
+                        && root >= -1.0 - tol
+                        && root <= width as f64 + tol;
+                    if !near && root.is_finite() {
+                        // No pixel centre within the error bound of the root: g > 0 on one side
+                        // of it and < 0 on the other, at every centre.
+                        let k = root.ceil().clamp(0.0, width as f64) as usize;
+                        if d0 > 0.0 {
+                            pos[0] += 1;
+                            pos[k] -= 1;
+                            neg[k] += 1;
+                            neg[width] -= 1;
+                        } else {
+                            neg[0] += 1;
+                            neg[k] -= 1;
+                            pos[k] += 1;
+                            pos[width] -= 1;
+                        }
+                        continue;
+                    }
+                    let guess = root.ceil();
                     if d0 > 0.0 {
                         // Decreasing along the row: positive on a prefix, negative on a suffix.
                         let p = first_true(width, guess, |j| f(j) <= 0.0);
