@@ -1,7 +1,8 @@
-// Bootstrap: load the wasm module, then hand the presets to the SCF vs KF panel.
+// Bootstrap: load the wasm module, then hand the presets to the SCF vs KF panel and the LSCR panel.
 // The page computes nothing itself: every number and every picture comes from ./pkg/confset.js.
-import init, { presets } from './pkg/confset.js';
+import init, * as confset from './pkg/confset.js';
 import { mountScf } from './scf.js';
+import { mountLscr } from './lscr.js';
 
 async function main() {
   const status = document.getElementById('t-run');
@@ -12,8 +13,12 @@ async function main() {
     status.classList.add('bad');
     return;
   }
-  const list = JSON.parse(presets());
-  await mountScf(document.getElementById('scf'), list);
+  // The module's exports, for the browser tests' timings (page.evaluate) and the console.
+  window.confset = confset;
+  const list = JSON.parse(confset.presets());
+  const isLscr = (p) => p.scenario.method === 'lscr';
+  await mountScf(document.getElementById('scf'), list.filter((p) => !isLscr(p)));
+  await mountLscr(document.getElementById('lscr'), list.filter(isLscr));
   document.body.dataset.ready = '1';
 }
 

@@ -1,0 +1,439 @@
+// The LSCR panel: controls → Scenario JSON (method "lscr") → wasm Session.run → the region figure
+// (Session.draw, view {"panel":"region"}), the numbers of the report, and the chunked coverage
+// experiment (wasm LscrExperiment) at a true state placed with a click. No estimation happens
+// here: the page only edits the preset's scenario and shows what the core reports.
+import { Session, LscrExperiment } from './pkg/confset.js';
+import { Figure, download } from './figure.js';
+import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
+
+const clone = (v) => JSON.parse(JSON.stringify(v));
+const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
+  : Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toFixed(3));
+const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
+const pct = (v) => `${+(100 * v).toFixed(2)} %`;
+const int = (v) => v.toLocaleString('en-US');
+const SUB = '₀₁₂₃₄₅₆₇₈₉';
+const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
+const CUSTOM = 'custom';
+const CHUNK = 100; // runs per LscrExperiment.step
+const SLICE_MS = 12; // work per task before yielding to the browser
+
+// Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
+const channel = new MessageChannel();
+const waiting = [];
+channel.port1.onmessage = () => waiting.shift()?.();
+const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2.postMessage(0); });
+
+// The custom mode is one more "preset" whose model comes from the text boxes.
+const CUSTOM_PRESET = {
+  name: CUSTOM,
+  description: 'Your own F, H, G: x_{t+1} = F x_t + G v_t, y_t = H x_t + w_t with scalar noises; every change is validated and run at once.',
+  scenario: {
+    method: 'lscr', title: 'Custom model',
+    model: { F: [[0.8, 0.3], [-0.3, 0.8]], H: [[1, 1]], G: [[1], [0.5]], sigma_v2: 0.01, sigma_w2: 0.01 },
+    simulate: { steps: 40, seed: 2 }, plot: [0, 1],
+    lscr: { estimate: 'predict', M: 80, q: 2, construction: 'random', seed: 1 },
+    notes: 'A damped rotation driven by one scalar noise, measured through H = [1 1]. F must be stable (LSCR needs a '
+      + 'stationary state); H has one row (a scalar measurement) and G one column. The variances only simulate the '
+      + 'data and give the BLUE and Kalman ellipses: the LSCR region does not use them.',
+  },
+};
+
+function number(field, text) {
+  const v = Number(text);
+  if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
+  return v;
+}
+
+// The region figure. When the core cannot draw the region panel, the exact membership raster
+// (Session.raster) is shown instead, over the report's window.
+class RegionFigure extends Figure {
+  view() { return JSON.stringify({ panel: 'region' }); }
+
+  draw(report) {
+    if (!this.visible) return;
+    this.fit();
+    const dpr = window.devicePixelRatio || 1;
+    try {
+      this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), dpr));
+      this.err.textContent = '';
+    } catch (e) {
+      if (e && e.field === 'view' && report) this.drawRaster(report.lscr);
+      else { this.frame = null; this.err.textContent = e.message; }
+    }
+  }
+
+  drawRaster(l) {
+    const { width: w, height: h } = this.canvas;
+    const mask = this.session.raster(w, h);
+    const img = new ImageData(w, h);
+    for (let i = 0; i < mask.length; i++) {
+      const out = mask[i] !== 0;
+      img.data.set(out ? [236, 239, 242, 255] : [86, 180, 233, 255], 4 * i);
+    }
+    this.canvas.getContext('2d').putImageData(img, 0, 0);
+    const cw = this.canvas.clientWidth, ch = this.canvas.clientHeight;
+    this.frame = { plot_area: [0, 0, cw, ch], x_range: [l.window.lo[0], l.window.hi[0]],
+      y_range: [l.window.lo[1], l.window.hi[1]], x_label: `x${sub(l.plot[0] + 1)}`, y_label: `x${sub(l.plot[1] + 1)}` };
+    this.err.textContent = '';
+  }
+}
+
+export async function mountLscr(root, presets) {
+  const session = new Session();
+  const $ = (id) => root.querySelector(`#${id}`);
+  const ui = Object.fromEntries(['preset', 'preset-desc', 'custom', 'm-F', 'm-H', 'm-G', 'sv', 'sw', 't', 'dseed',
+    'estimate', 'index', 'index-row', 'mode', 'M', 'q', 'mq-row', 'level', 'level-row', 'level-out', 'construction',
+    'seed', 'fix', 'fix-opts', 'xbar', 'stale', 'numbers', 'num-title', 'timing', 'notes',
+    'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth']
+    .map((id) => [id, $(`l-${id}`)]));
+  const all = [...presets, CUSTOM_PRESET];
+  const st = { preset: all[0], report: null, reportJson: '', scenario: null, scenarioJson: '', runMs: 0, drawMs: 0, busy: 0 };
+  const stem = () => `${st.preset.name}-t${ui.t.value}`;
+  const figure = new RegionFigure($('fig-region'), session, stem);
+  for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
+  for (const k of ['F', 'H', 'G']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
+
+  // ----- controls ⇄ scenario -----
+  const isCustom = () => st.preset === CUSTOM_PRESET;
+
+  function loadPreset(name) {
+    st.preset = all.find((p) => p.name === name) || all[0];
+    const s = st.preset.scenario;
+    const l = s.lscr;
+    ui.custom.hidden = !isCustom();
+    ui['preset-desc'].textContent = st.preset.description;
+    ui.sv.value = s.model.sigma_v2;
+    ui.sw.value = s.model.sigma_w2;
+    ui.t.value = s.simulate.steps;
+    ui.dseed.value = s.simulate.seed;
+    ui.estimate.value = l.estimate || 'predict';
+    ui.index.value = l.index ?? '';
+    ui.mode.value = l.level != null && l.M == null ? 'level' : 'mq';
+    ui.M.value = l.M ?? 80;
+    ui.q.value = l.q ?? 2;
+    ui.level.value = l.level ?? 0.9;
+    ui.construction.value = l.construction || 'random';
+    ui.seed.value = l.seed ?? 0;
+    ui.fix.checked = !!s.simulate.condition;
+    ui.xbar.value = s.simulate.condition ? s.simulate.condition.x.join(' ') : '';
+    ui.notes.textContent = (s.notes || '').replace(/\s{2,}/g, ' ');
+    updateVisibility();
+  }
+
+  function updateVisibility() {
+    const smooth = ui.estimate.value === 'smooth';
+    ui['index-row'].style.visibility = smooth ? '' : 'hidden';
+    if (smooth && ui.index.value === '') ui.index.value = Math.max(1, Math.floor(Number(ui.t.value) / 2) || 1);
+    ui['mq-row'].hidden = ui.mode.value !== 'mq';
+    ui['level-row'].hidden = ui.mode.value !== 'level';
+    ui['fix-opts'].hidden = !ui.fix.checked;
+    ui['level-out'].textContent = pct(Number(ui.level.value));
+  }
+
+  // The estimated time by the scenario contract (prediction t + 1, filtering t, smoothing i);
+  // checked against the report's lscr.time after the run.
+  function estimatedTime(s) {
+    const t = s.simulate.steps;
+    return s.lscr.estimate === 'predict' ? t + 1 : s.lscr.estimate === 'filter' ? t : s.lscr.index;
+  }
+
+  // The scenario the controls describe: the preset's, with fields changed.
+  function buildScenario() {
+    const s = clone(st.preset.scenario);
+    if (isCustom()) {
+      for (const k of ['F', 'H', 'G']) s.model[k] = parseMatrix(`model.${k}`, ui[`m-${k}`].value);
+      const n = s.model.F.length;
+      s.plot = n >= 2 ? [0, 1] : undefined;
+    }
+    s.model.sigma_v2 = number('model.sigma_v2', ui.sv.value);
+    s.model.sigma_w2 = number('model.sigma_w2', ui.sw.value);
+    s.simulate.steps = wholeNumber('simulate.steps', ui.t.value);
+    s.simulate.seed = wholeNumber('simulate.seed', ui.dseed.value);
+    const l = s.lscr;
+    l.estimate = ui.estimate.value;
+    if (l.estimate === 'smooth') l.index = wholeNumber('lscr.index', ui.index.value);
+    else delete l.index;
+    delete l.M; delete l.q; delete l.level;
+    if (ui.mode.value === 'mq') {
+      l.M = wholeNumber('lscr.M', ui.M.value);
+      l.q = wholeNumber('lscr.q', ui.q.value);
+    } else {
+      l.level = Number(ui.level.value);
+    }
+    l.construction = ui.construction.value;
+    l.seed = wholeNumber('lscr.seed', ui.seed.value);
+    delete l.coverage;
+    if (ui.fix.checked) {
+      s.simulate.condition = { t: estimatedTime(s), x: parseVector('simulate.condition.x', ui.xbar.value) };
+    } else {
+      delete s.simulate.condition;
+    }
+    delete s.notes;
+    return s;
+  }
+
+  // ----- errors next to the field they name -----
+  function showError(e) {
+    const field = e && typeof e.field === 'string' ? e.field : '';
+    const message = (e && e.message) || String(e);
+    let best = null;
+    for (const p of root.querySelectorAll('.err[data-for]')) {
+      const f = p.dataset.for;
+      const hit = f === '' || field === f || field.startsWith(`${f}.`) || field.startsWith(`${f}[`);
+      if (hit && (!best || f.length > best.dataset.for.length)) best = p;
+    }
+    clearErrors();
+    if (best) best.textContent = message;
+    const control = root.querySelector(`[data-field="${best ? best.dataset.for : ''}"]`);
+    if (control) control.setAttribute('aria-invalid', 'true');
+    ui.stale.hidden = !st.report;
+  }
+  function clearErrors() {
+    for (const p of root.querySelectorAll('form .err[data-for]')) p.textContent = '';
+    for (const c of root.querySelectorAll('form [aria-invalid]')) c.removeAttribute('aria-invalid');
+    ui.stale.hidden = true;
+  }
+
+  // ----- compute and draw -----
+  function setBusy(d) {
+    st.busy += d;
+    if (st.busy > 0) document.body.dataset.lscrBusy = '1'; else delete document.body.dataset.lscrBusy;
+  }
+
+  function compute() {
+    let scenario, json;
+    try {
+      scenario = buildScenario();
+      const t0 = performance.now();
+      json = session.run(JSON.stringify(scenario));
+      let report = JSON.parse(json);
+      const c = scenario.simulate.condition;
+      if (c && report.lscr.time !== c.t) { // the truth belongs at the estimated time
+        c.t = report.lscr.time;
+        json = session.run(JSON.stringify(scenario));
+        report = JSON.parse(json);
+      }
+      st.runMs = performance.now() - t0;
+      st.report = report;
+      clearErrors();
+    } catch (e) {
+      showError(e);
+      return;
+    }
+    st.reportJson = json;
+    st.scenario = scenario;
+    const sj = JSON.stringify(scenario);
+    if (sj !== st.scenarioJson) resetCoverage();
+    st.scenarioJson = sj;
+    redraw();
+  }
+
+  function redraw() {
+    if (!st.report) return;
+    const t0 = performance.now();
+    figure.draw(st.report);
+    st.drawMs = performance.now() - t0;
+    showNumbers();
+  }
+
+  let queued = null;
+  function schedule(what) { // coalesce bursts of input events into one run per frame
+    if (queued === 'compute' || queued === what) return;
+    if (!queued) setBusy(+1);
+    queued = what;
+    requestAnimationFrame(() => {
+      const w = queued;
+      queued = null;
+      try { if (w === 'compute') compute(); else redraw(); } finally { setBusy(-1); }
+    });
+  }
+
+  // ----- numbers from the report -----
+  const regionName = (l) => `X̂${sub(l + 1)}`;
+  const mark = (b) => (b == null ? '–' : b ? '<b class="good">✓ inside</b>' : '<b class="warn">✗ outside</b>');
+  const dirText = (d) => `(${d.map((v) => fmt(v)).join(', ')})`;
+
+  function showNumbers() {
+    const r = st.report;
+    const l = r.lscr;
+    const n = l.region ? l.region.dim : r.n;
+    const what = { predict: 'prediction', filter: 'filtering', smooth: 'smoothing' }[l.estimate] || l.estimate;
+    ui['num-title'].textContent = `Confidence set for x${sub(l.time)} from y${sub(1)}..y${sub(l.t)} (${what})`;
+    const rows = [];
+    for (let k = 0; k < n; k++) {
+      rows.push([`${regionName(k)} <span class="hint">(direction ${k + 1})</span>`, pct(l.level_each), mark(l.truth_inside_each?.[k])]);
+    }
+    rows.push(['<b>X̂</b> = ∩ X̂<sub>l</sub>', `≥ ${pct(l.level)}`, mark(l.truth_inside)]);
+    let html = `<table class="levels"><thead><tr><th>region</th><th>level</th><th>true state</th></tr></thead><tbody>${
+      rows.map(([a, b, c]) => `<tr><th>${a}</th><td>${b}</td><td>${c}</td></tr>`).join('')}</tbody></table>`;
+    const constr = l.construction === 'group' ? 'group strings (4a)' : l.construction === 'random' ? 'random strings (4)' : `${l.construction} strings`;
+    html += `<p><b>M = ${l.M}</b>, <b>q = ${l.q}</b> · ${constr} · ${l.guaranteed
+      ? '<span class="good">guaranteed by Theorem 3.2</span>' : '<span class="warn">not guaranteed (explicit strings)</span>'}</p>`;
+    const names = l.plot.map((i) => `x${sub(i + 1)}`).join(', ');
+    if (l.bounded) {
+      html += `<p>Region <b>bounded</b>, area ${fmt(l.area)} (in the ${names} plane)</p>`;
+    } else {
+      const dirs = l.recession.length ? l.recession.map(dirText).join(' and ') : '–';
+      html += `<p>Region <b class="warn">unbounded</b> along ${dirs}${l.invariant_directions.length
+        ? ` (invariant along ${l.invariant_directions.map(dirText).join(', ')}: the data do not determine the state there)` : ''}; area in the window ${fmt(l.area)}</p>`;
+    }
+    const est = [
+      ['true state', l.x_true ? vec(l.x_true) : '– (data given)'],
+      ['BLUE ⋆', l.blue ? vec(l.blue.center) : `none${l.blue_note ? ` — ${l.blue_note}` : ''}`],
+      ['Kalman (dashed)', l.kf ? vec(l.kf.center) : 'none for smoothing'],
+    ];
+    html += `<table class="est"><tbody>${est.map(([a, b]) => `<tr><th>${a}</th><td>${b}</td></tr>`).join('')}</tbody></table>`;
+    if (l.blue || l.kf) html += `<p class="hint">Ellipses at the joint level ${pct(l.level)} (χ² radius² ${fmt((l.blue || l.kf).radius2)}).</p>`;
+    ui.numbers.innerHTML = html;
+    ui.timing.textContent = `rendered in ${(st.runMs + st.drawMs).toFixed(1)} ms (run ${st.runMs.toFixed(1)} ms + draw ${st.drawMs.toFixed(1)} ms)`;
+    ui['level-out'].textContent = ui.mode.value === 'level'
+      ? `${pct(Number(ui.level.value))} → M = ${l.M}, q = ${l.q}` : pct(Number(ui.level.value));
+    ui['cov-truth'].textContent = truthLabel();
+  }
+
+  // ----- placing the true state with a click -----
+  function toState(px, py) {
+    const f = figure.frame;
+    if (!f || !st.report) return null;
+    const [left, top, right, bottom] = f.plot_area;
+    if (px < left || px > right || py < top || py > bottom || right <= left || bottom <= top) return null;
+    const w = st.report.lscr.window;
+    const xr = f.x_range || [w.lo[0], w.hi[0]];
+    const yr = f.y_range || [w.lo[1], w.hi[1]];
+    return [xr[0] + ((px - left) / (right - left)) * (xr[1] - xr[0]), yr[1] - ((py - top) / (bottom - top)) * (yr[1] - yr[0])];
+  }
+
+  figure.canvas.addEventListener('click', (e) => {
+    const p = toState(e.offsetX, e.offsetY);
+    if (!p) return;
+    const l = st.report.lscr;
+    // A few significant digits of the window's size; other components (n > 2) keep their values.
+    const span = Math.max(l.window.hi[0] - l.window.lo[0], l.window.hi[1] - l.window.lo[1]);
+    const digits = Math.max(0, 3 - Math.floor(Math.log10(span)));
+    const x = (l.x_true || l.slice_at || Array(l.region.dim).fill(0)).slice();
+    x[l.plot[0]] = p[0];
+    x[l.plot[1]] = p[1];
+    ui.xbar.value = x.map((v) => +v.toFixed(digits)).join(' ');
+    ui.fix.checked = true;
+    updateVisibility();
+    schedule('compute');
+  });
+
+  // ----- coverage experiment -----
+  let running = null; // { cancelled, stale }
+
+  function truthLabel() {
+    const r = st.report;
+    if (!r) return '';
+    const x = r.lscr.x_true;
+    return x ? `x̄ = ${vec(x)}, time ${r.lscr.time}` : '';
+  }
+
+  function showCoverage(c, done) {
+    const frac = (k) => `${int(k)} / ${int(c.runs)}`;
+    const rate = (k) => (c.runs ? `${(100 * k / c.runs).toFixed(1)} %` : '–');
+    const inBand = (k, [lo, hi]) => k >= lo && k <= hi;
+    const ok = (b) => (!done ? '' : b ? '<b class="good">✓</b>' : '<b class="warn">✗</b>');
+    const rows = c.inside_each.map((k, l) => [regionName(l), frac(k), rate(k), pct(c.level_each),
+      `[${int(c.band_each[0])}, ${int(c.band_each[1])}]`, ok(inBand(k, c.band_each))]);
+    rows.push(['<b>X̂</b> (LSCR)', frac(c.inside), rate(c.inside), `≥ ${pct(c.level)}`, `≥ ${int(c.band[0])}`, ok(c.inside >= c.band[0])]);
+    for (const [name, k] of [['BLUE ellipse', c.blue], ['Kalman ellipse', c.kf]]) {
+      rows.push(k == null ? [name, '–', '–', '–', '–', '<span class="hint">no such region</span>']
+        : [name, frac(k), rate(k), pct(c.level), `[${int(c.band[0])}, ${int(c.band[1])}]`, ok(inBand(k, c.band))]);
+    }
+    ui['cov-body'].innerHTML = rows.map((r) => `<tr><th>${r[0]}</th>${r.slice(1).map((v) => `<td>${v}</td>`).join('')}</tr>`).join('');
+    ui['cov-progress'].max = Math.max(1, running?.total ?? c.runs);
+    ui['cov-progress'].value = c.runs;
+  }
+
+  function emptyCoverage() {
+    const names = st.report ? Array.from({ length: st.report.lscr.region.dim }, (_, l) => regionName(l)) : [];
+    ui['cov-body'].innerHTML = [...names, '<b>X̂</b> (LSCR)', 'BLUE ellipse', 'Kalman ellipse']
+      .map((nm) => `<tr><th>${nm}</th><td>–</td><td>–</td><td>–</td><td>–</td><td></td></tr>`).join('');
+  }
+
+  async function runCoverage() {
+    ui['cov-err'].textContent = '';
+    let exp, total;
+    try {
+      if (!st.report) throw new Error('no valid scenario to run');
+      total = wholeNumber('lscr.coverage.runs', ui['cov-n'].value);
+      const s = clone(st.scenario);
+      const x = s.simulate.condition ? s.simulate.condition.x : st.report.lscr.x_true;
+      if (!x) throw { field: 'simulate.condition.x', message: 'the coverage experiment needs a true state: click the figure to place one' };
+      s.simulate.condition = { t: st.report.lscr.time, x };
+      s.lscr.coverage = { runs: total, seed: 1 };
+      exp = new LscrExperiment(JSON.stringify(s));
+    } catch (e) {
+      ui['cov-err'].textContent = e.message;
+      return;
+    }
+    const me = { cancelled: false, total };
+    running = me;
+    ui['cov-go'].disabled = true;
+    ui['cov-cancel'].disabled = false;
+    setBusy(+1);
+    const t0 = performance.now();
+    let compute = 0;
+    let c = null;
+    try {
+      while (!me.cancelled) {
+        const s0 = performance.now();
+        do c = JSON.parse(exp.step(CHUNK)); while (!exp.finished() && performance.now() - s0 < SLICE_MS);
+        compute += performance.now() - s0;
+        showCoverage(c, false);
+        ui['cov-status'].textContent = `${int(c.runs)} / ${int(total)} runs`;
+        if (exp.finished()) break;
+        await yieldToBrowser();
+      }
+      if (me.stale) return; // the scenario changed: these counts belong to the old one
+      const wall = performance.now() - t0;
+      showCoverage(c, !me.cancelled);
+      ui['cov-status'].textContent = me.cancelled
+        ? `cancelled after ${int(c.runs)} runs (${wall.toFixed(0)} ms)`
+        : `${int(c.runs)} runs in ${wall.toFixed(0)} ms (computing ${compute.toFixed(0)} ms, ${(1000 * compute / c.runs).toFixed(0)} µs per run)`;
+    } catch (e) {
+      ui['cov-err'].textContent = e.message;
+    } finally {
+      exp.free();
+      if (running === me) running = null;
+      ui['cov-go'].disabled = false;
+      ui['cov-cancel'].disabled = true;
+      setBusy(-1);
+    }
+  }
+
+  function resetCoverage() {
+    if (running) Object.assign(running, { cancelled: true, stale: true });
+    emptyCoverage();
+    ui['cov-status'].textContent = '';
+    ui['cov-err'].textContent = '';
+    ui['cov-progress'].value = 0;
+  }
+
+  // ----- wiring -----
+  ui.preset.addEventListener('change', () => { loadPreset(ui.preset.value); schedule('compute'); });
+  for (const id of ['m-F', 'm-H', 'm-G', 'sv', 'sw', 't', 'dseed', 'estimate', 'index', 'mode', 'M', 'q', 'level',
+    'construction', 'seed', 'fix', 'xbar']) {
+    ui[id].addEventListener('input', () => { updateVisibility(); schedule('compute'); });
+  }
+  ui['cov-go'].addEventListener('click', runCoverage);
+  ui['cov-cancel'].addEventListener('click', () => { if (running) running.cancelled = true; });
+
+  // Hi-DPI: refit the backing store when the layout or the pixel ratio changes (no recompute).
+  new ResizeObserver(() => schedule('redraw')).observe(figure.canvas);
+  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
+    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
+  watchDpr();
+
+  $('l-dl-report').addEventListener('click', () => st.reportJson
+    && download(`${stem()}-report.json`, new Blob([st.reportJson], { type: 'application/json' })));
+  $('l-dl-scenario').addEventListener('click', () => st.scenario
+    && download(`${stem()}-scenario.json`, new Blob([JSON.stringify(st.scenario, null, 2)], { type: 'application/json' })));
+
+  ui.preset.value = all[0].name;
+  loadPreset(all[0].name);
+  compute();
+  emptyCoverage();
+}
