@@ -123,7 +123,7 @@ export async function mountLscr(root, presets) {
 
   function updateVisibility() {
     const smooth = ui.estimate.value === 'smooth';
-    ui['index-row'].style.visibility = smooth ? '' : 'hidden';
+    ui['index-row'].hidden = !smooth;
     if (smooth && ui.index.value === '') ui.index.value = Math.max(1, Math.floor(Number(ui.t.value) / 2) || 1);
     ui['mq-row'].hidden = ui.mode.value !== 'mq';
     ui['level-row'].hidden = ui.mode.value !== 'level';
@@ -274,9 +274,16 @@ export async function mountLscr(root, presets) {
     if (l.bounded) {
       html += `<p>Region <b>bounded</b>, area ${fmt(l.area)} (in the ${names} plane)</p>`;
     } else {
-      const dirs = l.recession.length ? l.recession.map(dirText).join(' and ') : '–';
-      html += `<p>Region <b class="warn">unbounded</b> along ${dirs}${l.invariant_directions.length
-        ? ` (invariant along ${l.invariant_directions.map(dirText).join(', ')}: the data do not determine the state there)` : ''}; area in the window ${fmt(l.area)}</p>`;
+      // Opposite recession directions (a band) read as one ± direction.
+      const dirs = [];
+      for (const d of l.recession) {
+        const opp = dirs.find((e) => !e.both && Math.hypot(e.d[0] + d[0], e.d[1] + d[1]) < 1e-9);
+        if (opp) opp.both = true; else dirs.push({ d, both: false });
+      }
+      const dirList = dirs.length ? dirs.map((e) => `${e.both ? '±' : ''}${dirText(e.d)}`).join(' and ') : '–';
+      html += `<p>Region <b class="warn">unbounded</b> along ${dirList}${l.invariant_directions.length
+        ? `: X̂ is invariant along ${l.invariant_directions.map(dirText).join(', ')} (the data do not determine the state there)` : ''}.
+        Area inside the window ${fmt(l.area)}.</p>`;
     }
     const est = [
       ['true state', l.x_true ? vec(l.x_true) : '– (data given)'],

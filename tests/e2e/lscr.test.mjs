@@ -147,6 +147,7 @@ export default async function lscr({ baseUrl, newPage, waitReady, assert, screen
       await page.click('#l-cov-cancel');
       await page.waitForFunction(() => /cancelled after/.test(document.getElementById('l-cov-status').textContent), null, { timeout: 30_000 });
       await idle(page);
+      await page.fill('#l-cov-n', '2000');
       await set(page, 'l-fix', false);
       assert.match(await text(page, '#l-cov-body tr:first-child'), /–/, 'counts cleared when the scenario changes');
 
