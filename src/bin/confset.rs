@@ -7,13 +7,15 @@
 //! confset experiment SCENARIO.json|--preset NAME [--runs N]
 //!                                          conditional Monte Carlo (counts JSON)
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
-//!         [--panel state|series|coverage] [--time T] [--zoom auto|regions|full] [--size WxH]
-//! confset figures -o DIR [--size WxH]      every useful panel of every preset as SVG
-//!                                          (DIR/PRESET-PANEL.svg)
+//!         [--panel state|series|coverage|region] [--time T] [--zoom auto|regions|full]
+//!         [--size WxH]                     default panel: the report's first useful one
+//!                                          (region for LSCR, state otherwise)
+//! confset figures [-o] DIR [--size WxH]    every useful panel of every preset as SVG
+//!                                          (DIR/PRESET-PANEL.svg; LSCR presets: the region)
 //! ```
 
 use confset::plot::{self, Panel, View, Zoom};
-use confset::scenario::Scenario;
+use confset::scenario::{Report, Scenario};
 use confset::{presets, Error};
 use std::process::ExitCode;
 
@@ -22,8 +24,9 @@ const USAGE: &str = "usage:
   confset run (SCENARIO.json | --preset NAME)
   confset experiment (SCENARIO.json | --preset NAME) [--runs N]
   confset figure (SCENARIO.json | --preset NAME) -o FILE.svg
-          [--panel state|series|coverage] [--time T] [--zoom auto|regions|full] [--size WxH]
-  confset figures -o DIR [--size WxH]";
+          [--panel state|series|coverage|region] [--time T] [--zoom auto|regions|full]
+          [--size WxH]   (default panel: region for LSCR scenarios, state otherwise)
+  confset figures [-o] DIR [--size WxH]";
 
 /// Flags that take a value (so the value is not mistaken for the scenario file).
 const VALUED: [&str; 7] = [
@@ -92,11 +95,15 @@ fn size(args: &[String]) -> Result<(u32, u32), Error> {
     Ok((w, h))
 }
 
-/// The view asked for by `--panel`, `--time`, `--zoom`, with the scenario's context.
-fn view(args: &[String], s: &Scenario) -> Result<View, Error> {
+/// The view asked for by `--panel`, `--time`, `--zoom`, with the scenario's context;
+/// without `--panel`, the report's first useful panel.
+fn view(args: &[String], s: &Scenario, report: &Report) -> Result<View, Error> {
     let mut v = View::new(match flag(args, "--panel") {
         Some(p) => Panel::from_name(p).map_err(|e| Error::field("--panel", e.message))?,
-        None => Panel::State,
+        None => plot::useful_panels(report)
+            .first()
+            .copied()
+            .unwrap_or(Panel::State),
     });
     if let Some(t) = flag(args, "--time") {
         v.time = Some(
@@ -154,10 +161,29 @@ fn run(args: &[String]) -> Result<(), Error> {
             let s = scenario(args)?;
             let report = s.run()?;
             let (w, h) = size(args)?;
-            write(out, &plot::report_svg(&report, &view(args, &s)?, w, h)?)
+            let v = view(args, &s, &report)?;
+            // A panel that does not fit the report (e.g. state for LSCR) names the flag.
+            let svg = plot::report_svg(&report, &v, w, h).map_err(|e| {
+                if e.field == "panel" && flag(args, "--panel").is_some() {
+                    Error::field("--panel", e.message)
+                } else {
+                    e
+                }
+            })?;
+            write(out, &svg)
         }
         Some("figures") => {
+            // `figures -o DIR` or `figures DIR`.
             let dir = flag(args, "-o")
+                .or_else(|| {
+                    args.iter()
+                        .enumerate()
+                        .skip(1)
+                        .find(|(i, a)| {
+                            !a.starts_with('-') && !VALUED.contains(&args[i - 1].as_str())
+                        })
+                        .map(|(_, a)| a.as_str())
+                })
                 .ok_or_else(|| Error::field("-o", "is needed: the directory to write into"))?;
             std::fs::create_dir_all(dir)
                 .map_err(|e| Error::field("-o", format!("cannot create {dir}: {e}")))?;

@@ -17,6 +17,11 @@
 //!   intervals are tiny next to the trajectory, the estimates minus the true value.
 //! * [`Panel::Coverage`] (`coverage.rs`) — Fig. 1 of the SCF paper: P{x_t ∈ X_t | x_t = x̄}
 //!   against x̄ for KF and SCF, with the level α.
+//! * [`Panel::Region`] (`region.rs`) — Figs. 1–3 of the LSCR paper: the confidence region X̂
+//!   (tinted, outlined), the areas excluded by each X̂_l hatched exactly (one style per group),
+//!   the true state ◇, the BLUE ⋆ with its ellipse, the Kalman ellipse dashed, and the
+//!   directions along which X̂ is unbounded. The only panel of an LSCR report (which has no
+//!   time steps); the other panels are for KF/SCF reports.
 //!
 //! Colors, fonts and the legend are shared (`style.rs`): KF vermillion dashed, SCF blue solid,
 //! truth black, measurements grey (Okabe–Ito, colorblind-safe).
@@ -31,6 +36,7 @@
 mod coverage;
 mod erase;
 pub mod geom;
+mod region;
 mod series;
 mod state;
 pub mod style;
@@ -57,6 +63,9 @@ pub enum Panel {
     Series,
     /// Fig. 1: conditional coverage of KF and SCF against the state value.
     Coverage,
+    /// LSCR paper, Figs. 1–3: the LSCR region with the excluded areas hatched per group, the
+    /// truth, the BLUE and Kalman ellipses (LSCR reports only).
+    Region,
 }
 
 impl Panel {
@@ -66,6 +75,7 @@ impl Panel {
             Panel::State => "state",
             Panel::Series => "series",
             Panel::Coverage => "coverage",
+            Panel::Region => "region",
         }
     }
     /// Parse a lower-case name.
@@ -74,9 +84,10 @@ impl Panel {
             "state" => Ok(Panel::State),
             "series" => Ok(Panel::Series),
             "coverage" => Ok(Panel::Coverage),
+            "region" => Ok(Panel::Region),
             _ => Err(Error::field(
                 "panel",
-                format!("\"{s}\" is unknown: choose state, series or coverage"),
+                format!("\"{s}\" is unknown: choose state, series, coverage or region"),
             )),
         }
     }
@@ -243,7 +254,32 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
             ),
         ));
     }
-    let cx = Ctx::new(report, view, Fonts::for_backend::<DB>((w, h)))?;
+    let fonts = Fonts::for_backend::<DB>((w, h));
+    // An LSCR report has no time steps: it is drawn by the region panel only, and only it.
+    match (view.panel, report.lscr.is_some()) {
+        (Panel::Region, true) => {
+            let mut adapter = erase::Adapter(backend);
+            let root = erase::Erased(&mut adapter).into_drawing_area();
+            root.fill(&WHITE).map_err(de)?;
+            let frame = region::draw(&root, report, view, fonts)?;
+            root.present().map_err(de)?;
+            return Ok(frame);
+        }
+        (Panel::Region, false) => {
+            region::lscr_of(report)?;
+        }
+        (p, true) => {
+            return Err(Error::field(
+                "panel",
+                format!(
+                    "\"{}\" draws KF/SCF time steps, which an LSCR report (method \"lscr\") does not have: choose \"region\"",
+                    p.name()
+                ),
+            ))
+        }
+        (_, false) => {}
+    }
+    let cx = Ctx::new(report, view, fonts)?;
     if view.panel == Panel::Coverage && report.coverage_curve.is_none() {
         return Err(Error::field(
             "coverage_curve",
@@ -258,6 +294,8 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         Panel::State => state::draw(&root, &cx)?,
         Panel::Series => series::draw(&root, &cx)?,
         Panel::Coverage => coverage::draw(&root, &cx)?,
+        // Handled above (an LSCR report).
+        Panel::Region => region::draw(&root, report, view, cx.fonts)?,
     };
     root.present().map_err(de)?;
     Ok(frame)
@@ -270,14 +308,22 @@ pub fn report_svg(report: &Report, view: &View, w: u32, h: u32) -> Result<String
     Ok(s)
 }
 
-/// The scenario's default figure as SVG text.
+/// The scenario's default figure (the first of its [`useful_panels`]) as SVG text.
 pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
-    report_svg(&s.run()?, &View::new(Panel::State).with_scenario(s), w, h)
+    let report = s.run()?;
+    let panel = useful_panels(&report)
+        .first()
+        .copied()
+        .unwrap_or(Panel::State);
+    report_svg(&report, &View::new(panel).with_scenario(s), w, h)
 }
 
-/// The panels worth drawing for a report: State and Series always, Coverage when the report
-/// has a coverage curve.
+/// The panels worth drawing for a report: Region alone for an LSCR report; otherwise State
+/// and Series always, Coverage when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
+    if report.lscr.is_some() {
+        return vec![Panel::Region];
+    }
     let mut v = vec![Panel::State, Panel::Series];
     if report.coverage_curve.is_some() {
         v.push(Panel::Coverage);

@@ -33,6 +33,37 @@ pub const GRID: RGBColor = RGBColor(222, 222, 222);
 pub const GRID_LIGHT: RGBColor = RGBColor(240, 240, 240);
 pub const FRAME: RGBColor = RGBColor(190, 190, 190);
 
+/// LSCR region X̂ (outline) and its light tint.
+pub const LSCR: RGBColor = RGBColor(20, 20, 20);
+pub const LSCR_TINT: RGBColor = RGBColor(240, 228, 66);
+/// BLUE estimate and ellipse (the SCF blue: both are "the estimator that knows the noise").
+pub const BLUE_EST: RGBColor = SCF;
+/// Hatch colours of the areas excluded by X̂_1, X̂_2, … (Okabe–Ito bluish green, reddish
+/// purple, orange, sky blue; cycled with the directions of [`hatch_dir`]).
+pub const HATCH: [RGBColor; 4] = [
+    RGBColor(0, 150, 110),
+    RGBColor(175, 60, 135),
+    RGBColor(210, 140, 0),
+    RGBColor(70, 160, 220),
+];
+
+/// Colour of the hatching of group l (0-based).
+pub fn hatch_color(l: usize) -> RGBColor {
+    HATCH[l % HATCH.len()]
+}
+
+/// Unit direction in screen pixels (y down) of the hatch lines of group l: "\\", "/", "—",
+/// "|", then the same four again (drawn with a half-spacing offset so they interleave).
+pub fn hatch_dir(l: usize) -> (f64, f64) {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    match l % 4 {
+        0 => (h, h),
+        1 => (h, -h),
+        2 => (1.0, 0.0),
+        _ => (0.0, 1.0),
+    }
+}
+
 /// Dash and gap of KF lines, in pixels.
 pub const DASH: (i32, i32) = (8, 5);
 /// Dot and gap of the time cursor.
@@ -252,6 +283,10 @@ pub enum Marker {
     Cross,
     Dot,
     Ring,
+    /// ◇ (LSCR paper: the true state), white inside.
+    Diamond,
+    /// ⋆ (LSCR paper: the BLUE / Kalman estimate), filled.
+    Star,
 }
 
 /// What a legend entry shows next to its label.
@@ -273,6 +308,10 @@ pub enum Swatch {
         color: RGBColor,
         size: i32,
     },
+    /// A region outline over its own tint (the LSCR region X̂).
+    Tinted { line: RGBColor, tint: RGBAColor },
+    /// A small box hatched like the area excluded by group `group` (see [`hatch_dir`]).
+    Hatch { color: RGBColor, group: usize },
     /// No swatch: a note in the legend.
     None,
 }
@@ -338,6 +377,33 @@ pub fn marker<DB: DrawingBackend>(
         Marker::Ring => root
             .draw(&Circle::new((x, y), s.max(1) as u32, color.stroke_width(2)))
             .map_err(de),
+        Marker::Diamond => {
+            let d = s + 1;
+            let pts = vec![(x, y - d), (x + d, y), (x, y + d), (x - d, y), (x, y - d)];
+            root.draw(&Polygon::new(pts.clone(), WHITE.filled()))
+                .map_err(de)?;
+            root.draw(&PathElement::new(pts, st)).map_err(de)
+        }
+        Marker::Star => {
+            // Five points, outer radius s + 2, inner 0.45 of it.
+            let ro = (s + 2) as f64;
+            let pts: Vec<(i32, i32)> = (0..10)
+                .map(|k| {
+                    let r = if k % 2 == 0 { ro } else { 0.45 * ro };
+                    let a = std::f64::consts::PI * (k as f64 / 5.0 - 0.5);
+                    (
+                        x + (r * a.cos()).round() as i32,
+                        y + (r * a.sin()).round() as i32,
+                    )
+                })
+                .collect();
+            root.draw(&Polygon::new(pts.clone(), color.filled()))
+                .map_err(de)?;
+            let mut closed = pts;
+            closed.push(closed[0]);
+            root.draw(&PathElement::new(closed, WHITE.stroke_width(1)))
+                .map_err(de)
+        }
     }
 }
 
@@ -467,8 +533,96 @@ fn draw_swatch<DB: DrawingBackend>(
         Swatch::Marker { shape, color, size } => {
             marker(root, (x + SWATCH_W / 2, yc), shape, &color, size)
         }
+        Swatch::Tinted { line, tint } => {
+            let (x0, x1, y0, y1) = (x + 2, x + SWATCH_W - 2, yc - 7, yc + 7);
+            let (bx, by) = root.get_base_pixel();
+            root.draw(&Rectangle::new(
+                [(x0 - bx, y0 - by), (x1 - bx, y1 - by)],
+                tint.filled(),
+            ))
+            .map_err(de)?;
+            polyline(
+                root,
+                &[(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)],
+                &line,
+                2,
+                None,
+            )
+        }
+        Swatch::Hatch { color, group } => {
+            let (x0, x1, y0, y1) = (x + 2, x + SWATCH_W - 2, yc - 7, yc + 7);
+            let win = Win::new((x0 as f64, x1 as f64), (y0 as f64, y1 as f64));
+            for (a, b) in hatch_lines(&win, group, 5.0) {
+                polyline(
+                    root,
+                    &[
+                        (a.0.round() as i32, a.1.round() as i32),
+                        (b.0.round() as i32, b.1.round() as i32),
+                    ],
+                    &color,
+                    1,
+                    None,
+                )?;
+            }
+            polyline(
+                root,
+                &[(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)],
+                &color,
+                1,
+                None,
+            )
+        }
         Swatch::None => Ok(()),
     }
+}
+
+/// The hatch lines of group l across a pixel box (screen coordinates, y down), `spacing`
+/// pixels apart, as segments clipped to the box: the lines {p : n·p = c} with n normal to
+/// [`hatch_dir`], c on a grid fixed in the backend's pixels (so neighbouring boxes line up),
+/// shifted by half a spacing for groups 4…7.
+pub fn hatch_lines(b: &Win, group: usize, spacing: f64) -> Vec<((f64, f64), (f64, f64))> {
+    let d = hatch_dir(group);
+    let n = (-d.1, d.0);
+    let phase = if (group / 4) % 2 == 1 {
+        0.5 * spacing
+    } else {
+        0.0
+    };
+    let corners = [(b.x0, b.y0), (b.x1, b.y0), (b.x0, b.y1), (b.x1, b.y1)];
+    let cs: Vec<f64> = corners.iter().map(|p| n.0 * p.0 + n.1 * p.1).collect();
+    let (cmin, cmax) = cs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, z), &c| {
+            (a.min(c), z.max(c))
+        });
+    let mut out = Vec::new();
+    if !(spacing > 0.0 && cmin.is_finite() && cmax.is_finite()) {
+        return out;
+    }
+    let mut k = ((cmin - phase) / spacing).ceil();
+    // Far more lines than any box needs means a degenerate box: draw none.
+    if (cmax - cmin) / spacing > 20_000.0 {
+        return out;
+    }
+    while k * spacing + phase <= cmax {
+        let c = k * spacing + phase;
+        k += 1.0;
+        // A point of the line, then clip the long segment through it.
+        let p = (n.0 * c, n.1 * c);
+        let far = (b.x1 - b.x0).abs()
+            + (b.y1 - b.y0).abs()
+            + (p.0 - b.x0).abs()
+            + (p.1 - b.y0).abs()
+            + 1.0;
+        let a = (p.0 - far * d.0, p.1 - far * d.1);
+        let z = (p.0 + far * d.0, p.1 + far * d.1);
+        if let Some(seg) = super::geom::clip_polyline(&[a, z], b).into_iter().next() {
+            if seg.len() == 2 && (seg[0].0 - seg[1].0).abs() + (seg[0].1 - seg[1].1).abs() > 0.5 {
+                out.push((seg[0], seg[1]));
+            }
+        }
+    }
+    out
 }
 
 /// Where the legend went.
