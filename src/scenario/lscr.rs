@@ -184,7 +184,13 @@ impl LscrSpec {
         let target = match (self.estimate.as_str(), self.index) {
             ("predict", None) => Target::Predict,
             ("filter", None) => Target::Filter,
-            ("smooth", Some(i)) => Target::Smooth(i),
+            ("smooth", Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
+            ("smooth", Some(i)) => {
+                return Err(Error::field(
+                    "lscr.index",
+                    format!("must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"),
+                ))
+            }
             ("smooth", None) => return Err(Error::field("lscr.index", "is needed for smoothing: the time i < t of the state")),
             ("predict" | "filter", Some(_)) => {
                 return Err(Error::field("lscr.index", "is only used with \"estimate\": \"smooth\""))
@@ -200,6 +206,8 @@ impl LscrSpec {
             (Some(m), Some(q), None) => (m, q),
             (None, None, level) => lscr::choose_m_q(level.unwrap_or(0.9), n, self.construction)?,
             (Some(m), None, None) => (m, 1),
+            // Explicit strings fix M themselves.
+            (None, Some(q), None) if self.strings.is_some() => (0, q),
             (None, Some(_), None) => return Err(Error::field("lscr.M", "is needed with q")),
             (_, _, Some(_)) => {
                 return Err(Error::field("lscr.level", "chooses M and q: give either level or M and q"))
@@ -210,7 +218,6 @@ impl LscrSpec {
                 return Err(Error::field("lscr.strings", "is empty"));
             }
         }
-        let _ = t;
         Ok(Options { target, m, q, construction: self.construction, seed: self.seed, strings: self.strings.clone() })
     }
 }
@@ -290,14 +297,14 @@ impl Scenario {
             }
             _ => unreachable!("checked above"),
         };
+        if n < 2 {
+            return Err(Error::field("model.F", "is 1×1: the LSCR figure needs n ≥ 2 (the region of a scalar state is an interval)"));
+        }
         let plot = match &self.plot {
             None => [0, 1.min(n - 1)],
             Some(p) if p.len() == 2 && p[0] < n && p[1] < n && p[0] != p[1] => [p[0], p[1]],
             Some(_) => return Err(Error::field("plot", format!("must name two distinct state components below n = {n}"))),
         };
-        if n < 2 {
-            return Err(Error::field("model.F", "is 1×1: the LSCR figure needs n ≥ 2 (the region of a scalar state is an interval)"));
-        }
         let estimator = Estimator::new(&model, t, &options)?;
         for (k, p) in spec.probes.iter().enumerate() {
             linalg::vector(&format!("lscr.probes[{k}]"), p, n)?;
