@@ -4,6 +4,7 @@
 //! Each figure is the median of several repetitions, in milliseconds.
 
 use confset::experiment::ConditionalExperiment;
+use confset::lscr::{self, Construction, Estimator, LscrModel, Options, Target};
 use confset::presets;
 use std::time::Instant;
 
@@ -42,6 +43,7 @@ fn main() {
         "  counts: A's state inside X^KF {}/{} and X^SCF {}/{} (paper 0 and 9498); warnings at t=36: KF {} SCF {} (paper 2 and 10000)",
         r.kf_inside, r.runs_total, r.scf_inside, r.runs_total, r.kf_warnings, r.scf_warnings
     );
+    lscr_figures();
     for p in presets::all() {
         let s = p.scenario.clone();
         let ms = median_ms(21, || {
@@ -55,4 +57,57 @@ fn main() {
             p.name, ms, svg
         );
     }
+}
+
+/// The LSCR issue's targets: region raster 512², the data-independent build (s, A, U_A) for
+/// t = 30 and t = 200, and 2,000 coverage runs (membership of the true state only).
+fn lscr_figures() {
+    let l = presets::get("lscr-predict")
+        .expect("preset")
+        .run()
+        .expect("runs")
+        .lscr
+        .expect("lscr");
+    let raster = median_ms(31, || {
+        std::hint::black_box(l.region.raster(&l.window, 512, 512).expect("raster"));
+    });
+    let brute = median_ms(3, || {
+        std::hint::black_box(l.region.raster_brute(&l.window, 512, 512).expect("raster"));
+    });
+    let boundary = median_ms(31, || {
+        std::hint::black_box(l.region.boundary(&l.window).expect("boundary"));
+    });
+    println!(
+        "LSCR lscr-predict (t = 30, M = 80, n = 2): raster 512x512 {raster:.2} ms (brute force {brute:.1} ms), boundary polygons {boundary:.2} ms"
+    );
+    let model =
+        LscrModel::from_spec(&presets::get("lscr-predict").expect("preset").model).expect("model");
+    let o = Options {
+        target: Target::Predict,
+        m: 80,
+        q: 2,
+        construction: Construction::Random,
+        seed: 1,
+        strings: None,
+    };
+    for t in [30, 200] {
+        let build = median_ms(if t > 100 { 5 } else { 31 }, || {
+            std::hint::black_box(Estimator::new(&model, t, &o).expect("estimator"));
+        });
+        println!("LSCR build (regression, Karhunen-Loeve, SVD of A, strings, BLUE, KF gains) t = {t}: {build:.2} ms");
+    }
+    let est = Estimator::new(&model, 30, &o).expect("estimator");
+    let mut counts = None;
+    let cov = median_ms(5, || {
+        let mut e = lscr::Experiment::new(est.clone(), &[0.3, -0.4], 2000, 7).expect("experiment");
+        while !e.finished() {
+            e.step(500);
+        }
+        counts = Some(e.counts.clone());
+    });
+    let c = counts.expect("ran");
+    println!(
+        "LSCR coverage experiment, 2000 runs at x = [0.3, -0.4]: {cov:.1} ms; X^_1 {} X^_2 {} X^ {} BLUE {:?} KF {:?} (levels 0.95, 0.95, 0.90)",
+        c.inside_each[0], c.inside_each[1], c.inside, c.blue, c.kf
+    );
 }
