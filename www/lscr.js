@@ -45,38 +45,10 @@ function number(field, text) {
   return v;
 }
 
-// The region figure. When the core cannot draw the region panel, the exact membership raster
-// (Session.raster) is shown instead, over the report's window.
+// The region figure: the core draws the LSCR picture (view {"panel":"region"}); the returned
+// frame maps canvas pixels to state coordinates for the cursor and the click.
 class RegionFigure extends Figure {
   view() { return JSON.stringify({ panel: 'region' }); }
-
-  draw(report) {
-    if (!this.visible) return;
-    this.fit();
-    const dpr = window.devicePixelRatio || 1;
-    try {
-      this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), dpr));
-      this.err.textContent = '';
-    } catch (e) {
-      if (e && e.field === 'view' && report) this.drawRaster(report.lscr);
-      else { this.frame = null; this.err.textContent = e.message; }
-    }
-  }
-
-  drawRaster(l) {
-    const { width: w, height: h } = this.canvas;
-    const mask = this.session.raster(w, h);
-    const img = new ImageData(w, h);
-    for (let i = 0; i < mask.length; i++) {
-      const out = mask[i] !== 0;
-      img.data.set(out ? [236, 239, 242, 255] : [86, 180, 233, 255], 4 * i);
-    }
-    this.canvas.getContext('2d').putImageData(img, 0, 0);
-    const cw = this.canvas.clientWidth, ch = this.canvas.clientHeight;
-    this.frame = { plot_area: [0, 0, cw, ch], x_range: [l.window.lo[0], l.window.hi[0]],
-      y_range: [l.window.lo[1], l.window.hi[1]], x_label: `x${sub(l.plot[0] + 1)}`, y_label: `x${sub(l.plot[1] + 1)}` };
-    this.err.textContent = '';
-  }
 }
 
 export async function mountLscr(root, presets) {
@@ -232,7 +204,7 @@ export async function mountLscr(root, presets) {
   function redraw() {
     if (!st.report) return;
     const t0 = performance.now();
-    figure.draw(st.report);
+    figure.draw();
     st.drawMs = performance.now() - t0;
     showNumbers();
   }

@@ -108,7 +108,8 @@ export default async function lscr({ baseUrl, newPage, waitReady, assert, screen
       const box = await page.$eval('#fig-region canvas', (c) => { const r = c.getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; });
       const at = [box[0] + box[2] * 0.3, box[1] + box[3] * 0.62];
       await page.mouse.move(at[0], at[1]);
-      const cursor = nums(await text(page, '#fig-region .cursor').then((s) => s.replace(/x[₀-₉]+/g, 'x')));
+      // "x₃₁,₁ (component 1 of x₃₁) = -1.190, x₃₁,₂ (…) = -0.2704": the numbers after "=".
+      const cursor = [...(await text(page, '#fig-region .cursor')).matchAll(/=\s*(-?\d+(?:\.\d+)?(?:e[+-]?\d+)?)/g)].map((m) => Number(m[1]));
       assert.equal(cursor.length, 2, `cursor read-out: ${await text(page, '#fig-region .cursor')}`);
       const before = await pixels(page);
       await page.mouse.click(at[0], at[1]);
