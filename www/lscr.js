@@ -57,7 +57,7 @@ export async function mountLscr(root, presets) {
   const ui = Object.fromEntries(['preset', 'preset-desc', 'custom', 'm-F', 'm-H', 'm-G', 'sv', 'sw', 't', 'dseed',
     'estimate', 'index', 'index-row', 'mode', 'M', 'q', 'mq-row', 'level', 'level-row', 'level-out', 'construction',
     'seed', 'fix', 'fix-opts', 'xbar', 'stale', 'numbers', 'num-title', 'timing', 'notes',
-    'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth']
+    'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth', 'cov-verdict']
     .map((id) => [id, $(`l-${id}`)]));
   const all = [...presets, CUSTOM_PRESET];
   const st = { preset: all[0], report: null, reportJson: '', scenario: null, scenarioJson: '', runMs: 0, drawMs: 0, busy: 0 };
@@ -322,6 +322,17 @@ export async function mountLscr(root, presets) {
         : [name, frac(k), rate(k), pct(c.level), `[${int(c.band[0])}, ${int(c.band[1])}]`, ok(inBand(k, c.band))]);
     }
     ui['cov-body'].innerHTML = rows.map((r) => `<tr><th>${r[0]}</th>${r.slice(1).map((v) => `<td>${v}</td>`).join('')}</tr>`).join('');
+    let verdict = '';
+    if (done) {
+      verdict = `LSCR: X̂ held x̄ in ${rate(c.inside)} of the runs (promised ≥ ${pct(c.level)}) — ${c.inside >= c.band[0]
+        ? '<b class="good">its guarantee holds at this state</b>' : '<b class="warn">below its 99.9 % band</b>'}.`;
+      if (c.kf != null) {
+        verdict += ` Kalman: ${rate(c.kf)} (nominal ${pct(c.level)}) — ${inBand(c.kf, c.band)
+          ? 'in its band at this state' : c.kf < c.band[0]
+            ? '<b class="warn">it misses this state far more often than promised</b>' : 'above its band (conservative here)'}.`;
+      }
+    }
+    ui['cov-verdict'].innerHTML = verdict;
     ui['cov-progress'].max = Math.max(1, running?.total ?? c.runs);
     ui['cov-progress'].value = c.runs;
   }
@@ -386,6 +397,7 @@ export async function mountLscr(root, presets) {
   function resetCoverage() {
     if (running) Object.assign(running, { cancelled: true, stale: true });
     emptyCoverage();
+    ui['cov-verdict'].textContent = '';
     ui['cov-status'].textContent = '';
     ui['cov-err'].textContent = '';
     ui['cov-progress'].value = 0;

@@ -138,7 +138,11 @@ export default async function lscr({ baseUrl, newPage, waitReady, assert, screen
       assert.equal(row('X̂₁')[5], '✓');
       assert.match(row('X̂₁')[4], /^\[\d+, \d+\]$/);
       assert.equal(await page.$eval('#l-cov-progress', (e) => e.value), 200);
+      assert.match(await text(page, '#l-cov-verdict'), /LSCR: X̂ held x̄ in [\d.]+ % of the runs \(promised ≥ 90 %\) — its guarantee holds/);
       assert.equal(await text(page, '#l-cov-err'), '');
+      // The picture for the README: the default 2000 runs at that truth.
+      const rows2000 = await coverage(page, 2000);
+      assert.match(rows2000.find((r) => r[0] === 'X̂ (LSCR)')[1], /^[\d,]+ \/ 2,000$/);
       await shoot(page, screenshotDir, 'lscr-predict-truth-dpr1');
 
       // Cancel stops a long run; a new scenario clears the counts.
