@@ -27,7 +27,7 @@ const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {
   name: CUSTOM,
-  description: 'Your own F, H, G: x_{t+1} = F x_t + G v_t, y_t = H x_t + w_t with scalar noises; every change is validated and run at once.',
+  description: 'Your own F, H, G: xₜ₊₁ = F xₜ + G vₜ, yₜ = H xₜ + wₜ with scalar noises; every change is validated and run at once.',
   scenario: {
     method: 'lscr', title: 'Custom model',
     model: { F: [[0.8, 0.3], [-0.3, 0.8]], H: [[1, 1]], G: [[1], [0.5]], sigma_v2: 0.01, sigma_w2: 0.01 },

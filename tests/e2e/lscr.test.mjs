@@ -3,6 +3,7 @@
 // the last picture stays, the unbounded MA(1) band, wasm timings measured in the page, and
 // screenshots of the panel at DPR 1 and 2 for the three presets.
 import { join } from 'node:path';
+import { readFile } from 'node:fs/promises';
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy && !document.body.dataset.lscrBusy,
   null, { timeout: 60_000 });
@@ -206,6 +207,17 @@ export default async function lscr({ baseUrl, newPage, waitReady, assert, screen
       await page.fill('#l-m-H', '1 1');
       await idle(page);
       assert.equal(await page.$eval('#l-stale', (e) => e.hidden), true);
+      // Group strings need M = 2^k: with a target level the core picks them.
+      await set(page, 'l-construction', 'group');
+      await set(page, 'l-mode', 'level');
+      assert.match(await numbers(page), /group strings/);
+      assert.equal(await text(page, '#fig-region .fig-err'), '');
+      await shoot(page, screenshotDir, 'lscr-custom-group-dpr1');
+
+      // The figure as SVG, drawn by the same Rust code.
+      const [svgDl] = await Promise.all([page.waitForEvent('download'), page.click('#fig-region [data-dl=svg]')]);
+      assert.match(svgDl.suggestedFilename(), /^custom-t40-region\.svg$/);
+      assert.ok((await readFile(await svgDl.path(), 'utf8')).includes('<svg'), 'the SVG download is SVG');
 
       // The in-page wasm timings.
       const timing = await page.evaluate(() => {
