@@ -497,9 +497,16 @@ pub fn draw<DB: DrawingBackend>(
         }
     }
 
-    // Legend.
+    // Legend: short labels and no estimate markers on small figures, where the legend is
+    // drawn over the chart and must leave room for it.
+    let short = fonts.compact;
+    let sliced = if at.is_some() { " (slice)" } else { "" };
     let mut entries = vec![Entry::new(
-        format!("X̂ (LSCR, {})", pct(l.level)),
+        if short {
+            format!("X̂ {}", pct(l.level))
+        } else {
+            format!("X̂ (LSCR, {})", pct(l.level))
+        },
         Swatch::Tinted {
             line: LSCR,
             tint: LSCR_TINT.mix(TINT_ALPHA),
@@ -507,7 +514,11 @@ pub fn draw<DB: DrawingBackend>(
     )];
     for g in 0..ng {
         entries.push(Entry::new(
-            format!("excluded by X̂{} ({})", sub(g + 1), pct(l.level_each)),
+            if short {
+                format!("not in X̂{}", sub(g + 1))
+            } else {
+                format!("excluded by X̂{} ({})", sub(g + 1), pct(l.level_each))
+            },
             Swatch::Hatch {
                 color: style::hatch_color(g),
                 group: g,
@@ -521,7 +532,12 @@ pub fn draw<DB: DrawingBackend>(
         .map(|x| (x[plot[0]], x[plot[1]]));
     if truth.is_some() {
         entries.push(Entry::new(
-            format!("true state {xt}"),
+            match (short, at.is_some()) {
+                (true, _) => format!("true {xt}"),
+                // n > 2: the truth is projected; its other components need not be the slice's.
+                (false, true) => format!("true state {xt} (projected)"),
+                (false, false) => format!("true state {xt}"),
+            },
             Swatch::Marker {
                 shape: Marker::Diamond,
                 color: TRUTH,
@@ -535,17 +551,24 @@ pub fn draw<DB: DrawingBackend>(
             .and_then(|(o, _)| ellipse_level(o.radius2, o.dim()))
     };
     if blue.is_some() {
-        entries.push(Entry::new(
-            "BLUE estimate",
-            Swatch::Marker {
-                shape: Marker::Star,
-                color: BLUE_EST,
-                size: 5,
-            },
-        ));
+        entries.push(
+            Entry::new(
+                "BLUE estimate",
+                Swatch::Marker {
+                    shape: Marker::Star,
+                    color: BLUE_EST,
+                    size: 5,
+                },
+            )
+            .minor(),
+        );
         let lv = level_of(&blue, &l.blue).map(pct).unwrap_or_default();
         entries.push(Entry::new(
-            format!("BLUE ellipse {lv}"),
+            if short {
+                format!("BLUE {lv}")
+            } else {
+                format!("BLUE ellipse {lv}{sliced}")
+            },
             Swatch::Region {
                 color: BLUE_EST,
                 dashed: false,
@@ -555,17 +578,24 @@ pub fn draw<DB: DrawingBackend>(
     }
     if kf.is_some() {
         // x̂_{t+1|t} (prediction) or x̂_{t|t} (filtering): τ given t.
-        entries.push(Entry::new(
-            format!("Kalman estimate x̂{}|{}", sub(tau), sub(l.t)),
-            Swatch::Marker {
-                shape: Marker::Cross,
-                color: KF,
-                size: 5,
-            },
-        ));
+        entries.push(
+            Entry::new(
+                format!("Kalman estimate x̂{}|{}", sub(tau), sub(l.t)),
+                Swatch::Marker {
+                    shape: Marker::Cross,
+                    color: KF,
+                    size: 5,
+                },
+            )
+            .minor(),
+        );
         let lv = level_of(&kf, &l.kf).map(pct).unwrap_or_default();
         entries.push(Entry::new(
-            format!("KF ellipse {lv}"),
+            if short {
+                format!("KF {lv}")
+            } else {
+                format!("KF ellipse {lv}{sliced}")
+            },
             Swatch::Region {
                 color: KF,
                 dashed: true,
@@ -663,6 +693,10 @@ pub fn draw<DB: DrawingBackend>(
             Ok(())
         }
     };
+    // The hollow ◇ first, so an estimate on the true state stays visible.
+    if let Some(t) = truth {
+        point(t, Marker::Diamond, &TRUTH, "true state")?;
+    }
     if let Some(e) = &kf {
         point(
             (e.center[0], e.center[1]),
@@ -674,14 +708,15 @@ pub fn draw<DB: DrawingBackend>(
     if let Some(e) = &blue {
         point((e.center[0], e.center[1]), Marker::Star, &BLUE_EST, "BLUE")?;
     }
-    if let Some(t) = truth {
-        point(t, Marker::Diamond, &TRUTH, "true state")?;
-    }
 
     // 5. On-chart notes: unbounded directions, markers outside the window.
     let mut chart_notes: Vec<String> = Vec::new();
     if let Some(u) = &unbounded_note {
-        chart_notes.push(u.clone());
+        chart_notes.push(if fonts.compact {
+            u.replace(" is unbounded", " unbounded")
+        } else {
+            u.clone()
+        });
         marks.extend(unbounded_arrows(root, &map, &loops, &l.recession)?);
     }
     // A group whose excluded area lies wholly outside the window (its legend swatch would
@@ -692,7 +727,7 @@ pub fn draw<DB: DrawingBackend>(
         .filter(|(_, s)| s.is_empty())
         .map(|(g, _)| format!("X̂{}", sub(g + 1)))
         .collect();
-    if !empty.is_empty() && ng > 0 {
+    if !empty.is_empty() && ng > 0 && !fonts.compact {
         chart_notes.push(format!(
             "{} {} nothing in this window",
             empty.join(", "),

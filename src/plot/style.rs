@@ -283,7 +283,7 @@ pub enum Marker {
     Cross,
     Dot,
     Ring,
-    /// ◇ (LSCR paper: the true state), white inside.
+    /// ◇ (LSCR paper: the true state), hollow.
     Diamond,
     /// ⋆ (LSCR paper: the BLUE / Kalman estimate), filled.
     Star,
@@ -378,10 +378,9 @@ pub fn marker<DB: DrawingBackend>(
             .draw(&Circle::new((x, y), s.max(1) as u32, color.stroke_width(2)))
             .map_err(de),
         Marker::Diamond => {
+            // Hollow, as in the paper, so an estimate under it stays visible.
             let d = s + 1;
             let pts = vec![(x, y - d), (x + d, y), (x, y + d), (x - d, y), (x, y - d)];
-            root.draw(&Polygon::new(pts.clone(), WHITE.filled()))
-                .map_err(de)?;
             root.draw(&PathElement::new(pts, st)).map_err(de)
         }
         Marker::Star => {
