@@ -27,8 +27,8 @@
 //! | [`experiment`] | conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo |
 //! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage) |
 //! | [`presets`] | the papers' examples as scenarios (used by page, CLI and tests) |
-//! | [`plot`] | figures on any plotters backend, one file per kind of picture |
-//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions |
+//! | [`plot`] | figures on any plotters backend, one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note) |
+//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `Session` (run, draw, svg, LSCR raster), the chunked `Experiment` and `LscrExperiment` |
 //!
 //! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there).
 //!

@@ -103,14 +103,28 @@ impl LscrModel {
                 ));
             }
         }
-        for (field, m) in [("model.F", &spec.f), ("model.H", &spec.h), ("model.V", &spec.v), ("model.W", &spec.w)] {
+        for (field, m) in [
+            ("model.F", &spec.f),
+            ("model.H", &spec.h),
+            ("model.V", &spec.v),
+            ("model.W", &spec.w),
+        ] {
             if matches!(m, Some(MatrixSpec::Sequence(_))) {
-                return Err(Error::field(field, "must be one matrix: LSCR needs a time-invariant model"));
+                return Err(Error::field(
+                    field,
+                    "must be one matrix: LSCR needs a time-invariant model",
+                ));
             }
         }
         let linear = LinearModel::from_spec(spec).map_err(|e| {
             if e.field == "model.x1_cov" {
-                Error::field("model.F", format!("must be stable: LSCR needs a stationary x_t (Assumption 2) — {}", e.message))
+                Error::field(
+                    "model.F",
+                    format!(
+                        "must be stable: LSCR needs a stationary x_t (Assumption 2) — {}",
+                        e.message
+                    ),
+                )
             } else {
                 e
             }
@@ -119,18 +133,27 @@ impl LscrModel {
         if linear.q() != 1 {
             return Err(Error::field(
                 "model.H",
-                format!("must have one row: LSCR works with a scalar output y_t (found {} rows)", linear.q()),
+                format!(
+                    "must have one row: LSCR works with a scalar output y_t (found {} rows)",
+                    linear.q()
+                ),
             ));
         }
         if n > 16 {
-            return Err(Error::field("model.F", format!("is {n}×{n}: the LSCR explorer supports n ≤ 16")));
+            return Err(Error::field(
+                "model.F",
+                format!("is {n}×{n}: the LSCR explorer supports n ≤ 16"),
+            ));
         }
         let (shape, sigma_v2, sigma_w2) = if let Some(g) = &spec.g {
             let g = linalg::from_rows("model.G", g)?;
             if g.ncols() != 1 {
                 return Err(Error::field(
                     "model.G",
-                    format!("must be one column (n×1): v_t is scalar in LSCR, found {} columns", g.ncols()),
+                    format!(
+                        "must be one column (n×1): v_t is scalar in LSCR, found {} columns",
+                        g.ncols()
+                    ),
                 ));
             }
             let sv = spec.sigma_v2.unwrap_or(0.0);
@@ -146,7 +169,14 @@ impl LscrModel {
                 "must be > 0: with no process noise the state is not a stationary random process and F^b does not exist",
             ));
         }
-        Ok(LscrModel { f: linear.f(1).clone(), h: linear.h(1).clone(), shape, sigma_v2, sigma_w2, linear })
+        Ok(LscrModel {
+            f: linear.f(1).clone(),
+            h: linear.h(1).clone(),
+            shape,
+            sigma_v2,
+            sigma_w2,
+            linear,
+        })
     }
 
     /// Backward representation with σ_v² = 1: F^b = Π′FᵀΠ′⁻¹ (6), Q′ = Π′ − F^bΠ′F^bᵀ
@@ -237,7 +267,9 @@ impl Regression {
             if i < 1 || i >= t {
                 return Err(Error::field(
                     "lscr.index",
-                    format!("must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"),
+                    format!(
+                        "must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"
+                    ),
                 ));
             }
         }
@@ -278,7 +310,14 @@ impl Regression {
             }
         };
         let blocks = blocks.into_iter().filter(|r| !r.is_empty()).collect();
-        Ok(Regression { target, t, phi, q2, blocks, backward })
+        Ok(Regression {
+            target,
+            t,
+            phi,
+            q2,
+            blocks,
+            backward,
+        })
     }
 
     /// The data y_1..y_t (time order) in the paper's row order [y_t, …, y_1].
@@ -318,11 +357,15 @@ impl KarhunenLoeve {
         let t = reg.t;
         let mut pairs: Vec<(f64, usize, DVector<f64>)> = Vec::with_capacity(t);
         for (b, range) in reg.blocks.iter().enumerate() {
-            let sub = reg.q2.view((range.start, range.start), (range.len(), range.len())).into_owned();
+            let sub = reg
+                .q2
+                .view((range.start, range.start), (range.len(), range.len()))
+                .into_owned();
             let eig = linalg::symmetrize(&sub).symmetric_eigen();
             for k in 0..range.len() {
                 let mut full = DVector::zeros(t);
-                full.rows_mut(range.start, range.len()).copy_from(&eig.eigenvectors.column(k));
+                full.rows_mut(range.start, range.len())
+                    .copy_from(&eig.eigenvectors.column(k));
                 pairs.push((eig.eigenvalues[k].max(0.0), b, fix_sign(full)));
             }
         }
@@ -330,11 +373,21 @@ impl KarhunenLoeve {
         let u = DMatrix::from_columns(&pairs.iter().map(|p| p.2.clone()).collect::<Vec<_>>());
         let d = DVector::from_iterator(t, pairs.iter().map(|p| p.0));
         if !(u.iter().all(|v| v.is_finite())) {
-            return Err(Error::field("model", "the Karhunen–Loève decomposition failed (non-finite values)"));
+            return Err(Error::field(
+                "model",
+                "the Karhunen–Loève decomposition failed (non-finite values)",
+            ));
         }
         let a = u.transpose() * &reg.phi;
         let (u_a, singular, rank) = thin_svd_u(&a);
-        Ok(KarhunenLoeve { u, d, a, u_a, singular, rank })
+        Ok(KarhunenLoeve {
+            u,
+            d,
+            a,
+            u_a,
+            singular,
+            rank,
+        })
     }
 
     /// s = Uᵀ y (14), with y in the paper's order.
@@ -357,7 +410,8 @@ fn thin_svd_u(a: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, usize) {
     let singular: Vec<f64> = idx.iter().map(|&i| svd.singular_values[i]).collect();
     let cols: Vec<DVector<f64>> = idx.iter().map(|&i| &q * ur.column(i)).collect();
     let u_a = DMatrix::from_columns(&cols);
-    let tol = singular.first().copied().unwrap_or(0.0) * (a.nrows().max(n) as f64) * f64::EPSILON * 16.0;
+    let tol =
+        singular.first().copied().unwrap_or(0.0) * (a.nrows().max(n) as f64) * f64::EPSILON * 16.0;
     let rank = singular.iter().filter(|&&s| s > tol).count();
     (u_a, singular, rank)
 }
@@ -420,7 +474,9 @@ fn fits(m: usize, t: usize) -> bool {
 
 impl Strings {
     fn from_bits(construction: Construction, t: usize, rows: &[Bits]) -> Self {
-        let h = DMatrix::from_fn(rows.len(), t, |i, k| ((rows[i][k / 64] >> (k % 64)) & 1) as f64);
+        let h = DMatrix::from_fn(rows.len(), t, |i, k| {
+            ((rows[i][k / 64] >> (k % 64)) & 1) as f64
+        });
         let set: std::collections::HashSet<&Bits> = rows.iter().collect();
         let zero = vec![0u64; t.div_ceil(64)];
         // Closed under symmetric difference (with ∅): quadratic, so only for moderate M.
@@ -431,13 +487,23 @@ impl Strings {
                     c == zero || set.contains(&c)
                 })
             });
-        Strings { construction, h, is_group }
+        Strings {
+            construction,
+            h,
+            is_group,
+        }
     }
 
     /// Point 4: M − 1 distinct non-zero strings, each bit a fair coin, duplicates redrawn.
     pub fn random(m: usize, t: usize, seed: u64) -> Result<Self> {
         if !fits(m, t) {
-            return Err(Error::field("lscr.M", format!("must be at most 2^t = {} (distinct strings of length t = {t})", 1u64 << t)));
+            return Err(Error::field(
+                "lscr.M",
+                format!(
+                    "must be at most 2^t = {} (distinct strings of length t = {t})",
+                    1u64 << t
+                ),
+            ));
         }
         let rows = random_rows(m, t, &mut ChaCha8Rng::seed_from_u64(seed));
         Ok(Self::from_bits(Construction::Random, t, &rows))
@@ -458,11 +524,17 @@ impl Strings {
     /// Point 4a: M = 2^k elements spanned by k random generators independent over GF(2).
     pub fn group(m: usize, t: usize, seed: u64) -> Result<Self> {
         if !m.is_power_of_two() || m < 2 {
-            return Err(Error::field("lscr.M", format!("must be a power of two 2^k for the group construction, found {m}")));
+            return Err(Error::field(
+                "lscr.M",
+                format!("must be a power of two 2^k for the group construction, found {m}"),
+            ));
         }
         let k = m.trailing_zeros() as usize;
         if k > t {
-            return Err(Error::field("lscr.M", format!("= 2^{k} needs k ≤ t = {t} independent generators")));
+            return Err(Error::field(
+                "lscr.M",
+                format!("= 2^{k} needs k ≤ t = {t} independent generators"),
+            ));
         }
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         // Echelon basis (pivot bit → vector) to test independence.
@@ -504,26 +576,43 @@ impl Strings {
         for (i, s) in given.iter().enumerate() {
             let field = format!("lscr.strings[{i}]");
             if s.chars().count() != t {
-                return Err(Error::field(field, format!("must have t = {t} characters 0/1, found {}", s.chars().count())));
+                return Err(Error::field(
+                    field,
+                    format!(
+                        "must have t = {t} characters 0/1, found {}",
+                        s.chars().count()
+                    ),
+                ));
             }
             let mut b = zero.clone();
             for (k, ch) in s.chars().enumerate() {
                 match ch {
                     '0' => {}
                     '1' => b[k / 64] |= 1 << (k % 64),
-                    other => return Err(Error::field(field, format!("must contain only 0 and 1, found {other:?}"))),
+                    other => {
+                        return Err(Error::field(
+                            field,
+                            format!("must contain only 0 and 1, found {other:?}"),
+                        ))
+                    }
                 }
             }
             if b == zero {
                 continue;
             }
             if !seen.insert(b.clone()) {
-                return Err(Error::field(field, "repeats an earlier string: the strings must be distinct"));
+                return Err(Error::field(
+                    field,
+                    "repeats an earlier string: the strings must be distinct",
+                ));
             }
             rows.push(b);
         }
         if rows.is_empty() {
-            return Err(Error::field("lscr.strings", "must contain at least one non-zero string"));
+            return Err(Error::field(
+                "lscr.strings",
+                "must contain at least one non-zero string",
+            ));
         }
         Ok(Self::from_bits(Construction::Explicit, t, &rows))
     }
@@ -537,7 +626,11 @@ impl Strings {
     pub fn texts(&self) -> Vec<String> {
         self.h
             .row_iter()
-            .map(|r| r.iter().map(|&v| if v != 0.0 { '1' } else { '0' }).collect())
+            .map(|r| {
+                r.iter()
+                    .map(|&v| if v != 0.0 { '1' } else { '0' })
+                    .collect()
+            })
             .collect()
     }
 }
@@ -547,7 +640,10 @@ impl Strings {
 /// M = 80, q = 2); for groups the first M = 2^k ≥ 40n with q = ⌊M(1 − β)/(2n)⌋ ≥ 1.
 pub fn choose_m_q(level: f64, n: usize, construction: Construction) -> Result<(usize, usize)> {
     if !(level > 0.0 && level < 1.0) {
-        return Err(Error::field("lscr.level", format!("must lie strictly between 0 and 1, found {level}")));
+        return Err(Error::field(
+            "lscr.level",
+            format!("must lie strictly between 0 and 1, found {level}"),
+        ));
     }
     let miss = 1.0 - level;
     for q in 1..100_000usize {
@@ -574,7 +670,10 @@ pub fn choose_m_q(level: f64, n: usize, construction: Construction) -> Result<(u
             }
         }
     }
-    Err(Error::field("lscr.level", format!("{level} needs too many strings; choose a lower level")))
+    Err(Error::field(
+        "lscr.level",
+        format!("{level} needs too many strings; choose a lower level"),
+    ))
 }
 
 /// Everything data-independent of one LSCR problem: built once per (model, t, target) and
@@ -628,7 +727,11 @@ impl Problem {
 
     /// BLUE of x_τ from s = A x_τ + n̄ with known variances: x̂ = (AᵀΛ⁻¹A)⁻¹AᵀΛ⁻¹s, Cov = (AᵀΛ⁻¹A)⁻¹.
     /// Returns the gain K (x̂ = K s) and the covariance, or why there is none.
-    pub fn blue_gain(&self, sigma_v2: f64, sigma_w2: f64) -> std::result::Result<(DMatrix<f64>, DMatrix<f64>), String> {
+    pub fn blue_gain(
+        &self,
+        sigma_v2: f64,
+        sigma_w2: f64,
+    ) -> std::result::Result<(DMatrix<f64>, DMatrix<f64>), String> {
         let lam = self.noise_variances(sigma_v2, sigma_w2);
         let top = lam.max();
         if lam.iter().any(|&v| !(v > 1e-12 * top)) {
@@ -641,7 +744,9 @@ impl Problem {
                 self.n()
             ));
         }
-        let aw = DMatrix::from_fn(self.kl.a.nrows(), self.n(), |k, j| self.kl.a[(k, j)] / lam[k]);
+        let aw = DMatrix::from_fn(self.kl.a.nrows(), self.n(), |k, j| {
+            self.kl.a[(k, j)] / lam[k]
+        });
         let info = linalg::symmetrize(&(self.kl.a.transpose() * &aw));
         let cov = linalg::inverse("AᵀΛ⁻¹A", &info).map_err(|e| e.message)?;
         let gain = &cov * aw.transpose();
@@ -684,7 +789,10 @@ impl Estimator {
                     return Err(Error::field("lscr.M", format!("must be at least 2n = {} (so that q ≥ 1 fits in [1, M/(2n)]), found {}", 2 * n, o.m)));
                 }
                 if o.m > 100_000 {
-                    return Err(Error::field("lscr.M", format!("must be at most 100000, found {}", o.m)));
+                    return Err(Error::field(
+                        "lscr.M",
+                        format!("must be at most 100000, found {}", o.m),
+                    ));
                 }
                 match o.construction {
                     Construction::Group => Strings::group(o.m, t, o.seed)?,
@@ -705,12 +813,23 @@ impl Estimator {
             Target::Smooth(_) => None,
             _ => KalmanGains::new(&model.linear, t).ok(),
         };
-        Ok(Estimator { model: model.clone(), problem, strings, q: o.q, blue, kalman })
+        Ok(Estimator {
+            model: model.clone(),
+            problem,
+            strings,
+            q: o.q,
+            blue,
+            kalman,
+        })
     }
 
     /// 1 − 2q/M (18) and 1 − 2qn/M (19).
     pub fn levels(&self) -> (f64, f64) {
-        let (m, q, n) = (self.strings.m() as f64, self.q as f64, self.problem.n() as f64);
+        let (m, q, n) = (
+            self.strings.m() as f64,
+            self.q as f64,
+            self.problem.n() as f64,
+        );
         (1.0 - 2.0 * q / m, 1.0 - 2.0 * q * n / m)
     }
 
@@ -721,7 +840,8 @@ impl Estimator {
 
     /// The region X̂ for data y_1..y_t.
     pub fn region(&self, y: &[f64]) -> SignRegion {
-        self.problem.region(&self.problem.s(y), &self.strings, self.q)
+        self.problem
+            .region(&self.problem.s(y), &self.strings, self.q)
     }
 
     /// BLUE ellipsoid at the joint LSCR level.
@@ -739,7 +859,9 @@ impl Estimator {
         let xf = gains.filter(lm, &yv, &Inputs::none());
         let t = y.len();
         let (mean, cov) = match self.problem.regression.target {
-            Target::Predict => crate::kalman::predict(lm, t, 1, &xf[t - 1], &gains.steps[t - 1].p, &Inputs::none()),
+            Target::Predict => {
+                crate::kalman::predict(lm, t, 1, &xf[t - 1], &gains.steps[t - 1].p, &Inputs::none())
+            }
             _ => (xf[t - 1].clone(), gains.steps[t - 1].p.clone()),
         };
         Ellipsoid::at_level(&mean, &cov, self.levels().1.max(1e-9)).ok()
@@ -794,7 +916,10 @@ impl Experiment {
         let n = est.problem.n();
         let truth = linalg::vector("simulate.condition.x", truth, n)?;
         if runs == 0 || runs > 1_000_000 {
-            return Err(Error::field("lscr.coverage.runs", format!("must lie in 1..=1000000, found {runs}")));
+            return Err(Error::field(
+                "lscr.coverage.runs",
+                format!("must lie in 1..=1000000, found {runs}"),
+            ));
         }
         let sampler = est.sampler()?;
         let level = est.levels().1;
@@ -805,14 +930,30 @@ impl Experiment {
                 let t = est.problem.regression.t;
                 let p = &g.steps[t - 1].p;
                 let cov = match target {
-                    Target::Predict => crate::kalman::predict(&est.model.linear, t, 1, &DVector::zeros(n), p, &Inputs::none()).1,
+                    Target::Predict => {
+                        crate::kalman::predict(
+                            &est.model.linear,
+                            t,
+                            1,
+                            &DVector::zeros(n),
+                            p,
+                            &Inputs::none(),
+                        )
+                        .1
+                    }
                     _ => p.clone(),
                 };
-                linalg::inverse("Kalman covariance", &cov).ok().map(|inv| (inv, blue_r2))
+                linalg::inverse("Kalman covariance", &cov)
+                    .ok()
+                    .map(|inv| (inv, blue_r2))
             }
             _ => None,
         };
-        let blue_inv = est.blue.as_ref().ok().and_then(|(_, cov)| linalg::inverse("BLUE covariance", cov).ok());
+        let blue_inv = est
+            .blue
+            .as_ref()
+            .ok()
+            .and_then(|(_, cov)| linalg::inverse("BLUE covariance", cov).ok());
         let counts = Coverage {
             runs: 0,
             inside_each: vec![0; n],
@@ -821,7 +962,18 @@ impl Experiment {
             kf: kf.as_ref().map(|_| 0),
         };
         let strings = est.strings.clone();
-        Ok(Experiment { est, strings, sampler, truth, rng: ChaCha8Rng::seed_from_u64(seed), total: runs, counts, blue_r2, blue_inv, kf })
+        Ok(Experiment {
+            est,
+            strings,
+            sampler,
+            truth,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            total: runs,
+            counts,
+            blue_r2,
+            blue_inv,
+            kf,
+        })
     }
 
     pub fn finished(&self) -> bool {
@@ -851,7 +1003,9 @@ impl Experiment {
             if redraw {
                 self.strings.redraw_random(&mut self.rng);
             }
-            let traj = self.sampler.draw(&est.model.linear, &self.truth, &mut self.rng);
+            let traj = self
+                .sampler
+                .draw(&est.model.linear, &self.truth, &mut self.rng);
             let y: Vec<f64> = traj.y[..t].iter().map(|v| v[0]).collect();
             let s = p.s(&y);
             let resid = &s - &ax; // s_k − a_k x̄
@@ -872,7 +1026,9 @@ impl Experiment {
             if all {
                 self.counts.inside += 1;
             }
-            if let (Some(c), Ok((gain, _)), Some(inv)) = (self.counts.blue.as_mut(), &est.blue, &self.blue_inv) {
+            if let (Some(c), Ok((gain, _)), Some(inv)) =
+                (self.counts.blue.as_mut(), &est.blue, &self.blue_inv)
+            {
                 let e = gain * &s - &self.truth;
                 if (e.transpose() * inv * &e)[(0, 0)] <= self.blue_r2 {
                     *c += 1;

@@ -3,8 +3,8 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
-use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
 use crate::lscr::Construction;
+use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
 use crate::scenario::{
     CollisionSpec, Condition, CurveSpec, ExperimentSpec, LscrSpec, Scenario, SimulateSpec,
 };
@@ -64,7 +64,13 @@ pub enum LscrTarget {
     Smooth,
 }
 
-fn lscr_scenario(title: &str, model: ModelSpec, simulate: SimulateSpec, lscr: LscrSpec, notes: &str) -> Scenario {
+fn lscr_scenario(
+    title: &str,
+    model: ModelSpec,
+    simulate: SimulateSpec,
+    lscr: LscrSpec,
+    notes: &str,
+) -> Scenario {
     Scenario {
         method: "lscr".into(),
         title: Some(title.into()),
@@ -114,8 +120,14 @@ pub fn lscr_cascade(target: LscrTarget) -> Scenario {
         ..Default::default()
     };
     let (title, spec) = match target {
-        LscrTarget::Predict => ("Confidence set for x₃₁ (LSCR paper, Fig. 1)", lscr_spec("predict", None)),
-        LscrTarget::Smooth => ("Confidence set for x₁₅ (LSCR paper, Fig. 2)", lscr_spec("smooth", Some(15))),
+        LscrTarget::Predict => (
+            "Confidence set for x₃₁ (LSCR paper, Fig. 1)",
+            lscr_spec("predict", None),
+        ),
+        LscrTarget::Smooth => (
+            "Confidence set for x₁₅ (LSCR paper, Fig. 2)",
+            lscr_spec("smooth", Some(15)),
+        ),
     };
     lscr_scenario(
         title,

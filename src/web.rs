@@ -31,9 +31,9 @@
 
 use crate::error::Error;
 use crate::experiment::ConditionalExperiment;
+use crate::lscr;
 use crate::plot::{self, Frame, View};
 use crate::presets;
-use crate::lscr;
 use crate::scenario::lscr::{coverage_report, plane_region};
 use crate::scenario::{Report, Scenario};
 use plotters::prelude::DrawingBackend;

@@ -170,8 +170,16 @@ fn lscr_session_runs_the_fig1_preset() {
     )
     .expect("report JSON");
     let l = &report["lscr"];
-    assert!((num(&l["level"]) - 0.9).abs() < 1e-12, "joint level {}", l["level"]);
-    assert!((num(&l["level_each"]) - 0.95).abs() < 1e-12, "level per X̂_l {}", l["level_each"]);
+    assert!(
+        (num(&l["level"]) - 0.9).abs() < 1e-12,
+        "joint level {}",
+        l["level"]
+    );
+    assert!(
+        (num(&l["level_each"]) - 0.95).abs() < 1e-12,
+        "level per X̂_l {}",
+        l["level_each"]
+    );
     assert_eq!(l["M"], 80);
     assert_eq!(l["q"], 2);
     assert_eq!(l["time"], 31);
@@ -182,7 +190,11 @@ fn lscr_session_runs_the_fig1_preset() {
     let fb = [[0.2450, 0.3315], [-0.3500, 0.9550]];
     for (i, row) in fb.iter().enumerate() {
         for (j, v) in row.iter().enumerate() {
-            assert!((num(&l["f_b"][i][j]) - v).abs() < 5e-5, "F^b[{i}][{j}] = {}", l["f_b"][i][j]);
+            assert!(
+                (num(&l["f_b"][i][j]) - v).abs() < 5e-5,
+                "F^b[{i}][{j}] = {}",
+                l["f_b"][i][j]
+            );
         }
     }
 }
@@ -192,18 +204,30 @@ fn lscr_raster_of_the_kept_region() {
     let mut s = Session::new();
     let (_, field) = thrown(s.raster(64, 48).expect_err("no report yet"));
     assert_eq!(field, "");
-    s.run(&preset("scf-scalar").to_string()).expect("scalar preset");
-    let (msg, field) = thrown(s.raster(64, 48).expect_err("an SCF report has no LSCR region"));
+    s.run(&preset("scf-scalar").to_string())
+        .expect("scalar preset");
+    let (msg, field) = thrown(
+        s.raster(64, 48)
+            .expect_err("an SCF report has no LSCR region"),
+    );
     assert_eq!(field, "method", "{msg}");
 
-    s.run(&preset("lscr-predict").to_string()).expect("lscr-predict");
+    s.run(&preset("lscr-predict").to_string())
+        .expect("lscr-predict");
     let r = s.raster(64, 48).expect("raster");
     assert_eq!(r.len(), 64 * 48);
     let inside = r.iter().filter(|&&e| e == 0).count();
-    assert!(inside > 0 && inside < r.len(), "{inside} of {} pixels inside", r.len());
+    assert!(
+        inside > 0 && inside < r.len(),
+        "{inside} of {} pixels inside",
+        r.len()
+    );
     // Only bits of the two groups X̂_1, X̂_2 are used.
     assert!(r.iter().all(|&e| e & !0b11 == 0));
-    assert!(r.iter().any(|&e| e == 1) && r.iter().any(|&e| e == 2), "both X̂_1 and X̂_2 exclude somewhere");
+    assert!(
+        r.iter().any(|&e| e == 1) && r.iter().any(|&e| e == 2),
+        "both X̂_1 and X̂_2 exclude somewhere"
+    );
     // The fitted window holds the whole bounded region: its border pixels are outside.
     assert!((0..64).all(|j| r[j] != 0 && r[47 * 64 + j] != 0));
 
@@ -219,7 +243,8 @@ fn lscr_raster_of_the_kept_region() {
     let r = s.raster(100, 100).expect("raster");
     let inside = r.iter().filter(|&&e| e == 0).count();
     assert!(inside > 0 && inside < r.len());
-    let border = (0..100).any(|k| r[k] == 0 || r[99 * 100 + k] == 0 || r[k * 100] == 0 || r[k * 100 + 99] == 0);
+    let border = (0..100)
+        .any(|k| r[k] == 0 || r[99 * 100 + k] == 0 || r[k * 100] == 0 || r[k * 100 + 99] == 0);
     assert!(border, "the band crosses the window's border");
 }
 
@@ -242,21 +267,39 @@ fn lscr_experiment_steps_to_completion() {
         assert!(chunks < 100, "the experiment does not finish");
     }
     assert_eq!(last["runs"], 300);
-    assert_eq!(serde_json::from_str::<Value>(&e.counts().expect("counts")).expect("JSON"), last);
+    assert_eq!(
+        serde_json::from_str::<Value>(&e.counts().expect("counts")).expect("JSON"),
+        last
+    );
     assert!((num(&last["level_each"]) - 0.95).abs() < 1e-12);
     assert!((num(&last["level"]) - 0.9).abs() < 1e-12);
     assert_eq!(last["truth"], serde_json::json!([0.1, 0.2]));
     let band_each = [num(&last["band_each"][0]), num(&last["band_each"][1])];
     let band = [num(&last["band"][0]), num(&last["band"][1])];
-    assert!(band_each[0] < 0.95 * 300.0 && band_each[1] > 0.95 * 300.0 && band_each[1] <= 300.0, "{band_each:?}");
+    assert!(
+        band_each[0] < 0.95 * 300.0 && band_each[1] > 0.95 * 300.0 && band_each[1] <= 300.0,
+        "{band_each:?}"
+    );
     assert!(band[0] < 0.9 * 300.0 && band[1] > 0.9 * 300.0, "{band:?}");
-    let each: Vec<f64> = last["inside_each"].as_array().expect("inside_each").iter().map(num).collect();
+    let each: Vec<f64> = last["inside_each"]
+        .as_array()
+        .expect("inside_each")
+        .iter()
+        .map(num)
+        .collect();
     assert_eq!(each.len(), 2);
     for (l, c) in each.iter().enumerate() {
-        assert!(*c >= band_each[0] && *c <= band_each[1], "X̂_{} holds the truth {c} times of 300, band {band_each:?}", l + 1);
+        assert!(
+            *c >= band_each[0] && *c <= band_each[1],
+            "X̂_{} holds the truth {c} times of 300, band {band_each:?}",
+            l + 1
+        );
     }
     let joint = num(&last["inside"]);
-    assert!(joint <= each[0].min(each[1]) && joint >= band[0], "X̂ {joint} of 300, band {band:?}");
+    assert!(
+        joint <= each[0].min(each[1]) && joint >= band[0],
+        "X̂ {joint} of 300, band {band:?}"
+    );
     for k in ["blue", "kf"] {
         let c = num(&last[k]);
         assert!((0.0..=300.0).contains(&c), "{k}: {c}");
@@ -266,16 +309,34 @@ fn lscr_experiment_steps_to_completion() {
 
     // Without a fixed true state, or without the coverage block: errors naming the field.
     let mut no_cond = sc.clone();
-    no_cond["simulate"].as_object_mut().expect("simulate").remove("condition");
-    let (msg, field) = thrown(LscrExperiment::new(&no_cond.to_string()).err().expect("needs a condition"));
+    no_cond["simulate"]
+        .as_object_mut()
+        .expect("simulate")
+        .remove("condition");
+    let (msg, field) = thrown(
+        LscrExperiment::new(&no_cond.to_string())
+            .err()
+            .expect("needs a condition"),
+    );
     assert_eq!(field, "simulate.condition", "{msg}");
     let mut no_cov = sc.clone();
-    no_cov["lscr"].as_object_mut().expect("lscr").remove("coverage");
-    let (msg, field) = thrown(LscrExperiment::new(&no_cov.to_string()).err().expect("needs lscr.coverage"));
+    no_cov["lscr"]
+        .as_object_mut()
+        .expect("lscr")
+        .remove("coverage");
+    let (msg, field) = thrown(
+        LscrExperiment::new(&no_cov.to_string())
+            .err()
+            .expect("needs lscr.coverage"),
+    );
     assert_eq!(field, "lscr.coverage", "{msg}");
     let mut wrong_t = sc.clone();
     wrong_t["simulate"]["condition"]["t"] = serde_json::json!(30);
-    let (msg, field) = thrown(LscrExperiment::new(&wrong_t.to_string()).err().expect("condition at the wrong time"));
+    let (msg, field) = thrown(
+        LscrExperiment::new(&wrong_t.to_string())
+            .err()
+            .expect("condition at the wrong time"),
+    );
     assert_eq!(field, "simulate.condition.t", "{msg}");
 }
 
@@ -288,12 +349,30 @@ fn lscr_errors_name_the_field() {
         ("lscr.q", serde_json::json!({"lscr": {"q": 21}})),
         ("lscr.q", serde_json::json!({"lscr": {"q": 0}})),
         ("lscr.M", serde_json::json!({"lscr": {"M": 200000}})),
-        ("lscr.M", serde_json::json!({"simulate": {"steps": 5}, "lscr": {"M": 80}})),
-        ("lscr.M", serde_json::json!({"lscr": {"construction": "group"}})),
-        ("simulate.steps", serde_json::json!({"simulate": {"steps": 1}})),
-        ("lscr.index", serde_json::json!({"lscr": {"estimate": "smooth", "index": 30}})),
-        ("lscr.estimate", serde_json::json!({"lscr": {"estimate": "guess"}})),
-        ("model.F", serde_json::json!({"model": {"F": [[1.2, 0.0], [1.0, 0.7]]}})),
+        (
+            "lscr.M",
+            serde_json::json!({"simulate": {"steps": 5}, "lscr": {"M": 80}}),
+        ),
+        (
+            "lscr.M",
+            serde_json::json!({"lscr": {"construction": "group"}}),
+        ),
+        (
+            "simulate.steps",
+            serde_json::json!({"simulate": {"steps": 1}}),
+        ),
+        (
+            "lscr.index",
+            serde_json::json!({"lscr": {"estimate": "smooth", "index": 30}}),
+        ),
+        (
+            "lscr.estimate",
+            serde_json::json!({"lscr": {"estimate": "guess"}}),
+        ),
+        (
+            "model.F",
+            serde_json::json!({"model": {"F": [[1.2, 0.0], [1.0, 0.7]]}}),
+        ),
     ];
     for (want, patch) in cases {
         let mut sc = good.clone();
@@ -302,10 +381,55 @@ fn lscr_errors_name_the_field() {
                 sc[k][k2] = v2.clone();
             }
         }
-        let (msg, field) = thrown(s.run(&sc.to_string()).expect_err(&format!("{patch} is refused")));
+        let (msg, field) = thrown(
+            s.run(&sc.to_string())
+                .expect_err(&format!("{patch} is refused")),
+        );
         assert_eq!(field, want, "{patch}: {msg}");
         assert!(msg.starts_with(want), "{patch}: {msg}");
     }
     assert!(s.has_report(), "the last good report is kept");
     assert_eq!(s.raster(8, 8).expect("raster of the kept report").len(), 64);
+}
+
+/// The LSCR issue's wasm speed figures, printed (not asserted: timings on a shared machine are
+/// no test). `wasm-pack test --headless --chrome --release -- --test web -- --nocapture lscr_wasm`
+/// shows them.
+#[wasm_bindgen_test]
+fn lscr_wasm_timings() {
+    use confset::lscr::{Construction, Estimator, LscrModel, Options, Target};
+    let model = LscrModel::from_spec(&confset::presets::get("lscr-predict").expect("preset").model)
+        .expect("model");
+    let o = Options {
+        target: Target::Predict,
+        m: 80,
+        q: 2,
+        construction: Construction::Random,
+        seed: 1,
+        strings: None,
+    };
+    let mean_ms = |reps: usize, f: &mut dyn FnMut()| {
+        let t0 = js_sys::Date::now();
+        for _ in 0..reps {
+            f();
+        }
+        (js_sys::Date::now() - t0) / reps as f64
+    };
+    for (t, reps) in [(30, 200), (200, 10)] {
+        let ms = mean_ms(reps, &mut || {
+            std::hint::black_box(Estimator::new(&model, t, &o).expect("estimator"));
+        });
+        wasm_bindgen_test::console_log!("[wasm timing] LSCR build (s, A, U_A, strings, BLUE, KF gains) t = {t}: {ms:.3} ms (mean of {reps})");
+        assert!(ms.is_finite());
+    }
+    let l = confset::presets::get("lscr-predict")
+        .expect("preset")
+        .run()
+        .expect("runs")
+        .lscr
+        .expect("lscr");
+    let ms = mean_ms(50, &mut || {
+        std::hint::black_box(l.region.raster(&l.window, 512, 512).expect("raster"));
+    });
+    wasm_bindgen_test::console_log!("[wasm timing] LSCR raster 512x512: {ms:.3} ms (mean of 50)");
 }

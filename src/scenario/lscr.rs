@@ -181,27 +181,36 @@ pub struct LscrPrepared {
 
 impl LscrSpec {
     fn options(&self, n: usize, t: usize) -> Result<Options> {
-        let target = match (self.estimate.as_str(), self.index) {
-            ("predict", None) => Target::Predict,
-            ("filter", None) => Target::Filter,
-            ("smooth", Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
-            ("smooth", Some(i)) => {
-                return Err(Error::field(
+        let target =
+            match (self.estimate.as_str(), self.index) {
+                ("predict", None) => Target::Predict,
+                ("filter", None) => Target::Filter,
+                ("smooth", Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
+                ("smooth", Some(i)) => return Err(Error::field(
                     "lscr.index",
-                    format!("must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"),
-                ))
-            }
-            ("smooth", None) => return Err(Error::field("lscr.index", "is needed for smoothing: the time i < t of the state")),
-            ("predict" | "filter", Some(_)) => {
-                return Err(Error::field("lscr.index", "is only used with \"estimate\": \"smooth\""))
-            }
-            (other, _) => {
-                return Err(Error::field(
-                    "lscr.estimate",
-                    format!("must be \"predict\", \"filter\" or \"smooth\", found \"{other}\""),
-                ))
-            }
-        };
+                    format!(
+                        "must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"
+                    ),
+                )),
+                ("smooth", None) => {
+                    return Err(Error::field(
+                        "lscr.index",
+                        "is needed for smoothing: the time i < t of the state",
+                    ))
+                }
+                ("predict" | "filter", Some(_)) => {
+                    return Err(Error::field(
+                        "lscr.index",
+                        "is only used with \"estimate\": \"smooth\"",
+                    ))
+                }
+                (other, _) => {
+                    return Err(Error::field(
+                        "lscr.estimate",
+                        format!("must be \"predict\", \"filter\" or \"smooth\", found \"{other}\""),
+                    ))
+                }
+            };
         let (m, q) = match (self.m, self.q, self.level) {
             (Some(m), Some(q), None) => (m, q),
             (None, None, level) => lscr::choose_m_q(level.unwrap_or(0.9), n, self.construction)?,
@@ -210,7 +219,10 @@ impl LscrSpec {
             (None, Some(q), None) if self.strings.is_some() => (0, q),
             (None, Some(_), None) => return Err(Error::field("lscr.M", "is needed with q")),
             (_, _, Some(_)) => {
-                return Err(Error::field("lscr.level", "chooses M and q: give either level or M and q"))
+                return Err(Error::field(
+                    "lscr.level",
+                    "chooses M and q: give either level or M and q",
+                ))
             }
         };
         if let Some(s) = &self.strings {
@@ -218,7 +230,14 @@ impl LscrSpec {
                 return Err(Error::field("lscr.strings", "is empty"));
             }
         }
-        Ok(Options { target, m, q, construction: self.construction, seed: self.seed, strings: self.strings.clone() })
+        Ok(Options {
+            target,
+            m,
+            q,
+            construction: self.construction,
+            seed: self.seed,
+            strings: self.strings.clone(),
+        })
     }
 }
 
@@ -229,12 +248,17 @@ fn simulate(
     tau: usize,
 ) -> Result<(Vec<f64>, Vec<f64>)> {
     if !s.u.is_empty() {
-        return Err(Error::field("simulate.u", "is not used by LSCR (no inputs)"));
+        return Err(Error::field(
+            "simulate.u",
+            "is not used by LSCR (no inputs)",
+        ));
     }
     let n = model.f.nrows();
     let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
     let traj = match &s.condition {
-        None => model.linear.simulate(t.max(tau), &Inputs::none(), None, &mut rng),
+        None => model
+            .linear
+            .simulate(t.max(tau), &Inputs::none(), None, &mut rng),
         Some(c) => {
             let steps = t.max(tau).max(c.t);
             if c.t < 1 {
@@ -248,7 +272,10 @@ fn simulate(
     };
     let y: Vec<f64> = traj.y[..t].iter().map(|v| v[0]).collect();
     if !y.iter().all(|v| v.is_finite()) {
-        return Err(Error::field("simulate.steps", "the simulated data overflow double precision"));
+        return Err(Error::field(
+            "simulate.steps",
+            "the simulated data overflow double precision",
+        ));
     }
     Ok((y, traj.x[tau - 1].iter().copied().collect()))
 }
@@ -256,25 +283,51 @@ fn simulate(
 impl Scenario {
     /// Validate an LSCR scenario and produce its data.
     pub fn prepare_lscr(&self) -> Result<LscrPrepared> {
-        let spec = self
-            .lscr
-            .clone()
-            .ok_or_else(|| Error::field("lscr", "is missing: the method \"lscr\" needs an lscr block (estimate, M, q, …)"))?;
+        let spec = self.lscr.clone().ok_or_else(|| {
+            Error::field(
+                "lscr",
+                "is missing: the method \"lscr\" needs an lscr block (estimate, M, q, …)",
+            )
+        })?;
         let model = LscrModel::from_spec(&self.model)?;
         let n = model.f.nrows();
         let t = match (&self.data, &self.simulate) {
-            (Some(_), Some(_)) => return Err(Error::field("data", "and simulate are both given: choose one")),
-            (None, None) => return Err(Error::field("data", "is missing (give data.y or a simulate block)")),
+            (Some(_), Some(_)) => {
+                return Err(Error::field(
+                    "data",
+                    "and simulate are both given: choose one",
+                ))
+            }
+            (None, None) => {
+                return Err(Error::field(
+                    "data",
+                    "is missing (give data.y or a simulate block)",
+                ))
+            }
             (Some(d), None) => d.y.len(),
             (None, Some(s)) => s.steps,
         };
         if t < n {
-            let field = if self.data.is_some() { "data.y" } else { "simulate.steps" };
-            return Err(Error::field(field, format!("gives t = {t} measurements: LSCR needs t ≥ n = {n}")));
+            let field = if self.data.is_some() {
+                "data.y"
+            } else {
+                "simulate.steps"
+            };
+            return Err(Error::field(
+                field,
+                format!("gives t = {t} measurements: LSCR needs t ≥ n = {n}"),
+            ));
         }
         if t > 2000 {
-            let field = if self.data.is_some() { "data.y" } else { "simulate.steps" };
-            return Err(Error::field(field, format!("gives t = {t} measurements: at most 2000 are supported")));
+            let field = if self.data.is_some() {
+                "data.y"
+            } else {
+                "simulate.steps"
+            };
+            return Err(Error::field(
+                field,
+                format!("gives t = {t} measurements: at most 2000 are supported"),
+            ));
         }
         let options = spec.options(n, t)?;
         let tau = options.target.time(t);
@@ -283,12 +336,11 @@ impl Scenario {
                 if !d.u.is_empty() {
                     return Err(Error::field("data.u", "is not used by LSCR (no inputs)"));
                 }
-                let y = d
-                    .y
-                    .iter()
-                    .enumerate()
-                    .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, 1).map(|v| v[0]))
-                    .collect::<Result<Vec<_>>>()?;
+                let y =
+                    d.y.iter()
+                        .enumerate()
+                        .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, 1).map(|v| v[0]))
+                        .collect::<Result<Vec<_>>>()?;
                 (y, None)
             }
             (None, Some(s)) => {
@@ -298,12 +350,20 @@ impl Scenario {
             _ => unreachable!("checked above"),
         };
         if n < 2 {
-            return Err(Error::field("model.F", "is 1×1: the LSCR figure needs n ≥ 2 (the region of a scalar state is an interval)"));
+            return Err(Error::field(
+                "model.F",
+                "is 1×1: the LSCR figure needs n ≥ 2 (the region of a scalar state is an interval)",
+            ));
         }
         let plot = match &self.plot {
             None => [0, 1.min(n - 1)],
             Some(p) if p.len() == 2 && p[0] < n && p[1] < n && p[0] != p[1] => [p[0], p[1]],
-            Some(_) => return Err(Error::field("plot", format!("must name two distinct state components below n = {n}"))),
+            Some(_) => {
+                return Err(Error::field(
+                    "plot",
+                    format!("must name two distinct state components below n = {n}"),
+                ))
+            }
         };
         let estimator = Estimator::new(&model, t, &options)?;
         for (k, p) in spec.probes.iter().enumerate() {
@@ -313,34 +373,64 @@ impl Scenario {
             linalg::vector("lscr.slice_at", p, n)?;
         }
         if let Some(w) = &spec.window {
-            SignRegion { dim: 2, q: 1, groups: vec![] }
-                .raster(w, 1, 1)
-                .map_err(|e| Error::field("lscr.window", e.message))?;
+            SignRegion {
+                dim: 2,
+                q: 1,
+                groups: vec![],
+            }
+            .raster(w, 1, 1)
+            .map_err(|e| Error::field("lscr.window", e.message))?;
         }
         if let Some([w, h]) = spec.resolution {
             if w == 0 || h == 0 || w > 4096 || h > 4096 {
-                return Err(Error::field("lscr.resolution", "must be [width, height] with 1..=4096 pixels each"));
+                return Err(Error::field(
+                    "lscr.resolution",
+                    "must be [width, height] with 1..=4096 pixels each",
+                ));
             }
         }
-        if spec.coverage.is_some() && self.simulate.as_ref().and_then(|s| s.condition.as_ref()).is_none() {
+        if spec.coverage.is_some()
+            && self
+                .simulate
+                .as_ref()
+                .and_then(|s| s.condition.as_ref())
+                .is_none()
+        {
             return Err(Error::field(
                 "simulate.condition",
                 "is needed by lscr.coverage: the experiment fixes the true state x̄ and draws the data given it",
             ));
         }
-        Ok(LscrPrepared { estimator, spec, y, x_true, plot })
+        Ok(LscrPrepared {
+            estimator,
+            spec,
+            y,
+            x_true,
+            plot,
+        })
     }
 
     /// A chunked coverage experiment for the scenario's conditioned true state.
     pub fn lscr_experiment(&self) -> Result<lscr::Experiment> {
         let p = self.prepare_lscr()?;
-        let c = p.spec.coverage.clone().ok_or_else(|| Error::field("lscr.coverage", "is missing (runs, seed)"))?;
-        let cond = self.simulate.as_ref().and_then(|s| s.condition.as_ref()).expect("checked in prepare");
+        let c = p
+            .spec
+            .coverage
+            .clone()
+            .ok_or_else(|| Error::field("lscr.coverage", "is missing (runs, seed)"))?;
+        let cond = self
+            .simulate
+            .as_ref()
+            .and_then(|s| s.condition.as_ref())
+            .expect("checked in prepare");
         let tau = p.estimator.problem.regression.target.time(p.y.len());
         if cond.t != tau {
             return Err(Error::field(
                 "simulate.condition.t",
-                format!("must be the estimated time {tau} for the coverage experiment, found {}", cond.t),
+                format!(
+                    "must be the estimated time {tau} for the coverage experiment, found {}",
+                    cond.t
+                ),
             ));
         }
         lscr::Experiment::new(p.estimator, &cond.x, c.runs, c.seed)
@@ -348,7 +438,11 @@ impl Scenario {
 }
 
 /// The 2-D region drawn: X̂ itself (n = 2, axes in order) or its slice through `at`.
-pub fn plane_region(region: &SignRegion, plot: [usize; 2], at: Option<&[f64]>) -> Result<SignRegion> {
+pub fn plane_region(
+    region: &SignRegion,
+    plot: [usize; 2],
+    at: Option<&[f64]>,
+) -> Result<SignRegion> {
     match at {
         Some(p) => region.slice(p, plot),
         None if plot == [0, 1] => Ok(region.clone()),
@@ -367,7 +461,10 @@ fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(B
         .flat_map(|g| g.c.iter().zip(&g.d).map(|(&c, d)| (c, [d[0], d[1]])))
         .filter(|(_, d)| d[0] != 0.0 || d[1] != 0.0)
         .collect();
-    let mut big = BoxSet { lo: vec![f64::INFINITY; 2], hi: vec![f64::NEG_INFINITY; 2] };
+    let mut big = BoxSet {
+        lo: vec![f64::INFINITY; 2],
+        hi: vec![f64::NEG_INFINITY; 2],
+    };
     for a in 0..lines.len() {
         for b in a + 1..lines.len() {
             let ((c1, d1), (c2, d2)) = (lines[a], lines[b]);
@@ -392,7 +489,10 @@ fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(B
     if bounded && big.lo[0].is_finite() {
         let big = big.padded(0.01);
         loops = region.boundary(&big)?;
-        let mut b = BoxSet { lo: vec![f64::INFINITY; 2], hi: vec![f64::NEG_INFINITY; 2] };
+        let mut b = BoxSet {
+            lo: vec![f64::INFINITY; 2],
+            hi: vec![f64::NEG_INFINITY; 2],
+        };
         for lp in &loops {
             for p in &lp.points {
                 for k in 0..2 {
@@ -411,7 +511,12 @@ fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(B
             None => e.clone(),
         });
     }
-    let mut w = win.unwrap_or(BoxSet { lo: vec![-1.0, -1.0], hi: vec![1.0, 1.0] }).padded(0.08);
+    let mut w = win
+        .unwrap_or(BoxSet {
+            lo: vec![-1.0, -1.0],
+            hi: vec![1.0, 1.0],
+        })
+        .padded(0.08);
     // Never degenerate: at least 1e-6 of the larger side, or 1 when everything is a point.
     let side = (w.hi[0] - w.lo[0]).max(w.hi[1] - w.lo[1]).max(1e-300);
     for k in 0..2 {
@@ -425,8 +530,18 @@ fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(B
     Ok((w, loops))
 }
 
-fn ellipse_box(e: &Ellipsoid, plot: [usize; 2]) -> Option<BoxSet> {
-    e.project(&plot).ok().map(|p| p.bounding_box())
+/// The part of an ellipse the figure shows: its projection for n = 2, for n > 2 its slice
+/// through the region's slice point (the figure draws slices, so projections would only
+/// inflate the window).
+fn ellipse_box(e: &Ellipsoid, plot: [usize; 2], slice_at: Option<&[f64]>) -> Option<BoxSet> {
+    match slice_at {
+        None => e.project(&plot).ok().map(|p| p.bounding_box()),
+        Some(point) => e
+            .slice(&plot, point)
+            .ok()
+            .flatten()
+            .map(|p| p.bounding_box()),
+    }
 }
 
 impl LscrPrepared {
@@ -469,7 +584,7 @@ impl LscrPrepared {
             extra.push(BoxSet::point(&[x[self.plot[0]], x[self.plot[1]]]));
         }
         for e in [&blue, &kf].into_iter().flatten() {
-            extra.extend(ellipse_box(e, self.plot));
+            extra.extend(ellipse_box(e, self.plot, slice_at.as_deref()));
         }
         if extra.is_empty() || !bounded {
             extra.push(BoxSet::point(&[ls[self.plot[0]], ls[self.plot[1]]]));
@@ -486,7 +601,10 @@ impl LscrPrepared {
                 }
             }
         };
-        let area = loops.iter().map(|l| crate::sets::sign_region::signed_area(&l.points)).sum();
+        let area = loops
+            .iter()
+            .map(|l| crate::sets::sign_region::signed_area(&l.points))
+            .sum();
         let raster = match self.spec.resolution {
             Some([w, h]) => Some(plane.raster(&window, w, h)?),
             None => None,
@@ -497,13 +615,20 @@ impl LscrPrepared {
             .iter()
             .map(|p| {
                 let mask = region.excluded(p);
-                Probe { x: p.clone(), inside_each: (0..n).map(|l| mask & (1 << l.min(31)) == 0).collect(), inside: mask == 0 }
+                Probe {
+                    x: p.clone(),
+                    inside_each: (0..n).map(|l| mask & (1 << l.min(31)) == 0).collect(),
+                    inside: mask == 0,
+                }
             })
             .collect();
         let (truth_inside_each, truth_inside) = match &self.x_true {
             Some(x) => {
                 let mask = region.excluded(x);
-                (Some((0..n).map(|l| mask & (1 << l.min(31)) == 0).collect()), Some(mask == 0))
+                (
+                    Some((0..n).map(|l| mask & (1 << l.min(31)) == 0).collect()),
+                    Some(mask == 0),
+                )
             }
             None => (None, None),
         };
@@ -547,7 +672,11 @@ impl LscrPrepared {
 
     /// Run the scenario's coverage experiment to the end (CLI, tests).
     pub fn coverage(&self, truth: &[f64]) -> Result<CoverageReport> {
-        let c = self.spec.coverage.clone().ok_or_else(|| Error::field("lscr.coverage", "is missing"))?;
+        let c = self
+            .spec
+            .coverage
+            .clone()
+            .ok_or_else(|| Error::field("lscr.coverage", "is missing"))?;
         let mut e = lscr::Experiment::new(self.estimator.clone(), truth, c.runs, c.seed)?;
         while !e.finished() {
             e.step(1000);
@@ -561,5 +690,12 @@ pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> Cove
     let (level_each, level) = est.levels();
     let (a, b) = lscr::binomial_band(counts.runs, level_each, 0.0005);
     let (c, d) = lscr::binomial_band(counts.runs, level.max(0.0), 0.0005);
-    CoverageReport { truth: truth.to_vec(), counts, level_each, level, band_each: [a, b], band: [c, d] }
+    CoverageReport {
+        truth: truth.to_vec(),
+        counts,
+        level_each,
+        level,
+        band_each: [a, b],
+        band: [c, d],
+    }
 }

@@ -262,7 +262,13 @@ impl Scenario {
     /// Validate everything and produce the data (simulating if asked).
     pub fn prepare(&self) -> Result<Prepared> {
         if self.lscr.is_some() && self.method != "lscr" {
-            return Err(Error::field("lscr", format!("is only used with \"method\": \"lscr\" (found \"{}\")", self.method)));
+            return Err(Error::field(
+                "lscr",
+                format!(
+                    "is only used with \"method\": \"lscr\" (found \"{}\")",
+                    self.method
+                ),
+            ));
         }
         if !matches!(self.method.as_str(), "scf" | "kf") {
             return Err(Error::field(
@@ -419,7 +425,12 @@ impl Scenario {
         let p = self.prepare_lscr()?;
         let mut l = p.report()?;
         if p.spec.coverage.is_some() {
-            let x = &self.simulate.as_ref().and_then(|s| s.condition.as_ref()).expect("checked").x;
+            let x = &self
+                .simulate
+                .as_ref()
+                .and_then(|s| s.condition.as_ref())
+                .expect("checked")
+                .x;
             l.coverage = Some(p.coverage(x)?);
         }
         Ok(Report {

@@ -112,7 +112,11 @@ fn first_true(len: usize, guess: f64, pred: impl Fn(usize) -> bool) -> usize {
     if len == 0 {
         return 0;
     }
-    let g = if guess.is_nan() { 0.0 } else { guess.clamp(0.0, (len - 1) as f64) } as usize;
+    let g = if guess.is_nan() {
+        0.0
+    } else {
+        guess.clamp(0.0, (len - 1) as f64)
+    } as usize;
     // Invariant: pred false below lo, pred true at hi.
     let (mut lo, mut hi);
     if pred(g) {
@@ -168,11 +172,18 @@ impl SignRegion {
         for (l, g) in self.groups.iter().enumerate() {
             if g.c.len() != g.d.len()
                 || g.d.iter().any(|d| d.len() != self.dim)
-                || g.c.iter().chain(g.d.iter().flatten()).any(|v| !v.is_finite())
+                || g.c
+                    .iter()
+                    .chain(g.d.iter().flatten())
+                    .any(|v| !v.is_finite())
             {
                 return Err(Error::field(
                     field,
-                    format!("group {l} is not {} finite functions of dimension {}", g.c.len(), self.dim),
+                    format!(
+                        "group {l} is not {} finite functions of dimension {}",
+                        g.c.len(),
+                        self.dim
+                    ),
                 ));
             }
         }
@@ -210,11 +221,17 @@ impl SignRegion {
 
     /// The 2-D section {(a, b) : point with components `axes` replaced by (a, b) ∈ X}.
     pub fn slice(&self, point: &[f64], axes: [usize; 2]) -> Result<SignRegion> {
-        if point.len() != self.dim || axes[0] >= self.dim || axes[1] >= self.dim || axes[0] == axes[1]
+        if point.len() != self.dim
+            || axes[0] >= self.dim
+            || axes[1] >= self.dim
+            || axes[0] == axes[1]
         {
             return Err(Error::field(
                 "slice",
-                format!("needs a point of dimension {} and two distinct axes below it", self.dim),
+                format!(
+                    "needs a point of dimension {} and two distinct axes below it",
+                    self.dim
+                ),
             ));
         }
         let groups = self
@@ -234,7 +251,11 @@ impl SignRegion {
                 AffineGroup { c, d }
             })
             .collect();
-        Ok(SignRegion { dim: 2, q: self.q, groups })
+        Ok(SignRegion {
+            dim: 2,
+            q: self.q,
+            groups,
+        })
     }
 
     fn need_2d(&self) -> Result<()> {
@@ -250,12 +271,20 @@ impl SignRegion {
     fn check_window(window: &BoxSet, width: usize, height: usize) -> Result<()> {
         let ok = window.lo.len() == 2
             && window.hi.len() == 2
-            && (0..2).all(|k| window.lo[k].is_finite() && window.hi[k].is_finite() && window.lo[k] < window.hi[k]);
+            && (0..2).all(|k| {
+                window.lo[k].is_finite() && window.hi[k].is_finite() && window.lo[k] < window.hi[k]
+            });
         if !ok {
-            return Err(Error::field("window", "must be two finite intervals lo < hi"));
+            return Err(Error::field(
+                "window",
+                "must be two finite intervals lo < hi",
+            ));
         }
         if width == 0 || height == 0 || width > 4096 || height > 4096 {
-            return Err(Error::field("resolution", "must be between 1 and 4096 pixels per side"));
+            return Err(Error::field(
+                "resolution",
+                "must be between 1 and 4096 pixels per side",
+            ));
         }
         Ok(())
     }
@@ -438,7 +467,11 @@ impl SignRegion {
                 } else {
                     let root = alpha / beta;
                     // Sign just after s0: positive iff s < root for β > 0.
-                    let before = if beta > 0.0 { std::cmp::Ordering::Greater } else { std::cmp::Ordering::Less };
+                    let before = if beta > 0.0 {
+                        std::cmp::Ordering::Greater
+                    } else {
+                        std::cmp::Ordering::Less
+                    };
                     if root > s0 {
                         (Some(before), if root < s1 { Some(root) } else { None })
                     } else {
@@ -503,7 +536,11 @@ impl SignRegion {
             let excluded = self.mask(pos, neg);
             match out.last_mut() {
                 Some(last) if last.excluded == excluded && last.s1 == sa => last.s1 = sb,
-                _ => out.push(Span { s0: sa, s1: sb, excluded }),
+                _ => out.push(Span {
+                    s0: sa,
+                    s1: sb,
+                    excluded,
+                }),
             }
         });
         Ok(out)
@@ -528,7 +565,9 @@ impl SignRegion {
                 let p = [c * d[0] / nn, c * d[1] / nn];
                 // Walking along dir, the left side is −d: where g > 0.
                 let dir = [-d[1] / norm, d[0] / norm];
-                let Some((s0, s1)) = clip_line(p, dir, lo, hi) else { continue };
+                let Some((s0, s1)) = clip_line(p, dir, lo, hi) else {
+                    continue;
+                };
                 self.sweep(p, dir, (s0, s1), Some((l, i)), |sa, sb, pos, neg| {
                     let mut pp = pos.to_vec();
                     pp[l] += 1;
@@ -565,7 +604,11 @@ impl SignRegion {
 
     /// Exact area of X ∩ window (shoelace over the boundary loops; holes count negative).
     pub fn area(&self, window: &BoxSet) -> Result<f64> {
-        Ok(self.boundary(window)?.iter().map(|lp| signed_area(&lp.points)).sum())
+        Ok(self
+            .boundary(window)?
+            .iter()
+            .map(|lp| signed_area(&lp.points))
+            .sum())
     }
 
     /// Directions v (unit, 2-D) along which X contains rays: for far x = x0 + s v the sign of
@@ -671,7 +714,11 @@ impl SignRegion {
         let rows: Vec<&Vec<f64>> = self.groups.iter().flat_map(|g| g.d.iter()).collect();
         if rows.is_empty() {
             return (0..self.dim)
-                .map(|k| (0..self.dim).map(|j| if j == k { 1.0 } else { 0.0 }).collect())
+                .map(|k| {
+                    (0..self.dim)
+                        .map(|j| if j == k { 1.0 } else { 0.0 })
+                        .collect()
+                })
                 .collect();
         }
         let m = nalgebra::DMatrix::from_fn(rows.len(), self.dim, |i, j| rows[i][j]);
@@ -784,7 +831,8 @@ fn simplify(pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     for k in 0..n {
         let (a, b, c) = (pts[(k + n - 1) % n], pts[k], pts[(k + 1) % n]);
         let cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-        let scale = ((b[0] - a[0]).abs() + (b[1] - a[1]).abs()) * ((c[0] - b[0]).abs() + (c[1] - b[1]).abs());
+        let scale = ((b[0] - a[0]).abs() + (b[1] - a[1]).abs())
+            * ((c[0] - b[0]).abs() + (c[1] - b[1]).abs());
         if cross.abs() > 1e-12 * scale {
             out.push(b);
         }
