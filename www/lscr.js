@@ -4,6 +4,7 @@
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Session, LscrExperiment } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
+import { runChunked, fieldErrors } from './chunked.js';
 import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
@@ -16,13 +17,6 @@ const SUB = '₀₁₂₃₄₅₆₇₈₉';
 const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
 const CUSTOM = 'custom';
 const CHUNK = 100; // runs per LscrExperiment.step
-const SLICE_MS = 12; // work per task before yielding to the browser
-
-// Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
-const channel = new MessageChannel();
-const waiting = [];
-channel.port1.onmessage = () => waiting.shift()?.();
-const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2.postMessage(0); });
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {
@@ -146,26 +140,9 @@ export async function mountLscr(root, presets) {
   }
 
   // ----- errors next to the field they name -----
-  function showError(e) {
-    const field = e && typeof e.field === 'string' ? e.field : '';
-    const message = (e && e.message) || String(e);
-    let best = null;
-    for (const p of root.querySelectorAll('.err[data-for]')) {
-      const f = p.dataset.for;
-      const hit = f === '' || field === f || field.startsWith(`${f}.`) || field.startsWith(`${f}[`);
-      if (hit && (!best || f.length > best.dataset.for.length)) best = p;
-    }
-    clearErrors();
-    if (best) best.textContent = message;
-    const control = root.querySelector(`[data-field="${best ? best.dataset.for : ''}"]`);
-    if (control) control.setAttribute('aria-invalid', 'true');
-    ui.stale.hidden = !st.report;
-  }
-  function clearErrors() {
-    for (const p of root.querySelectorAll('form .err[data-for]')) p.textContent = '';
-    for (const c of root.querySelectorAll('form [aria-invalid]')) c.removeAttribute('aria-invalid');
-    ui.stale.hidden = true;
-  }
+  const errors = fieldErrors(root, ui.stale, 'form ');
+  const showError = (e) => errors.show(e, !!st.report);
+  const clearErrors = () => errors.clear();
 
   // ----- compute and draw -----
   function setBusy(d) {
@@ -364,21 +341,12 @@ export async function mountLscr(root, presets) {
     ui['cov-go'].disabled = true;
     ui['cov-cancel'].disabled = false;
     setBusy(+1);
-    const t0 = performance.now();
-    let compute = 0;
-    let c = null;
     try {
-      while (!me.cancelled) {
-        const s0 = performance.now();
-        do c = JSON.parse(exp.step(CHUNK)); while (!exp.finished() && performance.now() - s0 < SLICE_MS);
-        compute += performance.now() - s0;
+      const { counts: c, wall, compute } = await runChunked(exp, CHUNK, me, (c) => {
         showCoverage(c, false);
         ui['cov-status'].textContent = `${int(c.runs)} / ${int(total)} runs`;
-        if (exp.finished()) break;
-        await yieldToBrowser();
-      }
+      });
       if (me.stale) return; // the scenario changed: these counts belong to the old one
-      const wall = performance.now() - t0;
       showCoverage(c, !me.cancelled);
       ui['cov-status'].textContent = me.cancelled
         ? `cancelled after ${int(c.runs)} runs (${wall.toFixed(0)} ms)`

@@ -3,13 +3,9 @@
 import { Experiment } from './pkg/confset.js';
 import { wholeNumber } from './parse.js';
 
+import { runChunked } from './chunked.js';
+
 const CHUNK = 500;
-const SLICE_MS = 12;
-// Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
-const channel = new MessageChannel();
-const waiting = [];
-channel.port1.onmessage = () => waiting.shift()?.();
-const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2.postMessage(0); });
 const n = (v) => v.toLocaleString('en-US');
 
 export function mountMonteCarlo(root, getScenario, setBusy) {
@@ -53,20 +49,11 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
     go.disabled = true;
     cancel.disabled = false;
     setBusy(+1);
-    const t0 = performance.now();
-    let compute = 0;
-    let c = null;
     try {
-      while (!me.cancelled) {
-        const s0 = performance.now();
-        do c = JSON.parse(exp.step(CHUNK)); while (!exp.finished() && performance.now() - s0 < SLICE_MS);
-        compute += performance.now() - s0;
+      const { counts: c, wall, compute } = await runChunked(exp, CHUNK, me, (c) => {
         show(c, false);
         status.textContent = `${n(c.runs_done)} / ${n(c.runs_total)} runs`;
-        if (exp.finished()) break;
-        await yieldToBrowser();
-      }
-      const wall = performance.now() - t0;
+      });
       if (me.stale) return; // the scenario changed: these counts belong to the old one
       show(c, !me.cancelled);
       status.textContent = me.cancelled

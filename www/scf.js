@@ -1,5 +1,6 @@
 // The SCF vs KF panel: controls → Scenario JSON → wasm Session.run → figures and numbers.
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
+import { fieldErrors } from './chunked.js';
 import { Session } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
@@ -117,26 +118,9 @@ export async function mountScf(root, presets) {
   }
 
   // ----- errors next to the field they name -----
-  function showError(e) {
-    const field = e && typeof e.field === 'string' ? e.field : '';
-    const message = (e && e.message) || String(e);
-    let best = null;
-    for (const p of root.querySelectorAll('.err[data-for]')) {
-      const f = p.dataset.for;
-      const hit = f === '' || field === f || field.startsWith(`${f}.`) || field.startsWith(`${f}[`);
-      if (hit && (!best || f.length > best.dataset.for.length)) best = p;
-    }
-    clearErrors();
-    if (best) best.textContent = message;
-    const control = root.querySelector(`[data-field="${best ? best.dataset.for : ''}"]`);
-    if (control) control.setAttribute('aria-invalid', 'true');
-    ui.stale.hidden = !st.report;
-  }
-  function clearErrors() {
-    for (const p of root.querySelectorAll('.err[data-for]')) p.textContent = '';
-    for (const c of root.querySelectorAll('[aria-invalid]')) c.removeAttribute('aria-invalid');
-    ui.stale.hidden = true;
-  }
+  const errors = fieldErrors(root, ui.stale);
+  const showError = (e) => errors.show(e, !!st.report);
+  const clearErrors = () => errors.clear();
 
   // ----- compute and draw -----
   function setBusy(d) {
