@@ -79,6 +79,7 @@
 
 pub mod error;
 pub mod experiment;
+pub mod glls;
 pub mod kalman;
 pub mod linalg;
 pub mod lscr;
@@ -88,6 +89,7 @@ pub mod presets;
 pub mod scenario;
 pub mod scf;
 pub mod sets;
+pub mod solve;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 

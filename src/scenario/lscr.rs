@@ -181,36 +181,37 @@ pub struct LscrPrepared {
 
 impl LscrSpec {
     fn options(&self, n: usize, t: usize) -> Result<Options> {
-        let target =
-            match (self.estimate.as_str(), self.index) {
-                ("predict", None) => Target::Predict,
-                ("filter", None) => Target::Filter,
-                ("smooth", Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
-                ("smooth", Some(i)) => return Err(Error::field(
+        let target = match (self.estimate.as_str(), self.index) {
+            ("predict", None) => Target::Predict,
+            ("filter", None) => Target::Filter,
+            ("smooth", Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
+            ("smooth", Some(i)) => {
+                return Err(Error::field(
                     "lscr.index",
                     format!(
                         "must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"
                     ),
-                )),
-                ("smooth", None) => {
-                    return Err(Error::field(
-                        "lscr.index",
-                        "is needed for smoothing: the time i < t of the state",
-                    ))
-                }
-                ("predict" | "filter", Some(_)) => {
-                    return Err(Error::field(
-                        "lscr.index",
-                        "is only used with \"estimate\": \"smooth\"",
-                    ))
-                }
-                (other, _) => {
-                    return Err(Error::field(
-                        "lscr.estimate",
-                        format!("must be \"predict\", \"filter\" or \"smooth\", found \"{other}\""),
-                    ))
-                }
-            };
+                ))
+            }
+            ("smooth", None) => {
+                return Err(Error::field(
+                    "lscr.index",
+                    "is needed for smoothing: the time i < t of the state",
+                ))
+            }
+            ("predict" | "filter", Some(_)) => {
+                return Err(Error::field(
+                    "lscr.index",
+                    "is only used with \"estimate\": \"smooth\"",
+                ))
+            }
+            (other, _) => {
+                return Err(Error::field(
+                    "lscr.estimate",
+                    format!("must be \"predict\", \"filter\" or \"smooth\", found \"{other}\""),
+                ))
+            }
+        };
         let (m, q) = match (self.m, self.q, self.level) {
             (Some(m), Some(q), None) => (m, q),
             (None, None, level) => lscr::choose_m_q(level.unwrap_or(0.9), n, self.construction)?,

@@ -15,7 +15,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+pub mod glls;
 pub mod lscr;
+pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
 
 /// Observed data.
@@ -130,6 +132,9 @@ pub struct Scenario {
     /// LSCR options (method "lscr"): see [`lscr::LscrSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lscr: Option<LscrSpec>,
+    /// GLLS options (method "glls"): see [`glls::GllsSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glls: Option<GllsSpec>,
     /// Free text shown with the preset (where the numbers come from, which reading of the paper).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub notes: Option<String>,
@@ -198,6 +203,9 @@ pub struct Report {
     /// The LSCR result (method "lscr"; `steps` is then empty).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lscr: Option<LscrReport>,
+    /// The GLLS result (method "glls"; `steps` is then empty).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glls: Option<GllsReport>,
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists
@@ -261,6 +269,15 @@ impl Scenario {
 
     /// Validate everything and produce the data (simulating if asked).
     pub fn prepare(&self) -> Result<Prepared> {
+        if self.glls.is_some() && self.method != "glls" {
+            return Err(Error::field(
+                "glls",
+                format!(
+                    "is only used with \"method\": \"glls\" (found \"{}\")",
+                    self.method
+                ),
+            ));
+        }
         if self.lscr.is_some() && self.method != "lscr" {
             return Err(Error::field(
                 "lscr",
@@ -274,7 +291,7 @@ impl Scenario {
             return Err(Error::field(
                 "method",
                 format!(
-                    "\"{}\" is not available yet (this build has \"scf\", \"kf\" and \"lscr\")",
+                    "\"{}\" is not available yet (this build has \"scf\", \"kf\", \"lscr\" and \"glls\")",
                     self.method
                 ),
             ));
@@ -416,8 +433,40 @@ impl Scenario {
         if self.method == "lscr" {
             return self.run_lscr();
         }
+        if self.method == "glls" {
+            return self.run_glls();
+        }
         let p = self.prepare()?;
         p.report()
+    }
+
+    /// A GLLS scenario's report: the SCF fields stay empty, `glls` holds the result.
+    fn run_glls(&self) -> Result<Report> {
+        if self.lscr.is_some() {
+            return Err(Error::field(
+                "lscr",
+                "is only used with \"method\": \"lscr\" (found \"glls\")",
+            ));
+        }
+        let p = self.prepare_glls()?;
+        let g = p.report()?;
+        Ok(Report {
+            method: self.method.clone(),
+            alpha: self.alpha,
+            n: g.n,
+            q: g.m,
+            time: g.k,
+            plot: g.plane.to_vec(),
+            steps: Vec::new(),
+            y: g.y.clone(),
+            x_true: None,
+            prior_mean: Vec::new(),
+            asymptotic: None,
+            collision: None,
+            coverage_curve: None,
+            lscr: None,
+            glls: Some(g),
+        })
     }
 
     /// An LSCR scenario's report: the SCF fields stay empty, `lscr` holds the result.
@@ -448,6 +497,7 @@ impl Scenario {
             collision: None,
             coverage_curve: None,
             lscr: Some(l),
+            glls: None,
         })
     }
 }
@@ -517,6 +567,7 @@ impl Prepared {
             collision,
             coverage_curve,
             lscr: None,
+            glls: None,
         })
     }
 

@@ -1,0 +1,672 @@
+//! The `glls` block of a scenario and the GLLS part of a report (method `"glls"`).
+//!
+//! ```json
+//! {"method": "glls",
+//!  "model": {"F": [[0.6,0,0],[0,0.94,-0.34],[0,0.34,0.94]], "H": [[1,1,0]], "W": [[0.01]]},
+//!  "simulate": {"steps": 40, "seed": 1},
+//!  "glls": {"horizon": 6, "max_horizon": 60, "estimator": "lls", "p": 2, "mu": 0.1,
+//!           "noise": "bounded", "plane": [0, 1],
+//!           "monte_carlo": {"runs": 2000, "seed": 3, "study": "precision"}}}
+//! ```
+//!
+//! Times are the paper's: x(0) = `model.x1_mean`, data y(0) … y(k) with k = steps − 1; the
+//! horizon s uses y(k−s) … y(k). `model.W` is Ω (default I), `model.V` the covariance of the
+//! transition noise ξ of (54) (default 0), `model.B` with `simulate.u` / `data.u` the inputs.
+
+use super::{Scenario, SimulateSpec};
+use crate::error::{Error, Result};
+use crate::glls::{
+    self, Curves, GllsModel, Horizon, Precision, PrecisionReport, StateNoise, Study, Weighting,
+};
+use crate::linalg;
+use crate::model::normal_vector;
+use crate::sets::{BoxSet, Ellipsoid};
+use nalgebra::{DMatrix, DVector};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// Monte Carlo of Section 5.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GllsMonteCarloSpec {
+    pub runs: usize,
+    #[serde(default)]
+    pub seed: u64,
+    /// "precision" (5.1: error vs horizon with the bound) or "state_noise" (5.2: vs LLS).
+    #[serde(default = "default_study")]
+    pub study: String,
+    /// Steps per run (default: the simulation's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<usize>,
+    /// Largest horizon (default: min(max_horizon, steps − 1, 30)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_horizon: Option<usize>,
+}
+fn default_study() -> String {
+    "precision".into()
+}
+
+/// The `glls` block.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GllsSpec {
+    /// The horizon s (default: the best horizon of σ_n/√s, Fig. 2, within the data).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub horizon: Option<usize>,
+    /// S of the curves s = 0..S (default 60).
+    #[serde(default = "default_max_horizon")]
+    pub max_horizon: usize,
+    /// "lls" (Ω = I), "glls" (the model's Ω) or "state_noise" ((60)–(64)).
+    #[serde(default = "default_estimator")]
+    pub estimator: String,
+    /// Singular values kept by the regularized estimators (default n: none dropped).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p: Option<usize>,
+    /// Bound μ on ‖δ(k)‖₂ for the guaranteed ball and box (default 3·√tr Ω).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    /// Simulated measurement noise: "gaussian" (N(0, Ω)), "bounded" (uniform in the ball
+    /// ‖δ(k)‖₂ ≤ μ) or "worst" (‖δ(k)‖₂ = μ aligned to push the first plotted component of the
+    /// current estimate as far as the bound allows).
+    #[serde(default = "default_noise")]
+    pub noise: String,
+    /// Two state components for the state plane (default [0, 1], or [0, 0] when n = 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane: Option<[usize; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<GllsMonteCarloSpec>,
+}
+fn default_max_horizon() -> usize {
+    60
+}
+fn default_estimator() -> String {
+    "lls".into()
+}
+fn default_noise() -> String {
+    "gaussian".into()
+}
+
+/// The regularized estimators at the chosen horizon.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct RegularizedReport {
+    pub p: usize,
+    pub estimate_past: Vec<f64>,
+    /// (31): R diag(1_p, 0) Rᵀ — what x_reg(k−s) estimates.
+    pub projection_past: Vec<Vec<f64>>,
+    /// κ_reg.GLLS(s, k−s) (32) and 1/σ_p (38).
+    pub kappa_past: f64,
+    pub kappa_lls_past: f64,
+    /// (47), (49): with A invertible.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimate_current: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub projection_current: Option<Vec<Vec<f64>>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kappa_current: Option<f64>,
+    /// Projection of the true states (simulation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_projected_past: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_projected_current: Option<Vec<f64>>,
+}
+
+/// The state-noise estimator at the chosen horizon.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct StateNoiseReport {
+    pub estimate_past: Vec<f64>,
+    pub estimate_current: Vec<f64>,
+    /// ξ(k−s) … ξ(k−1).
+    pub xi: Vec<Vec<f64>>,
+    /// max |closed form − clarabel QP| over x(k−s) and ξ.
+    pub qp_difference: f64,
+}
+
+/// The GLLS part of a report.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct GllsReport {
+    pub n: usize,
+    pub m: usize,
+    /// Time of the current state (k = steps − 1) and the horizon s.
+    pub k: usize,
+    pub s: usize,
+    pub estimator: String,
+    pub plane: [usize; 2],
+    /// Figs. 1–2 for s = 0..S.
+    pub curves: Curves,
+    /// log10 σ_n/√s and its best horizon; log10 σ_p/√s and its best (p < n).
+    pub index: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub best_horizon: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub index_p: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub best_horizon_p: Option<usize>,
+    /// max over s of |log10 σ_i(Γ_{s+1}) − log10 σ_i(Γ_{s+1}A^{−s})| (the paper's empirical
+    /// remark says 0; it is 0 only for orthogonal A).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prime_gap_log10: Option<f64>,
+    /// At the chosen s.
+    pub sigma: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma_prime: Option<Vec<f64>>,
+    pub kappa_past: f64,
+    pub kappa_lls_past: f64,
+    pub kappa_current: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kappa_lls_current: Option<f64>,
+    /// The (G)LLS estimates (11), (41) — or the state-noise estimator's when chosen.
+    pub estimate_past: Vec<f64>,
+    pub estimate_current: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_true_past: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_true_current: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_current: Option<f64>,
+    /// Guaranteed sets for x(k) under ‖δ(j)‖₂ ≤ μ: the ball (35) with √(s+1) as an ellipsoid
+    /// (cov = r²I, radius2 = 1) and the exact interval hull of the error set.
+    pub mu: f64,
+    pub ball_current: Ellipsoid,
+    pub box_current: BoxSet,
+    pub ball_past: Ellipsoid,
+    pub box_past: BoxSet,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_in_ball: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_in_box: Option<bool>,
+    /// max_j ‖δ(j)‖₂ of the simulated noise in the window (the guarantee needs ≤ μ).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_max: Option<f64>,
+    /// (39): κ·√((s+1) tr Ω).
+    pub expected_bound: f64,
+    /// Estimated floating-point error of the current estimate, and whether it rivals the bound.
+    pub rounding_estimate: f64,
+    pub rounding_dominates: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub regularized: Option<RegularizedReport>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_noise: Option<StateNoiseReport>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub precision: Option<PrecisionReport>,
+    /// The true trajectory (simulation) and the data.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_true: Option<Vec<Vec<f64>>>,
+    pub y: Vec<Vec<f64>>,
+}
+
+/// A validated GLLS scenario.
+pub struct GllsPrepared {
+    pub spec: GllsSpec,
+    pub model: GllsModel,
+    pub y: Vec<DVector<f64>>,
+    pub u: Vec<DVector<f64>>,
+    pub x_true: Option<Vec<DVector<f64>>>,
+    pub weighting: Weighting,
+    pub mu: f64,
+    pub plane: [usize; 2],
+    pub noise_max: Option<f64>,
+}
+
+fn rows_of(v: &[DVector<f64>]) -> Vec<Vec<f64>> {
+    v.iter().map(|x| x.iter().copied().collect()).collect()
+}
+
+fn vec_of(v: &DVector<f64>) -> Vec<f64> {
+    v.iter().copied().collect()
+}
+
+/// Stack y(k−s) … y(k) (and the inputs).
+fn window(v: &[DVector<f64>], k: usize, s: usize) -> DVector<f64> {
+    DVector::from_iterator(
+        v.iter().skip(k - s).take(s + 1).map(|x| x.len()).sum(),
+        v[k - s..=k].iter().flat_map(|x| x.iter().copied()),
+    )
+}
+
+impl Scenario {
+    /// Validate a GLLS scenario and produce its data.
+    pub fn prepare_glls(&self) -> Result<GllsPrepared> {
+        let spec = self.glls.clone().ok_or_else(|| {
+            Error::field(
+                "glls",
+                "is missing: the method \"glls\" needs a glls block (horizon, estimator, …)",
+            )
+        })?;
+        let model = GllsModel::from_spec(&self.model)?;
+        let (n, m, r) = (model.n(), model.m(), model.r());
+        let weighting = match spec.estimator.as_str() {
+            "lls" | "state_noise" => Weighting::Lls,
+            "glls" => Weighting::Glls,
+            other => {
+                return Err(Error::field(
+                    "glls.estimator",
+                    format!("must be \"lls\", \"glls\" or \"state_noise\", found \"{other}\""),
+                ))
+            }
+        };
+        if !(1..=2000).contains(&spec.max_horizon) {
+            return Err(Error::field(
+                "glls.max_horizon",
+                format!("must lie in 1..=2000, found {}", spec.max_horizon),
+            ));
+        }
+        let default_mu = 3.0 * model.omega.trace().max(0.0).sqrt();
+        let mu = spec.mu.unwrap_or(default_mu);
+        if !(mu.is_finite() && mu >= 0.0) {
+            return Err(Error::field(
+                "glls.mu",
+                format!("must be a finite bound ≥ 0, found {mu}"),
+            ));
+        }
+        let plane = match spec.plane {
+            Some(p) if p[0] < n && p[1] < n && (p[0] != p[1] || n == 1) => p,
+            Some(_) => {
+                return Err(Error::field(
+                    "glls.plane",
+                    format!("must name two distinct state components below n = {n}"),
+                ))
+            }
+            None => [0, 1.min(n - 1)],
+        };
+        let inputs = |field: &str, rows: &[Vec<f64>]| -> Result<Vec<DVector<f64>>> {
+            if r == 0 && !rows.is_empty() {
+                return Err(Error::field(
+                    field,
+                    "needs model.B (the model has no inputs)",
+                ));
+            }
+            rows.iter()
+                .enumerate()
+                .map(|(k, row)| linalg::vector(&format!("{field}[{k}]"), row, r))
+                .collect()
+        };
+        let (y, u, x_true, noise_max) = match (&self.data, &self.simulate) {
+            (Some(_), Some(_)) => {
+                return Err(Error::field(
+                    "data",
+                    "and simulate are both given: choose one",
+                ))
+            }
+            (None, None) => {
+                return Err(Error::field(
+                    "data",
+                    "is missing (give data.y or a simulate block)",
+                ))
+            }
+            (Some(d), None) => {
+                let y: Vec<DVector<f64>> =
+                    d.y.iter()
+                        .enumerate()
+                        .map(|(k, row)| linalg::vector(&format!("data.y[{k}]"), row, m))
+                        .collect::<Result<_>>()?;
+                (y, inputs("data.u", &d.u)?, None, None)
+            }
+            (None, Some(sim)) => {
+                let u = inputs("simulate.u", &sim.u)?;
+                let (x, y, dmax) = simulate(&model, sim, &u, &spec, mu, weighting)?;
+                (y, u, Some(x), dmax)
+            }
+        };
+        if y.is_empty() {
+            return Err(Error::field(
+                if self.data.is_some() {
+                    "data.y"
+                } else {
+                    "simulate.steps"
+                },
+                "must hold at least one measurement",
+            ));
+        }
+        if y.len() > 5000 {
+            return Err(Error::field(
+                if self.data.is_some() {
+                    "data.y"
+                } else {
+                    "simulate.steps"
+                },
+                "at most 5000 measurements are supported",
+            ));
+        }
+        Ok(GllsPrepared {
+            spec,
+            model,
+            y,
+            u,
+            x_true,
+            weighting,
+            mu,
+            plane,
+            noise_max,
+        })
+    }
+}
+
+/// The data of a simulation: x(0..k), y(0..k) and the largest ‖δ(j)‖₂ drawn.
+fn simulate(
+    model: &GllsModel,
+    sim: &SimulateSpec,
+    u: &[DVector<f64>],
+    spec: &GllsSpec,
+    mu: f64,
+    weighting: Weighting,
+) -> Result<(Vec<DVector<f64>>, Vec<DVector<f64>>, Option<f64>)> {
+    let steps = sim.steps;
+    if !(1..=5000).contains(&steps) {
+        return Err(Error::field(
+            "simulate.steps",
+            format!("must lie in 1..=5000, found {steps}"),
+        ));
+    }
+    if sim.condition.is_some() {
+        return Err(Error::field(
+            "simulate.condition",
+            "is not used by GLLS (x(0) is model.x1_mean)",
+        ));
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(sim.seed);
+    let (xs, mut ys) = match spec.noise.as_str() {
+        "gaussian" => model.simulate(steps, u, &mut rng),
+        "bounded" | "worst" => {
+            let quiet = GllsModel {
+                omega: DMatrix::zeros(model.m(), model.m()),
+                ..model.clone()
+            };
+            quiet.simulate(steps, u, &mut rng)
+        }
+        other => {
+            return Err(Error::field(
+                "glls.noise",
+                format!("must be \"gaussian\", \"bounded\" or \"worst\", found \"{other}\""),
+            ))
+        }
+    };
+    if !xs
+        .iter()
+        .chain(&ys)
+        .all(|v| v.iter().all(|x| x.is_finite()))
+    {
+        return Err(Error::field("simulate.steps", "the simulated states overflow double precision (A is unstable): shorten the simulation"));
+    }
+    let m = model.m();
+    let dmax = match spec.noise.as_str() {
+        "bounded" => {
+            // Uniform in the ball of radius μ: direction uniform, radius μ·U^{1/m}.
+            let mut big: f64 = 0.0;
+            for y in ys.iter_mut() {
+                let d = normal_vector(m, &mut rng);
+                let rad = mu * rng.random::<f64>().powf(1.0 / m as f64);
+                let delta = if d.norm() > 0.0 {
+                    d.normalize() * rad
+                } else {
+                    DVector::zeros(m)
+                };
+                big = big.max(delta.norm());
+                *y += delta;
+            }
+            Some(big)
+        }
+        "worst" => {
+            // δ(j) = μ·g_j/‖g_j‖ with g_j the block of row `plane[0]` of the current-state gain:
+            // the error of that component reaches its interval bound exactly.
+            let k = steps - 1;
+            let s = spec.horizon.unwrap_or(model.n().saturating_sub(1)).min(k);
+            let h = Horizon::new(model, s, weighting)?;
+            let row = spec.plane.map(|p| p[0]).unwrap_or(0).min(model.n() - 1);
+            for j in 0..=s {
+                let g = h.gain_current.view((row, j * m), (1, m)).transpose();
+                if g.norm() > 0.0 {
+                    ys[k - s + j] += g.normalize() * mu;
+                }
+            }
+            Some(mu)
+        }
+        _ => None,
+    };
+    Ok((xs, ys, dmax))
+}
+
+impl GllsPrepared {
+    pub fn report(&self) -> Result<GllsReport> {
+        let model = &self.model;
+        let n = model.n();
+        let k = self.y.len() - 1;
+        let spec = &self.spec;
+        let curves = Curves::new(model, spec.max_horizon)?;
+        let (index, best_horizon) = glls::horizon_index(&curves.log10_sigma, n);
+        let p = spec.p.unwrap_or(n);
+        if p < 1 || p > n {
+            return Err(Error::field(
+                "glls.p",
+                format!("must lie in 1..={n} (singular values kept), found {p}"),
+            ));
+        }
+        let (index_p, best_horizon_p) = if p < n {
+            let (i, b) = glls::horizon_index(&curves.log10_sigma, p);
+            (Some(i), b)
+        } else {
+            (None, None)
+        };
+        let prime_gap_log10 = curves.log10_sigma_prime.as_ref().map(|sp| {
+            curves
+                .log10_sigma
+                .iter()
+                .zip(sp)
+                .skip(n.saturating_sub(1))
+                // Only singular values resolved in both (log10 −400 marks an exact zero).
+                .flat_map(|(a, b)| {
+                    a.iter()
+                        .zip(b)
+                        .filter(|(x, y)| **x > -300.0 && **y > -300.0)
+                        .map(|(x, y)| (x - y).abs())
+                })
+                .filter(|v| v.is_finite())
+                .fold(0.0, f64::max)
+        });
+        let s = match spec.horizon {
+            Some(s) => s,
+            None => best_horizon
+                .unwrap_or(n.saturating_sub(1))
+                .max(n.saturating_sub(1)),
+        }
+        .min(k);
+        if let Some(h) = spec.horizon {
+            if h > k {
+                return Err(Error::field(
+                    "glls.horizon",
+                    format!(
+                        "= {h} needs {} measurements; the data hold {}",
+                        h + 1,
+                        k + 1
+                    ),
+                ));
+            }
+        }
+        let h = Horizon::new(model, s, self.weighting)?;
+        let y = window(&self.y, k, s);
+        let u = if model.r() > 0 {
+            DVector::from_iterator(
+                model.r() * (s + 1),
+                (k - s..=k).flat_map(|j| {
+                    glls::input(&self.u, j, model.r())
+                        .iter()
+                        .copied()
+                        .collect::<Vec<_>>()
+                }),
+            )
+        } else {
+            DVector::zeros(0)
+        };
+        let (lls_past, lls_cur) = h.estimate(&y, &u);
+        let state_noise = if spec.estimator == "state_noise" {
+            let sn = StateNoise::new(model, s)?;
+            let (xp, xi, xc) = sn.estimate(&y, &u);
+            let (qx, qxi) = sn.estimate_qp(model, &y, &u)?;
+            let diff = (&qx - &xp).amax().max(if xi.is_empty() {
+                0.0
+            } else {
+                (&qxi - &xi).amax()
+            });
+            Some(StateNoiseReport {
+                estimate_past: vec_of(&xp),
+                estimate_current: vec_of(&xc),
+                xi: (0..s)
+                    .map(|i| xi.rows(i * n, n).iter().copied().collect())
+                    .collect(),
+                qp_difference: diff,
+            })
+        } else {
+            None
+        };
+        let (est_past, est_cur) = match &state_noise {
+            Some(sn) => (
+                DVector::from_vec(sn.estimate_past.clone()),
+                DVector::from_vec(sn.estimate_current.clone()),
+            ),
+            None => (lls_past.clone(), lls_cur.clone()),
+        };
+        let truth = self
+            .x_true
+            .as_ref()
+            .map(|x| (x[k - s].clone(), x[k].clone()));
+        let bounds = h.bounds(self.mu);
+        let ball = |c: &DVector<f64>, r: f64| {
+            Ellipsoid::new(c, &(DMatrix::identity(n, n) * (r * r).max(1e-300)), 1.0)
+        };
+        let boxed = |c: &DVector<f64>, hw: &[f64]| BoxSet {
+            lo: c.iter().zip(hw).map(|(c, w)| c - w).collect(),
+            hi: c.iter().zip(hw).map(|(c, w)| c + w).collect(),
+        };
+        let ball_current = ball(&lls_cur, bounds.radius_current);
+        let box_current = boxed(&lls_cur, &bounds.half_widths_current);
+        // Guaranteed sets hold up to rounding: the worst-case noise reaches the box exactly.
+        let slack = |r: f64| r * 1e-9 + h.rounding_estimate(&lls_past, &y) * 10.0;
+        let truth_in_ball = truth.as_ref().map(|(_, xc)| {
+            (xc - &lls_cur).norm() <= bounds.radius_current + slack(bounds.radius_current)
+        });
+        let truth_in_box = truth.as_ref().map(|(_, xc)| {
+            (0..n).all(|i| {
+                (xc[i] - lls_cur[i]).abs()
+                    <= bounds.half_widths_current[i] + slack(bounds.half_widths_current[i])
+            })
+        });
+        let regularized = if p < n {
+            let reg = h.regularized(p)?;
+            let rd = h.residual_data(&y, &u);
+            let cur = reg.current.as_ref();
+            Some(RegularizedReport {
+                p,
+                estimate_past: vec_of(&(&reg.gain_past * &rd)),
+                projection_past: linalg::to_rows(&reg.projection_past),
+                kappa_past: reg.kappa_past,
+                kappa_lls_past: 1.0 / h.sigma[p - 1],
+                estimate_current: reg.estimate_current(&h, &y, &u).map(|v| vec_of(&v)),
+                projection_current: cur.map(|c| linalg::to_rows(&c.1)),
+                kappa_current: cur.map(|c| c.2),
+                truth_projected_past: truth
+                    .as_ref()
+                    .map(|(xp, _)| vec_of(&(&reg.projection_past * xp))),
+                truth_projected_current: match (cur, &truth) {
+                    (Some(c), Some((_, xc))) => Some(vec_of(&(&c.1 * xc))),
+                    _ => None,
+                },
+            })
+        } else {
+            None
+        };
+        let rounding = h.rounding_estimate(&lls_past, &y);
+        let precision = match &spec.monte_carlo {
+            Some(mc) => {
+                let mut study = self.precision(mc)?;
+                while !study.finished() {
+                    study.step(1000);
+                }
+                Some(study.report())
+            }
+            None => None,
+        };
+        Ok(GllsReport {
+            n,
+            m: model.m(),
+            k,
+            s,
+            estimator: spec.estimator.clone(),
+            plane: self.plane,
+            index,
+            best_horizon,
+            index_p,
+            best_horizon_p,
+            prime_gap_log10,
+            sigma: h.sigma.clone(),
+            sigma_prime: h.sigma_prime.clone(),
+            kappa_past: h.kappa_past,
+            kappa_lls_past: h.kappa_lls_past,
+            kappa_current: h.kappa_current,
+            kappa_lls_current: h.kappa_lls_current,
+            estimate_past: vec_of(&est_past),
+            estimate_current: vec_of(&est_cur),
+            x_true_past: truth.as_ref().map(|t| vec_of(&t.0)),
+            x_true_current: truth.as_ref().map(|t| vec_of(&t.1)),
+            error_current: truth.as_ref().map(|t| (&est_cur - &t.1).norm()),
+            mu: self.mu,
+            ball_past: ball(&lls_past, bounds.radius_past),
+            box_past: boxed(&lls_past, &bounds.half_widths_past),
+            ball_current,
+            box_current,
+            truth_in_ball,
+            truth_in_box,
+            noise_max: self.noise_max,
+            expected_bound: h.expected_bound(&model.omega),
+            rounding_estimate: rounding,
+            rounding_dominates: {
+                let bound = bounds.radius_current.max(h.expected_bound(&model.omega));
+                bound > 0.0 && rounding > 0.1 * bound
+            },
+            regularized,
+            state_noise,
+            precision,
+            curves,
+            x_true: self.x_true.as_ref().map(|x| rows_of(x)),
+            y: rows_of(&self.y),
+        })
+    }
+
+    /// The Monte Carlo of the `monte_carlo` block, not yet run (the page steps it in chunks).
+    pub fn precision(&self, mc: &GllsMonteCarloSpec) -> Result<Precision> {
+        let study = match mc.study.as_str() {
+            "precision" => Study::Precision,
+            "state_noise" => Study::StateNoiseVsLls,
+            other => {
+                return Err(Error::field(
+                    "glls.monte_carlo.study",
+                    format!("must be \"precision\" or \"state_noise\", found \"{other}\""),
+                ))
+            }
+        };
+        let steps = mc.steps.unwrap_or(self.y.len());
+        if !(2..=5000).contains(&steps) {
+            return Err(Error::field(
+                "glls.monte_carlo.steps",
+                format!("must lie in 2..=5000, found {steps}"),
+            ));
+        }
+        let s_max = mc
+            .max_horizon
+            .unwrap_or(self.spec.max_horizon.min(steps - 1).min(30));
+        let s_min = if study == Study::StateNoiseVsLls {
+            1
+        } else {
+            0
+        };
+        Precision::new(
+            &self.model,
+            study,
+            self.weighting,
+            steps,
+            (s_min, s_max),
+            self.u.clone(),
+            mc.runs,
+            mc.seed,
+        )
+    }
+}
