@@ -17,6 +17,13 @@
 //! const mask = s.raster(512, 512);        // Uint32Array, row 0 on top: 0 = in X̂, bit l = outside X̂_l
 //! const c = new LscrExperiment(JSON.stringify(withCoverage)); // simulate.condition + lscr.coverage
 //! while (!c.finished()) report = JSON.parse(c.step(200));    // counts, levels, 99.9 % bands
+//!
+//! // GLLS (method "glls"): the page runs its scenario without glls.monte_carlo (fast) and the
+//! // Monte Carlo of Section 5 apart, in chunks; the study's result goes into the kept report
+//! // so the "precision" panel draws it.
+//! const g = new GllsStudy(JSON.stringify(withMonteCarlo));    // needs glls.monte_carlo
+//! while (!g.finished()) study = JSON.parse(g.step(100));     // PrecisionReport so far
+//! s.set_precision(JSON.stringify(study));                     // report.glls.precision = study
 //! ```
 //!
 //! Every error is thrown as a JS `Error` whose `message` is the crate [`Error`]'s text (it
@@ -31,6 +38,7 @@
 
 use crate::error::Error;
 use crate::experiment::ConditionalExperiment;
+use crate::glls;
 use crate::lscr;
 use crate::plot::{self, Frame, View};
 use crate::presets;
@@ -192,6 +200,35 @@ impl Session {
     }
 }
 
+#[wasm_bindgen]
+impl Session {
+    /// Store a GLLS precision study's result (JSON of a `PrecisionReport`, as
+    /// [`GllsStudy::step`] returns it) as the kept report's `glls.precision`, so the
+    /// `"precision"` panel draws it; `"null"` removes it. Returns nothing; the next `run`
+    /// replaces the kept report (and so drops the study).
+    pub fn set_precision(&mut self, precision_json: &str) -> Result<(), JsValue> {
+        let precision: Option<glls::PrecisionReport> = serde_json::from_str(precision_json)
+            .map_err(|e| {
+                js_error(&Error::field(
+                    "glls.precision",
+                    format!("is not a valid precision report: {e}"),
+                ))
+            })?;
+        let report = self
+            .report
+            .as_mut()
+            .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))?;
+        let g = report.glls.as_mut().ok_or_else(|| {
+            js_error(&Error::field(
+                "method",
+                "the kept report is not a GLLS report: run a scenario with \"method\": \"glls\" first",
+            ))
+        })?;
+        g.precision = precision;
+        Ok(())
+    }
+}
+
 impl Session {
     fn kept(&self) -> Result<&Report, JsValue> {
         self.report
@@ -273,6 +310,59 @@ impl LscrExperiment {
     /// Total number of runs asked for.
     pub fn total(&self) -> usize {
         self.inner.total
+    }
+
+    pub fn finished(&self) -> bool {
+        self.inner.finished()
+    }
+}
+
+/// The Monte Carlo of the GLLS paper's Section 5 (`glls.monte_carlo`: `runs`, `seed`, `study`
+/// "precision" | "state_noise", `steps`, `max_horizon`) of a GLLS scenario, run in chunks so the
+/// page stays responsive and can cancel (by dropping it).
+#[wasm_bindgen]
+pub struct GllsStudy {
+    inner: glls::Precision,
+}
+
+#[wasm_bindgen]
+impl GllsStudy {
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario_json: &str) -> Result<GllsStudy, JsValue> {
+        let prepared = Scenario::from_json(scenario_json)
+            .and_then(|s| s.prepare_glls())
+            .map_err(|e| js_error(&e))?;
+        let mc = prepared.spec.monte_carlo.as_ref().ok_or_else(|| {
+            js_error(&Error::field(
+                "glls.monte_carlo",
+                "is missing: the study needs glls.monte_carlo (runs, seed, study)",
+            ))
+        })?;
+        let inner = prepared.precision(mc).map_err(|e| js_error(&e))?;
+        Ok(GllsStudy { inner })
+    }
+
+    /// Run up to `runs` more realizations; returns the study so far (JSON `PrecisionReport`:
+    /// `runs`, `total`, `horizons`, `first`/`second` spreads per horizon, `bound`,
+    /// `mean_state_norm`).
+    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
+        self.inner.step(runs as usize);
+        self.report()
+    }
+
+    /// The study so far (JSON, as [`GllsStudy::step`]).
+    pub fn report(&self) -> Result<String, JsValue> {
+        to_json("the precision study", &self.inner.report())
+    }
+
+    /// Total number of runs asked for.
+    pub fn total(&self) -> usize {
+        self.inner.total
+    }
+
+    /// Runs done so far.
+    pub fn runs(&self) -> usize {
+        self.inner.runs
     }
 
     pub fn finished(&self) -> bool {
