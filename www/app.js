@@ -1,8 +1,10 @@
-// Bootstrap: load the wasm module, then hand the presets to the SCF vs KF panel and the LSCR panel.
-// The page computes nothing itself: every number and every picture comes from ./pkg/confset.js.
+// Bootstrap: load the wasm module, then hand the presets to the SCF vs KF panel, the LSCR panel
+// and the GLLS panel. The page computes nothing itself: every number and every picture comes from
+// ./pkg/confset.js.
 import init, * as confset from './pkg/confset.js';
 import { mountScf } from './scf.js';
 import { mountLscr } from './lscr.js';
+import { mountGlls } from './glls.js';
 
 async function main() {
   const status = document.getElementById('t-run');
@@ -16,9 +18,10 @@ async function main() {
   // The module's exports, for the browser tests' timings (page.evaluate) and the console.
   window.confset = confset;
   const list = JSON.parse(confset.presets());
-  const isLscr = (p) => p.scenario.method === 'lscr';
-  await mountScf(document.getElementById('scf'), list.filter((p) => !isLscr(p)));
-  await mountLscr(document.getElementById('lscr'), list.filter(isLscr));
+  const method = (p) => p.scenario.method;
+  await mountScf(document.getElementById('scf'), list.filter((p) => !['lscr', 'glls'].includes(method(p))));
+  await mountLscr(document.getElementById('lscr'), list.filter((p) => method(p) === 'lscr'));
+  await mountGlls(document.getElementById('glls'), list.filter((p) => method(p) === 'glls'));
   document.body.dataset.ready = '1';
 }
 

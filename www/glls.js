@@ -1,0 +1,457 @@
+// The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → wasm
+// Session.run → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
+// "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, in chunks
+// (wasm GllsStudy), and its result is handed back to the Session (set_precision) so the
+// "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
+// and shows what the core reports.
+import { Session, GllsStudy } from './pkg/confset.js';
+import { Figure, download } from './figure.js';
+import { runChunked, fieldErrors } from './chunked.js';
+import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
+
+const clone = (v) => JSON.parse(JSON.stringify(v));
+const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
+  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : v.toPrecision(4));
+const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
+const int = (v) => v.toLocaleString('en-US');
+const SUB = '₀₁₂₃₄₅₆₇₈₉';
+const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
+const mark = (b) => (b == null ? '' : b ? '<b class="good">✓ inside</b>' : '<b class="warn">✗ outside</b>');
+const CUSTOM = 'custom';
+const CHUNK = 25; // runs per GllsStudy.step
+const STUDY_DRAW_MS = 120; // redraw the precision figure at most this often while the study runs
+
+// The custom mode is one more "preset" whose model comes from the text boxes.
+const CUSTOM_PRESET = {
+  name: CUSTOM,
+  description: 'Your own A, C, Ω (and B): x(k+1) = A x(k) + B u(k), y(k) = C x(k) + δ(k); every change is validated and run at once.',
+  scenario: {
+    method: 'glls', title: 'GLLS: custom model',
+    model: { F: [[0.95, 0.3], [-0.3, 0.95]], H: [[1, 0]], W: [[0.01]], x1_mean: [1, 0] },
+    simulate: { steps: 40, seed: 3 },
+    glls: {
+      max_horizon: 60, estimator: 'lls', mu: 0.3, noise: 'gaussian', plane: [0, 1],
+      monte_carlo: { runs: 500, seed: 1, study: 'precision', max_horizon: 30 },
+    },
+    notes: 'A damped rotation (|λ| ≈ 0.996) seen through its first component. Both singular values of Γ_{s+1} grow '
+      + 'while the rotation keeps feeding the measured component, then saturate as it decays. Try A = [[1.02 0.3] [-0.3 1.02]] '
+      + '(both σ grow), a singular A (σ(Γ A^{−s}) disappears), or C = [1 1] with two outputs by adding a row.',
+  },
+};
+
+function number(field, text) {
+  const v = Number(text);
+  if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
+  return v;
+}
+
+// The core draws every GLLS picture; the horizon marker and the sets come from the kept report.
+class GllsFigure extends Figure {
+  view() { return JSON.stringify({ panel: this.panel }); }
+}
+
+export async function mountGlls(root, presets) {
+  const session = new Session();
+  const $ = (id) => root.querySelector(`#${id}`);
+  const ui = Object.fromEntries(['preset', 'preset-desc', 'custom', 'm-F', 'm-H', 'm-B', 'm-W', 'x0', 's', 's-out',
+    's-min', 's-max', 'auto', 'estimator', 'noise', 'p', 'mu', 'steps', 'seed', 'max', 'px', 'py', 'stale', 'numbers',
+    'num-title', 'timing', 'notes', 'prec-note', 'mc-n', 'mc-go', 'mc-cancel', 'mc-progress', 'mc-status', 'mc-err',
+    'mc-verdict', 'mc-kind', 'mc-hint']
+    .map((id) => [id, $(`g-${id}`)]));
+  const all = [...presets, CUSTOM_PRESET];
+  const st = {
+    preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0, busy: 0, mcBusy: 0,
+    // The last study (possibly partial) and the scenario key it belongs to.
+    study: null, studyJson: '', studyKey: '', studyDone: false,
+  };
+  const stem = () => `${st.preset.name}-s${st.report ? st.report.glls.s : ui.s.value}`;
+  const figures = [...root.querySelectorAll('figure.card')].map((c) => new GllsFigure(c, session, stem));
+  const precisionFigure = figures.find((f) => f.panel === 'precision');
+  for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
+  for (const k of ['F', 'H', 'B', 'W']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
+  ui.x0.value = CUSTOM_PRESET.scenario.model.x1_mean.join(' ');
+
+  // ----- controls ⇄ scenario -----
+  const isCustom = () => st.preset === CUSTOM_PRESET;
+  // State dimension n of the model the controls describe (0 while the custom F does not parse).
+  function dim() {
+    if (!isCustom()) return st.preset.scenario.model.F.length;
+    try { return parseMatrix('model.F', ui['m-F'].value).length; } catch { return 0; }
+  }
+
+  function planeOptions(plane) {
+    const n = dim();
+    if (!n) return;
+    const keep = plane || [Number(ui.px.value), Number(ui.py.value)];
+    for (const [sel, v] of [[ui.px, keep[0]], [ui.py, keep[1]]]) {
+      sel.replaceChildren(...Array.from({ length: n }, (_, i) => new Option(`x${sub(i + 1)}`, String(i))));
+      sel.value = String(Number.isInteger(v) && v < n ? v : Math.min(sel === ui.px ? 0 : 1, n - 1));
+    }
+    ui.p.max = String(n);
+  }
+
+  function loadPreset(name) {
+    st.preset = all.find((p) => p.name === name) || all[0];
+    const s = st.preset.scenario;
+    const g = s.glls;
+    ui.custom.hidden = !isCustom();
+    ui['preset-desc'].textContent = st.preset.description;
+    ui.auto.checked = g.horizon == null;
+    if (g.horizon != null) ui.s.value = g.horizon;
+    ui.estimator.value = g.estimator || 'lls';
+    ui.noise.value = g.noise || 'gaussian';
+    ui.p.value = g.p ?? s.model.F.length;
+    ui.mu.value = g.mu ?? '';
+    ui.steps.value = s.simulate.steps;
+    ui.seed.value = s.simulate.seed;
+    ui.max.value = g.max_horizon ?? 60;
+    planeOptions(g.plane || [0, 1]);
+    ui.notes.textContent = (s.notes || '').replace(/\s{2,}/g, ' ');
+    horizonRange();
+  }
+
+  // The slider spans 0..min(S, k) with k = steps − 1 (what the inputs say; the core checks).
+  function horizonRange() {
+    const steps = Number(ui.steps.value);
+    const max = Number(ui.max.value);
+    const top = Math.max(1, Math.min(Number.isFinite(max) && max > 0 ? max : 60, Number.isFinite(steps) && steps > 1 ? steps - 1 : 1));
+    ui.s.max = String(top);
+    ui['s-max'].textContent = String(top);
+    if (Number(ui.s.value) > top) ui.s.value = String(top);
+    showHorizon();
+  }
+
+  function showHorizon() {
+    const g = st.report?.glls;
+    if (g && ui.auto.checked) ui.s.value = String(g.s); // the slider follows the best horizon
+    const best = g?.best_horizon;
+    ui['s-out'].textContent = ui.auto.checked
+      ? `= ${g ? g.s : '…'} (best)` : `= ${ui.s.value}${best != null && Number(ui.s.value) === best ? ' (best)' : ''}`;
+  }
+
+  // The Monte Carlo block the page would send (the study type follows the estimator).
+  function monteCarlo(s) {
+    const pre = st.preset.scenario.glls.monte_carlo || {};
+    const cap = Math.min(pre.max_horizon ?? 30, s.glls.max_horizon, s.simulate.steps - 1);
+    return {
+      runs: 500, seed: pre.seed ?? 1,
+      study: s.glls.estimator === 'state_noise' ? 'state_noise' : 'precision',
+      max_horizon: Math.max(0, cap),
+    };
+  }
+
+  // The scenario the controls describe: the preset's, with fields changed, without monte_carlo.
+  function buildScenario() {
+    const s = clone(st.preset.scenario);
+    if (isCustom()) {
+      for (const k of ['F', 'H', 'W']) s.model[k] = parseMatrix(`model.${k}`, ui[`m-${k}`].value);
+      if (ui['m-B'].value.trim() !== '') {
+        s.model.B = parseMatrix('model.B', ui['m-B'].value);
+        s.simulate.u = [s.model.B[0].map(() => 1)]; // a unit step on every input
+      } else {
+        delete s.model.B;
+        delete s.simulate.u;
+      }
+      s.model.x1_mean = parseVector('model.x1_mean', ui.x0.value);
+    }
+    s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
+    s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
+    const g = s.glls;
+    g.max_horizon = wholeNumber('glls.max_horizon', ui.max.value);
+    if (ui.auto.checked) delete g.horizon; else g.horizon = wholeNumber('glls.horizon', ui.s.value);
+    g.estimator = ui.estimator.value;
+    g.noise = ui.noise.value;
+    g.p = wholeNumber('glls.p', ui.p.value);
+    if (ui.mu.value.trim() === '') delete g.mu; else g.mu = number('glls.mu', ui.mu.value);
+    g.plane = [Number(ui.px.value), Number(ui.py.value)];
+    const mc = g.monte_carlo;
+    delete g.monte_carlo;
+    delete s.notes;
+    return { scenario: s, mc };
+  }
+
+  // What the study depends on: the model, the data length and inputs, the weighting, its block.
+  const studyKey = (s, mc) => JSON.stringify([s.model, s.simulate.steps, s.simulate.u || [], s.glls.estimator, mc]);
+
+  // ----- errors next to the field they name -----
+  const errors = fieldErrors(root, ui.stale, 'form ');
+  const showError = (e) => errors.show(e, !!st.report);
+
+  // ----- compute and draw -----
+  const flag = (key, on) => { if (on) document.body.dataset[key] = '1'; else delete document.body.dataset[key]; };
+  function setBusy(d) { st.busy += d; flag('gllsBusy', st.busy > 0); }
+  function setMcBusy(d) { st.mcBusy += d; flag('gllsMcBusy', st.mcBusy > 0); }
+
+  function compute() {
+    let built, json;
+    try {
+      built = buildScenario();
+      const t0 = performance.now();
+      json = session.run(JSON.stringify(built.scenario));
+      st.runMs = performance.now() - t0;
+      st.report = JSON.parse(json);
+      errors.clear();
+    } catch (e) {
+      showError(e);
+      return;
+    }
+    st.reportJson = json;
+    st.scenario = built.scenario;
+    const mc = monteCarlo(built.scenario);
+    const key = studyKey(built.scenario, mc);
+    if (key !== st.studyKey) {
+      newStudy(key);
+      queueMicrotask(() => runStudy(true));
+    } else if (st.studyJson) {
+      session.set_precision(st.studyJson); // the new report keeps the study of the same model
+    }
+    redraw();
+  }
+
+  function redraw() {
+    if (!st.report) return;
+    const t0 = performance.now();
+    for (const f of figures) {
+      if (f === precisionFigure) drawPrecision(); else f.draw();
+    }
+    st.drawMs = performance.now() - t0;
+    showHorizon();
+    showNumbers();
+  }
+
+  // The precision figure needs a study; until the first chunk lands it says so.
+  function drawPrecision() {
+    const has = !!st.studyJson;
+    ui['prec-note'].hidden = has;
+    if (has) {
+      precisionFigure.draw();
+    } else {
+      precisionFigure.fit();
+      precisionFigure.canvas.getContext('2d').clearRect(0, 0, precisionFigure.canvas.width, precisionFigure.canvas.height);
+      precisionFigure.frame = null;
+      precisionFigure.err.textContent = '';
+    }
+  }
+
+  let queued = null;
+  function schedule(what) { // coalesce bursts of input events into one run per frame
+    if (queued === 'compute' || queued === what) return;
+    if (!queued) setBusy(+1);
+    queued = what;
+    requestAnimationFrame(() => {
+      const w = queued;
+      queued = null;
+      try { if (w === 'compute') compute(); else redraw(); } finally { setBusy(-1); }
+    });
+  }
+
+  // ----- numbers from the report -----
+  const list = (v) => (Array.isArray(v) ? v.map(fmt).join(', ') : '–');
+  const pow10 = (l) => (typeof l === 'number' && l > -300 ? 10 ** l : null); // the report's log10 curves
+
+  function showNumbers() {
+    const r = st.report;
+    const g = r.glls;
+    const n = g.n;
+    const s = g.s;
+    const est = { lls: 'LLS', glls: 'GLLS', state_noise: 'state-noise estimator' }[g.estimator] || g.estimator;
+    ui['num-title'].textContent = `x(${g.k}) from y(${g.k - s}) … y(${g.k}): s = ${s}, k = ${g.k}, ${est}`;
+    const rows = [];
+    const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
+    const bestP = g.best_horizon_p != null ? `; σ${sub(g.regularized?.p ?? '')}/√s: s = ${g.best_horizon_p}` : '';
+    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}` : 'none in 1..S (σ<sub>n</sub>/√s still rising)'}${bestP}`
+      + `${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}`);
+    row(`σ(Γ<sub>${s + 1}</sub>)`, list(g.sigma));
+    row(`σ(Γ<sub>${s + 1}</sub>A<sup>−${s}</sup>)`, g.sigma_prime ? list(g.sigma_prime) : 'A is singular');
+    let html = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
+    if (g.prime_gap_log10 != null) {
+      const tiny = g.prime_gap_log10 < 1e-6;
+      html += `<p class="remark">Paper's remark (σ(Γ) = σ(Γ A<sup>−s</sup>)) checked over s ≤ S: max |log₁₀ σ − log₁₀ σ′| = ${fmt(g.prime_gap_log10)}: ${tiny
+        ? '<b class="good">the singular values coincide</b> (A orthogonal)' : '<b class="warn">the singular values do NOT coincide</b>'}.</p>`;
+    }
+    // Condition numbers: κ_LLS = 1/σ_n (past), 1/σ'_n (current); κ_GLLS with the model's Ω.
+    const c = g.curves;
+    const at = (a) => (a && s < a.length ? a[s] : undefined);
+    const kGllsPast = pow10(at(c.log10_kappa_glls_past));
+    const kGllsCur = pow10(at(c.log10_kappa_glls_current));
+    const kLlsCur = g.kappa_lls_current ?? pow10(at(c.log10_kappa_lls_current));
+    const omegaNote = kGllsPast == null ? ' <span class="hint">(Ω singular)</span>' : '';
+    html += `<table class="kappa"><thead><tr><th>κ</th><th>LLS</th><th>GLLS${omegaNote}</th><th>in use</th></tr></thead><tbody>
+      <tr><th>past x(${g.k - s})</th><td>${fmt(g.kappa_lls_past)}</td><td>${fmt(kGllsPast)}</td><td>${fmt(g.kappa_past)}</td></tr>
+      <tr><th>current x(${g.k})</th><td>${fmt(kLlsCur)}</td><td>${fmt(kGllsCur)}</td><td>${fmt(g.kappa_current)}</td></tr></tbody></table>`;
+    // Estimate, truth, guaranteed sets.
+    const e = [];
+    const erow = (a, b) => e.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
+    erow(`estimate x̂(${g.k})`, vec(g.estimate_current));
+    erow(`truth x(${g.k})`, g.x_true_current ? vec(g.x_true_current) : '– (data given)');
+    if (g.error_current != null) erow('error ‖x̂ − x‖', fmt(g.error_current));
+    const radius = Math.sqrt(g.ball_current.cov[0][0] * g.ball_current.radius2);
+    erow('guaranteed ball', `radius ${fmt(radius)} (‖δ(j)‖ ≤ μ = ${fmt(g.mu)}, √(s+1) form) ${mark(g.truth_in_ball)}`);
+    const b = g.box_current;
+    erow('guaranteed box', `${b.lo.map((lo, i) => `x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(b.hi[i])}]`).join(', ')} ${mark(g.truth_in_box)}`);
+    if (g.noise_max != null) {
+      erow('largest ‖δ(j)‖ drawn', `${fmt(g.noise_max)} ${g.noise_max <= g.mu * (1 + 1e-12)
+        ? '<span class="good">≤ μ: the sets are guaranteed</span>' : '<span class="warn">&gt; μ: no guarantee for this draw</span>'}`);
+    }
+    erow('expected bound κ√((s+1) tr Ω)', fmt(g.expected_bound));
+    erow('rounding estimate', `${fmt(g.rounding_estimate)}${g.rounding_dominates ? '' : ' <span class="hint">(negligible)</span>'}`);
+    html += `<table class="est"><tbody>${e.join('')}</tbody></table>`;
+    if (g.rounding_dominates) {
+      html += `<p class="alarm">⚠ Rounding dominates: the estimated floating-point error ${fmt(g.rounding_estimate)} rivals the statistical bound — `
+        + 'this horizon loses to double precision what κ promises (shorten s).</p>';
+    }
+    if (g.state_noise) {
+      const sn = g.state_noise;
+      const ok = sn.qp_difference <= 1e-6 * Math.max(1, ...sn.estimate_past.map(Math.abs));
+      html += `<p><b>State-noise estimator</b> (60)–(64): x̂(${g.k}) = ${vec(sn.estimate_current)}<br>QP check (clarabel vs closed form): max difference ${fmt(sn.qp_difference)} ${
+        ok ? '<b class="good">✓ agree</b>' : '<b class="warn">✗ differ</b>'}</p>`;
+    }
+    if (g.regularized) {
+      const rg = g.regularized;
+      html += `<p><b>Regularized</b>, p = ${rg.p} of ${n} σ's kept: κ = ${fmt(rg.kappa_past)} (vs 1/σ<sub>${rg.p}</sub> = ${fmt(rg.kappa_lls_past)}) for x(${g.k - s})<br>`
+        + `x̂<sub>reg</sub>(${g.k - s}) = ${vec(rg.estimate_past)} vs projected truth ${vec(rg.truth_projected_past)}`;
+      if (rg.estimate_current) {
+        html += `<br>x̂<sub>reg</sub>(${g.k}) = ${vec(rg.estimate_current)} vs projected truth ${vec(rg.truth_projected_current)}`
+          + `${rg.kappa_current != null ? `, κ = ${fmt(rg.kappa_current)}` : ''}`;
+      } else {
+        html += `<br>current state: <span class="hint">A is singular, no regularized x(${g.k})</span>`;
+      }
+      html += '</p>';
+    } else if (n > 1) {
+      html += `<p class="hint">p = n = ${n}: no regularization (set p &lt; n to drop the smallest singular values).</p>`;
+    }
+    ui.numbers.innerHTML = html;
+    ui.timing.textContent = `rendered in ${(st.runMs + st.drawMs).toFixed(1)} ms (run ${st.runMs.toFixed(1)} ms + draw ${st.drawMs.toFixed(1)} ms)`;
+  }
+
+  // ----- the Monte Carlo of Section 5 -----
+  let running = null; // { cancelled, stale, total }
+
+  function newStudy(key) {
+    if (running) Object.assign(running, { cancelled: true, stale: true });
+    Object.assign(st, { study: null, studyJson: '', studyKey: key, studyDone: false });
+    ui['mc-status'].textContent = '';
+    ui['mc-err'].textContent = '';
+    ui['mc-verdict'].textContent = '';
+    ui['mc-progress'].value = 0;
+    const sn = st.scenario?.glls.estimator === 'state_noise';
+    ui['mc-kind'].textContent = sn ? '— Section 5.2: state-noise estimator vs LLS' : '— Section 5.1: precision vs horizon';
+    ui['mc-hint'].textContent = sn
+      ? 'Each run simulates x(k+1) = A x(k) + ξ(k), y = C x, and estimates x(k) with both estimators at every horizon (Fig. 4).'
+      : 'Each run simulates new Gaussian data of the model and estimates x(k) at every horizon; the boxes are the error quartiles, the curve the expected bound κ√((s+1) tr Ω) (Fig. 3).';
+  }
+
+  function showStudy(c, done) {
+    st.study = c;
+    st.studyJson = JSON.stringify(c);
+    st.studyDone = done;
+    ui['mc-progress'].max = Math.max(1, c.total);
+    ui['mc-progress'].value = c.runs;
+    if (!done) { ui['mc-verdict'].textContent = ''; return; }
+    // Where the median error is smallest, and how the bound compares there.
+    let best = -1;
+    c.first.forEach((sp, i) => { if (sp && (best < 0 || sp.median < c.first[best].median)) best = i; });
+    if (best < 0) { ui['mc-verdict'].textContent = ''; return; }
+    const s = c.horizons[best];
+    let v = `Smallest median error ${fmt(c.first[best].median)} at s = ${s}`;
+    if (c.second) {
+      const pairs = c.first.map((sp, i) => [sp, c.second[i]]).filter(([a, b2]) => a && b2);
+      const wins = pairs.filter(([a, b2]) => a.median < b2.median).length;
+      v += `; the state-noise estimator has the smaller median at ${wins} of ${pairs.length} horizons`;
+    } else if (c.bound[best] != null) {
+      v += ` (expected bound there ${fmt(c.bound[best])})`;
+    }
+    v += `. Mean ‖x(k)‖ = ${fmt(c.mean_state_norm)}.`;
+    ui['mc-verdict'].textContent = v;
+  }
+
+  async function runStudy(auto = false) {
+    ui['mc-err'].textContent = '';
+    if (!st.scenario) return;
+    let study, total;
+    try {
+      total = wholeNumber('glls.monte_carlo.runs', ui['mc-n'].value);
+      const s = clone(st.scenario);
+      s.glls.monte_carlo = { ...monteCarlo(s), runs: total };
+      study = new GllsStudy(JSON.stringify(s));
+    } catch (e) {
+      ui['mc-err'].textContent = e.message;
+      return;
+    }
+    if (running) Object.assign(running, { cancelled: true, stale: true });
+    const me = { cancelled: false, stale: false, total };
+    running = me;
+    ui['mc-go'].disabled = true;
+    ui['mc-cancel'].disabled = false;
+    setMcBusy(+1);
+    let lastDraw = 0;
+    try {
+      const { counts: c, wall, compute: ms } = await runChunked(study, CHUNK, me, (c) => {
+        if (me.stale) return;
+        showStudy(c, false);
+        ui['mc-status'].textContent = `${int(c.runs)} / ${int(total)} runs${auto ? ' (started with the scenario)' : ''}`;
+        const now = performance.now();
+        if (now - lastDraw > STUDY_DRAW_MS && st.report) {
+          lastDraw = now;
+          session.set_precision(st.studyJson);
+          drawPrecision();
+        }
+      });
+      if (me.stale) return; // the model changed: this study belongs to the old one
+      showStudy(c, !me.cancelled);
+      session.set_precision(st.studyJson);
+      drawPrecision();
+      ui['mc-status'].textContent = me.cancelled
+        ? `cancelled after ${int(c.runs)} runs (${wall.toFixed(0)} ms)`
+        : `${int(c.runs)} runs in ${wall.toFixed(0)} ms (computing ${ms.toFixed(0)} ms, ${(1000 * ms / c.runs).toFixed(0)} µs per run, ${c.horizons.length} horizons)`;
+    } catch (e) {
+      ui['mc-err'].textContent = e.message;
+    } finally {
+      study.free();
+      if (running === me) {
+        running = null;
+        ui['mc-go'].disabled = false;
+        ui['mc-cancel'].disabled = true;
+      }
+      setMcBusy(-1);
+    }
+  }
+
+  // ----- wiring -----
+  ui.preset.addEventListener('change', () => { loadPreset(ui.preset.value); schedule('compute'); });
+  ui['m-F'].addEventListener('input', () => planeOptions());
+  for (const id of ['m-F', 'm-H', 'm-B', 'm-W', 'x0', 'estimator', 'noise', 'p', 'mu', 'seed', 'px', 'py', 'auto']) {
+    ui[id].addEventListener('input', () => schedule('compute'));
+  }
+  for (const id of ['steps', 'max']) ui[id].addEventListener('input', () => { horizonRange(); schedule('compute'); });
+  ui.s.addEventListener('input', () => { ui.auto.checked = false; showHorizon(); schedule('compute'); });
+  ui.auto.addEventListener('change', () => {
+    if (!ui.auto.checked && st.report) ui.s.value = st.report.glls.s; // start the slider where the best was
+  });
+  ui['mc-go'].addEventListener('click', () => runStudy(false));
+  ui['mc-cancel'].addEventListener('click', () => { if (running) running.cancelled = true; });
+
+  // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
+  const ro = new ResizeObserver(() => schedule('redraw'));
+  for (const f of figures) ro.observe(f.canvas);
+  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
+    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
+  watchDpr();
+
+  $('g-dl-report').addEventListener('click', () => {
+    if (!st.report) return;
+    const r = clone(st.report);
+    if (st.study) r.glls.precision = st.study;
+    download(`${stem()}-report.json`, new Blob([JSON.stringify(r)], { type: 'application/json' }));
+  });
+  $('g-dl-scenario').addEventListener('click', () => {
+    if (!st.scenario) return;
+    const s = clone(st.scenario);
+    s.glls.monte_carlo = { ...monteCarlo(s), runs: Number(ui['mc-n'].value) || 500 };
+    download(`${stem()}-scenario.json`, new Blob([JSON.stringify(s, null, 2)], { type: 'application/json' }));
+  });
+
+  ui.preset.value = all[0].name;
+  loadPreset(all[0].name);
+  compute();
+}
