@@ -111,13 +111,15 @@ export async function mountGlls(root, presets) {
   }
 
   // The slider spans 0..min(S, k) with k = steps − 1 (what the inputs say; the core checks).
+  // Left alone while those inputs are not valid, so the horizon survives a typo.
   function horizonRange() {
     const steps = Number(ui.steps.value);
     const max = Number(ui.max.value);
-    const top = Math.max(1, Math.min(Number.isFinite(max) && max > 0 ? max : 60, Number.isFinite(steps) && steps > 1 ? steps - 1 : 1));
-    ui.s.max = String(top);
-    ui['s-max'].textContent = String(top);
-    if (Number(ui.s.value) > top) ui.s.value = String(top);
+    if (Number.isSafeInteger(steps) && steps >= 2 && Number.isSafeInteger(max) && max >= 1) {
+      const top = Math.min(max, steps - 1);
+      ui.s.max = String(top);
+      ui['s-max'].textContent = String(top);
+    }
     showHorizon();
   }
 
@@ -258,9 +260,9 @@ export async function mountGlls(root, presets) {
     ui['num-title'].textContent = `x(${g.k}) from y(${g.k - s}) … y(${g.k}): s = ${s}, k = ${g.k}, ${est}`;
     const rows = [];
     const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
-    const bestP = g.best_horizon_p != null ? `; σ${sub(g.regularized?.p ?? '')}/√s: s = ${g.best_horizon_p}` : '';
-    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}` : 'none in 1..S (σ<sub>n</sub>/√s still rising)'}${bestP}`
-      + `${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}`);
+    const bestP = g.best_horizon_p != null ? `; of σ<sub>${g.regularized?.p ?? 'p'}</sub>/√s: s = ${g.best_horizon_p}` : '';
+    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}`
+      : 'none in 1..S (σ<sub>n</sub>/√s still rising)'}${bestP}`);
     row(`σ(Γ<sub>${s + 1}</sub>)`, list(g.sigma));
     row(`σ(Γ<sub>${s + 1}</sub>A<sup>−${s}</sup>)`, g.sigma_prime ? list(g.sigma_prime) : 'A is singular');
     let html = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
@@ -286,14 +288,14 @@ export async function mountGlls(root, presets) {
     erow(`truth x(${g.k})`, g.x_true_current ? vec(g.x_true_current) : '– (data given)');
     if (g.error_current != null) erow('error ‖x̂ − x‖', fmt(g.error_current));
     const radius = Math.sqrt(g.ball_current.cov[0][0] * g.ball_current.radius2);
-    erow('guaranteed ball', `radius ${fmt(radius)} (‖δ(j)‖ ≤ μ = ${fmt(g.mu)}, √(s+1) form) ${mark(g.truth_in_ball)}`);
+    erow('guaranteed ball', `radius ${fmt(radius)} <span class="hint">(‖δ(j)‖ ≤ μ = ${fmt(g.mu)})</span> ${mark(g.truth_in_ball)}`);
     const b = g.box_current;
-    erow('guaranteed box', `${b.lo.map((lo, i) => `x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(b.hi[i])}]`).join(', ')} ${mark(g.truth_in_box)}`);
+    erow('guaranteed box', `${b.lo.map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(b.hi[i])}]</span>`).join(' ')} ${mark(g.truth_in_box)}`);
     if (g.noise_max != null) {
       erow('largest ‖δ(j)‖ drawn', `${fmt(g.noise_max)} ${g.noise_max <= g.mu * (1 + 1e-12)
         ? '<span class="good">≤ μ: the sets are guaranteed</span>' : '<span class="warn">&gt; μ: no guarantee for this draw</span>'}`);
     }
-    erow('expected bound κ√((s+1) tr Ω)', fmt(g.expected_bound));
+    erow('expected error bound', `${fmt(g.expected_bound)} <span class="hint">= κ·√((s+1) tr Ω) (39)</span>`);
     erow('rounding estimate', `${fmt(g.rounding_estimate)}${g.rounding_dominates ? '' : ' <span class="hint">(negligible)</span>'}`);
     html += `<table class="est"><tbody>${e.join('')}</tbody></table>`;
     if (g.rounding_dominates) {
