@@ -12,7 +12,9 @@ import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : v.toPrecision(4));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
+// Vectors keep 5 digits for large entries: an unstable state of 10⁷ and its estimate differ in the 5th.
+const fmtLong = (v) => (typeof v === 'number' && Number.isFinite(v) && Math.abs(v) >= 1e4 ? v.toExponential(4) : fmt(v));
+const vec = (v) => (Array.isArray(v) ? `(${v.map(fmtLong).join(', ')})` : '–');
 const int = (v) => v.toLocaleString('en-US');
 const SUB = '₀₁₂₃₄₅₆₇₈₉';
 const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
@@ -39,6 +41,8 @@ const CUSTOM_PRESET = {
   },
 };
 
+const hasStateNoise = (s) => Array.isArray(s?.model?.V) && s.model.V.flat(2).some((v) => v !== 0);
+
 function number(field, text) {
   const v = Number(text);
   if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
@@ -48,6 +52,21 @@ function number(field, text) {
 // The core draws every GLLS picture; the horizon marker and the sets come from the kept report.
 class GllsFigure extends Figure {
   view() { return JSON.stringify({ panel: this.panel }); }
+
+  // Log axes are drawn in log10 units (the frame's y range): read the value itself out.
+  showCursor(px, py) {
+    const f = this.frame;
+    if (!f) return;
+    const [l, t, r, b] = f.plot_area;
+    if (px < l || px > r || py < t || py > b || r <= l || b <= t) { this.cursor.textContent = ''; return; }
+    const x = f.x_range[0] + ((px - l) / (r - l)) * (f.x_range[1] - f.x_range[0]);
+    let y = f.y_range[1] - ((py - t) / (b - t)) * (f.y_range[1] - f.y_range[0]);
+    const log = /\(log scale\)/.test(f.y_label || '');
+    if (log) y = 10 ** y;
+    const name = (s, d) => (s || d).replace(/\s*\(log scale\)/, '');
+    const xs = this.panel === 'plane' ? fmt(x) : String(Math.round(x));
+    this.cursor.textContent = `${name(f.x_label, 'x')} = ${xs}, ${name(f.y_label, 'y')} = ${fmt(y)}`;
+  }
 }
 
 export async function mountGlls(root, presets) {
@@ -287,7 +306,9 @@ export async function mountGlls(root, presets) {
     erow(`estimate x̂(${g.k})`, vec(g.estimate_current));
     erow(`truth x(${g.k})`, g.x_true_current ? vec(g.x_true_current) : '– (data given)');
     if (g.error_current != null) erow('error ‖x̂ − x‖', fmt(g.error_current));
-    const radius = Math.sqrt(g.ball_current.cov[0][0] * g.ball_current.radius2);
+    // The report stores a zero radius as a tiny positive variance (a valid ellipsoid).
+    const r2 = g.ball_current.cov[0][0] * g.ball_current.radius2;
+    const radius = r2 < 1e-200 ? 0 : Math.sqrt(r2);
     erow('guaranteed ball', `radius ${fmt(radius)} <span class="hint">(‖δ(j)‖ ≤ μ = ${fmt(g.mu)})</span> ${mark(g.truth_in_ball)}`);
     const b = g.box_current;
     erow('guaranteed box', `${b.lo.map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(b.hi[i])}]</span>`).join(' ')} ${mark(g.truth_in_box)}`);
@@ -298,6 +319,10 @@ export async function mountGlls(root, presets) {
     erow('expected error bound', `${fmt(g.expected_bound)} <span class="hint">= κ·√((s+1) tr Ω) (39)</span>`);
     erow('rounding estimate', `${fmt(g.rounding_estimate)}${g.rounding_dominates ? '' : ' <span class="hint">(negligible)</span>'}`);
     html += `<table class="est"><tbody>${e.join('')}</tbody></table>`;
+    if (hasStateNoise(st.scenario)) {
+      html += '<p class="hint">This model has transition noise ξ (model.V): the ball and box bound the effect of the '
+        + 'measurement noise δ only, so they are not guaranteed here — the state-noise estimator is the one to use.</p>';
+    }
     if (g.rounding_dominates) {
       html += `<p class="alarm">⚠ Rounding dominates: the estimated floating-point error ${fmt(g.rounding_estimate)} rivals the statistical bound — `
         + 'this horizon loses to double precision what κ promises (shorten s).</p>';

@@ -92,6 +92,18 @@ export default async function glls({ baseUrl, newPage, waitReady, assert, screen
     assert.equal(await page.$eval('#g-s', (e) => [e.value, e.max].join()), '8,39');
 
     if (dpr === 1) {
+      // The cursor read-out: log axes read the value itself, not its log10.
+      for (const p of PANELS) {
+        const c = await page.$(`#fig-${p} canvas`);
+        await c.scrollIntoViewIfNeeded();
+        const bb = await c.boundingBox();
+        await page.mouse.move(bb.x + bb.width * 0.55, bb.y + bb.height * 0.5);
+        const cur = await text(page, `#fig-${p} .cursor`);
+        assert.match(cur, /^.+ = -?[\d.e+-]+, .+ = -?[\d.e+-]+$/, `${p} cursor read-out: "${cur}"`);
+        if (p === 'singular') assert.match(cur, /^horizon s = \d+, .*σ.* = [\d.]+$/, `singular cursor: "${cur}"`);
+      }
+      await page.mouse.move(1, 1);
+
       // The horizon slider: every figure's marker moves, and the numbers follow.
       const before = await allPixels(page);
       await set(page, 'g-s', 14);
