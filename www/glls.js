@@ -280,7 +280,9 @@ export async function mountGlls(root, presets) {
     const rows = [];
     const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
     const bestP = g.best_horizon_p != null ? `; of σ<sub>${g.regularized?.p ?? 'p'}</sub>/√s: s = ${g.best_horizon_p}` : '';
-    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}`
+    const atEnd = g.best_horizon != null && g.best_horizon === g.curves.log10_sigma.length - 1
+      ? ' <span class="hint">(the end of the curves: σ<sub>n</sub>/√s still rising)</span>' : '';
+    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}${atEnd}`
       : 'none in 1..S (σ<sub>n</sub>/√s still rising)'}${bestP}`);
     row(`σ(Γ<sub>${s + 1}</sub>)`, list(g.sigma));
     row(`σ(Γ<sub>${s + 1}</sub>A<sup>−${s}</sup>)`, g.sigma_prime ? list(g.sigma_prime) : 'A is singular');
@@ -311,7 +313,7 @@ export async function mountGlls(root, presets) {
     const radius = r2 < 1e-200 ? 0 : Math.sqrt(r2);
     erow('guaranteed ball', `radius ${fmt(radius)} <span class="hint">(‖δ(j)‖ ≤ μ = ${fmt(g.mu)})</span> ${mark(g.truth_in_ball)}`);
     const b = g.box_current;
-    erow('guaranteed box', `${b.lo.map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(b.hi[i])}]</span>`).join(' ')} ${mark(g.truth_in_box)}`);
+    erow('guaranteed box', `${b.lo.map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmtLong(lo)}, ${fmtLong(b.hi[i])}]</span>`).join(' ')} ${mark(g.truth_in_box)}`);
     if (g.noise_max != null) {
       erow('largest ‖δ(j)‖ drawn', `${fmt(g.noise_max)} ${g.noise_max <= g.mu * (1 + 1e-12)
         ? '<span class="good">≤ μ: the sets are guaranteed</span>' : '<span class="warn">&gt; μ: no guarantee for this draw</span>'}`);

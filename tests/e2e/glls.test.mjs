@@ -188,6 +188,17 @@ export default async function glls({ baseUrl, newPage, waitReady, assert, screen
       assert.match(await numbers(page), /GLLS/);
       await drawnWell(page, assert, 'custom, GLLS');
 
+      // glls-grow on 80 steps at s = 30: ‖x(k)‖ ≈ 10¹⁵ and rounding swamps the bound — a visible warning.
+      await choose(page, 'glls-grow');
+      assert.match(await numbers(page), /best horizon s = 60 \(the end of the curves/);
+      await set(page, 'g-steps', 80);
+      await set(page, 'g-s', 30);
+      nb = await numbers(page);
+      assert.match(nb, /⚠ Rounding dominates: the estimated floating-point error [\d.e+-]+ rivals the statistical bound/, nb);
+      assert.equal(await page.$eval('#g-numbers .alarm', (e) => getComputedStyle(e).display !== 'none' && e.offsetHeight > 0), true);
+      await set(page, 'g-steps', 40); // ‖x(k)‖ ≈ 10⁷: rounding negligible again
+      assert.doesNotMatch(await numbers(page), /Rounding dominates/);
+
       // The in-page wasm timings.
       const timing = await page.evaluate(() => {
         const { Session, GllsStudy, presets } = window.confset;
