@@ -253,11 +253,15 @@ pub fn norm2(m: &DMatrix<f64>) -> f64 {
     if m.is_empty() {
         return 0.0;
     }
+    if !m.iter().all(|v| v.is_finite()) {
+        return f64::INFINITY;
+    }
     m.clone().svd(false, false).singular_values.max()
 }
 
 /// Thin SVD sorted by decreasing singular value: (P₁, σ, R) with M = P₁ diag(σ) Rᵀ (20).
 fn thin_svd(m: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, DMatrix<f64>) {
+    debug_assert!(m.iter().all(|v| v.is_finite()), "callers check finiteness");
     let svd = m.clone().svd(true, true);
     let (u, vt) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
     let mut idx: Vec<usize> = (0..svd.singular_values.len()).collect();
@@ -599,6 +603,9 @@ impl ScaledFactor {
 
     /// Singular values (decreasing) as natural logarithms (−∞ for exact zeros).
     fn ln_singular(&self) -> Vec<f64> {
+        if !self.r.iter().all(|v| v.is_finite()) {
+            return vec![f64::NAN; self.r.ncols()];
+        }
         let mut sv: Vec<f64> = self
             .r
             .clone()
@@ -673,7 +680,10 @@ impl Curves {
         let n = model.n();
         let m = model.m();
         let omega_inv = linalg::inverse("model.W", &model.omega).ok();
-        let w_half = omega_inv.as_ref().map(|oi| linalg::psd_sqrt(oi)); // Ω^{-1/2}
+        // W with WᵀW = Ω⁻¹ (psd_sqrt gives L with LLᵀ = Ω⁻¹, so W = Lᵀ).
+        let w_half = omega_inv
+            .as_ref()
+            .map(|oi| linalg::psd_sqrt(oi).transpose());
         let ainv = match model.a.clone().try_inverse() {
             Some(ai) if linalg::rcond(&model.a) > 1e-14 => Some(ai),
             _ => None,
@@ -696,6 +706,14 @@ impl Curves {
             let block = &model.c * &pw.p;
             gam.append(&block, pw.log_scale);
             let ln_sv = gam.ln_singular();
+            if ln_sv.iter().any(|v| v.is_nan()) || !pw.log_scale.is_finite() {
+                return Err(Error::field(
+                    "model.F",
+                    format!(
+                        "the powers of A leave double precision at s = {s} (non-finite entries)"
+                    ),
+                ));
+            }
             out.log10_floor.push(log10_of_ln(
                 ln_sv[0] + (f64::EPSILON * ((m * (s + 1)) as f64).sqrt()).ln(),
             ));
