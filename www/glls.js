@@ -41,6 +41,12 @@ const CUSTOM_PRESET = {
   },
 };
 
+// The presets' notes write Γ_{s+1} and σ_n: show them as sub-/superscripts (text escaped first).
+const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
+const richText = (t) => escapeHtml(t.replace(/\s{2,}/g, ' '))
+  .replace(/_\{([^{}]*)\}/g, '<sub>$1</sub>').replace(/\^\{([^{}]*)\}/g, '<sup>$1</sup>')
+  .replace(/([σκΓxy])_([a-zA-Z0-9]+)/g, '$1<sub>$2</sub>');
+
 const hasStateNoise = (s) => Array.isArray(s?.model?.V) && s.model.V.flat(2).some((v) => v !== 0);
 
 function number(field, text) {
@@ -114,7 +120,7 @@ export async function mountGlls(root, presets) {
     const s = st.preset.scenario;
     const g = s.glls;
     ui.custom.hidden = !isCustom();
-    ui['preset-desc'].textContent = st.preset.description;
+    ui['preset-desc'].innerHTML = richText(st.preset.description);
     ui.auto.checked = g.horizon == null;
     if (g.horizon != null) ui.s.value = g.horizon;
     ui.estimator.value = g.estimator || 'lls';
@@ -125,7 +131,7 @@ export async function mountGlls(root, presets) {
     ui.seed.value = s.simulate.seed;
     ui.max.value = g.max_horizon ?? 60;
     planeOptions(g.plane || [0, 1]);
-    ui.notes.textContent = (s.notes || '').replace(/\s{2,}/g, ' ');
+    ui.notes.innerHTML = richText(s.notes || '');
     horizonRange();
   }
 
@@ -146,8 +152,11 @@ export async function mountGlls(root, presets) {
     const g = st.report?.glls;
     if (g && ui.auto.checked) ui.s.value = String(g.s); // the slider follows the best horizon
     const best = g?.best_horizon;
+    let note = '(best)';
+    if (g && best == null) note = '(no best in 1..S: s = n − 1)';
+    else if (g && best > g.k) note = `(best ${best} > k = ${g.k})`;
     ui['s-out'].textContent = ui.auto.checked
-      ? `= ${g ? g.s : '…'} (best)` : `= ${ui.s.value}${best != null && Number(ui.s.value) === best ? ' (best)' : ''}`;
+      ? `= ${g ? g.s : '…'} ${note}` : `= ${ui.s.value}${best != null && Number(ui.s.value) === best ? ' (best)' : ''}`;
   }
 
   // The Monte Carlo block the page would send (the study type follows the estimator).
@@ -282,7 +291,8 @@ export async function mountGlls(root, presets) {
     const bestP = g.best_horizon_p != null ? `; of σ<sub>${g.regularized?.p ?? 'p'}</sub>/√s: s = ${g.best_horizon_p}` : '';
     const atEnd = g.best_horizon != null && g.best_horizon === g.curves.log10_sigma.length - 1
       ? ' <span class="hint">(the end of the curves: σ<sub>n</sub>/√s still rising)</span>' : '';
-    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}${atEnd}`
+    row('best horizon', `${g.best_horizon != null ? `s = ${g.best_horizon}${g.best_horizon === s ? ' <span class="good">(in use)</span>' : ''}${atEnd}${
+      g.best_horizon > g.k ? ` <span class="hint">(beyond the data: s ≤ k = ${g.k})</span>` : ''}`
       : 'none in 1..S (σ<sub>n</sub>/√s still rising)'}${bestP}`);
     row(`σ(Γ<sub>${s + 1}</sub>)`, list(g.sigma));
     row(`σ(Γ<sub>${s + 1}</sub>A<sup>−${s}</sup>)`, g.sigma_prime ? list(g.sigma_prime) : 'A is singular');
