@@ -112,6 +112,7 @@ export async function mountGlls(root, presets) {
       sel.replaceChildren(...Array.from({ length: n }, (_, i) => new Option(`x${sub(i + 1)}`, String(i))));
       sel.value = String(Number.isInteger(v) && v < n ? v : Math.min(sel === ui.px ? 0 : 1, n - 1));
     }
+    if (Number(ui.p.value) === Number(ui.p.max)) ui.p.value = String(n); // p = n stays "none dropped"
     ui.p.max = String(n);
   }
 
@@ -125,12 +126,12 @@ export async function mountGlls(root, presets) {
     if (g.horizon != null) ui.s.value = g.horizon;
     ui.estimator.value = g.estimator || 'lls';
     ui.noise.value = g.noise || 'gaussian';
-    ui.p.value = g.p ?? s.model.F.length;
+    planeOptions(g.plane || [0, 1]);
+    ui.p.value = g.p ?? (dim() || s.model.F.length);
     ui.mu.value = g.mu ?? '';
     ui.steps.value = s.simulate.steps;
     ui.seed.value = s.simulate.seed;
     ui.max.value = g.max_horizon ?? 60;
-    planeOptions(g.plane || [0, 1]);
     ui.notes.innerHTML = richText(s.notes || '');
     horizonRange();
   }
@@ -218,6 +219,13 @@ export async function mountGlls(root, presets) {
       built = buildScenario();
       const t0 = performance.now();
       json = session.run(JSON.stringify(built.scenario));
+      const g = built.scenario.glls;
+      if (g.noise === 'worst' && g.horizon == null) {
+        // The worst-case noise is aligned with the gain of the horizon in use: the best one,
+        // which only the report knows — run again with it fixed.
+        g.horizon = JSON.parse(json).glls.s;
+        json = session.run(JSON.stringify(built.scenario));
+      }
       st.runMs = performance.now() - t0;
       st.report = JSON.parse(json);
       errors.clear();

@@ -118,8 +118,25 @@ export default async function glls({ baseUrl, newPage, waitReady, assert, screen
       assert.match(await text(page, '#g-s-out'), /^= 14$/);
       assert.match(await text(page, '#g-mc-status'), /^500 runs/, 'the study is kept: it does not depend on the horizon');
       await set(page, 'g-s', 8);
+      const nb0 = await numbers(page);
       const back = await allPixels(page);
       for (const p of PANELS) assert.equal(back[p], before[p], `back to s = 8: the same ${p} figure`);
+
+      // Worst-case noise on the ball ‖δ(j)‖ = μ, aligned with the gain of the horizon in use: the
+      // truth lands on the edge of the box in the first plane component, still inside.
+      await set(page, 'g-noise', 'worst');
+      nb = await numbers(page);
+      assert.match(nb, /largest ‖δ\(j\)‖ drawn 0\.1000 ≤ μ/, nb);
+      assert.match(nb, /guaranteed box .*✓ inside/);
+      const [lo, hi] = await page.evaluate(() => {
+        const m = document.querySelector('#g-numbers').innerText.match(/x₂ ∈ \[(-?[\d.e+-]+), (-?[\d.e+-]+)\]/);
+        return [Number(m[1]), Number(m[2])];
+      });
+      const truth2 = Number(nb.match(/truth x\(39\) \([^,]+, (-?[\d.e+-]+),/)[1]);
+      assert.ok(Math.min(Math.abs(truth2 - lo), Math.abs(truth2 - hi)) < 2e-4 * (hi - lo) + 1e-4,
+        `worst case: x₂ = ${truth2} on an edge of [${lo}, ${hi}]`);
+      await set(page, 'g-noise', 'bounded');
+      assert.equal(await numbers(page), nb0, 'back to bounded noise: the same numbers');
 
       // The Monte Carlo with N = 100 redraws the precision figure.
       const prec = await pixels(page, 'precision');
