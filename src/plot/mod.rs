@@ -22,6 +22,17 @@
 //!   the true state ◇, the BLUE ⋆ with its ellipse, the Kalman ellipse dashed, and the
 //!   directions along which X̂ is unbounded. The only panel of an LSCR report (which has no
 //!   time steps); the other panels are for KF/SCF reports.
+//! * GLLS reports (Gubarev & Mishchenko; no time steps either) have their own four panels,
+//!   all with a marker at the horizon s in use: [`Panel::Singular`] (`glls.rs`, Fig. 1: every
+//!   σ_i(Γ_{s+1}) solid, σ_i(Γ_{s+1}A^{−s}) dashed in the same colour, the floating-point floor
+//!   as a grey band), [`Panel::Index`] (`glls.rs`, Fig. 2: σ_n/√s and σ_p/√s with the best
+//!   horizons), [`Panel::Plane`] (`glls.rs`: the two `plane` components of x(k) — truth ◇,
+//!   estimate ⋆, the guaranteed ball (35) as a disk, the exact interval box, the regularized
+//!   estimate with the projected truth, the state-noise estimate) and [`Panel::Precision`]
+//!   (`glls_precision.rs`, Figs. 3–4: box-and-whisker of the Monte Carlo errors per horizon
+//!   with the bound κ·√E‖δ‖², or paired half-boxes state-noise vs LLS with the mean ‖x(k)‖
+//!   dash-dotted). Log axes plot log10 values on a linear axis labelled 10ᵏ
+//!   ([`style::log_chart`]); their [`Frame`]'s y range is in log10 units.
 //!
 //! Colors, fonts and the legend are shared (`style.rs`): KF vermillion dashed, SCF blue solid,
 //! truth black, measurements grey (Okabe–Ito, colorblind-safe).
@@ -36,6 +47,8 @@
 mod coverage;
 mod erase;
 pub mod geom;
+mod glls;
+mod glls_precision;
 mod region;
 mod series;
 mod state;
@@ -66,17 +79,38 @@ pub enum Panel {
     /// LSCR paper, Figs. 1–3: the LSCR region with the excluded areas hatched per group, the
     /// truth, the BLUE and Kalman ellipses (LSCR reports only).
     Region,
+    /// GLLS paper, Fig. 1: the singular values of Γ_{s+1} (and of Γ_{s+1}A^{−s}) against the
+    /// horizon s on a log scale, with the floating-point floor (GLLS reports only).
+    Singular,
+    /// GLLS paper, Fig. 2: the horizon index σ_n/√s (and σ_p/√s) with its best horizon.
+    Index,
+    /// GLLS: the state plane at time k: truth, estimate, guaranteed ball and interval box.
+    Plane,
+    /// GLLS paper, Figs. 3–4: the Monte Carlo error ‖x_est(k) − x(k)‖ per horizon (boxes) with
+    /// the bound κ·√E‖δ‖², or state-noise estimator vs LLS in paired half-boxes.
+    Precision,
 }
 
 impl Panel {
-    /// Lower-case name as in JSON ("state", "series", "coverage").
+    /// Lower-case name as in JSON ("state", "series", "coverage", "region", "singular", …).
     pub fn name(&self) -> &'static str {
         match self {
             Panel::State => "state",
             Panel::Series => "series",
             Panel::Coverage => "coverage",
             Panel::Region => "region",
+            Panel::Singular => "singular",
+            Panel::Index => "index",
+            Panel::Plane => "plane",
+            Panel::Precision => "precision",
         }
+    }
+    /// The panels of a GLLS report.
+    pub fn is_glls(&self) -> bool {
+        matches!(
+            self,
+            Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision
+        )
     }
     /// Parse a lower-case name.
     pub fn from_name(s: &str) -> Result<Panel> {
@@ -85,9 +119,13 @@ impl Panel {
             "series" => Ok(Panel::Series),
             "coverage" => Ok(Panel::Coverage),
             "region" => Ok(Panel::Region),
+            "singular" => Ok(Panel::Singular),
+            "index" => Ok(Panel::Index),
+            "plane" => Ok(Panel::Plane),
+            "precision" => Ok(Panel::Precision),
             _ => Err(Error::field(
                 "panel",
-                format!("\"{s}\" is unknown: choose state, series, coverage or region"),
+                format!("\"{s}\" is unknown: choose state, series, coverage, region, singular, index, plane or precision"),
             )),
         }
     }
@@ -255,6 +293,33 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         ));
     }
     let fonts = Fonts::for_backend::<DB>((w, h));
+    // A GLLS report has no time steps either: only the GLLS panels draw it, and only it.
+    match (view.panel.is_glls(), report.glls.is_some()) {
+        (true, _) => {
+            glls::check(report, view.panel)?;
+            let mut adapter = erase::Adapter(backend);
+            let root = erase::Erased(&mut adapter).into_drawing_area();
+            root.fill(&WHITE).map_err(de)?;
+            let frame = match view.panel {
+                Panel::Singular => glls::draw_singular(&root, report, view, fonts)?,
+                Panel::Index => glls::draw_index(&root, report, view, fonts)?,
+                Panel::Plane => glls::draw_plane(&root, report, view, fonts)?,
+                _ => glls_precision::draw(&root, report, view, fonts)?,
+            };
+            root.present().map_err(de)?;
+            return Ok(frame);
+        }
+        (false, true) => {
+            return Err(Error::field(
+                "panel",
+                format!(
+                    "\"{}\" does not draw a GLLS report (method \"glls\"): choose singular, index, plane or precision",
+                    view.panel.name()
+                ),
+            ))
+        }
+        (false, false) => {}
+    }
     // An LSCR report has no time steps: it is drawn by the region panel only, and only it.
     match (view.panel, report.lscr.is_some()) {
         (Panel::Region, true) => {
@@ -296,6 +361,10 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         Panel::Coverage => coverage::draw(&root, &cx)?,
         // Handled above (an LSCR report).
         Panel::Region => region::draw(&root, report, view, cx.fonts)?,
+        // Handled above (a GLLS report).
+        Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision => {
+            return Err(Error::field("panel", "draws GLLS reports only"))
+        }
     };
     root.present().map_err(de)?;
     Ok(frame)
@@ -318,9 +387,17 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
     report_svg(&report, &View::new(panel).with_scenario(s), w, h)
 }
 
-/// The panels worth drawing for a report: Region alone for an LSCR report; otherwise State
-/// and Series always, Coverage when the report has a coverage curve.
+/// The panels worth drawing for a report: Region alone for an LSCR report; Singular, Index,
+/// Plane and (with a Monte Carlo study) Precision for a GLLS report; otherwise State and
+/// Series always, Coverage when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
+    if let Some(g) = &report.glls {
+        let mut v = vec![Panel::Singular, Panel::Index, Panel::Plane];
+        if g.precision.is_some() {
+            v.push(Panel::Precision);
+        }
+        return v;
+    }
     if report.lscr.is_some() {
         return vec![Panel::Region];
     }

@@ -47,6 +47,34 @@ pub const HATCH: [RGBColor; 4] = [
     RGBColor(70, 160, 220),
 ];
 
+/// Curves indexed by i (σ₁, σ₂, … of the GLLS figures): Okabe–Ito blue, vermillion, bluish
+/// green, reddish purple, orange, sky blue, then black; cycled.
+pub const SERIES: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
+/// Colour of curve i (0-based).
+pub fn series_color(i: usize) -> RGBColor {
+    SERIES[i % SERIES.len()]
+}
+
+/// GLLS: the (G)LLS estimator (blue), the state-noise estimator (vermillion), the
+/// regularized estimator and the projected truth (reddish purple), the guaranteed ball (blue,
+/// light fill) and the interval box (bluish green).
+pub const GLLS_EST: RGBColor = RGBColor(0, 114, 178);
+pub const STATE_NOISE: RGBColor = RGBColor(213, 94, 0);
+pub const REGULARIZED: RGBColor = RGBColor(204, 121, 167);
+pub const BALL: RGBColor = RGBColor(0, 114, 178);
+pub const INTERVAL_BOX: RGBColor = RGBColor(0, 158, 115);
+/// The floating-point floor (grey band).
+pub const FLOOR: RGBColor = RGBColor(150, 150, 150);
+
 /// Colour of the hatching of group l (0-based).
 pub fn hatch_color(l: usize) -> RGBColor {
     HATCH[l % HATCH.len()]
@@ -903,19 +931,26 @@ pub fn sci(v: f64) -> String {
     }
     let e = a.log10().floor() as i32;
     let m = v / 10f64.powi(e);
-    let sup: String = e
-        .to_string()
+    format!("{} × 10{}", num(m, 2), sup(e))
+}
+
+/// Unicode superscript of an integer (−5 → "⁻⁵").
+pub fn sup(e: i32) -> String {
+    e.to_string()
         .chars()
         .map(|c| match c {
             '-' => '⁻',
-            '0' => '⁰',
             '1' => '¹',
             '2' => '²',
             '3' => '³',
             d => char::from_u32(0x2070 + d.to_digit(10).unwrap_or(0)).unwrap_or(d),
         })
-        .collect();
-    format!("{} × 10{sup}", num(m, 2))
+        .collect()
+}
+
+/// A power of ten for a log axis: "10⁻³".
+pub fn pow10(e: i32) -> String {
+    format!("10{}", sup(e))
 }
 
 /// Unicode subscript of a number (t = 40 → "₄₀").
@@ -964,30 +999,157 @@ pub fn chart<'a, DB: DrawingBackend>(
     fonts: &Fonts,
     axes: &Axes,
 ) -> Result<Chart<'a, DB>> {
+    chart_with(area, fonts, axes, false)
+}
+
+/// A chart whose y values are log10 of the quantity: the axis is linear in log10 and labelled
+/// 10ᵏ at decades (with 2·10ᵏ, 5·10ᵏ and unlabelled 3, 4, 6, … ·10ᵏ lines when the window
+/// spans fewer than three decades). The caller plots log10 values.
+pub fn log_chart<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    axes: &Axes,
+) -> Result<Chart<'a, DB>> {
+    chart_with(area, fonts, axes, true)
+}
+
+/// One tick of a log axis: position (log10), label (empty: grid line only), decade or not.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogTick {
+    pub at: f64,
+    pub label: String,
+    pub major: bool,
+}
+
+/// A value 10^e·m for a log-axis label: plain decimals between 10⁻³ and 10⁴, "2·10⁻⁵" outside.
+fn log_label(m: u32, e: i32) -> String {
+    if (-3..4).contains(&e) {
+        let v = m as f64 * 10f64.powi(e);
+        num(v, (-e).max(0) as usize)
+    } else if m == 1 {
+        pow10(e)
+    } else {
+        format!("{m}·{}", pow10(e))
+    }
+}
+
+/// The ticks of a log axis over [lo, hi] (log10 units) on `px` pixels.
+pub fn log_ticks(lo: f64, hi: f64, px: i32) -> Vec<LogTick> {
+    let mut out = Vec::new();
+    if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+        return out;
+    }
+    let span = hi - lo;
+    let max_labels = ((px / 28).clamp(3, 12)) as f64;
+    let (k0, k1) = (lo.floor() as i64, hi.ceil() as i64);
+    if span >= 3.0 || k1 - k0 > 400 {
+        // Decades, every `step`-th labelled.
+        let step = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0]
+            .into_iter()
+            .find(|d| span / d <= max_labels)
+            .unwrap_or(1000.0) as i64;
+        let per_decade = px as f64 / span;
+        for k in k0..=k1 {
+            let at = k as f64;
+            if at < lo || at > hi {
+                continue;
+            }
+            let labelled = k.rem_euclid(step) == 0;
+            if labelled || span <= 80.0 {
+                out.push(LogTick {
+                    at,
+                    label: if labelled {
+                        pow10(k as i32)
+                    } else {
+                        String::new()
+                    },
+                    major: labelled,
+                });
+            }
+            if step == 1 && per_decade > 70.0 {
+                for m in 2..10 {
+                    let at = k as f64 + (m as f64).log10();
+                    if at > lo && at < hi {
+                        out.push(LogTick {
+                            at,
+                            label: String::new(),
+                            major: false,
+                        });
+                    }
+                }
+            }
+        }
+        return out;
+    }
+    // Fewer than three decades: 1, 2, 5 labelled, the other mantissas as light lines; all
+    // labelled when that leaves fewer than three labels.
+    let mut all = Vec::new();
+    for k in k0..=k1 {
+        for m in 1..10u32 {
+            let at = k as f64 + (m as f64).log10();
+            if at >= lo - 1e-12 && at <= hi + 1e-12 {
+                all.push((at, m, k as i32));
+            }
+        }
+    }
+    let main = all.iter().filter(|t| matches!(t.1, 1 | 2 | 5)).count();
+    let dense = main < 3;
+    // Drop labels closer than ~16 px.
+    let mut last = f64::NEG_INFINITY;
+    for (at, m, e) in all {
+        let want = dense || matches!(m, 1 | 2 | 5);
+        let room = (at - last) / span * px as f64 >= 16.0;
+        let label = if want && room {
+            last = at;
+            log_label(m, e)
+        } else {
+            String::new()
+        };
+        out.push(LogTick {
+            at,
+            label,
+            major: m == 1,
+        });
+    }
+    out
+}
+
+fn chart_with<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    axes: &Axes,
+    log_y: bool,
+) -> Result<Chart<'a, DB>> {
     let mut win = axes.win;
     let yd = decimals(win.y1 - win.y0);
-    let xd = if axes.x_integer {
-        0
-    } else {
-        decimals(win.x1 - win.x0)
-    };
     let tick = fonts.tick();
     let desc = fonts.axis();
-    let mut yw = 0;
-    for v in [win.y0, win.y1, 0.5 * (win.y0 + win.y1)] {
-        yw = yw.max(text_size(area, &num(v, yd), &tick)?.0 as i32);
-    }
     let desc_h = text_size(area, "Xg", &desc)?.1 as i32;
     let tick_h = text_size(area, "0", &tick)?.1 as i32;
-    let y_area = yw + desc_h + 20;
     let x_area = if axes.x_labels {
         tick_h + desc_h + 22
     } else {
         10
     };
     let (w, h) = area.dim_in_pixel();
-    let pw = w as i32 - y_area - M_LEFT - M_RIGHT;
     let ph = h as i32 - x_area - M_TOP - M_BOTTOM;
+    let ticks = if log_y {
+        log_ticks(win.y0, win.y1, ph)
+    } else {
+        Vec::new()
+    };
+    let mut yw = 0;
+    if log_y {
+        for t in &ticks {
+            yw = yw.max(text_size(area, &t.label, &tick)?.0 as i32);
+        }
+    } else {
+        for v in [win.y0, win.y1, 0.5 * (win.y0 + win.y1)] {
+            yw = yw.max(text_size(area, &num(v, yd), &tick)?.0 as i32);
+        }
+    }
+    let y_area = yw + desc_h + 20;
+    let pw = w as i32 - y_area - M_LEFT - M_RIGHT;
     if pw < 40 || ph < 30 {
         return Err(Error::field(
             "size",
@@ -997,6 +1159,12 @@ pub fn chart<'a, DB: DrawingBackend>(
     if axes.equal {
         win = win.equal_aspect(pw as f64, ph as f64);
     }
+    // Decimals of the x ticks from the final window (equal aspect may have widened it).
+    let xd = if axes.x_integer {
+        0
+    } else {
+        decimals(win.x1 - win.x0)
+    };
     let y_desc = shorten(area, axes.y_desc, &desc, (ph + x_area / 2).max(40) as u32)?;
     let x_desc = shorten(area, axes.x_desc, &desc, pw.max(40) as u32)?;
     let mut chart = ChartBuilder::on(area)
@@ -1021,19 +1189,48 @@ pub fn chart<'a, DB: DrawingBackend>(
     mesh.y_desc(y_desc)
         .label_style(tick.clone())
         .axis_desc_style(desc.clone())
-        .y_label_formatter(&fy)
         .x_labels(10)
         .y_labels(((ph / 45).clamp(3, 12)) as usize)
         .max_light_lines(4)
         .light_line_style(GRID_LIGHT)
         .bold_line_style(GRID)
         .axis_style(MUTED);
+    if log_y {
+        mesh.y_label_formatter(&no_label)
+            .disable_y_mesh()
+            .set_tick_mark_size(LabelAreaPosition::Left, 0);
+    } else {
+        mesh.y_label_formatter(&fy);
+    }
     if axes.x_labels {
         mesh.x_desc(x_desc).x_label_formatter(&fx);
     } else {
         mesh.x_label_formatter(&no_label);
     }
     mesh.draw().map_err(de)?;
+    if log_y {
+        // The grid lines and labels of the decades (under everything drawn later).
+        let (xr, _) = chart.plotting_area().get_pixel_range();
+        let root = chart.plotting_area().strip_coord_spec();
+        let parent = area;
+        for t in &ticks {
+            let a = px(&chart, (win.x0, t.at));
+            let b = (xr.end - 1, a.1);
+            let a = (xr.start, a.1);
+            let color = if t.major { GRID } else { GRID_LIGHT };
+            polyline(&root, &[a, b], &color, 1, None)?;
+            if !t.label.is_empty() {
+                polyline(parent, &[(a.0 - 5, a.1), (a.0, a.1)], &MUTED, 1, None)?;
+                text(
+                    parent,
+                    &t.label,
+                    (a.0 - 8, a.1),
+                    &tick,
+                    (HPos::Right, VPos::Center),
+                )?;
+            }
+        }
+    }
     Ok(chart)
 }
 

@@ -208,9 +208,15 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
                 let v = View::new(panel).with_scenario(&p.scenario);
                 let out = report_svg(&r, &v, w, h)
                     .unwrap_or_else(|e| panic!("{} {} {w}×{h}: {e}", p.name, panel.name()));
-                // LSCR reports draw the region (whose legend names X̂, shortly on small figures); the
-                // others KF/SCF.
-                let expect = if r.lscr.is_some() { "X̂ " } else { "KF" };
+                // LSCR reports draw the region (whose legend names X̂, shortly on small figures);
+                // GLLS reports mark the horizon in use (the plane: the true state); the others
+                // KF/SCF.
+                let expect = match (r.lscr.is_some(), r.glls.is_some(), panel) {
+                    (true, _, _) => "X̂ ",
+                    (_, true, Panel::Plane) => "true state",
+                    (_, true, _) => "in use",
+                    _ => "KF",
+                };
                 assert!(
                     out.contains(expect),
                     "{} {}: no \"{expect}\" in the legend",
@@ -547,5 +553,386 @@ fn region_panel_is_fast() {
         let ms = t0.elapsed().as_secs_f64() * 1e3 / runs as f64;
         eprintln!("region panel {name} 800×600: {ms:.2} ms per SVG");
         assert!(ms < 250.0, "{name}: {ms} ms");
+    }
+}
+
+// ---------------------------------------------------------------- the GLLS panels
+
+const GLLS_PRESETS: [&str; 4] = ["glls-saturate", "glls-grow", "glls-mixed", "glls-unstable5"];
+const GLLS_PANELS: [Panel; 4] = [
+    Panel::Singular,
+    Panel::Index,
+    Panel::Plane,
+    Panel::Precision,
+];
+
+/// The SVG `<polyline>` elements drawn in `color` with `width`, as their point counts.
+fn polylines(svg: &str, color: &RGBColor, width: u32) -> Vec<usize> {
+    let hex = format!("stroke=\"#{:02X}{:02X}{:02X}\"", color.0, color.1, color.2);
+    let w = format!("stroke-width=\"{width}\"");
+    svg.split("<polyline")
+        .skip(1)
+        .map(|el| el.split("/>").next().unwrap_or(""))
+        .filter(|el| el.contains(hex.as_str()) && el.contains(w.as_str()))
+        .map(|el| {
+            el.split("points=\"")
+                .nth(1)
+                .and_then(|p| p.split('"').next())
+                .map_or(0, |p| p.split_whitespace().count())
+        })
+        .collect()
+}
+
+/// `<rect` elements filled with `color` (any opacity).
+fn rects(svg: &str, color: &RGBColor) -> usize {
+    let hex = format!("fill=\"#{:02X}{:02X}{:02X}\"", color.0, color.1, color.2);
+    svg.split("<rect")
+        .skip(1)
+        .filter(|el| el.split("/>").next().unwrap_or("").contains(hex.as_str()))
+        .count()
+}
+
+#[test]
+fn glls_reports_use_the_glls_panels() {
+    for name in GLLS_PRESETS {
+        let (s, r) = preset(name);
+        assert_eq!(
+            useful_panels(&r),
+            vec![
+                Panel::Singular,
+                Panel::Index,
+                Panel::Plane,
+                Panel::Precision
+            ],
+            "{name}"
+        );
+        // The default figure is Fig. 1.
+        let out = scenario_svg(&s, 800, 600).expect("draws");
+        assert!(
+            out.contains("Singular values of Γₛ₊₁"),
+            "{name}: not Fig. 1"
+        );
+    }
+    for p in GLLS_PANELS {
+        assert_eq!(Panel::from_name(p.name()).expect("parses"), p);
+        let v: View =
+            serde_json::from_str(&format!("{{\"panel\":\"{}\"}}", p.name())).expect("parses");
+        assert_eq!(v.panel, p);
+    }
+    // Without a Monte Carlo study there is no precision panel (and asking for it says why).
+    let (mut s, _) = preset("glls-grow");
+    if let Some(g) = s.glls.as_mut() {
+        g.monte_carlo = None;
+    }
+    let r = s.run().expect("runs");
+    assert_eq!(
+        useful_panels(&r),
+        vec![Panel::Singular, Panel::Index, Panel::Plane]
+    );
+    let e = report_svg(&r, &View::new(Panel::Precision), 800, 600).unwrap_err();
+    assert_eq!(e.field, "glls.monte_carlo");
+}
+
+#[test]
+fn glls_panels_draw_every_preset_at_every_size() {
+    for name in GLLS_PRESETS {
+        let (s, r) = preset(name);
+        for panel in GLLS_PANELS {
+            for (w, h) in [
+                (240, 180),
+                (320, 240),
+                (400, 250),
+                (640, 400),
+                (800, 600),
+                (960, 640),
+                (1600, 1200),
+            ] {
+                let v = View::new(panel).with_scenario(&s);
+                let mut out = String::new();
+                let f = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &v)
+                    .unwrap_or_else(|e| panic!("{name} {} {w}×{h}: {e}", panel.name()));
+                let (l, t, rt, b) = f.plot_area;
+                assert!(
+                    0 <= l && l < rt && rt <= w as i32 && 0 <= t && t < b && b <= h as i32,
+                    "{name} {} {w}×{h}: {f:?}",
+                    panel.name()
+                );
+                assert!(f.x_range.0 < f.x_range.1 && f.y_range.0 < f.y_range.1);
+            }
+        }
+    }
+}
+
+#[test]
+fn singular_panel_draws_n_solid_and_n_dashed_curves() {
+    for name in GLLS_PRESETS {
+        let (s, r) = preset(name);
+        let g = r.glls.as_ref().expect("GLLS");
+        assert!(g.curves.log10_sigma_prime.is_some(), "{name}: A invertible");
+        let out =
+            report_svg(&r, &View::new(Panel::Singular).with_scenario(&s), 960, 640).expect("draws");
+        for i in 0..g.n {
+            let c = style::series_color(i);
+            // The solid curve: one long polyline (plus the legend swatch of 2 points).
+            let lines = polylines(&out, &c, 2);
+            assert!(
+                lines.iter().any(|&k| k > 10),
+                "{name}: no solid curve of σ{}: {lines:?}",
+                i + 1
+            );
+            // The dashed curve: many short pieces of the same colour.
+            assert!(
+                lines.iter().filter(|&&k| k == 2).count() > 5,
+                "{name}: no dashed curve of σ{}",
+                i + 1
+            );
+            assert!(out.contains(&format!("σ{}(Γₛ₊₁)", sub(i + 1))), "{name}");
+        }
+        assert!(
+            !out.contains(&format!("σ{}(Γₛ₊₁)", sub(g.n + 1))),
+            "{name}: too many legend entries"
+        );
+        for label in [
+            "σᵢ(Γ A⁻ˢ) — the paper&apos;s remark says equal",
+            &format!("s = {} in use", g.s),
+            "log scale",
+            "10⁰",
+        ] {
+            assert!(out.contains(label), "{name}: no \"{label}\"");
+        }
+    }
+    // The floor band is drawn where it matters (σ₅ of the unstable system comes within a
+    // decade of it) and only noted where it is far below.
+    let (s, r) = preset("glls-unstable5");
+    let out = report_svg(&r, &View::new(Panel::Singular).with_scenario(&s), 960, 640).unwrap();
+    assert!(out.contains("below: not resolved in double precision"));
+    let (s, r) = preset("glls-saturate");
+    let out = report_svg(&r, &View::new(Panel::Singular).with_scenario(&s), 960, 640).unwrap();
+    assert!(!out.contains("below: not resolved in double precision"));
+    assert!(out.contains("every drawn σ is resolved"));
+}
+
+#[test]
+fn index_panel_marks_the_best_horizons() {
+    let (s, r) = preset("glls-saturate");
+    let g = r.glls.as_ref().expect("GLLS");
+    let out = report_svg(&r, &View::new(Panel::Index).with_scenario(&s), 960, 640).unwrap();
+    let b = g.best_horizon.expect("a best horizon");
+    let bp = g.best_horizon_p.expect("a best regularized horizon");
+    assert!(
+        out.contains(&format!("best s = {b}")),
+        "no best-horizon label"
+    );
+    assert!(out.contains(&format!("best s = {bp} (p = 2)")));
+    assert!(out.contains("σ₃/√s (n = 3)") && out.contains("σ₂/√s (p = 2, regularized)"));
+    // Fig. 2b: the index grows over the whole range.
+    let (s, r) = preset("glls-grow");
+    let out = report_svg(&r, &View::new(Panel::Index).with_scenario(&s), 960, 640).unwrap();
+    assert!(out.contains("largest at S = 60") && out.contains("still grows"));
+    // A best horizon beyond the data is said so.
+    let (s, r) = preset("glls-mixed");
+    let out = report_svg(&r, &View::new(Panel::Index).with_scenario(&s), 960, 640).unwrap();
+    assert!(out.contains("best s = 48") && out.contains("the data hold 40"));
+}
+
+#[test]
+fn precision_panel_draws_one_box_per_horizon() {
+    for name in GLLS_PRESETS {
+        let (s, r) = preset(name);
+        let p = r
+            .glls
+            .as_ref()
+            .and_then(|g| g.precision.as_ref())
+            .expect("a study");
+        let drawn = p.first.iter().filter(|x| x.is_some()).count();
+        let out = report_svg(&r, &View::new(Panel::Precision).with_scenario(&s), 960, 640)
+            .expect("draws");
+        match &p.second {
+            None => {
+                // One box per horizon, plus the legend swatch.
+                assert_eq!(rects(&out, &style::GLLS_EST), drawn + 1, "{name}");
+                assert!(out.contains("bound κ·√E‖δ‖² (39)"), "{name}");
+                assert!(out.contains("Fig. 3") || out.contains("Precision against"));
+            }
+            Some(second) => {
+                // Fig. 4: paired half-boxes in two colours.
+                let lls = second.iter().filter(|x| x.is_some()).count();
+                assert_eq!(rects(&out, &style::STATE_NOISE), drawn + 1, "{name}");
+                assert_eq!(rects(&out, &style::GLLS_EST), lls + 1, "{name}");
+                assert!(
+                    out.contains("state-noise estimator (left)") && out.contains("LLS (right)")
+                );
+                // ‖x(k)‖ ≈ 2.5·10⁷ is far above errors of order 1: a note, not a line.
+                assert!(out.contains("far above the axis"), "{name}");
+            }
+        }
+    }
+}
+
+#[test]
+fn plane_panel_shows_the_sets_and_says_when_the_truth_is_outside() {
+    let (s, r) = preset("glls-saturate");
+    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    for label in [
+        "true state x(39)",
+        "LLS estimate x̂(39)",
+        "guaranteed ball (35), r = 0.168",
+        "interval box (exact hull)",
+        "regularized estimate (p = 2)",
+        "projected truth",
+        "in ball: yes, in box: yes",
+        "x₂(39)",
+        "x₃(39)",
+    ] {
+        assert!(out.contains(label), "saturate plane: no \"{label}\"");
+    }
+    assert!(!out.contains("outside:"));
+    // The unstable system has state noise and μ = 0: the truth is outside, the sets are a point.
+    let (s, r) = preset("glls-unstable5");
+    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    for label in [
+        "state-noise estimate (63)–(64)",
+        "LLS estimate (centre of ball and box)",
+        "outside: the sets cover only measurement noise",
+        "μ = 0",
+    ] {
+        assert!(out.contains(label), "unstable5 plane: no \"{label}\"");
+    }
+    // Noise beyond μ is named as the reason.
+    let (s, mut r) = preset("glls-saturate");
+    if let Some(g) = r.glls.as_mut() {
+        g.truth_in_ball = Some(false);
+        g.noise_max = Some(0.2);
+        g.rounding_dominates = true;
+    }
+    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    assert!(out.contains("outside: the noise exceeded μ"));
+    assert!(out.contains("floating point: estimated rounding error"));
+    // Huge coordinates get an offset so the ticks stay short.
+    let (s, r) = preset("glls-grow");
+    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    assert!(out.contains("x₁(39) − 14715"), "no offset on the x axis");
+}
+
+#[test]
+fn the_horizon_marker_follows_the_horizon_in_use() {
+    let (s, r) = preset("glls-saturate");
+    let mut r2 = r.clone();
+    if let Some(g) = r2.glls.as_mut() {
+        g.s = 20;
+    }
+    for panel in [Panel::Singular, Panel::Index, Panel::Precision] {
+        let v = View::new(panel).with_scenario(&s);
+        let a = report_svg(&r, &v, 800, 600).unwrap();
+        let b = report_svg(&r2, &v, 800, 600).unwrap();
+        assert_ne!(a, b, "{}", panel.name());
+        assert!(a.contains("s = 8 in use") && b.contains("s = 20 in use"));
+    }
+}
+
+#[test]
+fn glls_and_other_panels_do_not_mix() {
+    let (s, r) = preset("glls-mixed");
+    for panel in [Panel::State, Panel::Series, Panel::Coverage, Panel::Region] {
+        let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+            .expect_err("a GLLS report draws GLLS panels only");
+        assert_eq!(e.field, "panel", "{}: {e}", panel.name());
+        assert!(e.message.contains("singular"), "{e}");
+    }
+    for other in ["scf-scalar", "lscr-predict"] {
+        let (s, r) = preset(other);
+        for panel in GLLS_PANELS {
+            let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+                .expect_err("no GLLS part");
+            assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
+        }
+    }
+    // Broken reports are errors, not panics.
+    let (_, r) = preset("glls-saturate");
+    let mut bad = r.clone();
+    if let Some(g) = bad.glls.as_mut() {
+        g.curves.log10_floor.pop();
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::Singular), 800, 600)
+            .unwrap_err()
+            .field,
+        "report.glls.curves"
+    );
+    let mut bad = r.clone();
+    if let Some(g) = bad.glls.as_mut() {
+        g.plane = [0, 7];
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::Plane), 800, 600)
+            .unwrap_err()
+            .field,
+        "report.glls.plane"
+    );
+    let mut bad = r.clone();
+    if let Some(g) = bad.glls.as_mut() {
+        g.index = vec![-400.0; g.index.len()];
+        g.index_p = None;
+        if let Some(p) = g.precision.as_mut() {
+            p.bound.pop();
+        }
+    }
+    assert!(report_svg(&bad, &View::new(Panel::Index), 800, 600).is_err());
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::Precision), 800, 600)
+            .unwrap_err()
+            .field,
+        "report.glls.precision"
+    );
+    assert_eq!(
+        report_svg(&r, &View::new(Panel::Plane), 200, 100)
+            .unwrap_err()
+            .field,
+        "size"
+    );
+}
+
+#[test]
+fn log_ticks_read_as_powers_of_ten() {
+    let t = style::log_ticks(-15.3, 1.2, 400);
+    let labels: Vec<&str> = t
+        .iter()
+        .filter(|t| !t.label.is_empty())
+        .map(|t| t.label.as_str())
+        .collect();
+    assert!(
+        labels.contains(&"10⁻¹⁴") && labels.contains(&"10⁰"),
+        "{labels:?}"
+    );
+    let t = style::log_ticks(-1.2, -0.4, 400);
+    let labels: Vec<&str> = t
+        .iter()
+        .filter(|t| !t.label.is_empty())
+        .map(|t| t.label.as_str())
+        .collect();
+    assert!(
+        labels.contains(&"0.1") && labels.contains(&"0.2"),
+        "{labels:?}"
+    );
+    assert!(style::log_ticks(1.0, 1.0, 400).is_empty());
+    assert_eq!(style::pow10(-5), "10⁻⁵");
+}
+
+#[test]
+fn glls_panels_are_fast() {
+    for name in GLLS_PRESETS {
+        let (s, r) = preset(name);
+        for panel in GLLS_PANELS {
+            let v = View::new(panel).with_scenario(&s);
+            report_svg(&r, &v, 800, 600).expect("warm-up");
+            let runs = 10;
+            let t0 = std::time::Instant::now();
+            for _ in 0..runs {
+                report_svg(&r, &v, 800, 600).expect("draws");
+            }
+            let ms = t0.elapsed().as_secs_f64() * 1e3 / runs as f64;
+            eprintln!("GLLS {} {name} 800×600: {ms:.2} ms per SVG", panel.name());
+            assert!(ms < 250.0, "{name} {}: {ms} ms", panel.name());
+        }
     }
 }

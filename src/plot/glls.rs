@@ -1,0 +1,1004 @@
+//! The panels of a GLLS report (Gubarev & Mishchenko, "Interval state estimator for linear
+//! systems with known structure"): Fig. 1 (`singular`), Fig. 2 (`index`) and the state plane
+//! at time k (`plane`); Figs. 3–4 (`precision`) live in `glls_precision.rs`.
+//!
+//! Log axes: the report holds log10 values and the charts plot them on a linear axis labelled
+//! 10ᵏ ([`style::log_chart`]). A log10 value ≤ −300 marks an exact zero (a rank-deficient
+//! Γ_{s+1} for small s) and is never drawn; a singular value below the floating-point floor
+//! ε·σ₁·√(m(s+1)) is not resolved in double precision and is not drawn either: the floor is
+//! the grey band under which it would lie.
+
+use super::geom::Win;
+use super::style::{
+    self, sci, sig, sub, Axes, Entry, Fonts, Marker, Swatch, BALL, FLOOR, GLLS_EST, INTERVAL_BOX,
+    REGULARIZED, STATE_NOISE, TEXT, TRUTH,
+};
+use super::{de, Area, Frame, Panel, View};
+use crate::error::{Error, Result};
+use crate::scenario::glls::GllsReport;
+use crate::scenario::Report;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, VPos};
+
+/// log10 values at or below this mark an exact zero.
+pub(crate) const ZERO: f64 = -300.0;
+
+/// Points on a drawn circle.
+const CIRCLE_POINTS: usize = 160;
+
+/// The report's GLLS part, or an error naming the panel.
+pub fn glls_of(report: &Report, panel: Panel) -> Result<&GllsReport> {
+    report.glls.as_ref().ok_or_else(|| {
+        let choose = if report.lscr.is_some() {
+            "choose region"
+        } else {
+            "choose state, series or coverage"
+        };
+        Error::field(
+            "panel",
+            format!(
+                "\"{}\" draws a GLLS figure, but this report (method \"{}\") has no GLLS part: {choose}",
+                panel.name(),
+                report.method
+            ),
+        )
+    })
+}
+
+/// The panel fits the report (before anything is drawn).
+pub fn check(report: &Report, panel: Panel) -> Result<()> {
+    let g = glls_of(report, panel)?;
+    if panel == Panel::Precision && g.precision.is_none() {
+        return Err(Error::field(
+            "glls.monte_carlo",
+            "is not in this report: ask for a Monte Carlo study in the scenario (\"glls\": {\"monte_carlo\": {\"runs\", \"study\"}}) to draw the precision panel",
+        ));
+    }
+    Ok(())
+}
+
+/// "Singular values of Γₛ₊₁ — the preset's title", or the default.
+pub(crate) fn title(view: &View, what: &str, default: &str) -> String {
+    match &view.title {
+        Some(t) => format!("{what} — {t}"),
+        None => default.to_string(),
+    }
+}
+
+/// The x axis of the horizon panels.
+pub(crate) fn horizon_desc(compact: bool) -> &'static str {
+    if compact {
+        "horizon s"
+    } else {
+        "horizon s (estimates from y(k−s) … y(k))"
+    }
+}
+
+/// The estimator's name ("LLS", "GLLS", "state-noise").
+pub(crate) fn estimator_name(g: &GllsReport) -> &'static str {
+    match g.estimator.as_str() {
+        "glls" => "GLLS",
+        "state_noise" => "state-noise",
+        _ => "LLS",
+    }
+}
+
+/// Check the curves' shapes: S + 1 rows of n values, a floor per row.
+fn check_curves(g: &GllsReport) -> Result<usize> {
+    let c = &g.curves;
+    let rows = c.log10_sigma.len();
+    let n = g.n;
+    let bad = rows == 0
+        || n == 0
+        || c.log10_floor.len() != rows
+        || c.log10_sigma.iter().any(|r| r.len() != n)
+        || c.log10_sigma_prime
+            .as_ref()
+            .is_some_and(|p| p.len() != rows || p.iter().any(|r| r.len() != n));
+    if bad {
+        return Err(Error::field(
+            "report.glls.curves",
+            "must hold, for s = 0 … S, n singular values and a floor each",
+        ));
+    }
+    Ok(rows)
+}
+
+/// A curve as pieces of (s, log10 value) where `keep` holds (a gap splits it).
+fn pieces(values: impl Iterator<Item = (usize, f64, bool)>) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut cur: Vec<(f64, f64)> = Vec::new();
+    for (s, v, keep) in values {
+        if keep && v.is_finite() {
+            cur.push((s as f64, v));
+        } else if !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// The y window of log10 values: padded, at least `min_span` decades.
+fn log_window(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (-1.0, 1.0);
+    }
+    let (mut lo, mut hi) = (lo.min(hi), lo.max(hi));
+    if hi - lo < min_span {
+        let mid = 0.5 * (lo + hi);
+        lo = mid - 0.5 * min_span;
+        hi = mid + 0.5 * min_span;
+    }
+    let pad = 0.06 * (hi - lo);
+    (lo - pad, hi + pad)
+}
+
+/// A label above (or below) a point on a light background, kept inside the plotting area;
+/// returns its pixels.
+fn point_label<DB: DrawingBackend>(
+    root: &Area<DB>,
+    chart: &style::Chart<DB>,
+    fonts: &Fonts,
+    p: (i32, i32),
+    label: &str,
+    color: &RGBColor,
+) -> Result<Vec<(i32, i32)>> {
+    let st = fonts.legend().color(color);
+    let (tw, th) = style::text_size(root, label, &st)?;
+    let (tw, th) = (tw as i32, th as i32);
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let x = (p.0 - tw / 2).clamp(xr.start + 4, (xr.end - tw - 4).max(xr.start + 4));
+    let y = if p.1 - 10 - th > yr.start {
+        p.1 - 10 - th
+    } else {
+        (p.1 + 10).min(yr.end - th - 2)
+    };
+    let (bx, by) = root.get_base_pixel();
+    root.draw(&Rectangle::new(
+        [(x - 3 - bx, y - 2 - by), (x + tw + 3 - bx, y + th + 2 - by)],
+        WHITE.mix(0.85).filled(),
+    ))
+    .map_err(de)?;
+    style::text(root, label, (x, y), &st, (HPos::Left, VPos::Top))?;
+    Ok((0..5).map(|k| (x + k * tw / 4, y + th / 2)).collect())
+}
+
+/// The marker of the horizon in use; when it lies outside the chart, a note saying so.
+pub(crate) fn horizon_marker<DB: DrawingBackend>(
+    root: &Area<DB>,
+    chart: &style::Chart<DB>,
+    fonts: &Fonts,
+    s: usize,
+    notes: &mut Vec<String>,
+) -> Result<()> {
+    let w = Win::of_chart(chart);
+    let x = s as f64;
+    if x >= w.x0 && x <= w.x1 {
+        style::cursor(root, chart, fonts, x, &format!("s = {s} in use"))
+    } else {
+        notes.push(format!(
+            "the horizon in use, s = {s}, lies beyond the horizons drawn (≤ {})",
+            w.x1.floor()
+        ));
+        Ok(())
+    }
+}
+
+// ------------------------------------------------------------------ Fig. 1: singular values
+
+/// Panel::Singular — Fig. 1.
+pub fn draw_singular<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
+    let g = glls_of(report, Panel::Singular)?;
+    let rows = check_curves(g)?;
+    let c = &g.curves;
+    let n = g.n;
+    let s_max = rows - 1;
+    let floor = &c.log10_floor;
+    // σ' has its own floor ε·σ'₁·√(m(s+1)).
+    let prime_floor: Option<Vec<f64>> = c.log10_sigma_prime.as_ref().map(|p| {
+        (0..rows)
+            .map(|s| floor[s] - c.log10_sigma[s][0] + p[s][0])
+            .collect()
+    });
+    let resolved = |v: f64, f: f64| v > ZERO && v.is_finite() && v > f;
+    let solid: Vec<Vec<Vec<(f64, f64)>>> = (0..n)
+        .map(|i| {
+            pieces((0..rows).map(|s| {
+                let v = c.log10_sigma[s][i];
+                (s, v, resolved(v, floor[s]))
+            }))
+        })
+        .collect();
+    let dashed: Option<Vec<Vec<Vec<(f64, f64)>>>> = c
+        .log10_sigma_prime
+        .as_ref()
+        .zip(prime_floor.as_ref())
+        .map(|(p, pf)| {
+            (0..n)
+                .map(|i| {
+                    pieces((0..rows).map(|s| {
+                        let v = p[s][i];
+                        (s, v, resolved(v, pf[s]))
+                    }))
+                })
+                .collect()
+        });
+    // The window fits the solid curves (the figure's subject) and lets the dashed ones extend
+    // it by at most 1.5 decades; beyond that they are clipped, with a note.
+    let range = |cs: &[Vec<Vec<(f64, f64)>>]| {
+        let mut r = (f64::INFINITY, f64::NEG_INFINITY);
+        for &(_, v) in cs.iter().flatten().flatten() {
+            r = (r.0.min(v), r.1.max(v));
+        }
+        r
+    };
+    let (mut lo, mut hi) = range(&solid);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(Error::field(
+            "report.glls.curves",
+            "hold no singular value above the floating-point floor: nothing to draw",
+        ));
+    }
+    let mut clipped: Option<(f64, usize)> = None;
+    if let Some(d) = &dashed {
+        let (dlo, dhi) = range(d);
+        if dlo.is_finite() && dhi.is_finite() {
+            let (nlo, nhi) = (dlo.max(lo - 1.5), dhi.min(hi + 1.5));
+            if dhi > nhi || dlo < nlo {
+                // Where the dashed curves go furthest.
+                let far = d.iter().flatten().flatten().copied().max_by(|a, b| {
+                    (a.1 - nhi)
+                        .max(nlo - a.1)
+                        .total_cmp(&(b.1 - nhi).max(nlo - b.1))
+                });
+                clipped = far.map(|(s, v)| (v, s as usize));
+            }
+            lo = lo.min(nlo);
+            hi = hi.max(nhi);
+        }
+    }
+    // The floor joins the window when it comes within three decades of the curves.
+    let fmax = floor
+        .iter()
+        .copied()
+        .filter(|f| f.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let floor_shown = fmax > lo - 3.0;
+    if floor_shown {
+        lo = lo.min(fmax - 0.5);
+    }
+    let (y0, y1) = log_window(lo, hi, 1.0);
+    let win = Win::new((0.0, s_max.max(1) as f64), (y0, y1));
+
+    // Texts.
+    let short = fonts.compact;
+    let rows_of = if g.m == 1 {
+        "s+1".to_string()
+    } else {
+        format!("{}(s+1)", g.m)
+    };
+    let mut notes = vec![format!(
+        "σ₁ ≥ … ≥ σ{} of Γₛ₊₁ = [C; CA; …; CAˢ] of size {rows_of} × {n}, s = 0 … {s_max}; 1/σ{} is the LLS condition number of x(k−s) (Section 3.3)",
+        sub(n),
+        sub(n)
+    )];
+    match (g.prime_gap_log10, &c.log10_sigma_prime) {
+        (Some(gap), Some(_)) if gap > 0.05 => notes.push(format!(
+            "dashed σᵢ(Γₛ₊₁A⁻ˢ): the paper remarks they equal σᵢ(Γₛ₊₁); here they differ by a factor up to {} (equal only for orthogonal A)",
+            sci(10f64.powf(gap.min(300.0)))
+        )),
+        (_, Some(_)) => notes.push(
+            "dashed σᵢ(Γₛ₊₁A⁻ˢ) equal σᵢ(Γₛ₊₁) here, as the paper remarks".to_string(),
+        ),
+        (_, None) => notes.push("A is singular: no Γₛ₊₁A⁻ˢ".to_string()),
+    }
+    if let Some((v, s)) = clipped {
+        notes.push(format!(
+            "a dashed curve leaves the window (σ = {} at s = {s})",
+            sci(10f64.powf(v.clamp(-300.0, 300.0)))
+        ));
+    }
+    if !floor_shown {
+        notes.push(format!(
+            "floating-point floor ε·σ₁·√(m(s+1)) ≤ {}: every drawn σ is resolved",
+            sci(10f64.powf(fmax))
+        ));
+    }
+    let mut entries: Vec<Entry> = (0..n)
+        .map(|i| {
+            Entry::new(
+                if short {
+                    format!("σ{}", sub(i + 1))
+                } else {
+                    format!("σ{}(Γₛ₊₁)", sub(i + 1))
+                },
+                Swatch::Line {
+                    color: style::series_color(i),
+                    dashed: false,
+                    width: 2,
+                },
+            )
+        })
+        .collect();
+    if dashed.is_some() {
+        entries.push(Entry::new(
+            if short {
+                "σᵢ(Γ A⁻ˢ)".to_string()
+            } else {
+                "σᵢ(Γ A⁻ˢ) — the paper's remark says equal".to_string()
+            },
+            Swatch::Line {
+                color: TEXT,
+                dashed: true,
+                width: 2,
+            },
+        ));
+    }
+    if floor_shown {
+        entries.push(Entry::new(
+            if short {
+                "not resolved"
+            } else {
+                "below: not resolved in double precision"
+            },
+            Swatch::Region {
+                color: FLOOR,
+                dashed: false,
+                fill: true,
+            },
+        ));
+    }
+    let t = title(
+        view,
+        "Singular values of Γₛ₊₁",
+        "Singular values of the observability matrix Γₛ₊₁ (GLLS paper, Fig. 1)",
+    );
+    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
+    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let xd = horizon_desc(short);
+    let yd = "singular value σᵢ (log scale)";
+    let chart = style::log_chart(
+        &area,
+        &fonts,
+        &Axes {
+            win,
+            x_desc: xd,
+            y_desc: yd,
+            x_integer: true,
+            equal: false,
+            x_labels: true,
+        },
+    )?;
+    let mut marks: Vec<(i32, i32)> = Vec::new();
+    if floor_shown {
+        let xs: Vec<f64> = (0..rows).map(|s| s as f64).collect();
+        let top: Vec<f64> = floor.iter().map(|f| f.clamp(y0, y1)).collect();
+        let bottom = vec![y0; rows];
+        style::band(root, &chart, &xs, &bottom, &top, &FLOOR)?;
+        let line: Vec<(f64, f64)> = xs.iter().copied().zip(top.iter().copied()).collect();
+        style::path(root, &chart, &line, &FLOOR, 2, None)?;
+        marks.extend(style::marks_of(&chart, &line));
+    }
+    for (i, ps) in solid.iter().enumerate() {
+        for piece in ps {
+            style::path(root, &chart, piece, &style::series_color(i), 2, None)?;
+            marks.extend(style::marks_of(&chart, piece));
+        }
+    }
+    if let Some(d) = &dashed {
+        for (i, ps) in d.iter().enumerate() {
+            for piece in ps {
+                style::path(
+                    root,
+                    &chart,
+                    piece,
+                    &style::series_color(i),
+                    2,
+                    Some((6, 4)),
+                )?;
+                marks.extend(style::marks_of(&chart, piece));
+            }
+        }
+    }
+    let mut chart_notes = Vec::new();
+    horizon_marker(root, &chart, &fonts, g.s, &mut chart_notes)?;
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    Ok(style::frame_of(&chart, xd, yd))
+}
+
+// ------------------------------------------------------------------ Fig. 2: horizon index
+
+/// Panel::Index — Fig. 2.
+pub fn draw_index<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
+    let g = glls_of(report, Panel::Index)?;
+    let rows = check_curves(g)?;
+    let n = g.n;
+    let s_max = rows - 1;
+    let floor = &g.curves.log10_floor;
+    let p = g.regularized.as_ref().map(|r| r.p);
+    if g.index.len() != rows || g.index_p.as_ref().is_some_and(|v| v.len() != rows) {
+        return Err(Error::field(
+            "report.glls.index",
+            "must hold one value per horizon s = 0 … S",
+        ));
+    }
+    // σ/√s is resolved where σ is: above floor/√s.
+    let curve = |v: &[f64]| {
+        pieces((1..rows).map(|s| {
+            let f = floor[s] - 0.5 * (s as f64).log10();
+            (s, v[s], v[s] > ZERO && v[s] > f)
+        }))
+    };
+    let main = curve(&g.index);
+    let reg = g.index_p.as_deref().map(curve);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for piece in main.iter().chain(reg.iter().flatten()) {
+        for &(_, v) in piece {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(Error::field(
+            "report.glls.index",
+            "holds no resolved value σₙ/√s: nothing to draw",
+        ));
+    }
+    let (y0, y1) = log_window(lo, hi, 0.5);
+    // Room above the curves for the best-horizon labels.
+    let y1 = y1 + 0.12 * (y1 - y0);
+    let win = Win::new((0.0, s_max.max(1) as f64), (y0, y1));
+    let short = fonts.compact;
+    let color_n = style::series_color(n - 1);
+    let color_p = p.map(|p| style::series_color(p.saturating_sub(1)));
+    let mut notes = vec![format!(
+        "the LLS bounds (37), (39) are ∝ √s/σ{n}: the horizon maximising σ{n}/√s is the best one (Section 3.3)",
+        n = sub(n)
+    )];
+    let grows = |b: Option<usize>| b == Some(s_max);
+    if grows(g.best_horizon) {
+        notes.push(format!(
+            "σ{}/√s still grows at S = {s_max} (Fig. 2b kind): longer horizons keep helping, until rounding",
+            sub(n)
+        ));
+    }
+    if let Some(b) = g.best_horizon.filter(|&b| b > g.k) {
+        notes.push(format!(
+            "the best s = {b} needs {} measurements, the data hold {}: s = {} is used",
+            b + 1,
+            g.k + 1,
+            g.s
+        ));
+    }
+    if let Some(p) = p {
+        notes.push(format!(
+            "regularized: keeping p = {p} singular values, (38) is ∝ √s/σ{}; its best horizon differs",
+            sub(p)
+        ));
+    }
+    let mut entries = vec![Entry::new(
+        if short {
+            format!("σ{}/√s", sub(n))
+        } else {
+            format!("σ{}/√s (n = {n})", sub(n))
+        },
+        Swatch::Line {
+            color: color_n,
+            dashed: false,
+            width: 2,
+        },
+    )];
+    if let (Some(p), Some(cp), Some(_)) = (p, color_p, &reg) {
+        entries.push(Entry::new(
+            if short {
+                format!("σ{}/√s", sub(p))
+            } else {
+                format!("σ{}/√s (p = {p}, regularized)", sub(p))
+            },
+            Swatch::Line {
+                color: cp,
+                dashed: true,
+                width: 2,
+            },
+        ));
+    }
+    entries.push(
+        Entry::new(
+            "best horizon",
+            Swatch::Marker {
+                shape: Marker::Dot,
+                color: TEXT,
+                size: 4,
+            },
+        )
+        .minor(),
+    );
+    let t = title(
+        view,
+        "Horizon index σₙ/√s",
+        "Choosing the horizon: σₙ/√s (GLLS paper, Fig. 2)",
+    );
+    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
+    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let xd = horizon_desc(short);
+    let yd = "σ/√s (log scale)";
+    let chart = style::log_chart(
+        &area,
+        &fonts,
+        &Axes {
+            win,
+            x_desc: xd,
+            y_desc: yd,
+            x_integer: true,
+            equal: false,
+            x_labels: true,
+        },
+    )?;
+    let mut marks = Vec::new();
+    for piece in &main {
+        style::path(root, &chart, piece, &color_n, 2, None)?;
+        marks.extend(style::marks_of(&chart, piece));
+    }
+    if let (Some(r), Some(cp)) = (&reg, color_p) {
+        for piece in r {
+            style::path(root, &chart, piece, &cp, 2, Some(style::DASH))?;
+            marks.extend(style::marks_of(&chart, piece));
+        }
+    }
+    let mut chart_notes = Vec::new();
+    horizon_marker(root, &chart, &fonts, g.s, &mut chart_notes)?;
+    let mut best = vec![(g.best_horizon, &g.index, color_n, String::new())];
+    if let (Some(b), Some(v), Some(cp), Some(p)) = (g.best_horizon_p, &g.index_p, color_p, p) {
+        best.push((Some(b), v, cp, format!(" (p = {p})")));
+    }
+    for (b, v, color, suffix) in best {
+        let Some(b) = b else { continue };
+        let Some(&y) = v.get(b) else { continue };
+        if !(y > ZERO && win.contains(b as f64, y)) {
+            continue;
+        }
+        let q = style::px(&chart, (b as f64, y));
+        style::marker(root, q, Marker::Dot, &color, 5)?;
+        let label = if grows(Some(b)) {
+            format!("largest at S = {b}{suffix}")
+        } else {
+            format!("best s = {b}{suffix}")
+        };
+        marks.extend(point_label(root, &chart, &fonts, q, &label, &color)?);
+        marks.push(q);
+    }
+    note_box(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    Ok(style::frame_of(&chart, xd, yd))
+}
+
+// ------------------------------------------------------------------ the state plane
+
+/// An offset that keeps tick labels short when the values are huge next to their spread
+/// (‖x(k)‖ ≈ 10⁷ with a ball of radius 3): a round number near `c`, or 0.
+fn offset_for(lo: f64, span: f64) -> f64 {
+    if !(lo.is_finite() && span.is_finite() && span > 0.0) || lo.abs() < 1e4 * span {
+        return 0.0;
+    }
+    let step = 10f64.powf(span.log10().ceil());
+    (lo / step).floor() * step
+}
+
+/// "x₂ − 21240190" for an axis with an offset.
+fn with_offset(sym: &str, off: f64, span: f64) -> String {
+    if off == 0.0 {
+        return sym.to_string();
+    }
+    let d = (-(span.log10().ceil())).max(0.0) as usize;
+    let v = style::num(off.abs(), d.min(8));
+    format!("{sym} {} {v}", if off > 0.0 { "−" } else { "+" })
+}
+
+/// Panel::Plane — the two `plane` components of x(k).
+pub fn draw_plane<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
+    let g = glls_of(report, Panel::Plane)?;
+    let n = g.n;
+    let [i, j] = g.plane;
+    if i >= n || j >= n {
+        return Err(Error::field(
+            "report.glls.plane",
+            format!("must name components below n = {n}"),
+        ));
+    }
+    let one = i == j;
+    let ok = |v: &[f64]| v.len() == n && v.iter().all(|x| x.is_finite());
+    let ball = &g.ball_current;
+    let bx = &g.box_current;
+    if !ok(&g.estimate_current)
+        || !ok(&ball.center)
+        || ball.cov.len() != n
+        || !ok(&bx.lo)
+        || !ok(&bx.hi)
+    {
+        return Err(Error::field(
+            "report.glls",
+            "holds an estimate, ball or box of the wrong dimension or with non-finite numbers",
+        ));
+    }
+    let r2 = ball.cov[i].get(i).copied().unwrap_or(f64::NAN) * ball.radius2;
+    if !(r2.is_finite() && r2 >= 0.0) {
+        return Err(Error::field(
+            "report.glls.ball_current",
+            "must have a finite radius",
+        ));
+    }
+    // cov = r²I with r² ≥ 1e-300 stored for a zero radius (μ = 0).
+    let r = if r2 <= 1e-290 { 0.0 } else { r2.sqrt() };
+    let at = |v: &[f64]| (v[i], if one { 0.0 } else { v[j] });
+    let center = at(&ball.center);
+    let est = at(&g.estimate_current);
+    let truth = g.x_true_current.as_deref().filter(|v| ok(v)).map(at);
+    let (bx_x, bx_y) = (
+        (bx.lo[i], bx.hi[i]),
+        if one {
+            let h = 0.5 * (bx.hi[i] - bx.lo[i]);
+            (-h, h)
+        } else {
+            (bx.lo[j], bx.hi[j])
+        },
+    );
+    let sn = g
+        .state_noise
+        .as_ref()
+        .map(|s| s.estimate_current.as_slice())
+        .filter(|v| ok(v))
+        .map(at);
+    let reg = g.regularized.as_ref();
+    let reg_est = reg
+        .and_then(|r| r.estimate_current.as_deref())
+        .filter(|v| ok(v))
+        .map(at);
+    let reg_truth = reg
+        .and_then(|r| r.truth_projected_current.as_deref())
+        .filter(|v| ok(v))
+        .map(at);
+
+    // Window: every set and point, padded; then an offset for huge coordinates.
+    let mut w = Win::empty();
+    w.add(center.0 - r, center.1 - r);
+    w.add(center.0 + r, center.1 + r);
+    w.add(bx_x.0, bx_y.0);
+    w.add(bx_x.1, bx_y.1);
+    for p in [Some(est), truth, sn, reg_est, reg_truth]
+        .into_iter()
+        .flatten()
+    {
+        w.add(p.0, p.1);
+    }
+    if w.width() <= 0.0 && w.height() <= 0.0 {
+        let e = 1e-6 * center.0.abs().max(center.1.abs()).max(1.0);
+        w = Win::new((w.x0 - e, w.x1 + e), (w.y0 - e, w.y1 + e));
+    }
+    let w = w.padded(0.1, 0.1);
+    let span = w.width().max(w.height());
+    let (ox, oy) = (offset_for(w.x0, span), offset_for(w.y0, span));
+    let sh = |p: (f64, f64)| (p.0 - ox, p.1 - oy);
+    let win = Win::new((w.x0 - ox, w.x1 - ox), (w.y0 - oy, w.y1 - oy));
+
+    // Texts.
+    let short = fonts.compact;
+    let k = g.k;
+    let sym = |c: usize| format!("x{}({k})", sub(c + 1));
+    let axis = |c: usize, off: f64| {
+        let s = with_offset(&sym(c), off, span);
+        match view.names.get(c) {
+            Some(name) if !name.is_empty() => format!("{s}: {name}"),
+            _ => s,
+        }
+    };
+    let x_desc = axis(i, ox);
+    let y_desc = if one {
+        "(n = 1: one component)".to_string()
+    } else {
+        axis(j, oy)
+    };
+    let est_name = estimator_name(g);
+    let yes = |b: Option<bool>| match b {
+        Some(true) => "yes",
+        Some(false) => "NO",
+        None => "—",
+    };
+    let mut notes = vec![format!(
+        "x({k}) from y({}) … y({k}): horizon s = {}, {est_name} estimator",
+        k.saturating_sub(g.s),
+        g.s
+    )];
+    notes.push(format!(
+        "‖δ(j)‖₂ ≤ μ = {} guarantees the ball (35) of radius √(s+1)·μ·κ = {} and the exact interval box",
+        sig(g.mu),
+        sig(r)
+    ));
+    if truth.is_some() {
+        notes.push(format!(
+            "true x({k}) in ball: {}, in box: {}",
+            yes(g.truth_in_ball),
+            yes(g.truth_in_box)
+        ));
+    }
+    if n > 2 {
+        notes.push(format!(
+            "n = {n}: projection on x{}, x{} (a ball projects to a disk)",
+            sub(i + 1),
+            sub(j + 1)
+        ));
+    }
+    let mut entries = Vec::new();
+    if truth.is_some() {
+        entries.push(Entry::new(
+            format!("true state x({k})"),
+            Swatch::Marker {
+                shape: Marker::Diamond,
+                color: TRUTH,
+                size: 5,
+            },
+        ));
+    }
+    let lls_center = sn.is_some();
+    entries.push(Entry::new(
+        if lls_center {
+            if short {
+                "LLS (ball centre)".to_string()
+            } else {
+                "LLS estimate (centre of ball and box)".to_string()
+            }
+        } else {
+            format!("{est_name} estimate x̂({k})")
+        },
+        Swatch::Marker {
+            shape: Marker::Star,
+            color: GLLS_EST,
+            size: 5,
+        },
+    ));
+    if sn.is_some() {
+        entries.push(Entry::new(
+            if short {
+                "state-noise est."
+            } else {
+                "state-noise estimate (63)–(64)"
+            },
+            Swatch::Marker {
+                shape: Marker::Cross,
+                color: STATE_NOISE,
+                size: 5,
+            },
+        ));
+    }
+    entries.push(Entry::new(
+        if short {
+            "ball (35)".to_string()
+        } else {
+            format!("guaranteed ball (35), r = {}", sig(r))
+        },
+        Swatch::Region {
+            color: BALL,
+            dashed: false,
+            fill: true,
+        },
+    ));
+    entries.push(Entry::new(
+        if short {
+            "interval box"
+        } else {
+            "interval box (exact hull)"
+        },
+        Swatch::Region {
+            color: INTERVAL_BOX,
+            dashed: true,
+            fill: false,
+        },
+    ));
+    if let (Some(rg), Some(_)) = (reg, reg_est) {
+        entries.push(Entry::new(
+            if short {
+                format!("regularized p = {}", rg.p)
+            } else {
+                format!("regularized estimate (p = {})", rg.p)
+            },
+            Swatch::Marker {
+                shape: Marker::Plus,
+                color: REGULARIZED,
+                size: 5,
+            },
+        ));
+        if reg_truth.is_some() {
+            entries.push(
+                Entry::new(
+                    "projected truth (what it estimates)",
+                    Swatch::Marker {
+                        shape: Marker::Diamond,
+                        color: REGULARIZED,
+                        size: 5,
+                    },
+                )
+                .minor(),
+            );
+        }
+    }
+    let t = title(
+        view,
+        &format!("State x({k}) with its guaranteed sets"),
+        &format!("GLLS estimate of x({k}) with the guaranteed ball and interval box"),
+    );
+    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
+    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let chart = style::chart(
+        &area,
+        &fonts,
+        &Axes {
+            win,
+            x_desc: &x_desc,
+            y_desc: &y_desc,
+            x_integer: false,
+            equal: true,
+            x_labels: true,
+        },
+    )?;
+    let cw = Win::of_chart(&chart);
+    let mut marks = Vec::new();
+    // The box (dashed), then the ball (filled disk), then the points.
+    let b0 = sh((bx_x.0, bx_y.0));
+    let b1 = sh((bx_x.1, bx_y.1));
+    let rect = [(b0.0, b0.1), (b1.0, b0.1), (b1.0, b1.1), (b0.0, b1.1)];
+    if b1.0 > b0.0 || b1.1 > b0.1 {
+        style::region(root, &chart, &rect, &INTERVAL_BOX, true, false)?;
+        marks.extend(style::marks_of(&chart, &rect));
+    }
+    let c = sh(center);
+    if r > 0.0 {
+        let circle: Vec<(f64, f64)> = (0..CIRCLE_POINTS)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / CIRCLE_POINTS as f64;
+                (c.0 + r * a.cos(), c.1 + r * a.sin())
+            })
+            .collect();
+        style::region(root, &chart, &circle, &BALL, false, true)?;
+        marks.extend(style::marks_of(&chart, &circle));
+    }
+    let mut outside: Vec<&str> = Vec::new();
+    let mut point = |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| {
+        let p = sh(p);
+        if cw.contains(p.0, p.1) {
+            let q = style::px(&chart, p);
+            marks.push(q);
+            style::marker(root, q, shape, color, 5)
+        } else {
+            outside.push(what);
+            Ok(())
+        }
+    };
+    if let Some(t) = reg_truth {
+        point(t, Marker::Diamond, &REGULARIZED, "projected truth")?;
+    }
+    if let Some(t) = truth {
+        point(t, Marker::Diamond, &TRUTH, "true state")?;
+    }
+    if let Some(e) = reg_est {
+        point(e, Marker::Plus, &REGULARIZED, "regularized estimate")?;
+    }
+    point(
+        if lls_center { center } else { est },
+        Marker::Star,
+        &GLLS_EST,
+        "estimate",
+    )?;
+    if let Some(e) = sn {
+        point(e, Marker::Cross, &STATE_NOISE, "state-noise estimate")?;
+    }
+
+    // On-chart notes.
+    let mut chart_notes: Vec<String> = Vec::new();
+    let out_of_sets = g.truth_in_ball == Some(false) || g.truth_in_box == Some(false);
+    if out_of_sets {
+        chart_notes.push(match g.noise_max {
+            Some(d) if d > g.mu => format!(
+                "outside: the noise exceeded μ (max ‖δ(j)‖₂ = {} > μ = {})",
+                sig(d),
+                sig(g.mu)
+            ),
+            _ if g.state_noise.is_some() => format!(
+                "outside: the sets cover only measurement noise ‖δ‖₂ ≤ μ = {}, not the state noise ξ",
+                sig(g.mu)
+            ),
+            _ => format!("outside: the truth left the sets for ‖δ(j)‖₂ ≤ μ = {}", sig(g.mu)),
+        });
+    }
+    if r == 0.0 {
+        chart_notes.push(
+            "μ = 0: the ball and the box are the single point of the LLS estimate".to_string(),
+        );
+    }
+    if g.rounding_dominates {
+        chart_notes.push(format!(
+            "floating point: estimated rounding error {} exceeds 10 % of the bound",
+            sci(g.rounding_estimate)
+        ));
+    }
+    if !outside.is_empty() {
+        chart_notes.push(format!("outside the window: {}", outside.join(", ")));
+    }
+    note_box(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    Ok(style::frame_of(&chart, &x_desc, &y_desc))
+}
+
+/// Notes in a framed box over the emptiest corner of the chart; their pixels join `marks`.
+pub(crate) fn note_box<DB: DrawingBackend>(
+    root: &Area<DB>,
+    chart: &style::Chart<DB>,
+    fonts: &Fonts,
+    lines: &[String],
+    marks: &mut Vec<(i32, i32)>,
+) -> Result<()> {
+    if lines.is_empty() {
+        return Ok(());
+    }
+    let st = fonts.legend().color(&TEXT);
+    let (xr, _) = chart.plotting_area().get_pixel_range();
+    let max_w = ((xr.end - xr.start) as u32).saturating_sub(28).max(60);
+    let mut wrapped = Vec::new();
+    for l in lines {
+        wrapped.extend(style::wrap(root, l, &st, max_w)?);
+    }
+    let (mut w, mut h) = (0, 0);
+    for s in &wrapped {
+        let (tw, th) = style::text_size(root, s, &st)?;
+        w = w.max(tw as i32);
+        h += th as i32 + 4;
+    }
+    let (bw, bh) = (w + 12, h + 8);
+    let at = style::emptiest_corner(chart, (bw, bh), marks);
+    let (bx, by) = root.get_base_pixel();
+    root.draw(&Rectangle::new(
+        [(at.0 - bx, at.1 - by), (at.0 + bw - bx, at.1 + bh - by)],
+        WHITE.mix(0.92).filled(),
+    ))
+    .map_err(de)?;
+    style::polyline(
+        root,
+        &[
+            at,
+            (at.0 + bw, at.1),
+            (at.0 + bw, at.1 + bh),
+            (at.0, at.1 + bh),
+            at,
+        ],
+        &style::FRAME,
+        1,
+        None,
+    )?;
+    let mut y = at.1 + 6;
+    for s in &wrapped {
+        style::text(root, s, (at.0 + 6, y), &st, (HPos::Left, VPos::Top))?;
+        y += style::text_size(root, s, &st)?.1 as i32 + 4;
+    }
+    for k in 0..6 {
+        for yy in [at.1 + 2, at.1 + bh / 2, at.1 + bh - 2] {
+            marks.push((at.0 + k * bw / 5, yy));
+        }
+    }
+    Ok(())
+}
