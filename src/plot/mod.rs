@@ -26,7 +26,7 @@
 //!   all with a marker at the horizon s in use: [`Panel::Singular`] (`glls.rs`, Fig. 1: every
 //!   σ_i(Γ_{s+1}) solid, σ_i(Γ_{s+1}A^{−s}) dashed in the same colour, the floating-point floor
 //!   as a grey band), [`Panel::Index`] (`glls.rs`, Fig. 2: σ_n/√s and σ_p/√s with the best
-//!   horizons), [`Panel::Plane`] (`glls.rs`: the two `plane` components of x(k) — truth ◇,
+//!   horizons), [`Panel::Plane`] (`glls_plane.rs`: the two `plane` components of x(k) — truth ◇,
 //!   estimate ⋆, the guaranteed ball (35) as a disk, the exact interval box, the regularized
 //!   estimate with the projected truth, the state-noise estimate) and [`Panel::Precision`]
 //!   (`glls_precision.rs`, Figs. 3–4: box-and-whisker of the Monte Carlo errors per horizon
@@ -48,6 +48,7 @@ mod coverage;
 mod erase;
 pub mod geom;
 mod glls;
+mod glls_plane;
 mod glls_precision;
 mod region;
 mod series;
@@ -303,7 +304,7 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
             let frame = match view.panel {
                 Panel::Singular => glls::draw_singular(&root, report, view, fonts)?,
                 Panel::Index => glls::draw_index(&root, report, view, fonts)?,
-                Panel::Plane => glls::draw_plane(&root, report, view, fonts)?,
+                Panel::Plane => glls_plane::draw(&root, report, view, fonts)?,
                 _ => glls_precision::draw(&root, report, view, fonts)?,
             };
             root.present().map_err(de)?;
