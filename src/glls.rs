@@ -693,6 +693,10 @@ impl Curves {
         let mut weighted = ScaledFactor::new(n);
         let mut prime = ScaledFactor::new(n);
         let mut pw = ScaledPower::identity(n); // A^s
+        let isotropic = {
+            let c = model.omega[(0, 0)];
+            c > 0.0 && (&model.omega - DMatrix::identity(m, m) * c).amax() <= 1e-15 * c
+        };
         let mut out = Curves {
             log10_sigma: Vec::with_capacity(s_max + 1),
             log10_sigma_prime: ainv.as_ref().map(|_| Vec::with_capacity(s_max + 1)),
@@ -719,10 +723,17 @@ impl Curves {
             ));
             out.log10_sigma
                 .push(ln_sv.iter().map(|&v| log10_of_ln(v)).collect());
-            // κ_LLS(s,k) = σ_max(A^s R⁻¹).
-            out.log10_kappa_lls_current
-                .push(log10_of_ln(ln_norm_power_rinv(&pw, &gam, None)));
+            // κ_LLS(s,k) = σ_max(A^s R⁻¹) = 1/σ_n(Γ_{s+1}A^{−s}) (45): taken from the σ' curve
+            // below when A is invertible, else by one small SVD.
+            let direct_kappa = |pw: &ScaledPower, gam: &ScaledFactor| {
+                log10_of_ln(ln_norm_power_rinv(pw, gam, None))
+            };
+            if ainv.is_none() {
+                out.log10_kappa_lls_current.push(direct_kappa(&pw, &gam));
+            }
             match (&omega_inv, &w_half) {
+                // Ω = c·I: GLLS is LLS (κ_GLLS = 1/σ_n, κ_GLLS(s,k) = κ_LLS(s,k)); filled below.
+                _ if isotropic => {}
                 (Some(oi), Some(wh)) => {
                     white.append(&(wh * &block), pw.log_scale);
                     weighted.append(&(oi * &block), pw.log_scale);
@@ -756,13 +767,26 @@ impl Curves {
                     }
                 }
                 prime.append(&model.c, 0.0);
-                list.push(
-                    prime
-                        .ln_singular()
-                        .iter()
-                        .map(|&v| log10_of_ln(v))
-                        .collect(),
-                );
+                let row: Vec<f64> = prime
+                    .ln_singular()
+                    .iter()
+                    .map(|&v| log10_of_ln(v))
+                    .collect();
+                // 1/σ'_n is accurate only while σ'_n is resolved against σ'_1 (an ill-conditioned
+                // A^{−1} can bury it): otherwise the direct route.
+                out.log10_kappa_lls_current
+                    .push(if row[n - 1] > row[0] - 12.0 {
+                        -row[n - 1]
+                    } else {
+                        direct_kappa(&pw, &gam)
+                    });
+                list.push(row);
+            }
+            if isotropic {
+                let last = out.log10_sigma[s][n - 1];
+                out.log10_kappa_glls_past.push(-last);
+                let cur = out.log10_kappa_lls_current[s];
+                out.log10_kappa_glls_current.push(cur);
             }
             pw.times(&model.a);
         }

@@ -44,6 +44,7 @@ fn main() {
         r.kf_inside, r.runs_total, r.scf_inside, r.runs_total, r.kf_warnings, r.scf_warnings
     );
     lscr_figures();
+    glls_figures();
     for p in presets::all() {
         let s = p.scenario.clone();
         let ms = median_ms(21, || {
@@ -109,5 +110,68 @@ fn lscr_figures() {
     println!(
         "LSCR coverage experiment, 2000 runs at x = [0.3, -0.4]: {cov:.1} ms; X^_1 {} X^_2 {} X^ {} BLUE {:?} KF {:?} (levels 0.95, 0.95, 0.90)",
         c.inside_each[0], c.inside_each[1], c.inside, c.blue, c.kf
+    );
+}
+
+/// The GLLS issue's targets: singular-value curves s = 0..500 for n = 10 (and the 5-state
+/// unstable preset), and the Monte Carlo of Section 5.1: 100,000 runs × horizons 0..20, n = 5.
+fn glls_figures() {
+    use confset::glls::{Curves, GllsModel, Precision, Study, Weighting};
+    use nalgebra::DMatrix;
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let a = DMatrix::from_fn(10, 10, |_, _| rng.random::<f64>() - 0.5);
+    let rho = a
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max);
+    let ten = GllsModel {
+        a: a / rho * 1.02,
+        b: DMatrix::zeros(10, 0),
+        c: DMatrix::from_fn(2, 10, |_, _| rng.random::<f64>() - 0.5),
+        omega: DMatrix::identity(2, 2) * 0.01,
+        xi: DMatrix::zeros(10, 10),
+        x0: nalgebra::DVector::from_element(10, 1.0),
+    };
+    let curves = median_ms(11, || {
+        std::hint::black_box(Curves::new(&ten, 500).expect("curves"));
+    });
+    let five = GllsModel::from_spec(&presets::get("glls-unstable5").expect("preset").model)
+        .expect("model");
+    let curves5 = median_ms(11, || {
+        std::hint::black_box(Curves::new(&five, 500).expect("curves"));
+    });
+    println!("GLLS curves s = 0..500 (σ(Γ), σ(Γ A^-s), κ LLS/GLLS): n = 10, m = 2: {curves:.2} ms; n = 5 (unstable preset): {curves5:.2} ms");
+    let noisy = GllsModel {
+        omega: DMatrix::identity(1, 1) * 0.01,
+        xi: DMatrix::zeros(5, 5),
+        ..five
+    };
+    let t = Instant::now();
+    let mut mc = Precision::new(
+        &noisy,
+        Study::Precision,
+        Weighting::Lls,
+        40,
+        (0, 20),
+        vec![],
+        100_000,
+        1,
+    )
+    .expect("study");
+    while !mc.finished() {
+        mc.step(10_000);
+    }
+    let ms = t.elapsed().as_secs_f64() * 1e3;
+    let r = mc.report();
+    println!(
+        "GLLS Monte Carlo (Section 5.1), 100000 runs x horizons {}..{} (n = 5, 40 steps): {ms:.0} ms; median error at s = {}: {:.3e}, at s = {}: {:.3e}",
+        r.horizons[0],
+        r.horizons[r.horizons.len() - 1],
+        r.horizons[0],
+        r.first[0].as_ref().map_or(f64::NAN, |s| s.median),
+        r.horizons[r.horizons.len() - 1],
+        r.first[r.first.len() - 1].as_ref().map_or(f64::NAN, |s| s.median)
     );
 }
