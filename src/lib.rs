@@ -24,11 +24,13 @@
 //! | [`kalman`] | Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state |
 //! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage |
 //! | [`lscr`] | LSCR (Weyer & Campi): the data as a regression on x_{t+1}, x_t or x_i ((11), (20), (21)), the block-wise Karhunen–Loève basis (12)–(15), the SVD of A (16), random/group/explicit strings (points 4, 4a), the region (17) as a `SignRegion`, Theorem 3.2 levels, BLUE and Kalman comparisons, the chunked coverage experiment |
+//! | [`glls`] | GLLS moving-horizon estimation (Gubarev & Mishchenko): Γ_{s+1}, Φ_{s+1} (6), the GLLS gain in SVD form (21), fast-forward (41), κ (17), (19), (45), truncated-SVD regularization (29)–(32), (47)–(49), guaranteed ball (35) with √(s+1) and the exact interval hull, the expected bound (39), singular-value curves by scaled QR updates, the state-noise estimator (60)–(64), the chunked Monte Carlo of Section 5 |
+//! | [`solve`] | the one place that talks to the LP/QP solver (clarabel): dense problems in, a solution or a field-naming error (infeasible, unbounded) out |
 //! | [`experiment`] | conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo |
-//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage) |
+//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage); [`scenario::glls`] the `glls` block and report (simulation with Gaussian, bounded or worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators, Monte Carlo) |
 //! | [`presets`] | the papers' examples as scenarios (used by page, CLI and tests) |
-//! | [`plot`] | figures on any plotters backend, one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note) |
-//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `Session` (run, draw, svg, LSCR raster), the chunked `Experiment` and `LscrExperiment` |
+//! | [`plot`] | figures on any plotters backend, one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs. 1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with the best horizon, the state plane with the guaranteed ball and box, error box plots against the horizon with the bound) |
+//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `Session` (run, draw, svg, LSCR raster, GLLS precision), the chunked `Experiment`, `LscrExperiment` and `GllsStudy` |
 //!
 //! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there).
 //!
@@ -58,6 +60,12 @@
 //! * LSCR Lemma 3.1: Cov n̄ = σ_v²D + σ_w²I (the paper swaps the variances); used by the BLUE.
 //! * LSCR smoothing: the Karhunen–Loève eigenvalues come in exact pairs, so the basis is not
 //!   unique; [`lscr::KarhunenLoeve`] fixes it block by block before seeing the data.
+//! * GLLS (34): δ(k,s) stacks s + 1 errors, so ‖δ(k,s)‖₂ ≤ √(s+1)·μ (printed √s); the ball
+//!   of (35) uses √(s+1), and the report adds the exact interval hull μΣ_j‖(∂f)_{i,j}‖₂, which
+//!   the worst-case noise reaches.
+//! * GLLS, end of 3.4: "σ(Γ_{s+1}) and σ(Γ_{s+1}A^{−s}) coincide" is an empirical remark, true
+//!   for orthogonal A only; both curves are computed and the report gives their largest gap.
+//! * GLLS (60) sums norms but (63) is the quadratic form; the estimator minimizes (63).
 //!
 //! ## How the LSCR region is exact and fast
 //!

@@ -789,3 +789,48 @@ fn garbage_glls_scenarios_never_panic() {
     }
     let _ = glls::input(&[], 0, 0);
 }
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn worst_case_noise_puts_the_truth_on_the_box_face_and_singular_a_is_explained() {
+    // noise "worst" aligns δ with the plotted component's gain at the horizon in use (here the
+    // best one, chosen by the report): that component's error equals the box half-width.
+    let mut s = preset_json("glls-saturate");
+    s["glls"]["noise"] = json!("worst");
+    s["glls"]["monte_carlo"] = Value::Null;
+    let g = Scenario::from_json(&s.to_string())
+        .unwrap()
+        .run()
+        .unwrap()
+        .glls
+        .unwrap();
+    let i = g.plane[0];
+    let err = (g.x_true_current.as_ref().unwrap()[i]
+        - (g.box_current.lo[i] + g.box_current.hi[i]) / 2.0)
+        .abs();
+    let half = (g.box_current.hi[i] - g.box_current.lo[i]) / 2.0;
+    assert!(
+        (err - half).abs() <= 1e-9 * half.max(1e-12) + 1e-12,
+        "component {i}: error {err} vs half-width {half}"
+    );
+    assert_eq!(g.truth_in_box, Some(true));
+    assert_eq!(g.truth_in_ball, Some(true));
+    // A nilpotent A: no Γ A^{−s}; the report says why, κ(s,k) still comes from ‖A^s ∂f‖.
+    let mut s = preset_json("glls-grow");
+    s["model"]["F"] = json!([[0.0, 1.0], [0.0, 0.0]]);
+    s["glls"]["monte_carlo"] = Value::Null;
+    s["glls"]["horizon"] = json!(3);
+    let g = Scenario::from_json(&s.to_string())
+        .unwrap()
+        .run()
+        .unwrap()
+        .glls
+        .unwrap();
+    assert!(g.sigma_prime.is_none() && g.curves.log10_sigma_prime.is_none());
+    assert!(
+        g.prime_note.as_deref().unwrap_or("").contains("singular"),
+        "{:?}",
+        g.prime_note
+    );
+    assert!(g.kappa_current.is_finite());
+}

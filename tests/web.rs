@@ -433,3 +433,44 @@ fn lscr_wasm_timings() {
     });
     wasm_bindgen_test::console_log!("[wasm timing] LSCR raster 512x512: {ms:.3} ms (mean of 50)");
 }
+
+/// The GLLS issue's wasm speed figures, printed like the LSCR ones.
+#[wasm_bindgen_test]
+fn glls_wasm_timings() {
+    use confset::glls::{Curves, GllsModel};
+    use nalgebra::DMatrix;
+    let ten = GllsModel {
+        a: DMatrix::from_fn(10, 10, |i, j| {
+            if j == (i + 1) % 10 {
+                1.01
+            } else if i == j {
+                0.05
+            } else {
+                0.0
+            }
+        }),
+        b: DMatrix::zeros(10, 0),
+        c: DMatrix::from_fn(2, 10, |i, j| ((i * 10 + j) as f64 * 0.7).sin()),
+        omega: DMatrix::identity(2, 2) * 0.01,
+        xi: DMatrix::zeros(10, 10),
+        x0: nalgebra::DVector::from_element(10, 1.0),
+    };
+    let five = GllsModel::from_spec(
+        &confset::presets::get("glls-unstable5")
+            .expect("preset")
+            .model,
+    )
+    .expect("model");
+    for (name, model) in [("n = 10, m = 2", &ten), ("n = 5 (glls-unstable5)", &five)] {
+        let reps = 10;
+        let t0 = js_sys::Date::now();
+        for _ in 0..reps {
+            std::hint::black_box(Curves::new(model, 500).expect("curves"));
+        }
+        let ms = (js_sys::Date::now() - t0) / reps as f64;
+        wasm_bindgen_test::console_log!(
+            "[wasm timing] GLLS curves s = 0..500, {name}: {ms:.2} ms (mean of {reps})"
+        );
+        assert!(ms.is_finite());
+    }
+}

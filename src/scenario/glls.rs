@@ -150,6 +150,10 @@ pub struct GllsReport {
     pub sigma: Vec<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sigma_prime: Option<Vec<f64>>,
+    /// Why σ(Γ_{s+1}A^{−s}), 1/σ'_n (45) and the regularized current-state estimator (47) are
+    /// missing: A is singular.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prime_note: Option<String>,
     pub kappa_past: f64,
     pub kappa_lls_past: f64,
     pub kappa_current: f64,
@@ -410,7 +414,19 @@ fn simulate(
             // δ(j) = μ·g_j/‖g_j‖ with g_j the block of row `plane[0]` of the current-state gain:
             // the error of that component reaches its interval bound exactly.
             let k = steps - 1;
-            let s = spec.horizon.unwrap_or(model.n().saturating_sub(1)).min(k);
+            // The horizon the report will use (the best one of Fig. 2 when none is given).
+            let s = match spec.horizon {
+                Some(s) => s,
+                None => {
+                    let curves = Curves::new(model, spec.max_horizon)?;
+                    let n = model.n();
+                    glls::horizon_index(&curves.log10_sigma, n)
+                        .1
+                        .unwrap_or(n.saturating_sub(1))
+                        .max(n.saturating_sub(1))
+                }
+            }
+            .min(k);
             let h = Horizon::new(model, s, weighting)?;
             let row = spec.plane.map(|p| p[0]).unwrap_or(0).min(model.n() - 1);
             for j in 0..=s {
@@ -599,6 +615,12 @@ impl GllsPrepared {
             prime_gap_log10,
             sigma: h.sigma.clone(),
             sigma_prime: h.sigma_prime.clone(),
+            prime_note: h.sigma_prime.is_none().then(|| {
+                format!(
+                    "A is singular (reciprocal condition {:.1e}): Γ_{{s+1}}A^{{−s}} of (44) does not exist, so σ' and the regularized current-state estimator (47) are not available; κ(s,k) is computed as ‖A^s ∂f‖ (43) instead",
+                    linalg::rcond(&model.a)
+                )
+            }),
             kappa_past: h.kappa_past,
             kappa_lls_past: h.kappa_lls_past,
             kappa_current: h.kappa_current,
