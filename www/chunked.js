@@ -1,5 +1,6 @@
 // Shared by the panels: wasm experiments run in chunks (about 12 ms of work per task, then the
-// browser paints and Cancel can land), and core errors shown next to the field they name.
+// browser paints and Cancel can land), input bursts coalesced into one run per frame, and core
+// errors shown next to the field they name.
 
 const SLICE_MS = 12;
 // Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
@@ -24,6 +25,23 @@ export async function runChunked(exp, chunk, me, onChunk) {
     await yieldToBrowser();
   }
   return { counts, wall: performance.now() - t0, compute };
+}
+
+// A run-per-frame scheduler: schedule('compute') or schedule('redraw') during a burst of input
+// events runs once on the next animation frame (a compute covers a redraw); the panel's busy
+// count is held meanwhile so tests can wait for it.
+export function frameScheduler(setBusy, compute, redraw) {
+  let queued = null;
+  return function schedule(what) {
+    if (queued === 'compute' || queued === what) return;
+    if (!queued) setBusy(+1);
+    queued = what;
+    requestAnimationFrame(() => {
+      const w = queued;
+      queued = null;
+      try { if (w === 'compute') compute(); else redraw(); } finally { setBusy(-1); }
+    });
+  };
 }
 
 // Inline errors of a panel: `<p class="err" data-for="model.F">` holds the message of an error

@@ -4,7 +4,7 @@
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Session, LscrExperiment } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
-import { runChunked, fieldErrors } from './chunked.js';
+import { runChunked, fieldErrors, frameScheduler } from './chunked.js';
 import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
@@ -186,17 +186,8 @@ export async function mountLscr(root, presets) {
     showNumbers();
   }
 
-  let queued = null;
-  function schedule(what) { // coalesce bursts of input events into one run per frame
-    if (queued === 'compute' || queued === what) return;
-    if (!queued) setBusy(+1);
-    queued = what;
-    requestAnimationFrame(() => {
-      const w = queued;
-      queued = null;
-      try { if (w === 'compute') compute(); else redraw(); } finally { setBusy(-1); }
-    });
-  }
+  // Bursts of input events coalesce into one run (or redraw) per frame.
+  const schedule = frameScheduler(setBusy, () => compute(), () => redraw());
 
   // ----- numbers from the report -----
   const regionName = (l) => `X̂${sub(l + 1)}`;

@@ -1,6 +1,6 @@
 // The SCF vs KF panel: controls → Scenario JSON → wasm Session.run → figures and numbers.
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
-import { fieldErrors } from './chunked.js';
+import { fieldErrors, frameScheduler } from './chunked.js';
 import { Session } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
@@ -165,17 +165,8 @@ export async function mountScf(root, presets) {
     showOutputs();
   }
 
-  let queued = null;
-  function schedule(what) { // coalesce bursts of slider events into one run per frame
-    if (queued === 'compute' || queued === what) return;
-    if (!queued) setBusy(+1);
-    queued = what;
-    requestAnimationFrame(() => {
-      const w = queued;
-      queued = null;
-      try { if (w === 'compute') compute(); else redraw(); } finally { setBusy(-1); }
-    });
-  }
+  // Bursts of input events coalesce into one run (or redraw) per frame.
+  const schedule = frameScheduler(setBusy, () => compute(), () => redraw());
 
   // ----- numbers from the report -----
   function showNumbers(t) {

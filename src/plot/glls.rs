@@ -69,6 +69,32 @@ pub(crate) fn horizon_desc(compact: bool) -> &'static str {
     }
 }
 
+/// The frame of every figure against the horizon (Figs. 1–4): title block, legend, and a chart
+/// over s with a log-scale y axis.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn horizon_chart<'a, DB: DrawingBackend>(
+    root: &Area<DB>,
+    fonts: &Fonts,
+    title: &str,
+    notes: &str,
+    entries: &[Entry],
+    win: Win,
+    short: bool,
+    y_desc: &str,
+) -> Result<(style::Chart<'a, DB>, style::LegendSide)> {
+    let area = style::title_block(root, fonts, title, notes)?;
+    let (area, side) = style::legend(&area, fonts, entries)?;
+    let axes = Axes {
+        win,
+        x_desc: horizon_desc(short),
+        y_desc,
+        x_integer: true,
+        equal: false,
+        x_labels: true,
+    };
+    Ok((style::log_chart(&area, fonts, &axes)?, side))
+}
+
 /// The estimator's name ("LLS", "GLLS", "state-noise").
 pub(crate) fn estimator_name(g: &GllsReport) -> &'static str {
     match g.estimator.as_str() {
@@ -356,21 +382,16 @@ pub fn draw_singular<DB: DrawingBackend>(
         "Singular values of Γₛ₊₁",
         "Singular values of the observability matrix Γₛ₊₁ (GLLS paper, Fig. 1)",
     );
-    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
-    let xd = horizon_desc(short);
-    let yd = "singular value σᵢ (log scale)";
-    let chart = style::log_chart(
-        &area,
+    let (xd, yd) = (horizon_desc(short), "singular value σᵢ (log scale)");
+    let (chart, side) = horizon_chart(
+        root,
         &fonts,
-        &Axes {
-            win,
-            x_desc: xd,
-            y_desc: yd,
-            x_integer: true,
-            equal: false,
-            x_labels: true,
-        },
+        &t,
+        &notes.join(" · "),
+        &entries,
+        win,
+        short,
+        yd,
     )?;
     let mut marks: Vec<(i32, i32)> = Vec::new();
     if floor_shown {
@@ -526,21 +547,16 @@ pub fn draw_index<DB: DrawingBackend>(
         "Horizon index σₙ/√s",
         "Choosing the horizon: σₙ/√s (GLLS paper, Fig. 2)",
     );
-    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
-    let xd = horizon_desc(short);
-    let yd = "σ/√s (log scale)";
-    let chart = style::log_chart(
-        &area,
+    let (xd, yd) = (horizon_desc(short), "σ/√s (log scale)");
+    let (chart, side) = horizon_chart(
+        root,
         &fonts,
-        &Axes {
-            win,
-            x_desc: xd,
-            y_desc: yd,
-            x_integer: true,
-            equal: false,
-            x_labels: true,
-        },
+        &t,
+        &notes.join(" · "),
+        &entries,
+        win,
+        short,
+        yd,
     )?;
     let mut marks = Vec::new();
     for piece in &main {
@@ -580,7 +596,8 @@ pub fn draw_index<DB: DrawingBackend>(
     Ok(style::frame_of(&chart, xd, yd))
 }
 
-/// Notes in a framed box over the emptiest corner of the chart; their pixels join `marks`.
+/// Notes in a framed box over the emptiest corner of the chart (text and frame in the panel's
+/// ink); their pixels join `marks`.
 pub(crate) fn note_box<DB: DrawingBackend>(
     root: &Area<DB>,
     chart: &style::Chart<DB>,
@@ -588,52 +605,5 @@ pub(crate) fn note_box<DB: DrawingBackend>(
     lines: &[String],
     marks: &mut Vec<(i32, i32)>,
 ) -> Result<()> {
-    if lines.is_empty() {
-        return Ok(());
-    }
-    let st = fonts.legend().color(&TEXT);
-    let (xr, _) = chart.plotting_area().get_pixel_range();
-    let max_w = ((xr.end - xr.start) as u32).saturating_sub(28).max(60);
-    let mut wrapped = Vec::new();
-    for l in lines {
-        wrapped.extend(style::wrap(root, l, &st, max_w)?);
-    }
-    let (mut w, mut h) = (0, 0);
-    for s in &wrapped {
-        let (tw, th) = style::text_size(root, s, &st)?;
-        w = w.max(tw as i32);
-        h += th as i32 + 4;
-    }
-    let (bw, bh) = (w + 12, h + 8);
-    let at = style::emptiest_corner(chart, (bw, bh), marks);
-    let (bx, by) = root.get_base_pixel();
-    root.draw(&Rectangle::new(
-        [(at.0 - bx, at.1 - by), (at.0 + bw - bx, at.1 + bh - by)],
-        WHITE.mix(0.92).filled(),
-    ))
-    .map_err(de)?;
-    style::polyline(
-        root,
-        &[
-            at,
-            (at.0 + bw, at.1),
-            (at.0 + bw, at.1 + bh),
-            (at.0, at.1 + bh),
-            at,
-        ],
-        &style::FRAME,
-        1,
-        None,
-    )?;
-    let mut y = at.1 + 6;
-    for s in &wrapped {
-        style::text(root, s, (at.0 + 6, y), &st, (HPos::Left, VPos::Top))?;
-        y += style::text_size(root, s, &st)?.1 as i32 + 4;
-    }
-    for k in 0..6 {
-        for yy in [at.1 + 2, at.1 + bh / 2, at.1 + bh - 2] {
-            marks.push((at.0 + k * bw / 5, yy));
-        }
-    }
-    Ok(())
+    style::note_box(root, chart, fonts, lines, marks, &TEXT, &style::FRAME)
 }

@@ -9,8 +9,8 @@
 //! ensemble as a dash-dotted horizontal line (or a note when it is off the axis).
 
 use super::geom::Win;
-use super::glls::{glls_of, horizon_desc, horizon_marker, note_box, title};
-use super::style::{self, sci, Axes, Entry, Fonts, Marker, Swatch, GLLS_EST, STATE_NOISE, TEXT};
+use super::glls::{glls_of, horizon_chart, horizon_desc, horizon_marker, note_box, title};
+use super::style::{self, sci, Entry, Fonts, Marker, Swatch, GLLS_EST, STATE_NOISE, TEXT};
 use super::{de, Area, Frame, Panel, View};
 use crate::error::{Error, Result};
 use crate::glls::Spread;
@@ -281,21 +281,16 @@ pub fn draw<DB: DrawingBackend>(
             "Precision of the estimate against the horizon (GLLS paper, Fig. 3)",
         )
     };
-    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
-    let xd = horizon_desc(short);
-    let yd = "‖x̂(k) − x(k)‖₂ (log scale)";
-    let chart = style::log_chart(
-        &area,
+    let (xd, yd) = (horizon_desc(short), "‖x̂(k) − x(k)‖₂ (log scale)");
+    let (chart, side) = horizon_chart(
+        root,
         &fonts,
-        &Axes {
-            win,
-            x_desc: xd,
-            y_desc: yd,
-            x_integer: true,
-            equal: false,
-            x_labels: true,
-        },
+        &t,
+        &notes.join(" · "),
+        &entries,
+        win,
+        short,
+        yd,
     )?;
     let mut marks = Vec::new();
     let (xr, _) = chart.plotting_area().get_pixel_range();

@@ -166,7 +166,7 @@ pub struct View {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub title: Option<String>,
     /// Axis names of the state components, indexed by component (0-based), e.g.
-    /// "position p_x of robot A [m]". Missing entries read "x₁ (state component 0)".
+    /// "position p_x of robot A \[m\]". Missing entries read "x₁ (state component 0)".
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub names: Vec<String>,
     /// For each state component, the measurement row that measures it directly (an H row

@@ -26,7 +26,6 @@ use crate::scenario::lscr::{plane_region, LscrReport};
 use crate::scenario::Report;
 use crate::sets::{BoxSet, Ellipsoid, Loop, SignRegion};
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, VPos};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 /// Points on a drawn ellipse boundary.
@@ -741,44 +740,7 @@ pub fn draw<DB: DrawingBackend>(
     if !outside.is_empty() {
         chart_notes.push(format!("outside the window: {}", outside.join(", ")));
     }
-    if !chart_notes.is_empty() {
-        let st = fonts.legend().color(&LSCR);
-        let mut w = 0;
-        let mut h = 0;
-        for s in &chart_notes {
-            let (tw, th) = style::text_size(root, s, &st)?;
-            w = w.max(tw as i32);
-            h += th as i32 + 4;
-        }
-        let (bw, bh) = (w + 12, h + 8);
-        let at = style::emptiest_corner(&chart, (bw, bh), &marks);
-        root.draw(&Rectangle::new(
-            [(at.0 - bx, at.1 - by), (at.0 + bw - bx, at.1 + bh - by)],
-            WHITE.mix(0.92).filled(),
-        ))
-        .map_err(de)?;
-        style::polyline(
-            root,
-            &[
-                at,
-                (at.0 + bw, at.1),
-                (at.0 + bw, at.1 + bh),
-                (at.0, at.1 + bh),
-                at,
-            ],
-            &LSCR,
-            1,
-            None,
-        )?;
-        let mut y = at.1 + 6;
-        for s in &chart_notes {
-            style::text(root, s, (at.0 + 6, y), &st, (HPos::Left, VPos::Top))?;
-            y += style::text_size(root, s, &st)?.1 as i32 + 4;
-        }
-        for k in 0..6 {
-            marks.push((at.0 + k * bw / 5, at.1 + bh / 2));
-        }
-    }
+    style::note_box(root, &chart, &fonts, &chart_notes, &mut marks, &LSCR, &LSCR)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, &x_desc, &y_desc))
 }

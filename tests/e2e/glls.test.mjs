@@ -3,38 +3,18 @@
 // glls-unstable5, the chunked Monte Carlo redrawing the precision figure, bad input shown inline
 // while the last pictures stay, wasm timings measured in the page, and screenshots at DPR 1 and 2.
 import { join } from 'node:path';
+import { text, inked as inkedFraction, setField, choosePreset } from './helpers.mjs';
 
 const PANELS = ['singular', 'index', 'plane', 'precision'];
 const idle = (page) => page.waitForFunction(
   () => !document.body.dataset.gllsBusy && !document.body.dataset.gllsMcBusy, null, { timeout: 60_000 });
-const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim().replace(/\s+/g, ' '));
 const numbers = (page) => page.$eval('#g-numbers', (e) => e.innerText.trim().replace(/\s+/g, ' '));
 const pixels = (page, panel) => page.$eval(`#fig-${panel} canvas`, (c) => c.toDataURL());
 const allPixels = async (page) => Object.fromEntries(await Promise.all(PANELS.map(async (p) => [p, await pixels(page, p)])));
 
-// Fraction of the canvas's device pixels that are neither white nor transparent.
-const inked = (page, panel) => page.$eval(`#fig-${panel} canvas`, (c) => {
-  const copy = Object.assign(document.createElement('canvas'), { width: c.width, height: c.height });
-  const g = copy.getContext('2d', { willReadFrequently: true });
-  g.drawImage(c, 0, 0);
-  const d = g.getImageData(0, 0, c.width, c.height).data;
-  let k = 0;
-  for (let i = 0; i < d.length; i += 4) if (d[i + 3] > 0 && (d[i] < 245 || d[i + 1] < 245 || d[i + 2] < 245)) k++;
-  return k / (c.width * c.height);
-});
-
-async function set(page, id, value) {
-  await page.$eval(`#${id}`, (el, v) => {
-    if (el.type === 'checkbox') el.checked = v === 'true'; else el.value = v;
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-  }, String(value));
-  await idle(page);
-}
-
-async function choose(page, name) {
-  await page.selectOption('#g-preset', name);
-  await idle(page);
-}
+const inked = (page, panel) => inkedFraction(page, `#fig-${panel} canvas`);
+const set = (page, id, value) => setField(page, id, value, idle);
+const choose = (page, name) => choosePreset(page, 'g-preset', name, idle);
 
 async function drawnWell(page, assert, what) {
   for (const p of PANELS) {

@@ -3,38 +3,17 @@
 // the last picture stays, the unbounded MA(1) band, wasm timings measured in the page, and
 // screenshots of the panel at DPR 1 and 2 for the three presets.
 import { join } from 'node:path';
+import { text, inked as inkedFraction, setField, choosePreset } from './helpers.mjs';
 import { readFile } from 'node:fs/promises';
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy && !document.body.dataset.lscrBusy,
   null, { timeout: 60_000 });
 const pixels = (page) => page.$eval('#fig-region canvas', (c) => c.toDataURL());
-const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim().replace(/\s+/g, ' '));
 const numbers = (page) => text(page, '#l-numbers');
 
-// Fraction of the canvas's device pixels that are neither white nor transparent.
-// Read through a fresh canvas (one readback each: no willReadFrequently warning).
-const inked = (page) => page.$eval('#fig-region canvas', (c) => {
-  const copy = Object.assign(document.createElement('canvas'), { width: c.width, height: c.height });
-  const g = copy.getContext('2d', { willReadFrequently: true });
-  g.drawImage(c, 0, 0);
-  const d = g.getImageData(0, 0, c.width, c.height).data;
-  let k = 0;
-  for (let i = 0; i < d.length; i += 4) if (d[i + 3] > 0 && (d[i] < 245 || d[i + 1] < 245 || d[i + 2] < 245)) k++;
-  return k / (c.width * c.height);
-});
-
-async function set(page, id, value) {
-  await page.$eval(`#${id}`, (el, v) => {
-    if (el.type === 'checkbox') el.checked = v === 'true'; else el.value = v;
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-  }, String(value));
-  await idle(page);
-}
-
-async function choose(page, name) {
-  await page.selectOption('#l-preset', name);
-  await idle(page);
-}
+const inked = (page) => inkedFraction(page, '#fig-region canvas');
+const set = (page, id, value) => setField(page, id, value, idle);
+const choose = (page, name) => choosePreset(page, 'l-preset', name, idle);
 
 // The numbers in "x₁ = 0.1234, x₂ = -0.5" (the cursor read-out) or "(0.123, -0.500)".
 const nums = (s) => [...s.matchAll(/-?\d+(?:\.\d+)?(?:e[+-]?\d+)?/g)].map((m) => Number(m[0]));

@@ -1,0 +1,32 @@
+// Page helpers shared by the panels' end-to-end tests (not a test file: run.mjs only loads
+// *.test.mjs).
+
+// Text content with runs of whitespace folded.
+export const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim().replace(/\s+/g, ' '));
+
+// Fraction of a canvas's device pixels that are neither white nor transparent, read through a
+// fresh canvas (one readback each: no willReadFrequently warning on the page's own canvas).
+export const inked = (page, canvasSelector) => page.$eval(canvasSelector, (c) => {
+  const copy = Object.assign(document.createElement('canvas'), { width: c.width, height: c.height });
+  const g = copy.getContext('2d', { willReadFrequently: true });
+  g.drawImage(c, 0, 0);
+  const d = g.getImageData(0, 0, c.width, c.height).data;
+  let k = 0;
+  for (let i = 0; i < d.length; i += 4) if (d[i + 3] > 0 && (d[i] < 245 || d[i + 1] < 245 || d[i + 2] < 245)) k++;
+  return k / (c.width * c.height);
+});
+
+// Set a control's value (or a checkbox's state) as a user would, then wait for the panel.
+export async function setField(page, id, value, idle) {
+  await page.$eval(`#${id}`, (el, v) => {
+    if (el.type === 'checkbox') el.checked = v === 'true'; else el.value = v;
+    el.dispatchEvent(new Event('input', { bubbles: true }));
+  }, String(value));
+  await idle(page);
+}
+
+// Pick a preset in a panel's menu and wait for the panel.
+export async function choosePreset(page, selectId, name, idle) {
+  await page.selectOption(`#${selectId}`, name);
+  await idle(page);
+}
