@@ -707,6 +707,23 @@ fn presets_report_guarantees_and_best_horizons() {
         Some(60),
         "growing: the index is largest at the end"
     );
+    // (36): the regularized current estimate is within √(s+1)·μ·κ_reg of the projected truth.
+    let reg = sat.regularized.as_ref().unwrap();
+    let (est, proj) = (
+        reg.estimate_current.as_ref().unwrap(),
+        reg.truth_projected_current.as_ref().unwrap(),
+    );
+    let dist = est
+        .iter()
+        .zip(proj)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(
+        dist <= reg.radius_current.unwrap(),
+        "regularized error {dist} > (36) radius {:?}",
+        reg.radius_current
+    );
     // The bounded-noise preset: the noise stayed within μ and the box holds the truth.
     assert!(sat.noise_max.unwrap() <= sat.mu && sat.truth_in_box == Some(true));
 }

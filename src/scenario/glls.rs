@@ -104,6 +104,14 @@ pub struct RegularizedReport {
     pub projection_current: Option<Vec<Vec<f64>>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kappa_current: Option<f64>,
+    /// (36) and (40): the guaranteed radius √(s+1)·μ·κ_reg and the expected bound
+    /// κ_reg·√((s+1) tr Ω) of x_reg − x_pr, for the past state and (A invertible) the current one.
+    pub radius_past: f64,
+    pub expected_bound_past: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_current: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expected_bound_current: Option<f64>,
     /// Projection of the true states (simulation).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth_projected_past: Option<Vec<f64>>,
@@ -568,6 +576,9 @@ impl GllsPrepared {
         });
         let regularized = if p < n {
             let reg = h.regularized(p)?;
+            // √(s+1)·μ and √E‖δ(k,s)‖² = √((s+1) tr Ω).
+            let worst = ((s + 1) as f64).sqrt() * self.mu;
+            let spread = (((s + 1) as f64) * model.omega.trace()).max(0.0).sqrt();
             let rd = h.residual_data(&y, &u);
             let cur = reg.current.as_ref();
             Some(RegularizedReport {
@@ -579,6 +590,10 @@ impl GllsPrepared {
                 estimate_current: reg.estimate_current(&h, &y, &u).map(|v| vec_of(&v)),
                 projection_current: cur.map(|c| linalg::to_rows(&c.1)),
                 kappa_current: cur.map(|c| c.2),
+                radius_past: worst * reg.kappa_past,
+                expected_bound_past: spread * reg.kappa_past,
+                radius_current: cur.map(|c| worst * c.2),
+                expected_bound_current: cur.map(|c| spread * c.2),
                 truth_projected_past: truth
                     .as_ref()
                     .map(|(xp, _)| vec_of(&(&reg.projection_past * xp))),
