@@ -581,23 +581,59 @@ impl ScaledFactor {
     fn append(&mut self, block: &DMatrix<f64>, log_b: f64) {
         let n = self.r.ncols();
         let c = self.log_scale.max(log_b);
-        let mut stacked = DMatrix::zeros(n + block.nrows(), n);
         if self.log_scale.is_finite() {
-            stacked
-                .rows_mut(0, n)
-                .copy_from(&(&self.r * (self.log_scale - c).exp()));
+            self.r *= (self.log_scale - c).exp();
         }
-        stacked
-            .rows_mut(n, block.nrows())
-            .copy_from(&(block * (log_b - c).exp()));
-        let r = stacked.qr().r();
-        let big = r.amax();
+        // Givens rotations fold each new row into the triangle in place (O(n²) per row).
+        let scale = (log_b - c).exp();
+        let mut row = vec![0.0; n];
+        for i in 0..block.nrows() {
+            for (k, v) in row.iter_mut().enumerate() {
+                *v = block[(i, k)] * scale;
+            }
+            for j in 0..n {
+                if row[j] == 0.0 {
+                    continue;
+                }
+                let a = self.r[(j, j)];
+                let h = a.hypot(row[j]);
+                let (cs, sn) = (a / h, row[j] / h);
+                self.r[(j, j)] = h;
+                row[j] = 0.0;
+                for k in j + 1..n {
+                    let (x, y) = (self.r[(j, k)], row[k]);
+                    self.r[(j, k)] = cs * x + sn * y;
+                    row[k] = cs * y - sn * x;
+                }
+            }
+        }
+        let big = self.r.amax();
         if big > 0.0 && big.is_finite() {
-            self.r = r / big;
+            self.r /= big;
             self.log_scale = c + big.ln();
         } else {
-            self.r = r;
             self.log_scale = c;
+        }
+    }
+
+    /// Bring a full square factor back to upper-triangular form (same RᵀR) by Givens rotations.
+    fn triangularize(&mut self) {
+        let n = self.r.ncols();
+        for j in 0..n {
+            for i in j + 1..n {
+                let b = self.r[(i, j)];
+                if b == 0.0 {
+                    continue;
+                }
+                let a = self.r[(j, j)];
+                let h = a.hypot(b);
+                let (cs, sn) = (a / h, b / h);
+                for k in j..n {
+                    let (x, y) = (self.r[(j, k)], self.r[(i, k)]);
+                    self.r[(j, k)] = cs * x + sn * y;
+                    self.r[(i, k)] = cs * y - sn * x;
+                }
+            }
         }
     }
 
@@ -760,6 +796,7 @@ impl Curves {
                 // Γ_{s+1}A^{−s} = [Γ_s A^{−(s−1)} · A^{−1}; C]: rows C A^{p−s}.
                 if prime.log_scale.is_finite() {
                     prime.r = &prime.r * ai;
+                    prime.triangularize();
                     let big = prime.r.amax();
                     if big > 0.0 && big.is_finite() {
                         prime.r /= big;
