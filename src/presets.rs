@@ -72,6 +72,11 @@ pub fn all() -> Vec<Preset> {
             description: "GLLS paper, Section 5.2: the 5-state unstable system (eigenvalues 3.057, −0.374 ± 1.130i, −0.600, 1.095) with noisy transitions: state-noise estimator vs LLS".into(),
             scenario: glls_preset(GllsKind::Unstable5),
         },
+        Preset {
+            name: "uniform-paper".into(),
+            description: "Pavelková, Section 5: LU model (14)–(15), 120 samples, window ∂ = 5, swapping-based joint estimation of states, Θ and half-widths".into(),
+            scenario: uniform_paper(),
+        },
     ]
 }
 
@@ -167,6 +172,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
         experiment: None,
         lscr: None,
         glls: Some(spec),
+        uniform: None,
         notes: Some(notes.into()),
     }
 }
@@ -204,6 +210,7 @@ fn lscr_scenario(
         experiment: None,
         lscr: Some(lscr),
         glls: None,
+        uniform: None,
         notes: Some(notes.into()),
     }
 }
@@ -319,6 +326,7 @@ pub fn scalar() -> Scenario {
         experiment: None,
         lscr: None,
         glls: None,
+        uniform: None,
         notes: Some(
             "Γ = 6, p̄ = 3/5, ratio U_tA_t → 0.9: the SCF interval is the KF center / 0.9 with half-width ρ·√(1/0.9). \
              The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed."
@@ -501,6 +509,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
         experiment: Some(ExperimentSpec { runs: 10_000, seed: 2021, components: vec![0, 1, 2, 3], warning_t: Some(36) }),
         lscr: None,
         glls: None,
+        uniform: None,
         notes: Some(format!(
             "Robots start at rest at (∓1, 20) and return to bases (∓1, 0); Δ = 1/20, K_p = K_u = 5, W = 0.05²I, \
              d_min = 0.2. Row 4 of eq. (3) is read as 1 − K_uΔ (erratum). Process-noise covariance: {}. \
@@ -509,5 +518,58 @@ pub fn robots(reading: NoiseReading) -> Scenario {
              Regions: robot A's position at t + τ given y_1..y_t (V-C).",
             if literal { "Δ²·V_A as printed (SCF regions far larger than KF)" } else { "V_A (the reading that matches the paper's \"moderate enlargement\")" }
         )),
+    }
+}
+
+/// Pavelková's example (14)–(15): A = [[1, 0.5], [−0.5, 0]], B = [1, 3]ᵀ, C = [1 1], D = 0,
+/// x_r = 0.3·1, y_r = 0.3, inputs uniform with half-width 0.5, 120 samples, ∂ = 5, Θ's prior ±30 %
+/// (A₂₂ ∈ [−0.3, 0.3]), x̄_r = ȳ_r = 1, ±5 on the window's states.
+pub fn uniform_paper() -> Scenario {
+    use crate::scenario::uniform::{PriorOverride, UniformSpec};
+    Scenario {
+        method: "uniform_lp".into(),
+        title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
+        model: ModelSpec {
+            f: rows(&[&[1.0, 0.5], &[-0.5, 0.0]]),
+            h: rows(&[&[1.0, 1.0]]),
+            b: rows(&[&[1.0], &[3.0]]),
+            ..Default::default()
+        },
+        data: None,
+        simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None }),
+        alpha: 0.9,
+        components: None,
+        tau: 0,
+        asymptotic: false,
+        time: None,
+        plot: None,
+        collision: None,
+        coverage_curve: None,
+        experiment: None,
+        lscr: None,
+        glls: None,
+        uniform: Some(UniformSpec {
+            d: Some(vec![vec![0.0]]),
+            xr: vec![0.3, 0.3],
+            yr: vec![0.3],
+            u_half: 0.5,
+            estimator: "swapping".into(),
+            window: 5,
+            prior_rel: 0.3,
+            prior_overrides: vec![PriorOverride { matrix: "A".into(), row: 1, col: 1, lo: -0.3, hi: 0.3 }],
+            xr_max: Some(vec![1.0, 1.0]),
+            yr_max: Some(vec![1.0]),
+            x_bound: 5.0,
+            time: None,
+            plane: Some([0, 1]),
+            directions: 64,
+        }),
+        notes: Some(
+            "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \
+             along x₁ − x₂ the LP optimum is a whole face bounded by the prior box (±5). The report gives each state's range over the optimal face; \
+             the estimate drawn is the LP solver's optimal point (an interior-point method returns a point near the face's centre). \
+             The polygon is the set of x_t consistent with the window at the half-width bounds x̄_r = ȳ_r = 1 and the Θ in use."
+                .into(),
+        ),
     }
 }

@@ -17,8 +17,10 @@ use serde::{Deserialize, Serialize};
 
 pub mod glls;
 pub mod lscr;
+pub mod uniform;
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
+pub use uniform::{UniformReport, UniformSpec};
 
 /// Observed data.
 #[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
@@ -135,6 +137,9 @@ pub struct Scenario {
     /// GLLS options (method "glls"): see [`glls::GllsSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glls: Option<GllsSpec>,
+    /// Uniform-innovation LP options (method "uniform_lp"): see [`uniform::UniformSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uniform: Option<UniformSpec>,
     /// Free text shown with the preset (where the numbers come from, which reading of the paper).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub notes: Option<String>,
@@ -206,6 +211,9 @@ pub struct Report {
     /// The GLLS result (method "glls"; `steps` is then empty).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glls: Option<GllsReport>,
+    /// The uniform-innovation result (method "uniform_lp").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uniform: Option<UniformReport>,
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists
@@ -291,7 +299,7 @@ impl Scenario {
             return Err(Error::field(
                 "method",
                 format!(
-                    "\"{}\" is not available yet (this build has \"scf\", \"kf\", \"lscr\" and \"glls\")",
+                    "\"{}\" is not available yet (this build has \"scf\", \"kf\", \"lscr\", \"glls\" and \"uniform_lp\")",
                     self.method
                 ),
             ));
@@ -436,6 +444,27 @@ impl Scenario {
         if self.method == "glls" {
             return self.run_glls();
         }
+        if self.method == "uniform_lp" {
+            let u = self.uniform_report()?;
+            return Ok(Report {
+                method: self.method.clone(),
+                alpha: self.alpha,
+                n: u.n,
+                q: u.y.first().map_or(0, |y| y.len()),
+                time: u.at.time,
+                plot: u.plane.to_vec(),
+                steps: Vec::new(),
+                y: u.y.clone(),
+                x_true: None,
+                prior_mean: Vec::new(),
+                asymptotic: None,
+                collision: None,
+                coverage_curve: None,
+                lscr: None,
+                glls: None,
+                uniform: Some(u),
+            });
+        }
         let p = self.prepare()?;
         p.report()
     }
@@ -466,6 +495,7 @@ impl Scenario {
             coverage_curve: None,
             lscr: None,
             glls: Some(g),
+            uniform: None,
         })
     }
 
@@ -498,6 +528,7 @@ impl Scenario {
             coverage_curve: None,
             lscr: Some(l),
             glls: None,
+            uniform: None,
         })
     }
 }
@@ -568,6 +599,7 @@ impl Prepared {
             coverage_curve,
             lscr: None,
             glls: None,
+            uniform: None,
         })
     }
 
