@@ -474,3 +474,56 @@ fn glls_wasm_timings() {
         assert!(ms.is_finite());
     }
 }
+
+/// The uniform-innovation issue's wasm speed figures, printed like the others.
+#[wasm_bindgen_test]
+fn uniform_wasm_timings() {
+    use confset::uniform::{estimate_states, simulate, StatePrior, Theta, Window};
+    use nalgebra::{DMatrix, DVector};
+    let theta = Theta {
+        a: DMatrix::from_row_slice(2, 2, &[1.0, 0.5, -0.5, 0.0]),
+        b: DMatrix::from_row_slice(2, 1, &[1.0, 3.0]),
+        c: DMatrix::from_row_slice(1, 2, &[1.0, 1.0]),
+        d: DMatrix::zeros(1, 1),
+    };
+    let tr = simulate(
+        &theta,
+        &DVector::from_element(2, 0.3),
+        &DVector::from_element(1, 0.3),
+        &DVector::zeros(2),
+        0.5,
+        120,
+        1,
+    );
+    let prior = StatePrior {
+        x_lo: -5.0,
+        x_hi: 5.0,
+        x0: None,
+        xr_max: DVector::from_element(2, 1.0),
+        yr_max: DVector::from_element(1, 1.0),
+    };
+    let reps = 50;
+    let t0 = js_sys::Date::now();
+    for _ in 0..reps {
+        std::hint::black_box(
+            estimate_states(
+                &theta,
+                &tr.u,
+                &tr.y,
+                Window {
+                    first: 116,
+                    last: 120,
+                },
+                &prior,
+            )
+            .expect("LP"),
+        );
+    }
+    let window = (js_sys::Date::now() - t0) / reps as f64;
+    let s = confset::presets::get("uniform-paper").expect("preset");
+    let t0 = js_sys::Date::now();
+    let u = s.run().expect("runs").uniform.expect("uniform");
+    let run = js_sys::Date::now() - t0;
+    wasm_bindgen_test::console_log!("[wasm timing] uniform window LP (∂ = 5, 2 states): {window:.3} ms; uniform-paper report (120 samples, swapping, faces, polygon, KF): {run:.0} ms");
+    assert_eq!(u.steps.len(), 120);
+}

@@ -21,6 +21,9 @@ fn median_ms(reps: usize, mut f: impl FnMut()) -> f64 {
 }
 
 fn main() {
+    if std::env::var("SPEED_GLLS_CURVES_REPS").is_ok() {
+        glls_figures();
+    }
     let robots = presets::get("scf-robots").expect("preset");
     let prepared = robots.prepare().expect("valid");
     let setup = median_ms(11, || {
@@ -45,6 +48,7 @@ fn main() {
     );
     lscr_figures();
     glls_figures();
+    uniform_figures();
     for p in presets::all() {
         let s = p.scenario.clone();
         let ms = median_ms(21, || {
@@ -134,6 +138,13 @@ fn glls_figures() {
         xi: DMatrix::zeros(10, 10),
         x0: nalgebra::DVector::from_element(10, 1.0),
     };
+    if let Ok(reps) = std::env::var("SPEED_GLLS_CURVES_REPS") {
+        // Profiling aid: only the n = 10 curves, repeated.
+        for _ in 0..reps.parse().unwrap_or(1000) {
+            std::hint::black_box(Curves::new(&ten, 500).expect("curves"));
+        }
+        std::process::exit(0);
+    }
     let curves = median_ms(11, || {
         std::hint::black_box(Curves::new(&ten, 500).expect("curves"));
     });
@@ -174,4 +185,53 @@ fn glls_figures() {
         r.horizons[r.horizons.len() - 1],
         r.first[r.first.len() - 1].as_ref().map_or(f64::NAN, |s| s.median)
     );
+}
+
+/// The uniform-innovation issue's targets: one window LP (∂ = 5, 2 states) and the full
+/// 120-sample on-line run of the paper's example with the swapping method.
+fn uniform_figures() {
+    use confset::uniform::{estimate_states, simulate, StatePrior, Theta, Window};
+    use nalgebra::{DMatrix, DVector};
+    let theta = Theta {
+        a: DMatrix::from_row_slice(2, 2, &[1.0, 0.5, -0.5, 0.0]),
+        b: DMatrix::from_row_slice(2, 1, &[1.0, 3.0]),
+        c: DMatrix::from_row_slice(1, 2, &[1.0, 1.0]),
+        d: DMatrix::zeros(1, 1),
+    };
+    let tr = simulate(
+        &theta,
+        &DVector::from_element(2, 0.3),
+        &DVector::from_element(1, 0.3),
+        &DVector::zeros(2),
+        0.5,
+        120,
+        1,
+    );
+    let prior = StatePrior {
+        x_lo: -5.0,
+        x_hi: 5.0,
+        x0: None,
+        xr_max: DVector::from_element(2, 1.0),
+        yr_max: DVector::from_element(1, 1.0),
+    };
+    let window = median_ms(101, || {
+        std::hint::black_box(
+            estimate_states(
+                &theta,
+                &tr.u,
+                &tr.y,
+                Window {
+                    first: 116,
+                    last: 120,
+                },
+                &prior,
+            )
+            .expect("LP"),
+        );
+    });
+    let s = presets::get("uniform-paper").expect("preset");
+    let online = median_ms(5, || {
+        std::hint::black_box(s.run().expect("runs"));
+    });
+    println!("uniform: one window LP (∂ = 5, 2 states, 15 variables, 30 rows): {window:.3} ms; uniform-paper report (120 samples, swapping, + face LPs, 64-direction polygon, KF): {online:.1} ms");
 }
