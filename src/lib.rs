@@ -25,9 +25,10 @@
 //! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage |
 //! | [`lscr`] | LSCR (Weyer & Campi): the data as a regression on x_{t+1}, x_t or x_i ((11), (20), (21)), the block-wise Karhunen–Loève basis (12)–(15), the SVD of A (16), random/group/explicit strings (points 4, 4a), the region (17) as a `SignRegion`, Theorem 3.2 levels, BLUE and Kalman comparisons, the chunked coverage experiment |
 //! | [`glls`] | GLLS moving-horizon estimation (Gubarev & Mishchenko): Γ_{s+1}, Φ_{s+1} (6), the GLLS gain in SVD form (21), fast-forward (41), κ (17), (19), (45), truncated-SVD regularization (29)–(32), (47)–(49), guaranteed ball (35) with √(s+1) and the exact interval hull, the expected bound (39), singular-value curves by scaled QR updates, the state-noise estimator (60)–(64), the chunked Monte Carlo of Section 5 |
+//! | [`uniform`] | linear models with uniform innovations (Pavelková): the state LP (6)–(10) in the Kronecker layout of (8), the parameter LP (11)–(12) with the half-width block derived from (4), the optimal face, the consistent-state polygon from support LPs, the sliding window with swapping (4.1) and expansion (4.2, (13)) joint estimation, automatic extension of infeasible half-width bounds |
 //! | [`solve`] | the one place that talks to the LP/QP solver (clarabel): dense problems in, a solution or a field-naming error (infeasible, unbounded) out |
 //! | [`experiment`] | conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo |
-//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage); [`scenario::glls`] the `glls` block and report (simulation with Gaussian, bounded or worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators, Monte Carlo) |
+//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage); [`scenario::uniform`] the `uniform` block and report (simulation, on-line run, window at the cursor, KF with r²/3); [`scenario::glls`] the `glls` block and report (simulation with Gaussian, bounded or worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators, Monte Carlo) |
 //! | [`presets`] | the papers' examples as scenarios (used by page, CLI and tests) |
 //! | [`plot`] | figures on any plotters backend, one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs. 1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with the best horizon, the state plane with the guaranteed ball and box, error box plots against the horizon with the bound) |
 //! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `Session` (run, draw, svg, LSCR raster, GLLS precision), the chunked `Experiment`, `LscrExperiment` and `GllsStudy` |
@@ -66,6 +67,14 @@
 //! * GLLS, end of 3.4: "σ(Γ_{s+1}) and σ(Γ_{s+1}A^{−s}) coincide" is an empirical remark, true
 //!   for orthogonal A only; both curves are computed and the report gives their largest gap.
 //! * GLLS (60) sums norms but (63) is the quadratic form; the estimator minimizes (63).
+//! * Pavelková (12): with its blocks in the order printed, the half-width column block pairs
+//!   the wrong half-width with half of the rows; [`uniform::parameter_lp`] builds the rows per
+//!   time, K, component and gives each its own half-width (tested by swapping half-widths).
+//! * Pavelková's example is not observable (C·A = 0.5·C): the state LP's optimum is a face
+//!   bounded by the ±5 prior along x₁ − x₂; [`uniform::optimal_face`] reports it. The truth need
+//!   not lie in the optimal face (its Σ half-widths is larger than the optimum); it lies in the
+//!   set consistent with the window at half-widths ≥ the true ones, which
+//!   [`uniform::consistent_polygon`] draws.
 //!
 //! ## How the LSCR region is exact and fast
 //!
