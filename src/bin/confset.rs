@@ -7,14 +7,17 @@
 //! confset experiment SCENARIO.json|--preset NAME [--runs N]
 //!                                          conditional Monte Carlo (counts JSON)
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
-//!         [--panel state|series|coverage|region|singular|index|plane|precision]
+//!         [--panel state|series|coverage|region|singular|index|plane|precision
+//!                 |ustates|uoutput|uparams|upolygon]
 //!         [--time T] [--zoom auto|regions|full]
 //!         [--size WxH]                     default panel: the report's first useful one
-//!                                          (region for LSCR, singular for GLLS, state
-//!                                          otherwise)
+//!                                          (region for LSCR, singular for GLLS, ustates for
+//!                                          uniform_lp, state otherwise)
 //! confset figures [-o] DIR [--size WxH]    every useful panel of every preset as SVG
 //!                                          (DIR/PRESET-PANEL.svg; LSCR presets: the region;
-//!                                          GLLS presets: singular, index, plane, precision)
+//!                                          GLLS presets: singular, index, plane, precision;
+//!                                          uniform presets: ustates, uoutput, uparams,
+//!                                          upolygon)
 //! ```
 
 use confset::plot::{self, Panel, View, Zoom};
@@ -27,10 +30,11 @@ const USAGE: &str = "usage:
   confset run (SCENARIO.json | --preset NAME)
   confset experiment (SCENARIO.json | --preset NAME) [--runs N]
   confset figure (SCENARIO.json | --preset NAME) -o FILE.svg
-          [--panel state|series|coverage|region|singular|index|plane|precision]
+          [--panel state|series|coverage|region|singular|index|plane|precision
+                  |ustates|uoutput|uparams|upolygon]
           [--time T] [--zoom auto|regions|full]
           [--size WxH]   (default panel: region for LSCR scenarios, singular for GLLS,
-                          state otherwise)
+                          ustates for uniform_lp, state otherwise)
   confset figures [-o] DIR [--size WxH]";
 
 /// Flags that take a value (so the value is not mistaken for the scenario file).

@@ -33,6 +33,15 @@
 //!   with the bound κ·√E‖δ‖², or paired half-boxes state-noise vs LLS with the mean ‖x(k)‖
 //!   dash-dotted). Log axes plot log10 values on a linear axis labelled 10ᵏ
 //!   ([`style::log_chart`]); their [`Frame`]'s y range is in log10 units.
+//! * Uniform-innovation reports (Pavelková, method `uniform_lp`; no KF/SCF steps) have four
+//!   panels with a time cursor at the window the report solved (`at.time`):
+//!   [`Panel::UStates`] (`uniform.rs`, Fig. 1: per state component the truth, the LP and KF
+//!   estimates with the optimal-face ranges of the window as bars, and the estimation errors
+//!   below), [`Panel::UOutput`] (`uniform.rs`, Fig. 2: y_t, the one-step prediction and its
+//!   error), [`Panel::UParams`] (`uniform_params.rs`, Fig. 3: the entries of Â and the
+//!   half-widths x̂ᵣ, ŷᵣ with the true values dashed) and [`Panel::UPolygon`]
+//!   (`uniform_polygon.rs`: the consistent-state polygon with truth ◇, LP ⋆, KF × and the
+//!   optimal-face box).
 //!
 //! Colors, fonts and the legend are shared (`style.rs`): KF vermillion dashed, SCF blue solid,
 //! truth black, measurements grey (Okabe–Ito, colorblind-safe).
@@ -54,6 +63,9 @@ mod region;
 mod series;
 mod state;
 pub mod style;
+mod uniform;
+mod uniform_params;
+mod uniform_polygon;
 
 use crate::error::{Error, Result};
 use crate::model::MatrixSpec;
@@ -90,6 +102,20 @@ pub enum Panel {
     /// GLLS paper, Figs. 3–4: the Monte Carlo error ‖x_est(k) − x(k)‖ per horizon (boxes) with
     /// the bound κ·√E‖δ‖², or state-noise estimator vs LLS in paired half-boxes.
     Precision,
+    /// Uniform-innovation paper, Fig. 1: states, LP and KF estimates, estimation errors and
+    /// the optimal-face ranges of the window at the cursor (uniform reports only).
+    #[serde(rename = "ustates")]
+    UStates,
+    /// Uniform-innovation paper, Fig. 2: the output, its one-step prediction and the error.
+    #[serde(rename = "uoutput")]
+    UOutput,
+    /// Uniform-innovation paper, Fig. 3: the entries of Â and the half-widths over time.
+    #[serde(rename = "uparams")]
+    UParams,
+    /// The states consistent with the window at the cursor (a polygon in the plane
+    /// components) with the truth, the LP and KF estimates and the optimal-face box.
+    #[serde(rename = "upolygon")]
+    UPolygon,
 }
 
 impl Panel {
@@ -104,6 +130,10 @@ impl Panel {
             Panel::Index => "index",
             Panel::Plane => "plane",
             Panel::Precision => "precision",
+            Panel::UStates => "ustates",
+            Panel::UOutput => "uoutput",
+            Panel::UParams => "uparams",
+            Panel::UPolygon => "upolygon",
         }
     }
     /// The panels of a GLLS report.
@@ -111,6 +141,13 @@ impl Panel {
         matches!(
             self,
             Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision
+        )
+    }
+    /// The panels of a uniform-innovation report.
+    pub fn is_uniform(&self) -> bool {
+        matches!(
+            self,
+            Panel::UStates | Panel::UOutput | Panel::UParams | Panel::UPolygon
         )
     }
     /// Parse a lower-case name.
@@ -124,9 +161,13 @@ impl Panel {
             "index" => Ok(Panel::Index),
             "plane" => Ok(Panel::Plane),
             "precision" => Ok(Panel::Precision),
+            "ustates" => Ok(Panel::UStates),
+            "uoutput" => Ok(Panel::UOutput),
+            "uparams" => Ok(Panel::UParams),
+            "upolygon" => Ok(Panel::UPolygon),
             _ => Err(Error::field(
                 "panel",
-                format!("\"{s}\" is unknown: choose state, series, coverage, region, singular, index, plane or precision"),
+                format!("\"{s}\" is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams or upolygon"),
             )),
         }
     }
@@ -294,6 +335,33 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         ));
     }
     let fonts = Fonts::for_backend::<DB>((w, h));
+    // A uniform-innovation report has no KF/SCF steps: only its panels draw it, and only it.
+    match (view.panel.is_uniform(), report.uniform.is_some()) {
+        (true, _) => {
+            uniform::check(report, view, view.panel)?;
+            let mut adapter = erase::Adapter(backend);
+            let root = erase::Erased(&mut adapter).into_drawing_area();
+            root.fill(&WHITE).map_err(de)?;
+            let frame = match view.panel {
+                Panel::UStates => uniform::draw_states(&root, report, view, fonts)?,
+                Panel::UOutput => uniform::draw_output(&root, report, view, fonts)?,
+                Panel::UParams => uniform_params::draw(&root, report, view, fonts)?,
+                _ => uniform_polygon::draw(&root, report, view, fonts)?,
+            };
+            root.present().map_err(de)?;
+            return Ok(frame);
+        }
+        (false, true) => {
+            return Err(Error::field(
+                "panel",
+                format!(
+                    "\"{}\" does not draw a uniform-innovation report (method \"uniform_lp\"): choose ustates, uoutput, uparams or upolygon",
+                    view.panel.name()
+                ),
+            ))
+        }
+        (false, false) => {}
+    }
     // A GLLS report has no time steps either: only the GLLS panels draw it, and only it.
     match (view.panel.is_glls(), report.glls.is_some()) {
         (true, _) => {
@@ -366,6 +434,13 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision => {
             return Err(Error::field("panel", "draws GLLS reports only"))
         }
+        // Handled above (a uniform-innovation report).
+        Panel::UStates | Panel::UOutput | Panel::UParams | Panel::UPolygon => {
+            return Err(Error::field(
+                "panel",
+                "draws uniform-innovation reports only",
+            ))
+        }
     };
     root.present().map_err(de)?;
     Ok(frame)
@@ -389,9 +464,18 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
 }
 
 /// The panels worth drawing for a report: Region alone for an LSCR report; Singular, Index,
-/// Plane and (with a Monte Carlo study) Precision for a GLLS report; otherwise State and
-/// Series always, Coverage when the report has a coverage curve.
+/// Plane and (with a Monte Carlo study) Precision for a GLLS report; UStates, UOutput, UParams
+/// and UPolygon for a uniform-innovation report; otherwise State and Series always, Coverage
+/// when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
+    if report.uniform.is_some() {
+        return vec![
+            Panel::UStates,
+            Panel::UOutput,
+            Panel::UParams,
+            Panel::UPolygon,
+        ];
+    }
     if let Some(g) = &report.glls {
         let mut v = vec![Panel::Singular, Panel::Index, Panel::Plane];
         if g.precision.is_some() {

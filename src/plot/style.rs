@@ -72,6 +72,14 @@ pub const STATE_NOISE: RGBColor = RGBColor(213, 94, 0);
 pub const REGULARIZED: RGBColor = RGBColor(204, 121, 167);
 pub const BALL: RGBColor = RGBColor(0, 114, 178);
 pub const INTERVAL_BOX: RGBColor = RGBColor(0, 158, 115);
+/// Uniform-innovation panels (Pavelková): the LP (MAP) estimate blue like every estimator that
+/// knows the noise's shape, the KF with variances r²/3 vermillion dashed, the ranges over the
+/// LP's optimal face reddish purple, the consistent-state polygon bluish green, the sliding
+/// window a grey band.
+pub const UNIFORM_LP: RGBColor = RGBColor(0, 114, 178);
+pub const FACE: RGBColor = RGBColor(204, 121, 167);
+pub const POLYGON: RGBColor = RGBColor(0, 158, 115);
+pub const WINDOW: RGBColor = RGBColor(160, 160, 160);
 /// The floating-point floor (grey band).
 pub const FLOOR: RGBColor = RGBColor(150, 150, 150);
 
@@ -821,6 +829,39 @@ pub fn legend<DB: DrawingBackend>(
         }
     }
     Ok((chart, LegendSide::Bottom))
+}
+
+/// A legend column at the right of `area` when it takes at most `max_frac` of the width (for
+/// small figures whose chart is limited by its height, e.g. equal scales); `None` when it does
+/// not fit (then use [`legend`]).
+pub fn legend_beside<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    entries: &[Entry],
+    max_frac: f64,
+) -> Result<Option<DrawingArea<DB, Shift>>> {
+    let (w, _) = area.dim_in_pixel();
+    let kept = shown_entries(fonts, entries);
+    let entries = kept.as_slice();
+    if entries.is_empty() {
+        return Ok(Some(area.clone()));
+    }
+    let m = metrics(area, fonts, entries)?;
+    if (m.col_w as f64) > max_frac * w as f64 {
+        return Ok(None);
+    }
+    let (x0, y0) = area.get_base_pixel();
+    let pad = if fonts.compact { PAD / 2 } else { PAD };
+    let (chart, _) = area.split_horizontally(w as i32 - m.col_w - pad);
+    legend_box(
+        area,
+        fonts,
+        entries,
+        &m,
+        (x0 + w as i32 - m.col_w - pad, y0 + 8),
+        false,
+    )?;
+    Ok(Some(chart))
 }
 
 /// The entries a figure of this size shows.

@@ -212,6 +212,8 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
                 // GLLS reports mark the horizon in use (the plane: the true state); the others
                 // KF/SCF.
                 let expect = match (r.lscr.is_some(), r.glls.is_some(), panel) {
+                    (_, _, Panel::UPolygon) => "true state",
+                    (_, _, p) if p.is_uniform() => "t = ",
                     (true, _, _) => "X̂ ",
                     (_, true, Panel::Plane) => "true state",
                     (_, true, _) => "in use",
@@ -934,5 +936,299 @@ fn glls_panels_are_fast() {
             eprintln!("GLLS {} {name} 800×600: {ms:.2} ms per SVG", panel.name());
             assert!(ms < 250.0, "{name} {}: {ms} ms", panel.name());
         }
+    }
+}
+
+// ------------------------------------------------------------------ uniform innovations
+
+const UNIFORM_PANELS: [Panel; 4] = [
+    Panel::UStates,
+    Panel::UOutput,
+    Panel::UParams,
+    Panel::UPolygon,
+];
+
+/// `<polygon` elements filled with `color` (any opacity).
+fn polygons(svg: &str, color: &RGBColor) -> usize {
+    let hex = format!("fill=\"#{:02X}{:02X}{:02X}\"", color.0, color.1, color.2);
+    svg.split("<polygon")
+        .skip(1)
+        .filter(|el| el.split("/>").next().unwrap_or("").contains(hex.as_str()))
+        .count()
+}
+
+#[test]
+fn uniform_reports_use_the_uniform_panels_at_every_size() {
+    let (s, r) = preset("uniform-paper");
+    assert_eq!(useful_panels(&r), UNIFORM_PANELS.to_vec());
+    let out = scenario_svg(&s, 800, 600).expect("draws");
+    assert!(out.contains("Fig. 1"), "the default figure is Fig. 1");
+    for p in UNIFORM_PANELS {
+        assert_eq!(Panel::from_name(p.name()).expect("parses"), p);
+        let v: View =
+            serde_json::from_str(&format!("{{\"panel\":\"{}\"}}", p.name())).expect("parses");
+        assert_eq!(v.panel, p);
+        for (w, h) in [
+            (240, 180),
+            (320, 240),
+            (400, 250),
+            (640, 400),
+            (800, 600),
+            (960, 640),
+            (1600, 1200),
+        ] {
+            let v = View::new(p).with_scenario(&s);
+            let mut out = String::new();
+            let f = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &v)
+                .unwrap_or_else(|e| panic!("{} {w}×{h}: {e}", p.name()));
+            let (l, t, rt, b) = f.plot_area;
+            assert!(
+                0 <= l && l < rt && rt <= w as i32 && 0 <= t && t < b && b <= h as i32,
+                "{} {w}×{h}: {f:?}",
+                p.name()
+            );
+            assert!(f.x_range.0 < f.x_range.1 && f.y_range.0 < f.y_range.1);
+        }
+    }
+}
+
+#[test]
+fn uniform_panels_show_what_the_papers_figures_show() {
+    let (s, r) = preset("uniform-paper");
+    let u = r.uniform.as_ref().expect("uniform");
+    let n = u.n;
+    // Fig. 1: per component a truth, an LP and a KF curve in the states row and LP/KF errors.
+    let states = svg(&s, &r, Panel::UStates, None);
+    for label in [
+        "true state",
+        "LP (MAP) estimate",
+        "KF with the true Θ",
+        "optimal face",
+        "t = 120",
+    ] {
+        assert!(states.contains(label), "ustates: no \"{label}\"");
+    }
+    // The curves' points (a curve may be split into several polylines): the truth x_0 … x_T
+    // once per component; the LP estimate and its error once each per component.
+    let points = |svg: &str, c: &RGBColor| polylines(svg, c, 2).into_iter().sum::<usize>();
+    let steps = u.steps.len();
+    let truth = points(&states, &style::TRUTH);
+    assert!(
+        truth >= n * (steps - 10) && truth <= n * (steps + 40),
+        "one true curve per component: {truth} points"
+    );
+    let lp = points(&states, &style::UNIFORM_LP);
+    assert!(
+        lp >= 2 * n * (steps - 10) && lp <= 2 * n * (steps + 40),
+        "LP: estimate and error per component: {lp} points"
+    );
+    // The KF is dashed: many short pieces rather than one polyline; it is there.
+    assert!(polylines(&states, &style::KF, 2).len() > 50);
+    // The face bars: one I-beam (3 px stem) per state of the window, per component.
+    let stems = polylines(&states, &style::FACE, 3).len();
+    assert_eq!(
+        stems,
+        n * u.at.face_lo.len() + 1,
+        "bars plus the legend swatch"
+    );
+
+    // Fig. 2: output and prediction, and the error.
+    let output = svg(&s, &r, Panel::UOutput, None);
+    for label in ["measured output", "one-step prediction", "t = 120"] {
+        assert!(output.contains(label), "uoutput: no \"{label}\"");
+    }
+    let y = points(&output, &style::TRUTH);
+    assert!(
+        y >= steps - 10 && y <= steps + 40,
+        "one output curve: {y} points"
+    );
+    let p = points(&output, &style::UNIFORM_LP);
+    assert!(
+        p >= 2 * (steps - 10) && p <= 2 * (steps + 40),
+        "prediction and error: {p} points"
+    );
+
+    // Fig. 3: n² entries of Â and n + m half-widths, each with its true value dashed (thin).
+    let params = svg(&s, &r, Panel::UParams, None);
+    for label in ["â₁₁", "â₂₂", "x̂ᵣ,₁", "ŷᵣ", "true value", "Fig. 3"] {
+        assert!(params.contains(label), "uparams: no \"{label}\"");
+    }
+    let m = u.yr_true.len();
+    for k in 0..n * n + n + m {
+        let c = style::series_color(k);
+        assert!(points(&params, &c) >= steps - 10, "curve {k}");
+        // The true value: a thin dashed line across the chart (dashes are pieces of width 1).
+        assert!(
+            polylines(&params, &c, 1).len() >= 10,
+            "true value of curve {k}"
+        );
+    }
+
+    // The polygon: one filled polygon, the markers and the note on Θ.
+    let poly = svg(&s, &r, Panel::UPolygon, None);
+    assert_eq!(
+        polygons(&poly, &style::POLYGON),
+        1,
+        "one consistent-state polygon"
+    );
+    assert_eq!(rects(&poly, &style::POLYGON), 1, "its legend swatch");
+    for label in [
+        "true state",
+        "LP (MAP) estimate",
+        "KF estimate",
+        "consistent states",
+        "optimal face",
+    ] {
+        assert!(poly.contains(label), "upolygon: no \"{label}\"");
+    }
+    assert!(!u.at.polygon_theta_true);
+    assert!(poly.contains("not guaranteed"));
+    assert!(!poly.contains("truth outside"));
+    // With the true Θ the note says it is guaranteed; a truth outside is said.
+    let mut r2 = r.clone();
+    if let Some(u) = r2.uniform.as_mut() {
+        u.at.polygon_theta_true = true;
+        u.at.truth_in_polygon = Some(false);
+    }
+    let poly2 = svg(&s, &r2, Panel::UPolygon, None);
+    assert!(
+        poly2.contains("guaranteed to hold the true state") && !poly2.contains("not guaranteed")
+    );
+    assert!(poly2.contains("truth outside"));
+}
+
+#[test]
+fn the_uniform_cursor_follows_the_window_time() {
+    let (s, r) = preset("uniform-paper");
+    let mut moved = r.clone();
+    if let Some(u) = moved.uniform.as_mut() {
+        u.at.time = 60;
+        u.at.first = 56;
+    }
+    for p in [Panel::UStates, Panel::UOutput, Panel::UParams] {
+        let a = svg(&s, &r, p, None);
+        let b = svg(&s, &moved, p, None);
+        assert!(
+            a.contains("t = 120") && !a.contains("t = 60"),
+            "{}",
+            p.name()
+        );
+        assert!(
+            b.contains("t = 60"),
+            "{}: the cursor did not move",
+            p.name()
+        );
+        assert_ne!(a, b);
+    }
+    // A view time other than the window's: the time charts move the cursor, the polygon says why
+    // it cannot.
+    let a = svg(&s, &r, Panel::UOutput, Some(30));
+    assert!(a.contains("t = 30"));
+    let e = report_svg(
+        &r,
+        &View {
+            time: Some(30),
+            ..View::new(Panel::UPolygon)
+        },
+        800,
+        600,
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "time");
+    let e = report_svg(
+        &r,
+        &View {
+            time: Some(500),
+            ..View::new(Panel::UStates)
+        },
+        800,
+        600,
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "time");
+}
+
+#[test]
+fn uniform_and_other_panels_do_not_mix() {
+    let (s, r) = preset("uniform-paper");
+    for panel in [
+        Panel::State,
+        Panel::Series,
+        Panel::Coverage,
+        Panel::Region,
+        Panel::Singular,
+        Panel::Plane,
+    ] {
+        let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+            .expect_err("a uniform report draws uniform panels only");
+        assert_eq!(e.field, "panel", "{}: {e}", panel.name());
+        assert!(e.message.contains("ustates"), "{e}");
+    }
+    for other in ["scf-scalar", "lscr-predict", "glls-mixed"] {
+        let (s, r) = preset(other);
+        for panel in UNIFORM_PANELS {
+            let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+                .expect_err("no uniform part");
+            assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
+        }
+    }
+    // Broken reports are errors, not panics.
+    let mut bad = r.clone();
+    if let Some(u) = bad.uniform.as_mut() {
+        u.kf.pop();
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UStates), 800, 600)
+            .unwrap_err()
+            .field,
+        "report.uniform"
+    );
+    let mut bad = r.clone();
+    if let Some(u) = bad.uniform.as_mut() {
+        u.at.face_lo.pop();
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UPolygon), 800, 600)
+            .unwrap_err()
+            .field,
+        "report.uniform.at"
+    );
+    let mut bad = r.clone();
+    if let Some(u) = bad.uniform.as_mut() {
+        u.steps[3].a[1].pop();
+    }
+    assert!(report_svg(&bad, &View::new(Panel::UParams), 800, 600).is_err());
+    let mut bad = r.clone();
+    if let Some(u) = bad.uniform.as_mut() {
+        u.plane = [0, 0];
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UPolygon), 800, 600)
+            .unwrap_err()
+            .field,
+        "report.uniform.plane"
+    );
+    assert_eq!(
+        report_svg(&r, &View::new(Panel::UStates), 200, 100)
+            .unwrap_err()
+            .field,
+        "size"
+    );
+}
+
+#[test]
+fn uniform_panels_are_fast() {
+    let (s, r) = preset("uniform-paper");
+    for panel in UNIFORM_PANELS {
+        let v = View::new(panel).with_scenario(&s);
+        report_svg(&r, &v, 800, 600).expect("warm-up");
+        let runs = 10;
+        let t0 = std::time::Instant::now();
+        for _ in 0..runs {
+            report_svg(&r, &v, 800, 600).expect("draws");
+        }
+        let ms = t0.elapsed().as_secs_f64() * 1e3 / runs as f64;
+        eprintln!("uniform {} 800×600: {ms:.2} ms per SVG", panel.name());
+        assert!(ms < 250.0, "{}: {ms} ms", panel.name());
     }
 }

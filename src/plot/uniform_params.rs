@@ -1,0 +1,215 @@
+//! Panel::UParams — Fig. 3 of the uniform-innovation paper: the entries of Â over time (one
+//! line per entry âᵢⱼ, the true aᵢⱼ as a thin dashed line of the same colour), and below the
+//! half-width estimates x̂ᵣ,ᵢ and ŷᵣ,ⱼ with the true half-widths dashed.
+
+use super::style::{self, sig, sub, Axes, Entry, Fonts, Swatch, TEXT};
+use super::uniform::{cell, check, cursor, grid, time_win, window_band, Layout, U};
+use super::{Area, Frame, Panel, View};
+use crate::error::Result;
+use crate::scenario::Report;
+use plotters::prelude::*;
+
+/// Panel::UParams — Fig. 3.
+pub fn draw<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
+    let u = check(report, view, Panel::UParams)?;
+    let (n, m, steps, t) = (u.n, u.m, u.steps, u.t);
+    // Legend labels and axis names: short unless the figure is wide.
+    let short = fonts.compact || root.dim_in_pixel().0 < 800;
+    let a_true = &u.u.theta_true[0];
+    // Curves: (label, colour, estimates over t = 1 … T, true value).
+    let mut a_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, f64)> = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let k = i * n + j;
+            let pts = (1..=steps)
+                .map(|s| (s as f64, u.u.steps[s - 1].a[i][j]))
+                .collect();
+            let label = if n == 1 {
+                "â".to_string()
+            } else {
+                format!("â{}{}", sub(i + 1), sub(j + 1))
+            };
+            a_curves.push((label, style::series_color(k), pts, a_true[i][j]));
+        }
+    }
+    let mut r_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, f64)> = Vec::new();
+    for i in 0..n {
+        let pts = (1..=steps)
+            .map(|s| (s as f64, u.u.steps[s - 1].xr[i]))
+            .collect();
+        let label = if n == 1 {
+            "x̂ᵣ".to_string()
+        } else {
+            format!("x̂ᵣ,{}", sub(i + 1))
+        };
+        r_curves.push((label, style::series_color(n * n + i), pts, u.u.xr_true[i]));
+    }
+    for j in 0..m {
+        let pts = (1..=steps)
+            .map(|s| (s as f64, u.u.steps[s - 1].yr[j]))
+            .collect();
+        let label = if m == 1 {
+            "ŷᵣ".to_string()
+        } else {
+            format!("ŷᵣ,{}", sub(j + 1))
+        };
+        r_curves.push((
+            label,
+            style::series_color(n * n + n + j),
+            pts,
+            u.u.yr_true[j],
+        ));
+    }
+    let line = |color: RGBColor| Swatch::Line {
+        color,
+        dashed: false,
+        width: 2,
+    };
+    let mut entries: Vec<Entry> = Vec::new();
+    for (label, color, _, truth) in &a_curves {
+        entries.push(Entry::new(
+            if short {
+                label.clone()
+            } else {
+                format!("{label} (true {})", sig(*truth))
+            },
+            line(*color),
+        ));
+    }
+    for (label, color, _, truth) in &r_curves {
+        entries.push(Entry::new(
+            if short {
+                label.clone()
+            } else {
+                format!("{label} (true {})", sig(*truth))
+            },
+            line(*color),
+        ));
+    }
+    entries.push(Entry::new(
+        if short {
+            "true value"
+        } else {
+            "true value (same colour)"
+        },
+        Swatch::Line {
+            color: TEXT,
+            dashed: true,
+            width: 1,
+        },
+    ));
+    let at = &u.u.at;
+    let mut notes = vec![format!(
+        "Θ̂ and the half-widths after each step of the {}, window ∂ = {}",
+        u.estimator(),
+        u.u.window
+    )];
+    notes.push(format!(
+        "the MAP estimate minimises Σx̂ᵣ + Σŷᵣ: {} at t = {} against {} at the true half-widths",
+        sig(at.objective),
+        at.time,
+        sig(at.true_objective)
+    ));
+    notes.push("a finite window forgets: no convergence is to be expected".to_string());
+    let (w, h) = root.dim_in_pixel();
+    let layout = Layout::of(w, h, 1);
+    let title = U::title(
+        view,
+        &fonts,
+        "Fig. 3: estimates of A and of the noise half-widths",
+        "Parameter A estimation and noise boundary estimation (Pavelková, Fig. 3)",
+    );
+    let (rows, side) = grid(
+        root,
+        &fonts,
+        &title,
+        &notes.join(" · "),
+        &entries,
+        &[1, 1],
+        1,
+        layout,
+    )?;
+    let xd = "time t";
+    let mut frames = Vec::new();
+    let mut marks = Vec::new();
+    let parts: [(&[(String, RGBColor, Vec<(f64, f64)>, f64)], String, bool); 2] = [
+        (
+            &a_curves,
+            if short {
+                "âᵢⱼ".into()
+            } else {
+                "entries âᵢⱼ of Â".into()
+            },
+            false,
+        ),
+        (
+            &r_curves,
+            if short {
+                "x̂ᵣ, ŷᵣ".into()
+            } else {
+                "half-widths x̂ᵣ, ŷᵣ".into()
+            },
+            true,
+        ),
+    ];
+    for (row, (curves, yd, half)) in parts.iter().enumerate() {
+        let Some(part) = &rows[row][0] else { continue };
+        let win = time_win(
+            steps,
+            curves
+                .iter()
+                .flat_map(|c| c.2.iter().map(|p| p.1).chain(std::iter::once(c.3)))
+                .chain(if *half { Some(0.0) } else { None }),
+        );
+        let chart = cell(
+            root,
+            part,
+            &fonts,
+            None,
+            &Axes {
+                win,
+                x_desc: xd,
+                y_desc: yd,
+                x_integer: true,
+                equal: false,
+                x_labels: layout.x_labels(row, 2),
+            },
+        )?;
+        window_band(root, &chart, &u)?;
+        for (_, color, _, truth) in curves.iter() {
+            style::path(
+                root,
+                &chart,
+                &[(win.x0, *truth), (win.x1, *truth)],
+                color,
+                1,
+                Some((6, 4)),
+            )?;
+        }
+        for (_, color, pts, _) in curves.iter() {
+            style::path(root, &chart, pts, color, 2, None)?;
+            marks.extend(style::marks_of(&chart, pts));
+        }
+        cursor(root, &chart, &fonts, t, row == 0)?;
+        if row == 0 {
+            style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+        }
+        frames.push(style::frame_of(&chart, xd, yd));
+    }
+    let mut it = frames.into_iter();
+    let mut first = it.next().unwrap_or_else(|| Frame {
+        x_range: (0.0, 1.0),
+        y_range: (0.0, 1.0),
+        plot_area: (0, 0, 1, 1),
+        x_label: String::new(),
+        y_label: String::new(),
+        more: vec![],
+    });
+    first.more = it.collect();
+    Ok(first)
+}

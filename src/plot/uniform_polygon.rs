@@ -1,0 +1,264 @@
+//! Panel::UPolygon — the states x_t consistent with the window y_first … y_t at the cursor:
+//! every x_t for which some window x_{first−1} … x_t satisfies the constraints (4) of the LU
+//! model at the half-width bounds x̄ᵣ, ȳᵣ with the Θ in use there (a convex polygon in the
+//! `plane` components, from support LPs). With the true Θ it must hold the true state; with
+//! Θ̂ₜ (joint estimation) it need not, and the note says so. Drawn with the true state ◇, the
+//! LP estimate ⋆, the KF estimate × and the box of ranges over the LP's optimal face (dashed).
+//! Equal scales on both axes.
+
+use super::geom::Win;
+use super::style::{
+    self, num, sig, sub, Axes, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TEXT, TRUTH,
+    UNIFORM_LP,
+};
+use super::uniform::{check, U};
+use super::{Area, Frame, Panel, View};
+use crate::error::{Error, Result};
+use crate::scenario::Report;
+use plotters::prelude::*;
+
+/// Panel::UPolygon.
+pub fn draw<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
+    let u = check(report, view, Panel::UPolygon)?;
+    let at = &u.u.at;
+    if !u.at_window() {
+        return Err(Error::field(
+            "time",
+            format!(
+                "the report holds the consistent-state polygon at t = {} only (set uniform.time in the scenario for another time)",
+                at.time
+            ),
+        ));
+    }
+    let t = at.time;
+    let [i, j] = u.u.plane;
+    let pick = |v: &[f64]| (v[i], v[j]);
+    let poly: Vec<(f64, f64)> = at.polygon.iter().map(|p| (p[0], p[1])).collect();
+    let truth = u.truth.map(|x| pick(&x[t]));
+    let lp = pick(&u.u.steps[t - 1].x);
+    let kf = pick(&u.u.kf[t - 1]);
+    let (flo, fhi) = (pick(&at.face_lo[0]), pick(&at.face_hi[0]));
+    let face = [
+        (flo.0, flo.1),
+        (fhi.0, flo.1),
+        (fhi.0, fhi.1),
+        (flo.0, fhi.1),
+    ];
+
+    let mut w = Win::empty();
+    w.add_points(&poly);
+    w.add_points(&face);
+    for p in [Some(lp), Some(kf), truth].into_iter().flatten() {
+        w.add(p.0, p.1);
+    }
+    let pad = if fonts.compact { 0.3 } else { 0.1 };
+    let win = w.padded(pad, pad);
+
+    let short = fonts.compact;
+    let (xs, ys) = (format!("x{}", sub(i + 1)), format!("x{}", sub(j + 1)));
+    let axis = |s: &str, c: usize| match view.names.get(c) {
+        Some(name) if !name.is_empty() => format!("{s}: {name}"),
+        _ if short => s.to_string(),
+        _ => format!("{s} of the state x{} at t = {t}", sub(t)),
+    };
+    let (x_desc, y_desc) = (axis(&xs, i), axis(&ys, j));
+    let theta = if at.polygon_theta_true {
+        "the true Θ"
+    } else {
+        "Θ̂ₜ"
+    };
+    let mut notes = vec![format!(
+        "states x{} consistent with y{} … y{} at the half-width bounds x̄ᵣ, ȳᵣ and {theta}",
+        sub(t),
+        sub(at.first),
+        sub(t)
+    )];
+    notes.push(format!(
+        "optimal face of the LP: {xs} ∈ [{}, {}], {ys} ∈ [{}, {}]",
+        sig(flo.0),
+        sig(fhi.0),
+        sig(flo.1),
+        sig(fhi.1)
+    ));
+    if u.n > 2 {
+        notes.push(format!(
+            "n = {}: the polygon is the projection on {xs}, {ys}",
+            u.n
+        ));
+    }
+    notes.push(u.estimator().to_string());
+
+    let mut entries = Vec::new();
+    if truth.is_some() {
+        entries.push(Entry::new(
+            format!("true state x{}", sub(t)),
+            Swatch::Marker {
+                shape: Marker::Diamond,
+                color: TRUTH,
+                size: 5,
+            },
+        ));
+    }
+    entries.push(Entry::new(
+        if short {
+            "LP estimate x̂ₜ".to_string()
+        } else {
+            format!("LP (MAP) estimate x̂{}", sub(t))
+        },
+        Swatch::Marker {
+            shape: Marker::Star,
+            color: UNIFORM_LP,
+            size: 5,
+        },
+    ));
+    entries.push(Entry::new(
+        if short {
+            "KF (true Θ)"
+        } else {
+            "KF estimate (true Θ, variances r²/3)"
+        },
+        Swatch::Marker {
+            shape: Marker::Cross,
+            color: KF,
+            size: 5,
+        },
+    ));
+    entries.push(Entry::new(
+        if short {
+            "consistent states".to_string()
+        } else {
+            format!("consistent states (x̄ᵣ, ȳᵣ, {theta})")
+        },
+        Swatch::Region {
+            color: POLYGON,
+            dashed: false,
+            fill: true,
+        },
+    ));
+    entries.push(Entry::new(
+        if short {
+            "optimal face"
+        } else {
+            "box of the LP's optimal face"
+        },
+        Swatch::Region {
+            color: FACE,
+            dashed: true,
+            fill: false,
+        },
+    ));
+    let title = U::title(
+        view,
+        &fonts,
+        &format!("States consistent with the window at t = {t}"),
+        &format!(
+            "States x{} consistent with the window (Pavelková, (4) at the bounds)",
+            sub(t)
+        ),
+    );
+    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
+    // Small figures: the equal-scale chart is limited by its height, so the legend goes beside
+    // it when it fits.
+    let (area, side) = match fonts
+        .compact
+        .then(|| style::legend_beside(&area, &fonts, &entries, 0.45))
+        .transpose()?
+        .flatten()
+    {
+        Some(a) => (a, style::LegendSide::Right),
+        None => style::legend(&area, &fonts, &entries)?,
+    };
+    let chart = style::chart(
+        &area,
+        &fonts,
+        &Axes {
+            win,
+            x_desc: &x_desc,
+            y_desc: &y_desc,
+            x_integer: false,
+            equal: true,
+            x_labels: true,
+        },
+    )?;
+    let cw = Win::of_chart(&chart);
+    let mut marks = Vec::new();
+    if poly.len() >= 2 {
+        style::region(root, &chart, &poly, &POLYGON, false, true)?;
+        marks.extend(style::marks_of(&chart, &poly));
+    }
+    // The face box, at least a few pixels wide so a point-like face shows.
+    let (a, b) = (style::px(&chart, flo), style::px(&chart, fhi));
+    let (x0, x1) = (a.0.min(b.0).min(a.0 - 4), a.0.max(b.0).max(a.0 + 4));
+    let (y0, y1) = (a.1.min(b.1).min(a.1 - 4), a.1.max(b.1).max(a.1 + 4));
+    style::polyline(
+        root,
+        &[(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)],
+        &FACE,
+        2,
+        Some((4, 3)),
+    )?;
+    let mut outside: Vec<&str> = Vec::new();
+    let mut point = |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| {
+        if cw.contains(p.0, p.1) {
+            let q = style::px(&chart, p);
+            marks.push(q);
+            style::marker(root, q, shape, color, 5)
+        } else {
+            outside.push(what);
+            Ok(())
+        }
+    };
+    point(kf, Marker::Cross, &KF, "KF estimate")?;
+    point(lp, Marker::Star, &UNIFORM_LP, "LP estimate")?;
+    if let Some(p) = truth {
+        point(p, Marker::Diamond, &TRUTH, "true state")?;
+    }
+
+    let mut chart_notes = Vec::new();
+    chart_notes.push(if at.polygon_theta_true {
+        "true Θ: guaranteed to hold the true state".to_string()
+    } else if short {
+        "Θ̂ₜ: not guaranteed to hold the truth".to_string()
+    } else {
+        "uses the estimate Θ̂ₜ: not guaranteed to hold the true state".to_string()
+    });
+    if at.truth_in_polygon == Some(false) {
+        chart_notes.push(if at.polygon_theta_true {
+            "truth outside (numerical tolerance?)".to_string()
+        } else {
+            "truth outside: Θ̂ₜ differs from Θ".to_string()
+        });
+    }
+    if poly.is_empty() {
+        chart_notes.push("no consistent state: the polygon is empty".to_string());
+    }
+    if !outside.is_empty() {
+        chart_notes.push(format!("outside the window: {}", outside.join(", ")));
+    }
+    if let Some(p) = truth {
+        if !short {
+            chart_notes.push(format!(
+                "true x{}: ({}, {})",
+                sub(t),
+                num(p.0, 3),
+                num(p.1, 3)
+            ));
+        }
+    }
+    style::note_box(
+        root,
+        &chart,
+        &fonts,
+        &chart_notes,
+        &mut marks,
+        &TEXT,
+        &style::FRAME,
+    )?;
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    Ok(style::frame_of(&chart, &x_desc, &y_desc))
+}
