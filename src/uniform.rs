@@ -415,32 +415,38 @@ pub fn estimate_states(
     ))
 }
 
-/// Each state entry's range over the optimal face {X : 𝒜X ≤ ℬ, bounds, cᵀX ≤ J* + tol}: two
-/// LPs per entry. Returns (lower, upper) per state newest first.
+/// The range of the variable `index` over the optimal face {X : 𝒜X ≤ ℬ, bounds,
+/// cᵀX ≤ J* + tol}: two LPs.
+pub fn face_range(lp: &Lp, objective: f64, index: usize) -> Result<(f64, f64)> {
+    let tol = 1e-7 * objective.abs().max(1.0);
+    let mut e = DVector::zeros(lp.c.len());
+    e[index] = 1.0;
+    let lo = lp
+        .solve_with(&e, Some((&lp.c, objective + tol)), "uniform.face")?
+        .objective;
+    let hi = -lp
+        .solve_with(&(-&e), Some((&lp.c, objective + tol)), "uniform.face")?
+        .objective;
+    Ok((lo, hi))
+}
+
+/// Each state entry's range over the optimal face ([`face_range`] per entry), per state newest
+/// first.
 pub fn optimal_face(
     lp: &Lp,
     objective: f64,
     n: usize,
     states: usize,
 ) -> Result<Vec<(DVector<f64>, DVector<f64>)>> {
-    let tol = 1e-7 * objective.abs().max(1.0);
-    let nv = lp.c.len();
-    let mut out = Vec::with_capacity(states);
-    for s in 0..states {
-        let (mut lo, mut hi) = (DVector::zeros(n), DVector::zeros(n));
-        for i in 0..n {
-            let mut e = DVector::zeros(nv);
-            e[s * n + i] = 1.0;
-            lo[i] = lp
-                .solve_with(&e, Some((&lp.c, objective + tol)), "uniform.face")?
-                .objective;
-            hi[i] = -lp
-                .solve_with(&(-&e), Some((&lp.c, objective + tol)), "uniform.face")?
-                .objective;
-        }
-        out.push((lo, hi));
-    }
-    Ok(out)
+    (0..states)
+        .map(|s| {
+            let (mut lo, mut hi) = (DVector::zeros(n), DVector::zeros(n));
+            for i in 0..n {
+                (lo[i], hi[i]) = face_range(lp, objective, s * n + i)?;
+            }
+            Ok((lo, hi))
+        })
+        .collect()
 }
 
 /// The polygon of x_last (components `plane`) consistent with the window's constraints at fixed
@@ -497,6 +503,8 @@ pub fn consistent_polygon(
 pub enum Joint {
     /// Θ known: states only (Section 3.3 on the window).
     States,
+    /// States known (measured): Θ and half-widths only (Section 3.4 on the window).
+    Parameters,
     /// 4.1: states given Θ̂, then Θ̂ given the states, per step.
     Swapping,
     /// 4.2: one LP in states, Θ and half-widths with A x ≈ Â x + A x̂ − Â x̂ (13).
@@ -605,6 +613,41 @@ impl Online {
             x: est.x[0].iter().copied().collect(),
             xr: est.xr.iter().copied().collect(),
             yr: est.yr.iter().copied().collect(),
+            a: rows(&self.theta.a),
+            b: rows(&self.theta.b),
+            c: rows(&self.theta.c),
+            d: rows(&self.theta.d),
+            y_pred: y_pred.iter().copied().collect(),
+            extended,
+        });
+        Ok(self.steps.last().expect("pushed"))
+    }
+
+    /// Section 3.4 on the window: Θ̂ and the half-widths given known states x_0 … x_t (a
+    /// directly measured state); the step records the given x_t.
+    pub fn step_parameters(
+        &mut self,
+        t: usize,
+        x: &[DVector<f64>],
+        u: &[DVector<f64>],
+        y: &[DVector<f64>],
+    ) -> Result<&OnlineStep> {
+        let w = Window {
+            first: t.saturating_sub(self.window - 1).max(1),
+            last: t,
+        };
+        let (n, m) = (self.theta.n(), self.theta.m());
+        let mut lp = parameter_lp(&self.theta, x, u, y, w, &self.theta_prior);
+        let (sol, extended) = solve_extending(&mut lp, n + m, "uniform.theta_prior")?;
+        let nth = self.theta.to_vec().len();
+        self.theta = Theta::from_vec(&sol.x.as_slice()[..nth], &self.theta);
+        let y_pred = &self.theta.c * (&self.theta.a * &x[t - 1] + &self.theta.b * &u[t])
+            + &self.theta.d * &u[t];
+        self.steps.push(OnlineStep {
+            t,
+            x: x[t].iter().copied().collect(),
+            xr: sol.x.rows(nth, n).iter().copied().collect(),
+            yr: sol.x.rows(nth + n, m).iter().copied().collect(),
             a: rows(&self.theta.a),
             b: rows(&self.theta.b),
             c: rows(&self.theta.c),

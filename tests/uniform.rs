@@ -419,6 +419,24 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
     assert!(k.at.polygon_theta_true);
     assert_eq!(k.at.truth_in_polygon, Some(true));
     assert!(k.rms_lp.unwrap() < 1.0);
+    // Half-width ranges over the optimal face: ordered, and they hold the solver's point.
+    for r in k.at.face_xr.iter().chain(&k.at.face_yr) {
+        assert!(r[0] <= r[1] + 1e-7 && r[0] >= -1e-9, "{r:?}");
+    }
+    // States known (measured): Θ̂ from the window's parameter LP, inside its prior box.
+    s["uniform"]["estimator"] = json!("parameters");
+    let p = Scenario::from_json(&s.to_string())
+        .unwrap()
+        .run()
+        .unwrap()
+        .uniform
+        .unwrap();
+    assert_eq!(p.rms_lp, Some(0.0), "the states are given");
+    let b = &p.steps.last().unwrap().b;
+    assert!(
+        (b[0][0] - 1.0).abs() <= 0.3 + 1e-7 && (b[1][0] - 3.0).abs() <= 0.9 + 1e-7,
+        "B̂ {b:?}"
+    );
     // Expansion runs too.
     s["uniform"]["estimator"] = json!("expansion");
     let e = Scenario::from_json(&s.to_string())

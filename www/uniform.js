@@ -18,7 +18,7 @@ const mat = (m) => (Array.isArray(m) && m.length && m[0].length
 const SUB = '₀₁₂₃₄₅₆₇₈₉';
 const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
 const CUSTOM = 'custom';
-const METHOD = { states: 'Θ known', swapping: 'swapping (4.1)', expansion: 'expansion (4.2)' };
+const METHOD = { states: 'Θ known', parameters: 'states known (3.4)', swapping: 'swapping (4.1)', expansion: 'expansion (4.2)' };
 
 // The custom mode is one more "preset" whose model comes from the text boxes: an observable
 // model (C·A is not parallel to C), so the optimal face collapses where the paper's is long.

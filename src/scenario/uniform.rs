@@ -46,7 +46,8 @@ pub struct UniformSpec {
     /// Inputs uniform on [−u_half, u_half] (simulation).
     #[serde(default = "default_u_half")]
     pub u_half: f64,
-    /// "states" (Θ known), "swapping" (4.1) or "expansion" (4.2).
+    /// "states" (Θ known), "parameters" (states known: Θ only, 3.4), "swapping" (4.1) or
+    /// "expansion" (4.2).
     #[serde(default = "default_estimator")]
     pub estimator: String,
     /// Window length ∂ (Section 4).
@@ -106,6 +107,10 @@ pub struct WindowReport {
     /// Per state x_time … x_{first−1}: the range of each entry over the optimal face.
     pub face_lo: Vec<Vec<f64>>,
     pub face_hi: Vec<Vec<f64>>,
+    /// Ranges of x̂_r and ŷ_r over the same face (the objective is unique, the split between
+    /// the half-widths need not be).
+    pub face_xr: Vec<[f64; 2]>,
+    pub face_yr: Vec<[f64; 2]>,
     /// The states consistent with the window's constraints at the half-width bounds x̄_r, ȳ_r
     /// and the Θ in use, in the `plane` components of x_time (counter-clockwise polygon).
     pub polygon: Vec<[f64; 2]>,
@@ -223,12 +228,13 @@ impl Scenario {
         }
         let joint = match spec.estimator.as_str() {
             "states" => Joint::States,
+            "parameters" => Joint::Parameters,
             "swapping" => Joint::Swapping,
             "expansion" => Joint::Expansion,
             other => {
                 return Err(Error::field(
                     "uniform.estimator",
-                    format!("must be \"states\", \"swapping\" or \"expansion\", found \"{other}\""),
+                    format!("must be \"states\", \"parameters\", \"swapping\" or \"expansion\", found \"{other}\""),
                 ))
             }
         };
@@ -344,7 +350,11 @@ impl Scenario {
         }
         let mut theta_at = theta.clone();
         for t in 1..=sim.steps {
-            online.step(t, &traj.u, &traj.y)?;
+            if joint == Joint::Parameters {
+                online.step_parameters(t, &traj.x, &traj.u, &traj.y)?;
+            } else {
+                online.step(t, &traj.u, &traj.y)?;
+            }
             if t == time {
                 theta_at = online.theta.clone();
             }
@@ -356,6 +366,11 @@ impl Scenario {
         };
         let (est, lp) = uniform::estimate_states(&theta_at, &traj.u, &traj.y, w, &state_prior)?;
         let face = uniform::optimal_face(&lp, est.objective, n, w.states())?;
+        let nx = w.states() * n;
+        let hw_range =
+            |k: usize| uniform::face_range(&lp, est.objective, nx + k).map(|(a, b)| [a, b]);
+        let face_xr = (0..n).map(&hw_range).collect::<Result<Vec<_>>>()?;
+        let face_yr = (n..n + m).map(&hw_range).collect::<Result<Vec<_>>>()?;
         let polygon_theta_true = joint == Joint::States;
         let polygon = uniform::consistent_polygon(
             &theta_at,
@@ -380,6 +395,8 @@ impl Scenario {
             true_objective: xr.sum() + yr.sum(),
             face_lo: face.iter().map(|f| f.0.iter().copied().collect()).collect(),
             face_hi: face.iter().map(|f| f.1.iter().copied().collect()).collect(),
+            face_xr,
+            face_yr,
             polygon,
             polygon_theta_true,
             truth_in_polygon,
