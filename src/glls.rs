@@ -17,7 +17,7 @@
 //!   of an unstable A never overflow; the index σ_n/√s (σ_p/√s regularized, Fig. 2) and its best
 //!   horizon; κ curves of LLS and GLLS for the past and the current state. The σ of each small
 //!   factor come from an allocation-free Golub–Kahan bidiagonalization + Demmel–Kahan
-//!   bidiagonal QR ([`SvWork`]), relatively accurate down to ε·σ₁ and beyond on graded factors.
+//!   bidiagonal QR (`SvWork`), relatively accurate down to ε·σ₁ and beyond on graded factors.
 //! * [`StateNoise`]: the estimator (60)–(64) for x(k+1) = A x + B u + ξ, y = C x (54)–(55), as the
 //!   closed-form least-norm solution of its KKT system; the same QP through [`crate::solve`].
 //! * [`Precision`]: the Monte Carlo of Section 5.1 (error of the current-state estimate against
