@@ -524,17 +524,29 @@ pub fn robots(reading: NoiseReading) -> Scenario {
 /// Pavelková's example (14)–(15): A = [[1, 0.5], [−0.5, 0]], B = [1, 3]ᵀ, C = [1 1], D = 0,
 /// x_r = 0.3·1, y_r = 0.3, inputs uniform with half-width 0.5, 120 samples, ∂ = 5, Θ's prior ±30 %
 /// (A₂₂ ∈ [−0.3, 0.3]), x̄_r = ȳ_r = 1, ±5 on the window's states.
+/// Θ, x_r and y_r of Pavelková's example (14)–(15), for code that works on the core directly
+/// (tests, benchmarks); [`uniform_paper`] is the same model as a scenario.
+pub fn uniform_paper_model() -> (crate::uniform::Theta, DVector<f64>, DVector<f64>) {
+    let theta = crate::uniform::Theta {
+        a: DMatrix::from_row_slice(2, 2, &[1.0, 0.5, -0.5, 0.0]),
+        b: DMatrix::from_row_slice(2, 1, &[1.0, 3.0]),
+        c: DMatrix::from_row_slice(1, 2, &[1.0, 1.0]),
+        d: DMatrix::zeros(1, 1),
+    };
+    (
+        theta,
+        DVector::from_element(2, 0.3),
+        DVector::from_element(1, 0.3),
+    )
+}
+
 pub fn uniform_paper() -> Scenario {
     use crate::scenario::uniform::{PriorOverride, UniformSpec};
+    let (theta, xr, yr) = uniform_paper_model();
     Scenario {
         method: "uniform_lp".into(),
         title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
-        model: ModelSpec {
-            f: rows(&[&[1.0, 0.5], &[-0.5, 0.0]]),
-            h: rows(&[&[1.0, 1.0]]),
-            b: rows(&[&[1.0], &[3.0]]),
-            ..Default::default()
-        },
+        model: ModelSpec { f: constant(&theta.a), h: constant(&theta.c), b: constant(&theta.b), ..Default::default() },
         data: None,
         simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None }),
         alpha: 0.9,
@@ -549,9 +561,9 @@ pub fn uniform_paper() -> Scenario {
         lscr: None,
         glls: None,
         uniform: Some(UniformSpec {
-            d: Some(vec![vec![0.0]]),
-            xr: vec![0.3, 0.3],
-            yr: vec![0.3],
+            d: Some(to_rows(&theta.d)),
+            xr: xr.iter().copied().collect(),
+            yr: yr.iter().copied().collect(),
             u_half: 0.5,
             estimator: "swapping".into(),
             window: 5,

@@ -27,17 +27,7 @@ use nalgebra::{DMatrix, DVector};
 use serde_json::{json, Value};
 
 fn paper() -> (Theta, DVector<f64>, DVector<f64>) {
-    let theta = Theta {
-        a: DMatrix::from_row_slice(2, 2, &[1.0, 0.5, -0.5, 0.0]),
-        b: DMatrix::from_row_slice(2, 1, &[1.0, 3.0]),
-        c: DMatrix::from_row_slice(1, 2, &[1.0, 1.0]),
-        d: DMatrix::zeros(1, 1),
-    };
-    (
-        theta,
-        DVector::from_element(2, 0.3),
-        DVector::from_element(1, 0.3),
-    )
+    presets::uniform_paper_model()
 }
 
 fn observable() -> Theta {

@@ -190,23 +190,10 @@ fn glls_figures() {
 /// The uniform-innovation issue's targets: one window LP (∂ = 5, 2 states) and the full
 /// 120-sample on-line run of the paper's example with the swapping method.
 fn uniform_figures() {
-    use confset::uniform::{estimate_states, simulate, StatePrior, Theta, Window};
-    use nalgebra::{DMatrix, DVector};
-    let theta = Theta {
-        a: DMatrix::from_row_slice(2, 2, &[1.0, 0.5, -0.5, 0.0]),
-        b: DMatrix::from_row_slice(2, 1, &[1.0, 3.0]),
-        c: DMatrix::from_row_slice(1, 2, &[1.0, 1.0]),
-        d: DMatrix::zeros(1, 1),
-    };
-    let tr = simulate(
-        &theta,
-        &DVector::from_element(2, 0.3),
-        &DVector::from_element(1, 0.3),
-        &DVector::zeros(2),
-        0.5,
-        120,
-        1,
-    );
+    use confset::uniform::{estimate_states, simulate, StatePrior, Window};
+    use nalgebra::DVector;
+    let (theta, xr, yr) = confset::presets::uniform_paper_model();
+    let tr = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
     let prior = StatePrior {
         x_lo: -5.0,
         x_hi: 5.0,
