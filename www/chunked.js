@@ -72,3 +72,13 @@ export function fieldErrors(root, staleNote, within = '') {
   }
   return { show, clear };
 }
+
+// A counter of running computations shown as document.body.dataset[key] (set while > 0), which
+// the end-to-end tests wait on.
+export function busyFlag(key) {
+  let busy = 0;
+  return (d) => {
+    busy += d;
+    if (busy > 0) document.body.dataset[key] = '1'; else delete document.body.dataset[key];
+  };
+}

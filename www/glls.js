@@ -6,8 +6,9 @@
 // and shows what the core reports.
 import { Session, GllsStudy } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
-import { runChunked, fieldErrors, frameScheduler } from './chunked.js';
-import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
+import { runChunked, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
+import { bracedScripts } from './richtext.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
@@ -42,18 +43,10 @@ const CUSTOM_PRESET = {
 };
 
 // The presets' notes write Γ_{s+1} and σ_n: show them as sub-/superscripts (text escaped first).
-const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
-const richText = (t) => escapeHtml(t.replace(/\s{2,}/g, ' '))
-  .replace(/_\{([^{}]*)\}/g, '<sub>$1</sub>').replace(/\^\{([^{}]*)\}/g, '<sup>$1</sup>')
+const richText = (t) => bracedScripts(t)
   .replace(/([σκΓxy])_([a-zA-Z0-9]+)/g, '$1<sub>$2</sub>');
 
 const hasStateNoise = (s) => Array.isArray(s?.model?.V) && s.model.V.flat(2).some((v) => v !== 0);
-
-function number(field, text) {
-  const v = Number(text);
-  if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
-  return v;
-}
 
 // The core draws every GLLS picture; the horizon marker and the sets come from the kept report.
 class GllsFigure extends Figure {
@@ -85,7 +78,7 @@ export async function mountGlls(root, presets) {
     .map((id) => [id, $(`g-${id}`)]));
   const all = [...presets, CUSTOM_PRESET];
   const st = {
-    preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0, busy: 0, mcBusy: 0,
+    preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0,
     // The last study (possibly partial) and the scenario key it belongs to.
     study: null, studyJson: '', studyKey: '', studyDone: false,
   };
@@ -193,7 +186,7 @@ export async function mountGlls(root, presets) {
     g.estimator = ui.estimator.value;
     g.noise = ui.noise.value;
     g.p = wholeNumber('glls.p', ui.p.value);
-    if (ui.mu.value.trim() === '') delete g.mu; else g.mu = number('glls.mu', ui.mu.value);
+    if (ui.mu.value.trim() === '') delete g.mu; else g.mu = parseNumber('glls.mu', ui.mu.value);
     g.plane = [Number(ui.px.value), Number(ui.py.value)];
     const mc = g.monte_carlo;
     delete g.monte_carlo;
@@ -209,9 +202,8 @@ export async function mountGlls(root, presets) {
   const showError = (e) => errors.show(e, !!st.report);
 
   // ----- compute and draw -----
-  const flag = (key, on) => { if (on) document.body.dataset[key] = '1'; else delete document.body.dataset[key]; };
-  function setBusy(d) { st.busy += d; flag('gllsBusy', st.busy > 0); }
-  function setMcBusy(d) { st.mcBusy += d; flag('gllsMcBusy', st.mcBusy > 0); }
+  const setBusy = busyFlag('gllsBusy');
+  const setMcBusy = busyFlag('gllsMcBusy');
 
   function compute() {
     let built, json;

@@ -4,8 +4,8 @@
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Session, LscrExperiment } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
-import { runChunked, fieldErrors, frameScheduler } from './chunked.js';
-import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
+import { runChunked, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
@@ -33,12 +33,6 @@ const CUSTOM_PRESET = {
   },
 };
 
-function number(field, text) {
-  const v = Number(text);
-  if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
-  return v;
-}
-
 // The region figure: the core draws the LSCR picture (view {"panel":"region"}); the returned
 // frame maps canvas pixels to state coordinates for the cursor and the click.
 class RegionFigure extends Figure {
@@ -54,7 +48,7 @@ export async function mountLscr(root, presets) {
     'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth', 'cov-verdict']
     .map((id) => [id, $(`l-${id}`)]));
   const all = [...presets, CUSTOM_PRESET];
-  const st = { preset: all[0], report: null, reportJson: '', scenario: null, scenarioJson: '', runMs: 0, drawMs: 0, busy: 0 };
+  const st = { preset: all[0], report: null, reportJson: '', scenario: null, scenarioJson: '', runMs: 0, drawMs: 0 };
   const stem = () => `${st.preset.name}-t${ui.t.value}`;
   const figure = new RegionFigure($('fig-region'), session, stem);
   for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
@@ -112,8 +106,8 @@ export async function mountLscr(root, presets) {
       const n = s.model.F.length;
       s.plot = n >= 2 ? [0, 1] : undefined;
     }
-    s.model.sigma_v2 = number('model.sigma_v2', ui.sv.value);
-    s.model.sigma_w2 = number('model.sigma_w2', ui.sw.value);
+    s.model.sigma_v2 = parseNumber('model.sigma_v2', ui.sv.value);
+    s.model.sigma_w2 = parseNumber('model.sigma_w2', ui.sw.value);
     s.simulate.steps = wholeNumber('simulate.steps', ui.t.value);
     s.simulate.seed = wholeNumber('simulate.seed', ui.dseed.value);
     const l = s.lscr;
@@ -145,10 +139,7 @@ export async function mountLscr(root, presets) {
   const clearErrors = () => errors.clear();
 
   // ----- compute and draw -----
-  function setBusy(d) {
-    st.busy += d;
-    if (st.busy > 0) document.body.dataset.lscrBusy = '1'; else delete document.body.dataset.lscrBusy;
-  }
+  const setBusy = busyFlag('lscrBusy');
 
   function compute() {
     let scenario, json;

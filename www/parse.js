@@ -26,3 +26,10 @@ export function parseVector(field, text) {
   if (v.length === 0 || v.some((x) => !Number.isFinite(x))) throw { field, message: `${field} must be numbers separated by spaces or commas` };
   return v;
 }
+
+// A finite number; an empty or non-numeric field is an error naming the field.
+export function parseNumber(field, text) {
+  const v = Number(text);
+  if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
+  return v;
+}

@@ -1,6 +1,6 @@
 // The SCF vs KF panel: controls → Scenario JSON → wasm Session.run → figures and numbers.
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
-import { fieldErrors, frameScheduler } from './chunked.js';
+import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { Session } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
@@ -37,7 +37,7 @@ export async function mountScf(root, presets) {
     'preset-desc', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw']
     .map((id) => [id, $(id)]));
   const all = [...presets, CUSTOM_PRESET];
-  const st = { preset: all[0], report: null, reportJson: '', scenario: null, busy: 0 };
+  const st = { preset: all[0], report: null, reportJson: '', scenario: null };
   const stem = () => `${st.preset.name}-t${ui.time.value}`;
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new Figure(c, session, stem));
   const coverageCard = $('fig-coverage');
@@ -123,10 +123,7 @@ export async function mountScf(root, presets) {
   const clearErrors = () => errors.clear();
 
   // ----- compute and draw -----
-  function setBusy(d) {
-    st.busy += d;
-    if (st.busy > 0) document.body.dataset.busy = '1'; else delete document.body.dataset.busy;
-  }
+  const setBusy = busyFlag('busy');
 
   function compute() {
     let scenario;

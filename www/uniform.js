@@ -6,8 +6,9 @@
 // what the core reports.
 import { Session } from './pkg/confset.js';
 import { Figure, download } from './figure.js';
-import { fieldErrors, frameScheduler } from './chunked.js';
-import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
+import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
+import { bracedScripts } from './richtext.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
@@ -39,17 +40,9 @@ const CUSTOM_PRESET = {
   },
 };
 
-const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
-const richText = (t) => escapeHtml(t.replace(/\s{2,}/g, ' '))
-  .replace(/_\{([^{}]*)\}/g, '<sub>$1</sub>').replace(/\^\{([^{}]*)\}/g, '<sup>$1</sup>')
+const richText = (t) => bracedScripts(t)
   .replace(/\^([a-z])_([a-z])/g, '<sup>$1</sup><sub>$2</sub>')
   .replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
-
-function number(field, text) {
-  const v = Number(text);
-  if (String(text).trim() === '' || !Number.isFinite(v)) throw { field, message: `${field} must be a number` };
-  return v;
-}
 
 // The core draws every picture; the cursor read-out finds the chart (a figure may stack several)
 // under the pointer. Time axes read whole samples.
@@ -77,7 +70,7 @@ export async function mountUniform(root, presets) {
     'xbound', 'seed', 'steps', 'stale', 'numbers', 'run-numbers', 'num-title', 'timing', 'notes']
     .map((id) => [id, $(`u-${id}`)]));
   const all = [...presets, CUSTOM_PRESET];
-  const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0, busy: 0 };
+  const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
   const stem = () => {
     const u = st.report?.uniform;
     return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${u.at.time}` : 'uniform'}`;
@@ -162,11 +155,11 @@ export async function mountUniform(root, presets) {
     u.window = wholeNumber('uniform.window', ui.window.value);
     u.xr = halfWidths('uniform.xr', ui.xr.value, n);
     u.yr = halfWidths('uniform.yr', ui.yr.value, m);
-    u.u_half = number('uniform.u_half', ui.uhalf.value);
-    u.prior_rel = number('uniform.prior_rel', ui.prior.value) / 100;
+    u.u_half = parseNumber('uniform.u_half', ui.uhalf.value);
+    u.prior_rel = parseNumber('uniform.prior_rel', ui.prior.value) / 100;
     u.xr_max = halfWidths('uniform.xr_max', ui.xrmax.value, n);
     u.yr_max = halfWidths('uniform.yr_max', ui.yrmax.value, m);
-    u.x_bound = number('uniform.x_bound', ui.xbound.value);
+    u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
     s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
     s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
     u.time = wholeNumber('uniform.time', ui.time.value);
@@ -179,10 +172,7 @@ export async function mountUniform(root, presets) {
   const showError = (e) => errors.show(e, !!st.report);
 
   // ----- compute and draw -----
-  function setBusy(d) {
-    st.busy += d;
-    if (st.busy > 0) document.body.dataset.uniformBusy = '1'; else delete document.body.dataset.uniformBusy;
-  }
+  const setBusy = busyFlag('uniformBusy');
 
   function compute() {
     let scenario, json;

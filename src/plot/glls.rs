@@ -76,14 +76,13 @@ pub(crate) fn horizon_chart<'a, DB: DrawingBackend>(
     root: &Area<DB>,
     fonts: &Fonts,
     title: &str,
-    notes: &str,
+    notes: &[String],
     entries: &[Entry],
     win: Win,
     short: bool,
     y_desc: &str,
 ) -> Result<(style::Chart<'a, DB>, style::LegendSide)> {
-    let area = style::title_block(root, fonts, title, notes)?;
-    let (area, side) = style::legend(&area, fonts, entries)?;
+    let (area, side) = style::titled_legend(root, fonts, title, notes, entries)?;
     let axes = Axes {
         win,
         x_desc: horizon_desc(short),
@@ -383,16 +382,7 @@ pub fn draw_singular<DB: DrawingBackend>(
         "Singular values of the observability matrix Γₛ₊₁ (GLLS paper, Fig. 1)",
     );
     let (xd, yd) = (horizon_desc(short), "singular value σᵢ (log scale)");
-    let (chart, side) = horizon_chart(
-        root,
-        &fonts,
-        &t,
-        &notes.join(" · "),
-        &entries,
-        win,
-        short,
-        yd,
-    )?;
+    let (chart, side) = horizon_chart(root, &fonts, &t, &notes, &entries, win, short, yd)?;
     let mut marks: Vec<(i32, i32)> = Vec::new();
     if floor_shown {
         let xs: Vec<f64> = (0..rows).map(|s| s as f64).collect();
@@ -548,16 +538,7 @@ pub fn draw_index<DB: DrawingBackend>(
         "Choosing the horizon: σₙ/√s (GLLS paper, Fig. 2)",
     );
     let (xd, yd) = (horizon_desc(short), "σ/√s (log scale)");
-    let (chart, side) = horizon_chart(
-        root,
-        &fonts,
-        &t,
-        &notes.join(" · "),
-        &entries,
-        win,
-        short,
-        yd,
-    )?;
+    let (chart, side) = horizon_chart(root, &fonts, &t, &notes, &entries, win, short, yd)?;
     let mut marks = Vec::new();
     for piece in &main {
         style::path(root, &chart, piece, &color_n, 2, None)?;

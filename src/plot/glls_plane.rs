@@ -9,8 +9,8 @@
 use super::geom::Win;
 use super::glls::{estimator_name, glls_of, note_box, title};
 use super::style::{
-    self, sci, sig, sub, Axes, Entry, Fonts, Marker, Swatch, BALL, GLLS_EST, INTERVAL_BOX,
-    REGULARIZED, STATE_NOISE, TRUTH,
+    self, sci, sig, sub, Entry, Fonts, Marker, Swatch, BALL, GLLS_EST, INTERVAL_BOX, REGULARIZED,
+    STATE_NOISE, TRUTH,
 };
 use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
@@ -279,21 +279,8 @@ pub fn draw<DB: DrawingBackend>(
         &format!("State x({k}) with its guaranteed sets"),
         &format!("GLLS estimate of x({k}) with the guaranteed ball and interval box"),
     );
-    let area = style::title_block(root, &fonts, &t, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
-    let chart = style::chart(
-        &area,
-        &fonts,
-        &Axes {
-            win,
-            x_desc: &x_desc,
-            y_desc: &y_desc,
-            x_integer: false,
-            equal: true,
-            x_labels: true,
-        },
-    )?;
-    let cw = Win::of_chart(&chart);
+    let (area, side) = style::titled_legend(root, &fonts, &t, &notes, &entries)?;
+    let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let mut marks = Vec::new();
     // The box (dashed), then the ball (filled disk), then the points.
     let b0 = sh((bx_x.0, bx_y.0));
@@ -315,17 +302,13 @@ pub fn draw<DB: DrawingBackend>(
         marks.extend(style::marks_of(&chart, &circle));
     }
     let mut outside: Vec<&str> = Vec::new();
-    let mut point = |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| {
-        let p = sh(p);
-        if cw.contains(p.0, p.1) {
-            let q = style::px(&chart, p);
-            marks.push(q);
-            style::marker(root, q, shape, color, 5)
-        } else {
-            outside.push(what);
+    let mut point =
+        |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| -> Result<()> {
+            if !style::marker_inside(root, &chart, sh(p), shape, color, &mut marks)? {
+                outside.push(what);
+            }
             Ok(())
-        }
-    };
+        };
     if let Some(t) = reg_truth {
         point(t, Marker::Diamond, &REGULARIZED, "projected truth")?;
     }

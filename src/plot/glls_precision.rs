@@ -282,16 +282,7 @@ pub fn draw<DB: DrawingBackend>(
         )
     };
     let (xd, yd) = (horizon_desc(short), "‖x̂(k) − x(k)‖₂ (log scale)");
-    let (chart, side) = horizon_chart(
-        root,
-        &fonts,
-        &t,
-        &notes.join(" · "),
-        &entries,
-        win,
-        short,
-        yd,
-    )?;
+    let (chart, side) = horizon_chart(root, &fonts, &t, &notes, &entries, win, short, yd)?;
     let mut marks = Vec::new();
     let (xr, _) = chart.plotting_area().get_pixel_range();
     // Box width from the spacing of the horizons.

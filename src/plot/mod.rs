@@ -339,25 +339,18 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
     match (view.panel.is_uniform(), report.uniform.is_some()) {
         (true, _) => {
             uniform::check(report, view, view.panel)?;
-            let mut adapter = erase::Adapter(backend);
-            let root = erase::Erased(&mut adapter).into_drawing_area();
-            root.fill(&WHITE).map_err(de)?;
-            let frame = match view.panel {
-                Panel::UStates => uniform::draw_states(&root, report, view, fonts)?,
-                Panel::UOutput => uniform::draw_output(&root, report, view, fonts)?,
-                Panel::UParams => uniform_params::draw(&root, report, view, fonts)?,
-                _ => uniform_polygon::draw(&root, report, view, fonts)?,
-            };
-            root.present().map_err(de)?;
-            return Ok(frame);
+            return draw_erased(backend, |root| match view.panel {
+                Panel::UStates => uniform::draw_states(root, report, view, fonts),
+                Panel::UOutput => uniform::draw_output(root, report, view, fonts),
+                Panel::UParams => uniform_params::draw(root, report, view, fonts),
+                _ => uniform_polygon::draw(root, report, view, fonts),
+            });
         }
         (false, true) => {
-            return Err(Error::field(
-                "panel",
-                format!(
-                    "\"{}\" does not draw a uniform-innovation report (method \"uniform_lp\"): choose ustates, uoutput, uparams or upolygon",
-                    view.panel.name()
-                ),
+            return Err(not_drawn_by(
+                view.panel,
+                "a uniform-innovation report (method \"uniform_lp\")",
+                "ustates, uoutput, uparams or upolygon",
             ))
         }
         (false, false) => {}
@@ -366,25 +359,18 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
     match (view.panel.is_glls(), report.glls.is_some()) {
         (true, _) => {
             glls::check(report, view.panel)?;
-            let mut adapter = erase::Adapter(backend);
-            let root = erase::Erased(&mut adapter).into_drawing_area();
-            root.fill(&WHITE).map_err(de)?;
-            let frame = match view.panel {
-                Panel::Singular => glls::draw_singular(&root, report, view, fonts)?,
-                Panel::Index => glls::draw_index(&root, report, view, fonts)?,
-                Panel::Plane => glls_plane::draw(&root, report, view, fonts)?,
-                _ => glls_precision::draw(&root, report, view, fonts)?,
-            };
-            root.present().map_err(de)?;
-            return Ok(frame);
+            return draw_erased(backend, |root| match view.panel {
+                Panel::Singular => glls::draw_singular(root, report, view, fonts),
+                Panel::Index => glls::draw_index(root, report, view, fonts),
+                Panel::Plane => glls_plane::draw(root, report, view, fonts),
+                _ => glls_precision::draw(root, report, view, fonts),
+            });
         }
         (false, true) => {
-            return Err(Error::field(
-                "panel",
-                format!(
-                    "\"{}\" does not draw a GLLS report (method \"glls\"): choose singular, index, plane or precision",
-                    view.panel.name()
-                ),
+            return Err(not_drawn_by(
+                view.panel,
+                "a GLLS report (method \"glls\")",
+                "singular, index, plane or precision",
             ))
         }
         (false, false) => {}
@@ -392,12 +378,7 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
     // An LSCR report has no time steps: it is drawn by the region panel only, and only it.
     match (view.panel, report.lscr.is_some()) {
         (Panel::Region, true) => {
-            let mut adapter = erase::Adapter(backend);
-            let root = erase::Erased(&mut adapter).into_drawing_area();
-            root.fill(&WHITE).map_err(de)?;
-            let frame = region::draw(&root, report, view, fonts)?;
-            root.present().map_err(de)?;
-            return Ok(frame);
+            return draw_erased(backend, |root| region::draw(root, report, view, fonts));
         }
         (Panel::Region, false) => {
             region::lscr_of(report)?;
@@ -491,6 +472,32 @@ pub fn useful_panels(report: &Report) -> Vec<Panel> {
         v.push(Panel::Coverage);
     }
     v
+}
+
+/// The panels of reports without KF/SCF steps draw on the type-erased backend, so each is
+/// compiled once rather than once per backend type: white page, `draw`, present.
+fn draw_erased<DB: DrawingBackend>(
+    backend: DB,
+    draw: impl for<'a> FnOnce(&Area<erase::Erased<'a>>) -> Result<Frame>,
+) -> Result<Frame> {
+    let mut adapter = erase::Adapter(backend);
+    let root = erase::Erased(&mut adapter).into_drawing_area();
+    root.fill(&WHITE).map_err(de)?;
+    let frame = draw(&root)?;
+    root.present().map_err(de)?;
+    Ok(frame)
+}
+
+/// The error for a panel asked to draw a report it does not draw: names the report and the
+/// panels that do.
+fn not_drawn_by(panel: Panel, report: &str, choose: &str) -> Error {
+    Error::field(
+        "panel",
+        format!(
+            "\"{}\" does not draw {report}: choose {choose}",
+            panel.name()
+        ),
+    )
 }
 
 /// A drawing error as a crate error.

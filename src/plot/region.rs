@@ -18,7 +18,7 @@
 
 use super::geom::Win;
 use super::style::{
-    self, pct, sig, sub, Axes, Entry, Fonts, Marker, Swatch, BLUE_EST, KF, LSCR, LSCR_TINT, TRUTH,
+    self, pct, sig, sub, Entry, Fonts, Marker, Swatch, BLUE_EST, KF, LSCR, LSCR_TINT, TRUTH,
 };
 use super::{de, Area, Frame, View, Zoom};
 use crate::error::{Error, Result};
@@ -603,20 +603,8 @@ pub fn draw<DB: DrawingBackend>(
         ));
     }
 
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
-    let chart = style::chart(
-        &area,
-        &fonts,
-        &Axes {
-            win,
-            x_desc: &x_desc,
-            y_desc: &y_desc,
-            x_integer: false,
-            equal: true,
-            x_labels: true,
-        },
-    )?;
+    let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
+    let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let map = Map::new(&chart);
     let cw = map.win;
     // The boundary inside the chart's window (it may have grown for equal aspect): exact.

@@ -758,6 +758,19 @@ fn legend_box<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The title block (notes joined by " · " as its subtitle), then the legend: the area left for
+/// the charts and where the legend went.
+pub fn titled_legend<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    title: &str,
+    notes: &[String],
+    entries: &[Entry],
+) -> Result<(DrawingArea<DB, Shift>, LegendSide)> {
+    let area = title_block(root, fonts, title, &notes.join(" · "))?;
+    legend(&area, fonts, entries)
+}
+
 /// Lay out the legend beside (wide figures) or below (tall ones) the chart, or leave it for
 /// [`overlay_legend`] (small figures); returns the area left for the chart.
 pub fn legend<DB: DrawingBackend>(
@@ -1041,6 +1054,45 @@ pub fn chart<'a, DB: DrawingBackend>(
     axes: &Axes,
 ) -> Result<Chart<'a, DB>> {
     chart_with(area, fonts, axes, false)
+}
+
+/// A marker at chart point `p` when it lies in the chart's window (its pixel joins `marks`, so
+/// the overlay legend avoids it); false when it lies outside, for the caller to say so.
+pub fn marker_inside<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    p: (f64, f64),
+    shape: Marker,
+    color: &RGBColor,
+    marks: &mut Vec<(i32, i32)>,
+) -> Result<bool> {
+    if !Win::of_chart(chart).contains(p.0, p.1) {
+        return Ok(false);
+    }
+    let q = px(chart, p);
+    marks.push(q);
+    marker(root, q, shape, color, 5)?;
+    Ok(true)
+}
+
+/// A chart of a state plane: both axes in the same units, so they share one scale (a disk
+/// stays round) and the window grows to the pixel aspect.
+pub fn equal_chart<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    win: Win,
+    x_desc: &str,
+    y_desc: &str,
+) -> Result<Chart<'a, DB>> {
+    let axes = Axes {
+        win,
+        x_desc,
+        y_desc,
+        x_integer: false,
+        equal: true,
+        x_labels: true,
+    };
+    chart(area, fonts, &axes)
 }
 
 /// A chart whose y values are log10 of the quantity: the axis is linear in log10 and labelled

@@ -202,21 +202,22 @@ impl Layout {
     }
 }
 
-/// Title block, legend, then `weights.len()` rows of `cols` areas (heights in proportion), laid
+/// Title block (the figure's name `what` or `default`, see [`U::title`]), legend, then `weights.len()` rows of `cols` areas (heights in proportion), laid
 /// out by `layout`: `cells[row][col]`, `None` for a row left out.
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub(crate) fn grid<DB: DrawingBackend>(
     root: &Area<DB>,
+    view: &View,
     fonts: &Fonts,
-    title: &str,
-    notes: &str,
+    [what, default]: [&str; 2],
+    notes: &[String],
     entries: &[Entry],
     weights: &[i32],
     cols: usize,
     layout: Layout,
 ) -> Result<(Vec<Vec<Option<Area<DB>>>>, LegendSide)> {
-    let area = style::title_block(root, fonts, title, notes)?;
-    let (area, side) = style::legend(&area, fonts, entries)?;
+    let title = U::title(view, fonts, what, default);
+    let (area, side) = style::titled_legend(root, fonts, &title, notes, entries)?;
     let (_, h) = area.dim_in_pixel();
     let cols = cols.max(1);
     let mut cells: Vec<Vec<Option<Area<DB>>>> = vec![vec![None; cols]; weights.len()];
@@ -284,6 +285,93 @@ pub(crate) fn cell<'a, DB: DrawingBackend>(
         )?;
     }
     Ok(chart)
+}
+
+/// Legend labels and axis names: short unless the figure is wide.
+pub(crate) fn short_labels<DB: DrawingBackend>(root: &Area<DB>, fonts: &Fonts) -> bool {
+    fonts.compact || root.dim_in_pixel().0 < 800
+}
+
+/// How many of `total` charts stand side by side (narrow figures show as many as fit, ≥ 200 px
+/// each) and how their rows are laid out.
+pub(crate) fn columns<DB: DrawingBackend>(root: &Area<DB>, total: usize) -> (usize, Layout) {
+    let (w, h) = root.dim_in_pixel();
+    let cols = ((w as usize / 200).max(1)).min(total);
+    (cols, Layout::of(w, h, cols))
+}
+
+/// The grid of Figs. 1 and 2: a chart per component (`what`: as many of `total` as fit side by
+/// side) above its error chart. The notes say first what a small figure leaves out: the
+/// components beyond those shown, and the error row (`Layout::TopOnly`).
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+fn values_over_errors<DB: DrawingBackend>(
+    root: &Area<DB>,
+    view: &View,
+    fonts: &Fonts,
+    title: [&str; 2],
+    mut notes: Vec<String>,
+    entries: &[Entry],
+    total: usize,
+    what: &str,
+) -> Result<(Vec<Vec<Option<Area<DB>>>>, LegendSide, Layout)> {
+    let (cols, layout) = columns(root, total);
+    if cols < total {
+        notes.insert(
+            0,
+            format!("{cols} of {total} {what} (widen the figure for all)"),
+        );
+    }
+    if layout == Layout::TopOnly {
+        notes.insert(0, "enlarge the figure for the errors".to_string());
+    }
+    let (rows, side) = grid(
+        root,
+        view,
+        fonts,
+        title,
+        &notes,
+        entries,
+        &[3, 2],
+        cols,
+        layout,
+    )?;
+    Ok((rows, side, layout))
+}
+
+/// The x axis of every time chart.
+pub(crate) const TIME: &str = "time t";
+
+/// Axes of a time chart: t = 0 … T in whole steps on x, `y_desc` on y.
+pub(crate) fn time_axes<'s>(win: Win, y_desc: &'s str, x_labels: bool) -> Axes<'s> {
+    Axes {
+        win,
+        x_desc: TIME,
+        y_desc,
+        x_integer: true,
+        equal: false,
+        x_labels,
+    }
+}
+
+/// A horizontal line at `y` across the time window `win` (zero, a bound, a true value).
+pub(crate) fn level<DB: DrawingBackend>(
+    root: &Area<DB>,
+    chart: &style::Chart<DB>,
+    win: Win,
+    y: f64,
+    color: &RGBColor,
+    width: u32,
+    dash: Option<(i32, i32)>,
+) -> Result<()> {
+    style::path(root, chart, &[(win.x0, y), (win.x1, y)], color, width, dash)
+}
+
+/// The frames of a figure as one: the first, with the others, top to bottom, in `more`.
+pub(crate) fn stacked(frames: impl Iterator<Item = Frame>) -> Option<Frame> {
+    let mut frames = frames;
+    let mut first = frames.next()?;
+    first.more = frames.collect();
+    Some(first)
 }
 
 /// The y window of a time chart holding `ys`, padded.
@@ -382,12 +470,7 @@ pub fn draw_states<DB: DrawingBackend>(
 ) -> Result<Frame> {
     let u = check(report, view, Panel::UStates)?;
     let (n, steps, t) = (u.n, u.steps, u.t);
-    // Legend labels and axis names: short unless the figure is wide.
-    let short = fonts.compact || root.dim_in_pixel().0 < 800;
-    // Narrow figures show as many components as fit side by side (≥ 200 px each).
-    let (w, h) = root.dim_in_pixel();
-    let cols = ((w as usize / 200).max(1)).min(n);
-    let layout = Layout::of(w, h, cols);
+    let short = short_labels(root, &fonts);
     let at = &u.u.at;
     let lp = |s: usize, i: usize| u.u.steps[s - 1].x[i];
     let kf = |s: usize, i: usize| u.u.kf[s - 1][i];
@@ -469,35 +552,22 @@ pub fn draw_states<DB: DrawingBackend>(
             at.time
         ));
     }
-    if cols < n {
-        notes.insert(
-            0,
-            format!("{cols} of {n} components (widen the figure for all)"),
-        );
-    }
-    if layout == Layout::TopOnly {
-        notes.insert(0, "enlarge the figure for the errors".to_string());
-    }
-    let title = U::title(
+    let (rows, side, layout) = values_over_errors(
+        root,
         view,
         &fonts,
-        "Fig. 1: states and estimation errors",
-        "Estimated states and estimation errors (Pavelková, Fig. 1)",
-    );
-    let (rows, side) = grid(
-        root,
-        &fonts,
-        &title,
-        &notes.join(" · "),
+        [
+            "Fig. 1: states and estimation errors",
+            "Estimated states and estimation errors (Pavelková, Fig. 1)",
+        ],
+        notes,
         &entries,
-        &[3, 2],
-        cols,
-        layout,
+        n,
+        "components",
     )?;
-    let xd = "time t";
     let mut frames = Vec::new();
     let mut err_frames = Vec::new();
-    for i in 0..cols {
+    for i in 0..rows[0].len() {
         let (Some(top), bottom) = (&rows[0][i], &rows[1][i]) else {
             continue;
         };
@@ -542,14 +612,7 @@ pub fn draw_states<DB: DrawingBackend>(
             top,
             &fonts,
             Some(&name),
-            &Axes {
-                win,
-                x_desc: xd,
-                y_desc: &yd,
-                x_integer: true,
-                equal: false,
-                x_labels: layout.x_labels(0, 2),
-            },
+            &time_axes(win, &yd, layout.x_labels(0, 2)),
         )?;
         window_band(root, &chart, &u)?;
         style::path(root, &chart, &truth_pts, &TRUTH, 2, None)?;
@@ -565,7 +628,7 @@ pub fn draw_states<DB: DrawingBackend>(
         if i == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, xd, &yd));
+        frames.push(style::frame_of(&chart, TIME, &yd));
 
         // Errors.
         let Some(bottom) = bottom else { continue };
@@ -595,24 +658,10 @@ pub fn draw_states<DB: DrawingBackend>(
             bottom,
             &fonts,
             (layout == Layout::SideBySide).then_some(side_heading.as_str()),
-            &Axes {
-                win,
-                x_desc: xd,
-                y_desc: &yd,
-                x_integer: true,
-                equal: false,
-                x_labels: true,
-            },
+            &time_axes(win, &yd, true),
         )?;
         window_band(root, &chart, &u)?;
-        style::path(
-            root,
-            &chart,
-            &[(win.x0, 0.0), (win.x1, 0.0)],
-            &TRUTH,
-            1,
-            None,
-        )?;
+        level(root, &chart, win, 0.0, &TRUTH, 1, None)?;
         style::path(root, &chart, &kf_err, &KF, 2, Some(style::DASH))?;
         style::path(root, &chart, &lp_err, &UNIFORM_LP, 2, None)?;
         cursor(root, &chart, &fonts, t, false)?;
@@ -626,14 +675,10 @@ pub fn draw_states<DB: DrawingBackend>(
                 (HPos::Center, VPos::Center),
             )?;
         }
-        err_frames.push(style::frame_of(&chart, xd, &yd));
+        err_frames.push(style::frame_of(&chart, TIME, &yd));
     }
-    let mut it = frames.into_iter().chain(err_frames);
-    let mut first = it
-        .next()
-        .ok_or_else(|| Error::field("report.uniform", "has no state components"))?;
-    first.more = it.collect();
-    Ok(first)
+    stacked(frames.into_iter().chain(err_frames))
+        .ok_or_else(|| Error::field("report.uniform", "has no state components"))
 }
 
 /// An I-beam from a to b at time x (at least a few pixels tall so a point-like face shows).
@@ -678,11 +723,7 @@ pub fn draw_output<DB: DrawingBackend>(
 ) -> Result<Frame> {
     let u = check(report, view, Panel::UOutput)?;
     let (m, steps, t) = (u.m, u.steps, u.t);
-    // Legend labels and axis names: short unless the figure is wide.
-    let short = fonts.compact || root.dim_in_pixel().0 < 800;
-    let (w, h) = root.dim_in_pixel();
-    let cols = ((w as usize / 200).max(1)).min(m);
-    let layout = Layout::of(w, h, cols);
+    let short = short_labels(root, &fonts);
     let entries = vec![
         Entry::new(
             if short {
@@ -737,35 +778,22 @@ pub fn draw_output<DB: DrawingBackend>(
             u.u.extended
         ));
     }
-    if cols < m {
-        notes.insert(
-            0,
-            format!("{cols} of {m} outputs (widen the figure for all)"),
-        );
-    }
-    if layout == Layout::TopOnly {
-        notes.insert(0, "enlarge the figure for the errors".to_string());
-    }
-    let title = U::title(
+    let (rows, side, layout) = values_over_errors(
+        root,
         view,
         &fonts,
-        "Fig. 2: predicted output and prediction error",
-        "Predicted output and prediction error (Pavelková, Fig. 2)",
-    );
-    let (rows, side) = grid(
-        root,
-        &fonts,
-        &title,
-        &notes.join(" · "),
+        [
+            "Fig. 2: predicted output and prediction error",
+            "Predicted output and prediction error (Pavelková, Fig. 2)",
+        ],
+        notes,
         &entries,
-        &[3, 2],
-        cols,
-        layout,
+        m,
+        "outputs",
     )?;
-    let xd = "time t";
     let mut frames = Vec::new();
     let mut err_frames = Vec::new();
-    for j in 0..cols {
+    for j in 0..rows[0].len() {
         let (Some(top), bottom) = (&rows[0][j], &rows[1][j]) else {
             continue;
         };
@@ -787,14 +815,7 @@ pub fn draw_output<DB: DrawingBackend>(
             top,
             &fonts,
             heading.as_deref(),
-            &Axes {
-                win,
-                x_desc: xd,
-                y_desc: &yd,
-                x_integer: true,
-                equal: false,
-                x_labels: layout.x_labels(0, 2),
-            },
+            &time_axes(win, &yd, layout.x_labels(0, 2)),
         )?;
         window_band(root, &chart, &u)?;
         style::path(root, &chart, &y, &TRUTH, 2, None)?;
@@ -805,7 +826,7 @@ pub fn draw_output<DB: DrawingBackend>(
         if j == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, xd, &yd));
+        frames.push(style::frame_of(&chart, TIME, &yd));
 
         let Some(bottom) = bottom else { continue };
         let e: Vec<(f64, f64)> = y.iter().zip(&p).map(|(a, b)| (a.0, b.1 - a.1)).collect();
@@ -826,42 +847,17 @@ pub fn draw_output<DB: DrawingBackend>(
             bottom,
             &fonts,
             (sbs || m > 1).then_some(side_heading.as_str()),
-            &Axes {
-                win,
-                x_desc: xd,
-                y_desc: &yd,
-                x_integer: true,
-                equal: false,
-                x_labels: true,
-            },
+            &time_axes(win, &yd, true),
         )?;
         window_band(root, &chart, &u)?;
-        style::path(
-            root,
-            &chart,
-            &[(win.x0, 0.0), (win.x1, 0.0)],
-            &TRUTH,
-            1,
-            None,
-        )?;
+        level(root, &chart, win, 0.0, &TRUTH, 1, None)?;
         for v in [yr, -yr] {
-            style::path(
-                root,
-                &chart,
-                &[(win.x0, v), (win.x1, v)],
-                &TRUTH,
-                1,
-                Some((4, 4)),
-            )?;
+            level(root, &chart, win, v, &TRUTH, 1, Some((4, 4)))?;
         }
         style::path(root, &chart, &e, &UNIFORM_LP, 2, None)?;
         cursor(root, &chart, &fonts, t, false)?;
-        err_frames.push(style::frame_of(&chart, xd, &yd));
+        err_frames.push(style::frame_of(&chart, TIME, &yd));
     }
-    let mut it = frames.into_iter().chain(err_frames);
-    let mut first = it
-        .next()
-        .ok_or_else(|| Error::field("report.uniform", "has no outputs"))?;
-    first.more = it.collect();
-    Ok(first)
+    stacked(frames.into_iter().chain(err_frames))
+        .ok_or_else(|| Error::field("report.uniform", "has no outputs"))
 }

@@ -2,11 +2,15 @@
 //! line per entry âᵢⱼ, the true aᵢⱼ as a thin dashed line of the same colour), and below the
 //! half-width estimates x̂ᵣ,ᵢ and ŷᵣ,ⱼ with the true half-widths dashed.
 
-use super::style::{self, sig, sub, Axes, Entry, Fonts, Swatch, TEXT};
-use super::uniform::{cell, check, cursor, grid, time_win, window_band, Layout, U};
+use super::style::{self, sig, sub, Entry, Fonts, Swatch, TEXT};
+use super::uniform::{
+    cell, check, columns, cursor, grid, level, short_labels, stacked, time_axes, time_win,
+    window_band, TIME,
+};
 use super::{Area, Frame, Panel, View};
 use crate::error::Result;
 use crate::scenario::Report;
+use crate::uniform::OnlineStep;
 use plotters::prelude::*;
 
 /// Panel::UParams — Fig. 3.
@@ -17,9 +21,8 @@ pub fn draw<DB: DrawingBackend>(
     fonts: Fonts,
 ) -> Result<Frame> {
     let u = check(report, view, Panel::UParams)?;
-    let (n, m, steps, t) = (u.n, u.m, u.steps, u.t);
-    // Legend labels and axis names: short unless the figure is wide.
-    let short = fonts.compact || root.dim_in_pixel().0 < 800;
+    let (n, steps, t) = (u.n, u.steps, u.t);
+    let short = short_labels(root, &fonts);
     let a_true = &u.u.theta_true[0];
     // Curves: (label, colour, estimates over t = 1 … T, true value).
     let mut a_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, f64)> = Vec::new();
@@ -38,32 +41,24 @@ pub fn draw<DB: DrawingBackend>(
         }
     }
     let mut r_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, f64)> = Vec::new();
-    for i in 0..n {
-        let pts = (1..=steps)
-            .map(|s| (s as f64, u.u.steps[s - 1].xr[i]))
-            .collect();
-        let label = if n == 1 {
-            "x̂ᵣ".to_string()
-        } else {
-            format!("x̂ᵣ,{}", sub(i + 1))
-        };
-        r_curves.push((label, style::series_color(n * n + i), pts, u.u.xr_true[i]));
-    }
-    for j in 0..m {
-        let pts = (1..=steps)
-            .map(|s| (s as f64, u.u.steps[s - 1].yr[j]))
-            .collect();
-        let label = if m == 1 {
-            "ŷᵣ".to_string()
-        } else {
-            format!("ŷᵣ,{}", sub(j + 1))
-        };
-        r_curves.push((
-            label,
-            style::series_color(n * n + n + j),
-            pts,
-            u.u.yr_true[j],
-        ));
+    // x̂ᵣ per state, then ŷᵣ per output; colours continue after the n² entries of Â.
+    let half_widths: [(&str, &[f64], fn(&OnlineStep) -> &[f64]); 2] = [
+        ("x̂ᵣ", &u.u.xr_true, |s| &s.xr),
+        ("ŷᵣ", &u.u.yr_true, |s| &s.yr),
+    ];
+    for (name, truths, estimates) in half_widths {
+        for (i, &truth) in truths.iter().enumerate() {
+            let pts = (1..=steps)
+                .map(|s| (s as f64, estimates(&u.u.steps[s - 1])[i]))
+                .collect();
+            let label = if truths.len() == 1 {
+                name.to_string()
+            } else {
+                format!("{name},{}", sub(i + 1))
+            };
+            let color = style::series_color(n * n + r_curves.len());
+            r_curves.push((label, color, pts, truth));
+        }
     }
     let line = |color: RGBColor| Swatch::Line {
         color,
@@ -71,17 +66,7 @@ pub fn draw<DB: DrawingBackend>(
         width: 2,
     };
     let mut entries: Vec<Entry> = Vec::new();
-    for (label, color, _, truth) in &a_curves {
-        entries.push(Entry::new(
-            if short {
-                label.clone()
-            } else {
-                format!("{label} (true {})", sig(*truth))
-            },
-            line(*color),
-        ));
-    }
-    for (label, color, _, truth) in &r_curves {
+    for (label, color, _, truth) in a_curves.iter().chain(&r_curves) {
         entries.push(Entry::new(
             if short {
                 label.clone()
@@ -116,25 +101,21 @@ pub fn draw<DB: DrawingBackend>(
         sig(at.true_objective)
     ));
     notes.push("a finite window forgets: no convergence is to be expected".to_string());
-    let (w, h) = root.dim_in_pixel();
-    let layout = Layout::of(w, h, 1);
-    let title = U::title(
-        view,
-        &fonts,
-        "Fig. 3: estimates of A and of the noise half-widths",
-        "Parameter A estimation and noise boundary estimation (Pavelková, Fig. 3)",
-    );
+    let (_, layout) = columns(root, 1);
     let (rows, side) = grid(
         root,
+        view,
         &fonts,
-        &title,
-        &notes.join(" · "),
+        [
+            "Fig. 3: estimates of A and of the noise half-widths",
+            "Parameter A estimation and noise boundary estimation (Pavelková, Fig. 3)",
+        ],
+        &notes,
         &entries,
         &[1, 1],
         1,
         layout,
     )?;
-    let xd = "time t";
     let mut frames = Vec::new();
     let mut marks = Vec::new();
     let parts: [(&[(String, RGBColor, Vec<(f64, f64)>, f64)], String, bool); 2] = [
@@ -171,25 +152,11 @@ pub fn draw<DB: DrawingBackend>(
             part,
             &fonts,
             None,
-            &Axes {
-                win,
-                x_desc: xd,
-                y_desc: yd,
-                x_integer: true,
-                equal: false,
-                x_labels: layout.x_labels(row, 2),
-            },
+            &time_axes(win, yd, layout.x_labels(row, 2)),
         )?;
         window_band(root, &chart, &u)?;
         for (_, color, _, truth) in curves.iter() {
-            style::path(
-                root,
-                &chart,
-                &[(win.x0, *truth), (win.x1, *truth)],
-                color,
-                1,
-                Some((6, 4)),
-            )?;
+            level(root, &chart, win, *truth, color, 1, Some((6, 4)))?;
         }
         for (_, color, pts, _) in curves.iter() {
             style::path(root, &chart, pts, color, 2, None)?;
@@ -199,17 +166,14 @@ pub fn draw<DB: DrawingBackend>(
         if row == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, xd, yd));
+        frames.push(style::frame_of(&chart, TIME, yd));
     }
-    let mut it = frames.into_iter();
-    let mut first = it.next().unwrap_or_else(|| Frame {
+    Ok(stacked(frames.into_iter()).unwrap_or_else(|| Frame {
         x_range: (0.0, 1.0),
         y_range: (0.0, 1.0),
         plot_area: (0, 0, 1, 1),
         x_label: String::new(),
         y_label: String::new(),
         more: vec![],
-    });
-    first.more = it.collect();
-    Ok(first)
+    }))
 }

@@ -8,8 +8,7 @@
 
 use super::geom::Win;
 use super::style::{
-    self, num, sig, sub, Axes, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TEXT, TRUTH,
-    UNIFORM_LP,
+    self, num, sig, sub, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TEXT, TRUTH, UNIFORM_LP,
 };
 use super::uniform::{check, U};
 use super::{Area, Frame, Panel, View};
@@ -93,15 +92,17 @@ pub fn draw<DB: DrawingBackend>(
     }
     notes.push(u.estimator().to_string());
 
+    // The legend's point markers, one size for the three estimates.
+    let marker = |shape, color| Swatch::Marker {
+        shape,
+        color,
+        size: 5,
+    };
     let mut entries = Vec::new();
     if truth.is_some() {
         entries.push(Entry::new(
             format!("true state x{}", sub(t)),
-            Swatch::Marker {
-                shape: Marker::Diamond,
-                color: TRUTH,
-                size: 5,
-            },
+            marker(Marker::Diamond, TRUTH),
         ));
     }
     entries.push(Entry::new(
@@ -110,11 +111,7 @@ pub fn draw<DB: DrawingBackend>(
         } else {
             format!("LP (MAP) estimate x̂{}", sub(t))
         },
-        Swatch::Marker {
-            shape: Marker::Star,
-            color: UNIFORM_LP,
-            size: 5,
-        },
+        marker(Marker::Star, UNIFORM_LP),
     ));
     entries.push(Entry::new(
         if short {
@@ -122,11 +119,7 @@ pub fn draw<DB: DrawingBackend>(
         } else {
             "KF estimate (true Θ, variances r²/3)"
         },
-        Swatch::Marker {
-            shape: Marker::Cross,
-            color: KF,
-            size: 5,
-        },
+        marker(Marker::Cross, KF),
     ));
     entries.push(Entry::new(
         if short {
@@ -173,19 +166,7 @@ pub fn draw<DB: DrawingBackend>(
         Some(a) => (a, style::LegendSide::Right),
         None => style::legend(&area, &fonts, &entries)?,
     };
-    let chart = style::chart(
-        &area,
-        &fonts,
-        &Axes {
-            win,
-            x_desc: &x_desc,
-            y_desc: &y_desc,
-            x_integer: false,
-            equal: true,
-            x_labels: true,
-        },
-    )?;
-    let cw = Win::of_chart(&chart);
+    let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let mut marks = Vec::new();
     if poly.len() >= 2 {
         style::region(root, &chart, &poly, &POLYGON, false, true)?;
@@ -203,16 +184,13 @@ pub fn draw<DB: DrawingBackend>(
         Some((4, 3)),
     )?;
     let mut outside: Vec<&str> = Vec::new();
-    let mut point = |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| {
-        if cw.contains(p.0, p.1) {
-            let q = style::px(&chart, p);
-            marks.push(q);
-            style::marker(root, q, shape, color, 5)
-        } else {
-            outside.push(what);
+    let mut point =
+        |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| -> Result<()> {
+            if !style::marker_inside(root, &chart, p, shape, color, &mut marks)? {
+                outside.push(what);
+            }
             Ok(())
-        }
-    };
+        };
     point(kf, Marker::Cross, &KF, "KF estimate")?;
     point(lp, Marker::Star, &UNIFORM_LP, "LP estimate")?;
     if let Some(p) = truth {

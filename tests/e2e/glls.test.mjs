@@ -2,8 +2,7 @@
 // moving every figure's marker and the numbers, the state-noise estimator and its QP check on
 // glls-unstable5, the chunked Monte Carlo redrawing the precision figure, bad input shown inline
 // while the last pictures stay, wasm timings measured in the page, and screenshots at DPR 1 and 2.
-import { join } from 'node:path';
-import { text, inked as inkedFraction, setField, choosePreset } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
 
 const PANELS = ['singular', 'index', 'plane', 'precision'];
 const idle = (page) => page.waitForFunction(
@@ -33,17 +32,12 @@ async function monteCarlo(page, runs) {
   await idle(page);
 }
 
-async function shoot(page, screenshotDir, name) {
-  await page.$eval('#glls-section', (e) => e.scrollIntoView());
-  await (await page.$('#glls-section')).screenshot({ path: join(screenshotDir, `${name}.png`) });
-}
+const shoot = (page, screenshotDir, name) => shootSection(page, 'glls-section', screenshotDir, name);
 
-export default async function glls({ baseUrl, newPage, waitReady, assert, screenshotDir }) {
+export default async function glls(env) {
+  const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
-    await page.goto(baseUrl);
-    await waitReady(page);
-    await idle(page);
+    const page = await openApp(env, dpr, idle);
 
     // glls-saturate: four figures at the pixel ratio, the Monte Carlo started with the scenario.
     assert.equal(await page.$eval('#g-preset', (e) => e.value), 'glls-saturate');

@@ -1,5 +1,6 @@
 // Page helpers shared by the panels' end-to-end tests (not a test file: run.mjs only loads
 // *.test.mjs).
+import { join } from 'node:path';
 
 // Text content with runs of whitespace folded.
 export const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim().replace(/\s+/g, ' '));
@@ -29,4 +30,19 @@ export async function setField(page, id, value, idle) {
 export async function choosePreset(page, selectId, name, idle) {
   await page.selectOption(`#${selectId}`, name);
   await idle(page);
+}
+
+// A fresh 1366 × 900 page at device pixel ratio `dpr` on the app, loaded and with the panel idle.
+export async function openApp({ newPage, baseUrl, waitReady }, dpr, idle) {
+  const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
+  await page.goto(baseUrl);
+  await waitReady(page);
+  await idle(page);
+  return page;
+}
+
+// Screenshot of one panel's section (scrolled into view first) as `<name>.png`.
+export async function shootSection(page, sectionId, screenshotDir, name) {
+  await page.$eval(`#${sectionId}`, (e) => e.scrollIntoView());
+  await (await page.$(`#${sectionId}`)).screenshot({ path: join(screenshotDir, `${name}.png`) });
 }

@@ -2,8 +2,7 @@
 // a click placing the true state, the chunked coverage experiment, bad input shown inline while
 // the last picture stays, the unbounded MA(1) band, wasm timings measured in the page, and
 // screenshots of the panel at DPR 1 and 2 for the three presets.
-import { join } from 'node:path';
-import { text, inked as inkedFraction, setField, choosePreset } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
 import { readFile } from 'node:fs/promises';
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy && !document.body.dataset.lscrBusy,
@@ -27,17 +26,12 @@ async function coverage(page, runs) {
   return page.$$eval('#l-cov-body tr', (trs) => trs.map((tr) => [...tr.children].map((c) => c.textContent.trim())));
 }
 
-async function shoot(page, screenshotDir, name) {
-  await page.$eval('#lscr-section', (e) => e.scrollIntoView());
-  await (await page.$('#lscr-section')).screenshot({ path: join(screenshotDir, `${name}.png`) });
-}
+const shoot = (page, screenshotDir, name) => shootSection(page, 'lscr-section', screenshotDir, name);
 
-export default async function lscr({ baseUrl, newPage, waitReady, assert, screenshotDir }) {
+export default async function lscr(env) {
+  const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
-    await page.goto(baseUrl);
-    await waitReady(page);
-    await idle(page);
+    const page = await openApp(env, dpr, idle);
 
     // Fig. 1's preset: drawn at the pixel ratio, numbers at the paper's 90 %.
     assert.equal(await page.$eval('#l-preset', (e) => e.value), 'lscr-predict');

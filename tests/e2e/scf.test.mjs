@@ -2,6 +2,7 @@
 // inline while the last picture stays, the chunked Monte Carlo, and screenshots at DPR 1 and 2.
 import { join } from 'node:path';
 import { readFile } from 'node:fs/promises';
+import { openApp } from './helpers.mjs';
 
 const readDownload = async (d) => readFile(await d.path(), 'utf8');
 
@@ -22,12 +23,10 @@ async function choose(page, name) {
   await idle(page);
 }
 
-export default async function scf({ baseUrl, newPage, waitReady, assert, screenshotDir }) {
+export default async function scf(env) {
+  const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
-    await page.goto(baseUrl);
-    await waitReady(page);
-    await idle(page);
+    const page = await openApp(env, dpr, idle);
 
     // Hi-DPI: the backing store is the CSS size times the pixel ratio, and a figure was drawn.
     const size = await page.$eval('#fig-state canvas', (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);

@@ -2,8 +2,7 @@
 // cursor moving every figure and the numbers, the window length and the method changing them,
 // bad input shown inline while the last pictures stay, wasm timings measured in the page
 // (Session.run of the paper's 120 samples; a 5-sample window LP), and screenshots at DPR 1 and 2.
-import { join } from 'node:path';
-import { text, inked as inkedFraction, setField, choosePreset } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
 
 const PANELS = ['ustates', 'uoutput', 'uparams', 'upolygon'];
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.uniformBusy, null, { timeout: 60_000 });
@@ -24,17 +23,12 @@ async function drawnWell(page, assert, what) {
   }
 }
 
-async function shoot(page, screenshotDir, name) {
-  await page.$eval('#uniform-section', (e) => e.scrollIntoView());
-  await (await page.$('#uniform-section')).screenshot({ path: join(screenshotDir, `${name}.png`) });
-}
+const shoot = (page, screenshotDir, name) => shootSection(page, 'uniform-section', screenshotDir, name);
 
-export default async function uniform({ baseUrl, newPage, waitReady, assert, screenshotDir }) {
+export default async function uniform(env) {
+  const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
-    await page.goto(baseUrl);
-    await waitReady(page);
-    await idle(page);
+    const page = await openApp(env, dpr, idle);
 
     // The uniform presets live in this panel's menu only.
     const menu = (id) => page.$$eval(`#${id} option`, (os) => os.map((o) => o.value));

@@ -1,0 +1,9 @@
+// Preset descriptions and notes write sub-/superscripts as x_{…} and x^{…}: they are shown as
+// HTML, so the text is escaped first and only the markup the panels add is live.
+
+const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
+
+// Escaped text with runs of whitespace folded and the braced _{…} / ^{…} as <sub>/<sup>; each
+// panel adds its own unbraced subscripts (their symbols differ).
+export const bracedScripts = (t) => escapeHtml(t.replace(/\s{2,}/g, ' '))
+  .replace(/_\{([^{}]*)\}/g, '<sub>$1</sub>').replace(/\^\{([^{}]*)\}/g, '<sup>$1</sup>');
