@@ -570,6 +570,44 @@ impl Online {
         })
     }
 
+    /// The window τ = max(1, t−∂+1) … t.
+    fn window_ending(&self, t: usize) -> Window {
+        Window {
+            first: t.saturating_sub(self.window - 1).max(1),
+            last: t,
+        }
+    }
+
+    /// Record step t with the current Θ̂ and the one-step output prediction
+    /// ŷ_t|t−1 = Ĉ(Â x_{t−1} + B̂ u_t) + D̂ u_t from the previous state `x_prev`.
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        &mut self,
+        t: usize,
+        x: &DVector<f64>,
+        xr: &DVector<f64>,
+        yr: &DVector<f64>,
+        x_prev: &DVector<f64>,
+        u_t: &DVector<f64>,
+        extended: usize,
+    ) {
+        let th = &self.theta;
+        let y_pred = &th.c * (&th.a * x_prev + &th.b * u_t) + &th.d * u_t;
+        let v = |x: &DVector<f64>| x.iter().copied().collect();
+        self.steps.push(OnlineStep {
+            t,
+            x: v(x),
+            xr: v(xr),
+            yr: v(yr),
+            a: rows(&th.a),
+            b: rows(&th.b),
+            c: rows(&th.c),
+            d: rows(&th.d),
+            y_pred: v(&y_pred),
+            extended,
+        });
+    }
+
     /// Process time t (needs u, y up to t; t ≥ 1). The window is τ = max(1, t−∂+1) … t.
     pub fn step(
         &mut self,
@@ -577,19 +615,12 @@ impl Online {
         u: &[DVector<f64>],
         y: &[DVector<f64>],
     ) -> Result<&OnlineStep> {
-        let w = Window {
-            first: t.saturating_sub(self.window - 1).max(1),
-            last: t,
-        };
+        let w = self.window_ending(t);
         let (n, m) = (self.theta.n(), self.theta.m());
         let prev_x = self.steps.last().map(|s| DVector::from_vec(s.x.clone()));
-        let (est, extended) = match self.joint {
+        let est = match self.joint {
             Joint::Expansion if self.last_x.is_some() => self.expansion_step(w, u, y)?,
-            _ => {
-                let (e, _) = estimate_states(&self.theta, u, y, w, &self.state_prior)?;
-                let ext = e.extended;
-                (e, ext)
-            }
+            _ => estimate_states(&self.theta, u, y, w, &self.state_prior)?.0,
         };
         if self.joint == Joint::Swapping && w.len() >= 1 {
             // Θ̂ given the window's states (oldest first in time order).
@@ -602,24 +633,10 @@ impl Online {
                 self.theta = Theta::from_vec(sol.x.as_slice(), &self.theta);
             }
         }
-        let u_t = &u[t];
         let x_prev =
             prev_x.unwrap_or_else(|| est.x.get(1).cloned().unwrap_or_else(|| DVector::zeros(n)));
-        let y_pred =
-            &self.theta.c * (&self.theta.a * &x_prev + &self.theta.b * u_t) + &self.theta.d * u_t;
         self.last_x = Some(est.x.clone());
-        self.steps.push(OnlineStep {
-            t,
-            x: est.x[0].iter().copied().collect(),
-            xr: est.xr.iter().copied().collect(),
-            yr: est.yr.iter().copied().collect(),
-            a: rows(&self.theta.a),
-            b: rows(&self.theta.b),
-            c: rows(&self.theta.c),
-            d: rows(&self.theta.d),
-            y_pred: y_pred.iter().copied().collect(),
-            extended,
-        });
+        self.record(t, &est.x[0], &est.xr, &est.yr, &x_prev, &u[t], est.extended);
         Ok(self.steps.last().expect("pushed"))
     }
 
@@ -632,29 +649,17 @@ impl Online {
         u: &[DVector<f64>],
         y: &[DVector<f64>],
     ) -> Result<&OnlineStep> {
-        let w = Window {
-            first: t.saturating_sub(self.window - 1).max(1),
-            last: t,
-        };
+        let w = self.window_ending(t);
         let (n, m) = (self.theta.n(), self.theta.m());
         let mut lp = parameter_lp(&self.theta, x, u, y, w, &self.theta_prior);
         let (sol, extended) = solve_extending(&mut lp, n + m, "uniform.theta_prior")?;
         let nth = self.theta.to_vec().len();
         self.theta = Theta::from_vec(&sol.x.as_slice()[..nth], &self.theta);
-        let y_pred = &self.theta.c * (&self.theta.a * &x[t - 1] + &self.theta.b * &u[t])
-            + &self.theta.d * &u[t];
-        self.steps.push(OnlineStep {
-            t,
-            x: x[t].iter().copied().collect(),
-            xr: sol.x.rows(nth, n).iter().copied().collect(),
-            yr: sol.x.rows(nth + n, m).iter().copied().collect(),
-            a: rows(&self.theta.a),
-            b: rows(&self.theta.b),
-            c: rows(&self.theta.c),
-            d: rows(&self.theta.d),
-            y_pred: y_pred.iter().copied().collect(),
-            extended,
-        });
+        let (xr, yr) = (
+            sol.x.rows(nth, n).into_owned(),
+            sol.x.rows(nth + n, m).into_owned(),
+        );
+        self.record(t, &x[t], &xr, &yr, &x[t - 1], &u[t], extended);
         Ok(self.steps.last().expect("pushed"))
     }
 
@@ -665,7 +670,7 @@ impl Online {
         w: Window,
         u: &[DVector<f64>],
         y: &[DVector<f64>],
-    ) -> Result<(StateEstimate, usize)> {
+    ) -> Result<StateEstimate> {
         let th = &self.theta;
         let (n, m, r) = (th.n(), th.m(), th.r());
         let ns = w.states();
@@ -690,7 +695,6 @@ impl Online {
         let mut b = DVector::zeros(a.nrows());
         let i_n = DMatrix::<f64>::identity(n, n);
         let i_m = DMatrix::<f64>::identity(m, m);
-        let k = k_vec();
         let mut row = 0;
         for (j, tau) in (w.first..=w.last).rev().enumerate() {
             // x_τ is state j, x_{τ−1} is state j + 1 (newest first).
@@ -732,7 +736,6 @@ impl Online {
                 b.rows_mut(row + kk * m, m).copy_from(&(&rhs * sgn));
             }
             row += 2 * m;
-            let _ = &k;
         }
         let mut lo = DVector::from_element(nv, self.state_prior.x_lo);
         let mut hi = DVector::from_element(nv, self.state_prior.x_hi);
@@ -757,6 +760,6 @@ impl Online {
             objective: sol.objective,
             extended,
         };
-        Ok((est, extended))
+        Ok(est)
     }
 }
