@@ -277,24 +277,7 @@ impl Scenario {
 
     /// Validate everything and produce the data (simulating if asked).
     pub fn prepare(&self) -> Result<Prepared> {
-        if self.glls.is_some() && self.method != "glls" {
-            return Err(Error::field(
-                "glls",
-                format!(
-                    "is only used with \"method\": \"glls\" (found \"{}\")",
-                    self.method
-                ),
-            ));
-        }
-        if self.lscr.is_some() && self.method != "lscr" {
-            return Err(Error::field(
-                "lscr",
-                format!(
-                    "is only used with \"method\": \"lscr\" (found \"{}\")",
-                    self.method
-                ),
-            ));
-        }
+        self.check_method_blocks()?;
         if !matches!(self.method.as_str(), "scf" | "kf") {
             return Err(Error::field(
                 "method",
@@ -438,98 +421,115 @@ impl Scenario {
 
     /// Validate and run: the report of this scenario.
     pub fn run(&self) -> Result<Report> {
-        if self.method == "lscr" {
-            return self.run_lscr();
+        self.check_method_blocks()?;
+        match self.method.as_str() {
+            "lscr" => self.run_lscr(),
+            "glls" => {
+                let g = self.prepare_glls()?.report()?;
+                let mut r =
+                    self.method_report(self.alpha, g.n, g.m, g.k, g.plane.to_vec(), g.y.clone());
+                r.glls = Some(g);
+                Ok(r)
+            }
+            "uniform_lp" => {
+                let u = self.uniform_report()?;
+                let q = u.y.first().map_or(0, |y| y.len());
+                let mut r = self.method_report(
+                    self.alpha,
+                    u.n,
+                    q,
+                    u.at.time,
+                    u.plane.to_vec(),
+                    u.y.clone(),
+                );
+                r.uniform = Some(u);
+                Ok(r)
+            }
+            _ => self.prepare()?.report(),
         }
-        if self.method == "glls" {
-            return self.run_glls();
-        }
-        if self.method == "uniform_lp" {
-            let u = self.uniform_report()?;
-            return Ok(Report {
-                method: self.method.clone(),
-                alpha: self.alpha,
-                n: u.n,
-                q: u.y.first().map_or(0, |y| y.len()),
-                time: u.at.time,
-                plot: u.plane.to_vec(),
-                steps: Vec::new(),
-                y: u.y.clone(),
-                x_true: None,
-                prior_mean: Vec::new(),
-                asymptotic: None,
-                collision: None,
-                coverage_curve: None,
-                lscr: None,
-                glls: None,
-                uniform: Some(u),
-            });
-        }
-        let p = self.prepare()?;
-        p.report()
     }
 
-    /// A GLLS scenario's report: the SCF fields stay empty, `glls` holds the result.
-    fn run_glls(&self) -> Result<Report> {
-        if self.lscr.is_some() {
-            return Err(Error::field(
-                "lscr",
-                "is only used with \"method\": \"lscr\" (found \"glls\")",
-            ));
+    /// A method block (`lscr`, `glls`, `uniform`) belongs to its own method only.
+    fn check_method_blocks(&self) -> Result<()> {
+        for (block, present, method) in [
+            ("lscr", self.lscr.is_some(), "lscr"),
+            ("glls", self.glls.is_some(), "glls"),
+            ("uniform", self.uniform.is_some(), "uniform_lp"),
+        ] {
+            if present && self.method != method {
+                return Err(Error::field(
+                    block,
+                    format!(
+                        "is only used with \"method\": \"{method}\" (found \"{}\")",
+                        self.method
+                    ),
+                ));
+            }
         }
-        let p = self.prepare_glls()?;
-        let g = p.report()?;
-        Ok(Report {
+        Ok(())
+    }
+
+    /// The report of a method with its own result block (LSCR, GLLS, uniform): the SCF fields
+    /// stay empty; the caller sets its block.
+    fn method_report(
+        &self,
+        alpha: f64,
+        n: usize,
+        q: usize,
+        time: usize,
+        plot: Vec<usize>,
+        y: Vec<Vec<f64>>,
+    ) -> Report {
+        Report {
             method: self.method.clone(),
-            alpha: self.alpha,
-            n: g.n,
-            q: g.m,
-            time: g.k,
-            plot: g.plane.to_vec(),
+            alpha,
+            n,
+            q,
+            time,
+            plot,
             steps: Vec::new(),
-            y: g.y.clone(),
+            y,
             x_true: None,
             prior_mean: Vec::new(),
             asymptotic: None,
             collision: None,
             coverage_curve: None,
             lscr: None,
-            glls: Some(g),
+            glls: None,
             uniform: None,
-        })
+        }
     }
 
-    /// An LSCR scenario's report: the SCF fields stay empty, `lscr` holds the result.
+    /// An LSCR scenario's report: `lscr` holds the result.
     fn run_lscr(&self) -> Result<Report> {
         let p = self.prepare_lscr()?;
         let mut l = p.report()?;
         if p.spec.coverage.is_some() {
-            let x = &self
+            let x = self
                 .simulate
                 .as_ref()
                 .and_then(|s| s.condition.as_ref())
-                .expect("checked")
-                .x;
-            l.coverage = Some(p.coverage(x)?);
+                .ok_or_else(|| {
+                    Error::field(
+                        "simulate.condition",
+                        "is needed by lscr.coverage (the fixed true state)",
+                    )
+                })?
+                .x
+                .clone();
+            l.coverage = Some(p.coverage(&x)?);
         }
-        Ok(Report {
-            method: self.method.clone(),
-            alpha: l.level,
-            n: p.estimator.problem.n(),
-            q: 1,
-            time: l.time,
-            plot: l.plot.to_vec(),
-            steps: Vec::new(),
-            y: p.y.iter().map(|v| vec![*v]).collect(),
-            x_true: None,
-            prior_mean: Vec::new(),
-            asymptotic: None,
-            collision: None,
-            coverage_curve: None,
-            lscr: Some(l),
-            glls: None,
-            uniform: None,
-        })
+        let y = p.y.iter().map(|v| vec![*v]).collect();
+        let mut r = self.method_report(
+            l.level,
+            p.estimator.problem.n(),
+            1,
+            l.time,
+            l.plot.to_vec(),
+            y,
+        );
+        r.lscr = Some(l);
+        Ok(r)
     }
 }
 
