@@ -765,19 +765,7 @@ fn bad_input_names_the_field() {
             json!({"model": {"F": [[1e3, 0, 0], [0, 1, 0], [0, 0, 1]]}, "simulate": {"steps": 200}}),
         ),
     ];
-    for (want, patch) in cases {
-        let mut sc = base.clone();
-        for (k, v) in patch.as_object().unwrap() {
-            for (k2, v2) in v.as_object().unwrap() {
-                sc[k][k2] = v2.clone();
-            }
-        }
-        let err = Scenario::from_json(&sc.to_string())
-            .and_then(|s| s.run())
-            .err()
-            .unwrap_or_else(|| panic!("{patch} is accepted"));
-        assert_eq!(err.field, want, "{patch}: {}", err.message);
-    }
+    common::patch::assert_refused(&base, &cases);
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]

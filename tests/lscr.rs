@@ -1038,24 +1038,7 @@ fn bad_input_names_the_field() {
         ("model.G", json!({"model": {"G": [[1], [0], [0]]}})),
         ("model.sigma_v2", json!({"model": {"sigma_v2": -1.0}})),
     ];
-    for (want, patch) in cases {
-        let mut sc = base.clone();
-        for (k, v) in patch.as_object().unwrap() {
-            for (k2, v2) in v.as_object().unwrap() {
-                if v2.is_null() {
-                    sc[k].as_object_mut().unwrap().remove(k2);
-                } else {
-                    sc[k][k2] = v2.clone();
-                }
-            }
-        }
-        let err = Scenario::from_json(&sc.to_string())
-            .and_then(|s| s.run())
-            .err()
-            .unwrap_or_else(|| panic!("{patch} is accepted"));
-        assert_eq!(err.field, want, "{patch}: {}", err.message);
-        assert!(!err.message.is_empty());
-    }
+    common::patch::assert_refused(&base, &cases);
     // The experiment needs a fixed state and a coverage block, at the estimated time.
     let mut sc = base.clone();
     sc["lscr"]["coverage"] = json!({"runs": 10, "seed": 1});

@@ -15,6 +15,8 @@
 #[cfg(target_arch = "wasm32")]
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
+mod common;
+
 use confset::presets;
 use confset::scenario::uniform::point_in_convex;
 use confset::scenario::Scenario;
@@ -461,18 +463,6 @@ fn bad_input_names_the_field() {
         ("model.H", json!({"model": {"H": [[1, 1, 1]]}})),
         ("simulate.steps", json!({"simulate": {"steps": 1}})),
     ];
-    for (want, patch) in cases {
-        let mut sc = base.clone();
-        for (k, v) in patch.as_object().unwrap() {
-            for (k2, v2) in v.as_object().unwrap() {
-                sc[k][k2] = v2.clone();
-            }
-        }
-        let err = Scenario::from_json(&sc.to_string())
-            .and_then(|s| s.run())
-            .err()
-            .unwrap_or_else(|| panic!("{patch} is accepted"));
-        assert_eq!(err.field, want, "{patch}: {}", err.message);
-    }
+    common::patch::assert_refused(&base, &cases);
     let _ = uniform::Joint::Swapping;
 }

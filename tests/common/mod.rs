@@ -1,9 +1,11 @@
 //! Reference computations for the integration tests, written independently of the crate:
 //! a textbook Kalman filter, the Lyapunov equation by a Kronecker (vec) solve, exact binomial
 //! acceptance intervals. Nothing here calls confset's numerics, so a test comparing against these
-//! compares two independent derivations.
+//! compares two independent derivations. (`patch` holds the bad-input table plumbing.)
 
 #![allow(dead_code)]
+
+pub mod patch;
 
 use nalgebra::{DMatrix, DVector};
 use statrs::distribution::{Binomial, DiscreteCDF};
