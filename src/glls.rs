@@ -1391,6 +1391,7 @@ impl StateNoise {
             q: DVector::zeros(dim),
             eq: Some((aeq, yt)),
             le: None,
+            soc: Vec::new(),
             field: "glls.estimator".into(),
         })?;
         let x = sol.x.rows(0, n).into_owned();

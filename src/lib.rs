@@ -107,6 +107,7 @@ pub mod scenario;
 pub mod scf;
 pub mod sets;
 pub mod solve;
+pub mod ubb;
 pub mod uniform;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

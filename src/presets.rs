@@ -77,7 +77,89 @@ pub fn all() -> Vec<Preset> {
             description: "Pavelková, Section 5: LU model (14)–(15), 120 samples, window ∂ = 5, swapping-based joint estimation of states, Θ and half-widths".into(),
             scenario: uniform_paper(),
         },
+        Preset {
+            name: "ubb-track".into(),
+            description: "Tempo, Section IV: a stable 2-state system tracked with unknown-but-bounded noise (|u| ≤ 0.1, |η| ≤ 0.2), exponentially smoothed bounds α = β = 50, window j + 1 = 30 from Theorem 5 (γ = 0.1)".into(),
+            scenario: ubb_preset(UbbKind::Track),
+        },
+        Preset {
+            name: "ubb-series".into(),
+            description: "Tempo, Example 1: time-series prediction with basis functions 1 and k — the set of coefficients consistent with |u(k)| ≤ 0.5 and the prediction interval of f(m+1)".into(),
+            scenario: ubb_preset(UbbKind::Series),
+        },
+        Preset {
+            name: "ubb-leontief".into(),
+            description: "Tempo, Example 3: dynamic Leontief model of 3 industries (nonnegative A, column sums 0.6), known demand, uncertain demand |u| ≤ 0.1, production measured within ±0.3".into(),
+            scenario: ubb_preset(UbbKind::Leontief),
+        },
+        Preset {
+            name: "ubb-markov".into(),
+            description: "Tempo, Example 4: absorbing Markov chain with an uncertain initial distribution 0 ≤ x_i(0) ≤ δ_i — the set of distributions after k + 1 steps".into(),
+            scenario: ubb_preset(UbbKind::Markov),
+        },
     ]
+}
+
+/// The set-membership presets (Tempo's paper prints no numbers: these are chosen to show each
+/// example).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UbbKind {
+    Track,
+    Series,
+    Leontief,
+    Markov,
+}
+
+/// A set-membership preset.
+pub fn ubb_preset(kind: UbbKind) -> Scenario {
+    let v = match kind {
+        UbbKind::Track => serde_json::json!({
+            "method": "ubb",
+            "title": "Set-membership state estimation with smoothed bounds (Tempo, Section IV)",
+            "model": {"F": [[0.7, 0.2], [-0.2, 0.7]], "G": [[0.5], [1.0]], "H": [[1.0, 0.0]]},
+            "simulate": {"steps": 60, "seed": 1},
+            "ubb": {"eps": 0.2, "tau": 0.1, "delta": [2.0], "alpha": 50.0, "beta": 50.0, "gamma": 0.1, "time": 40},
+            "notes": "x(k+1) = A x(k) + B u(k), y(k) = C x(k) + η(k) with |u(k)| ≤ τ = 0.1, |η(k)| ≤ ε = 0.2 and |x_i(0)| ≤ δ = 2. \
+                      ‖A‖∞ = 0.9 and α = 50 give ‖A‖e^{1/α} = 0.918 < 1, so Theorem 4 bounds the state and Theorem 5 with γ = 0.1 gives j = 29: \
+                      each step solves LPs in x(k−29), u(k−29 … k), a constant 32 unknowns. The window's initial state is bounded by the Theorem 4 series, \
+                      so the set is guaranteed exactly (not only up to γ)."
+        }),
+        UbbKind::Series => serde_json::json!({
+            "method": "ubb",
+            "title": "Time-series prediction with basis functions (Tempo, Example 1)",
+            "model": {"F": [[1.0, 0.0], [0.0, 1.0]]},
+            "simulate": {"steps": 30, "seed": 2, "x0": [1.0, 0.15]},
+            "ubb": {"eps": 0.5, "basis": ["1", "k"], "time": 9},
+            "notes": "f(k) = a₁ + a₂k + u(k), |u(k)| ≤ 0.5, k = 1 … m: the problem element is (a, u), the information f(1 … m) is exact and partial. \
+                      The polygon is the set of coefficients a consistent with the data (the strips |f(k) − a₁ − a₂k| ≤ 0.5 intersected); \
+                      the optimal error predictor of f(m+1) is the midpoint of its prediction interval. True a = (1, 0.15)."
+        }),
+        UbbKind::Leontief => serde_json::json!({
+            "method": "ubb",
+            "title": "Dynamic Leontief model, 3 industries (Tempo, Example 3)",
+            "model": {"F": [[0.2, 0.3, 0.1], [0.1, 0.1, 0.3], [0.3, 0.2, 0.2]],
+                      "G": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                      "H": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                      "B": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]},
+            "simulate": {"steps": 40, "seed": 3, "u": [[1.0, 0.8, 1.2]]},
+            "ubb": {"eps": 0.3, "tau": 0.1, "delta": [1.0], "x0_center": [2.42, 2.14, 2.94], "alpha": 50.0, "beta": 50.0, "gamma": 0.05, "time": 25},
+            "notes": "x(k+1) = A x(k) + v(k) + u(k): production x, known demand v = (1, 0.8, 1.2), uncertain demand |u_i| ≤ 0.1, production measured as y = x + η, |η_i| ≤ 0.3. \
+                      A is nonnegative with column sums 0.6 < 1 (a feasible Leontief model, σ(A) = 0.6); x(0) within ±1 of the steady state (I − A)⁻¹v. \
+                      The polygon shows industries 1 and 2 (a projection of the 3-D set)."
+        }),
+        UbbKind::Markov => serde_json::json!({
+            "method": "ubb",
+            "title": "Absorbing Markov chain with uncertain initial distribution (Tempo, Example 4)",
+            "model": {"F": [[1.0, 0.2, 0.1], [0.0, 0.5, 0.3], [0.0, 0.3, 0.6]]},
+            "simulate": {"steps": 15, "seed": 4, "x0": [0.1, 0.5, 0.4]},
+            "ubb": {"eps": 1.0, "delta": [0.15, 0.4, 0.4], "x0_center": [0.15, 0.4, 0.4], "x0_sum": 1.0, "plane": [1, 2], "time": 2},
+            "notes": "Transition probabilities (row-stochastic, the paper's form [[I, O], [D, G]]) P = [[1, 0, 0], [0.2, 0.5, 0.3], [0.1, 0.3, 0.6]]; \
+                      the distribution evolves as x(k+1) = Pᵀx(k), so model.F = Pᵀ (the paper's x(k+1) = Ax(k) with rows summing to 1 mixes the two conventions). \
+                      0 ≤ x_i(0) ≤ δ = (0.3, 0.8, 0.8) and Σx_i(0) = 1; no measurements. The transient probabilities x₂, x₃ shrink to 0 as G^k → 0; \
+                      Theorem 4 does not apply (ρ(A) = 1, so ‖A‖ ≥ 1 in every norm) but A^k stays bounded."
+        }),
+    };
+    serde_json::from_value(v).expect("ubb presets are valid scenarios")
 }
 
 /// The GLLS presets (the paper prints no matrices: these are built to show each behaviour).
@@ -160,6 +242,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
             seed: 3,
             u: vec![],
             condition: None,
+            x0: None,
         }),
         alpha: 0.9,
         components: None,
@@ -173,6 +256,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
         lscr: None,
         glls: Some(spec),
         uniform: None,
+        ubb: None,
         notes: Some(notes.into()),
     }
 }
@@ -211,6 +295,7 @@ fn lscr_scenario(
         lscr: Some(lscr),
         glls: None,
         uniform: None,
+        ubb: None,
         notes: Some(notes.into()),
     }
 }
@@ -256,7 +341,7 @@ pub fn lscr_cascade(target: LscrTarget) -> Scenario {
     lscr_scenario(
         title,
         model,
-        SimulateSpec { steps: 30, seed: 5, u: vec![], condition: None },
+        SimulateSpec { steps: 30, seed: 5, u: vec![], condition: None, x0: None },
         spec,
         "Cascade of two first-order systems, σ_v² = σ_w² = 0.005 (used only to simulate and for the BLUE).          F^b = [[0.2450, 0.3315], [−0.3500, 0.9550]], Q′ = [[0.49, −0.70], [−0.70, 1.00]] (Q′ = Π′ − F^bΠ′F^bᵀ; the printed (7) is a typo).          M = 80 strings, q = 2: each X̂_l holds the true state with probability 1 − 2q/M = 0.95, X̂ with ≥ 1 − 2qn/M = 0.90 — the paper's 90 %.          (The text says q = 4 but computes 1 − 2·2·2/80; Theorem 3.2 needs q = 2 for 90 %.)          For smoothing the Karhunen–Loève eigenvalues come in exact pairs; the basis is fixed block by block          (data after, at and before the estimated time), before seeing the data.",
     )
@@ -275,7 +360,7 @@ pub fn lscr_ma1() -> Scenario {
     lscr_scenario(
         "MA(1): LSCR vs Kalman prediction of x₂₁ (LSCR paper, Fig. 3)",
         model,
-        SimulateSpec { steps: 20, seed: 3, u: vec![], condition: Some(Condition { t: 21, x: vec![1.0, 1.2] }) },
+        SimulateSpec { steps: 20, seed: 3, u: vec![], condition: Some(Condition { t: 21, x: vec![1.0, 1.2] }), x0: None },
         lscr_spec("predict", None),
         "x_t = [[0, 0], [1, 0]] x_{t−1} + [1, 1]ᵀ v_t, y_t = [0 1] x_t, no measurement noise. F^b = [[−1, 1], [−1, 1]] is singular,          so X̂ is invariant along [1, 1]ᵀ: an unbounded band. The first state is white noise (σ_v² = 0.1); the true x₂₁ is placed at          x₁ = 1.0 (3.2 σ): the Kalman ellipse, always centred at x₁ = 0, misses it, while the LSCR band holds it with probability ≥ 0.9          whatever its value. (The paper's caption says x₂₀; the text and the data say x₂₁.)",
     )
@@ -314,7 +399,7 @@ pub fn scalar() -> Scenario {
             ..Default::default()
         },
         data: None,
-        simulate: Some(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None }),
+        simulate: Some(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None, x0: None }),
         alpha: 0.99,
         components: None,
         tau: 0,
@@ -327,6 +412,7 @@ pub fn scalar() -> Scenario {
         lscr: None,
         glls: None,
         uniform: None,
+        ubb: None,
         notes: Some(
             "Γ = 6, p̄ = 3/5, ratio U_tA_t → 0.9: the SCF interval is the KF center / 0.9 with half-width ρ·√(1/0.9). \
              The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed."
@@ -497,6 +583,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
             seed: 7,
             u: vec![u],
             condition: Some(Condition { t: COLLISION_T, x: xc.iter().copied().collect() }),
+            x0: None,
         }),
         alpha: 0.95,
         components: Some(vec![0, 1]),
@@ -510,6 +597,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
         lscr: None,
         glls: None,
         uniform: None,
+        ubb: None,
         notes: Some(format!(
             "Robots start at rest at (∓1, 20) and return to bases (∓1, 0); Δ = 1/20, K_p = K_u = 5, W = 0.05²I, \
              d_min = 0.2. Row 4 of eq. (3) is read as 1 − K_uΔ (erratum). Process-noise covariance: {}. \
@@ -548,7 +636,7 @@ pub fn uniform_paper() -> Scenario {
         title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
         model: ModelSpec { f: constant(&theta.a), h: constant(&theta.c), b: constant(&theta.b), ..Default::default() },
         data: None,
-        simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None }),
+        simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None }),
         alpha: 0.9,
         components: None,
         tau: 0,
@@ -576,6 +664,7 @@ pub fn uniform_paper() -> Scenario {
             plane: Some([0, 1]),
             directions: 64,
         }),
+        ubb: None,
         notes: Some(
             "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \
              along x₁ − x₂ the LP optimum is a whole face bounded by the prior box (±5). The report gives each state's range over the optimal face; \

@@ -16,12 +16,14 @@ use clarabel::solver::{
 use nalgebra::{DMatrix, DVector};
 
 /// A dense LP/QP; `field` names the scenario field its errors belong to.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Problem {
     pub p: Option<DMatrix<f64>>,
     pub q: DVector<f64>,
     pub eq: Option<(DMatrix<f64>, DVector<f64>)>,
     pub le: Option<(DMatrix<f64>, DVector<f64>)>,
+    /// Second-order cones: each (G, g) asks ‖(g − Gx)[1..]‖₂ ≤ (g − Gx)[0].
+    pub soc: Vec<(DMatrix<f64>, DVector<f64>)>,
     pub field: String,
 }
 
@@ -30,6 +32,8 @@ pub struct Problem {
 pub struct Solution {
     pub x: DVector<f64>,
     pub objective: f64,
+    /// Dual multipliers of the constraints, in the order eq, le, soc (≥ 0 for `le`).
+    pub duals: DVector<f64>,
     /// Interior-point iterations.
     pub iterations: u32,
     /// "solved" or "almost solved" (clarabel's reduced-accuracy success).
@@ -56,19 +60,29 @@ fn csc(m: &DMatrix<f64>, upper: bool) -> CscMatrix<f64> {
     CscMatrix::new(rows, cols, colptr, rowval, nzval)
 }
 
-/// Solve; every outcome other than an optimum is an error naming `problem.field`.
-pub fn quadratic(problem: &Problem) -> Result<Solution> {
-    let n = problem.q.len();
-    let bad = |what: &str| Error::field(problem.field.clone(), what.to_string());
-    let finite = |m: &DMatrix<f64>| m.iter().all(|v| v.is_finite());
-    if !problem.q.iter().all(|v| v.is_finite()) || problem.p.as_ref().is_some_and(|p| !finite(p)) {
-        return Err(bad("the optimization problem has non-finite coefficients"));
-    }
-    let mut blocks: Vec<DMatrix<f64>> = Vec::new();
-    let mut b: Vec<f64> = Vec::new();
-    let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
-    for (kind, part) in [(0, &problem.eq), (1, &problem.le)] {
-        if let Some((a, rhs)) = part {
+/// A problem handed to clarabel once and then solved for many linear objectives (support
+/// functions, interval hulls): the KKT structure is built once, only q changes.
+pub struct Family {
+    solver: DefaultSolver<f64>,
+    field: String,
+    n: usize,
+}
+
+impl Family {
+    /// Check and load `problem` (its `q` is the first objective).
+    pub fn new(problem: &Problem) -> Result<Family> {
+        let n = problem.q.len();
+        let bad = |what: &str| Error::field(problem.field.clone(), what.to_string());
+        let finite = |m: &DMatrix<f64>| m.iter().all(|v| v.is_finite());
+        if !problem.q.iter().all(|v| v.is_finite()) || problem.p.as_ref().is_some_and(|p| !finite(p))
+        {
+            return Err(bad("the optimization problem has non-finite coefficients"));
+        }
+        let mut blocks: Vec<(&DMatrix<f64>, &DVector<f64>, SupportedConeT<f64>)> = Vec::new();
+        let parts = [(0, problem.eq.as_ref()), (1, problem.le.as_ref())];
+        let socs = problem.soc.iter().map(|c| (2, Some(c)));
+        for (kind, part) in parts.into_iter().chain(socs) {
+            let Some((a, rhs)) = part else { continue };
             if a.ncols() != n || a.nrows() != rhs.len() {
                 return Err(bad(&format!(
                     "constraint matrix is {}×{} for {} variables and {} right-hand sides",
@@ -84,60 +98,98 @@ pub fn quadratic(problem: &Problem) -> Result<Solution> {
             if a.nrows() == 0 {
                 continue;
             }
-            blocks.push(a.clone());
+            let cone = match kind {
+                0 => SupportedConeT::ZeroConeT(a.nrows()),
+                1 => SupportedConeT::NonnegativeConeT(a.nrows()),
+                _ => SupportedConeT::SecondOrderConeT(a.nrows()),
+            };
+            blocks.push((a, rhs, cone));
+        }
+        let rows: usize = blocks.iter().map(|(a, _, _)| a.nrows()).sum();
+        let mut a = DMatrix::zeros(rows, n);
+        let mut b = Vec::with_capacity(rows);
+        let mut at = 0;
+        for (blk, rhs, _) in &blocks {
+            a.view_mut((at, 0), (blk.nrows(), n)).copy_from(*blk);
             b.extend(rhs.iter());
-            cones.push(if kind == 0 {
-                SupportedConeT::ZeroConeT(a.nrows())
-            } else {
-                SupportedConeT::NonnegativeConeT(a.nrows())
-            });
+            at += blk.nrows();
         }
+        let cones: Vec<SupportedConeT<f64>> = blocks.into_iter().map(|(_, _, c)| c).collect();
+        let p = match &problem.p {
+            Some(p) if p.shape() == (n, n) => csc(&((p + p.transpose()) * 0.5), true),
+            Some(p) => {
+                return Err(bad(&format!(
+                    "objective matrix is {}×{} for {n} variables",
+                    p.nrows(),
+                    p.ncols()
+                )))
+            }
+            None => CscMatrix::zeros((n, n)),
+        };
+        // No presolve and no dropped zeros, so that `update_q` is allowed.
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(200)
+            .presolve_enable(false)
+            .build()
+            .map_err(|e| bad(&format!("solver settings: {e:?}")))?;
+        let q: Vec<f64> = problem.q.iter().copied().collect();
+        let solver = DefaultSolver::new(&p, &q, &csc(&a, false), &b, &cones, settings)
+            .map_err(|e| bad(&format!("the solver refused the problem: {e:?}")))?;
+        Ok(Family {
+            solver,
+            field: problem.field.clone(),
+            n,
+        })
     }
-    let rows: usize = blocks.iter().map(|a| a.nrows()).sum();
-    let mut a = DMatrix::zeros(rows, n);
-    let mut at = 0;
-    for blk in &blocks {
-        a.view_mut((at, 0), (blk.nrows(), n)).copy_from(blk);
-        at += blk.nrows();
+
+    /// Number of variables.
+    pub fn dim(&self) -> usize {
+        self.n
     }
-    let p = match &problem.p {
-        Some(p) if p.shape() == (n, n) => csc(&((p + p.transpose()) * 0.5), true),
-        Some(p) => {
-            return Err(bad(&format!(
-                "objective matrix is {}×{} for {n} variables",
-                p.nrows(),
-                p.ncols()
-            )))
+
+    /// Solve with objective ½xᵀPx + cᵀx (c = None: the objective the family was built with).
+    pub fn minimize(&mut self, c: Option<&DVector<f64>>) -> Result<Solution> {
+        let bad = |what: &str| Error::field(self.field.clone(), what.to_string());
+        if let Some(c) = c {
+            if c.len() != self.n || !c.iter().all(|v| v.is_finite()) {
+                return Err(bad("the objective has the wrong length or non-finite entries"));
+            }
+            self.solver
+                .update_q(&c.as_slice().to_vec())
+                .map_err(|e| bad(&format!("could not update the objective: {e}")))?;
         }
-        None => CscMatrix::zeros((n, n)),
-    };
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .max_iter(200)
-        .build()
-        .map_err(|e| bad(&format!("solver settings: {e:?}")))?;
-    let q: Vec<f64> = problem.q.iter().copied().collect();
-    let mut solver = DefaultSolver::new(&p, &q, &csc(&a, false), &b, &cones, settings)
-        .map_err(|e| bad(&format!("the solver refused the problem: {e:?}")))?;
-    solver.solve();
-    let sol = &solver.solution;
-    let status = match sol.status {
-        SolverStatus::Solved => "solved",
-        SolverStatus::AlmostSolved => "almost solved",
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-            return Err(bad("is infeasible: no point satisfies all the constraints (the data contradict the bounds)"))
-        }
-        SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
-            return Err(bad("is unbounded: the objective can decrease without limit"))
-        }
-        other => return Err(bad(&format!("could not be solved ({other:?} after {} iterations)", sol.iterations))),
-    };
-    Ok(Solution {
-        x: DVector::from_vec(sol.x.clone()),
-        objective: sol.obj_val,
-        iterations: sol.iterations,
-        status,
-    })
+        self.solver.solve();
+        let sol = &self.solver.solution;
+        let status = match sol.status {
+            SolverStatus::Solved => "solved",
+            SolverStatus::AlmostSolved => "almost solved",
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                return Err(bad("is infeasible: no point satisfies all the constraints (the data contradict the bounds)"))
+            }
+            SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
+                return Err(bad("is unbounded: the objective can decrease without limit"))
+            }
+            other => {
+                return Err(bad(&format!(
+                    "could not be solved ({other:?} after {} iterations)",
+                    sol.iterations
+                )))
+            }
+        };
+        Ok(Solution {
+            x: DVector::from_vec(sol.x.clone()),
+            objective: sol.obj_val,
+            duals: DVector::from_vec(sol.z.clone()),
+            iterations: sol.iterations,
+            status,
+        })
+    }
+}
+
+/// Solve; every outcome other than an optimum is an error naming `problem.field`.
+pub fn quadratic(problem: &Problem) -> Result<Solution> {
+    Family::new(problem)?.minimize(None)
 }
 
 /// A linear program: minimize cᵀx subject to the constraints.
@@ -152,6 +204,7 @@ pub fn linear(
         q: c.clone(),
         eq,
         le,
+        soc: Vec::new(),
         field: field.into(),
     })
 }
@@ -173,6 +226,7 @@ mod tests {
             q: DVector::zeros(2),
             eq: Some(eq),
             le: None,
+            soc: Vec::new(),
             field: "t".into(),
         })
         .unwrap();

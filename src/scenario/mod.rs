@@ -17,9 +17,11 @@ use serde::{Deserialize, Serialize};
 
 pub mod glls;
 pub mod lscr;
+pub mod ubb;
 pub mod uniform;
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
+pub use ubb::{UbbReport, UbbSpec};
 pub use uniform::{UniformReport, UniformSpec};
 
 /// Observed data.
@@ -54,6 +56,9 @@ pub struct SimulateSpec {
     /// Fix x_c at t_c ("rare realization").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub condition: Option<Condition>,
+    /// The true x(0) (method "ubb"; default: drawn in the box of x(0)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x0: Option<Vec<f64>>,
 }
 
 /// Two 2-D position blocks and a collision distance (SCF Section II).
@@ -140,6 +145,9 @@ pub struct Scenario {
     /// Uniform-innovation LP options (method "uniform_lp"): see [`uniform::UniformSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uniform: Option<UniformSpec>,
+    /// Set-membership options (method "ubb"): see [`ubb::UbbSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ubb: Option<UbbSpec>,
     /// Free text shown with the preset (where the numbers come from, which reading of the paper).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub notes: Option<String>,
@@ -214,6 +222,9 @@ pub struct Report {
     /// The uniform-innovation result (method "uniform_lp").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uniform: Option<UniformReport>,
+    /// The set-membership result (method "ubb").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ubb: Option<UbbReport>,
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists
@@ -282,7 +293,7 @@ impl Scenario {
             return Err(Error::field(
                 "method",
                 format!(
-                    "\"{}\" is not available yet (this build has \"scf\", \"kf\", \"lscr\", \"glls\" and \"uniform_lp\")",
+                    "\"{}\" is not available yet (this build has \"scf\", \"kf\", \"lscr\", \"glls\", \"uniform_lp\" and \"ubb\")",
                     self.method
                 ),
             ));
@@ -445,6 +456,13 @@ impl Scenario {
                 r.uniform = Some(u);
                 Ok(r)
             }
+            "ubb" => {
+                let u = self.prepare_ubb()?.report()?;
+                let mut r =
+                    self.method_report(self.alpha, u.r, u.q, u.at.k, u.plane.to_vec(), u.y.clone());
+                r.ubb = Some(u);
+                Ok(r)
+            }
             _ => self.prepare()?.report(),
         }
     }
@@ -455,6 +473,7 @@ impl Scenario {
             ("lscr", self.lscr.is_some(), "lscr"),
             ("glls", self.glls.is_some(), "glls"),
             ("uniform", self.uniform.is_some(), "uniform_lp"),
+            ("ubb", self.ubb.is_some(), "ubb"),
         ] {
             if present && self.method != method {
                 return Err(Error::field(
@@ -497,6 +516,7 @@ impl Scenario {
             lscr: None,
             glls: None,
             uniform: None,
+            ubb: None,
         }
     }
 
@@ -600,6 +620,7 @@ impl Prepared {
             lscr: None,
             glls: None,
             uniform: None,
+            ubb: None,
         })
     }
 

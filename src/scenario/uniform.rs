@@ -154,7 +154,7 @@ fn matrix(field: &str, rows: &[Vec<f64>]) -> Result<DMatrix<f64>> {
     linalg::from_rows(field, rows)
 }
 
-fn constant(field: &str, spec: &Option<MatrixSpec>) -> Result<Option<DMatrix<f64>>> {
+pub(super) fn constant(field: &str, spec: &Option<MatrixSpec>) -> Result<Option<DMatrix<f64>>> {
     match spec {
         None => Ok(None),
         Some(MatrixSpec::Constant(r)) => matrix(field, r).map(Some),

@@ -12,6 +12,8 @@ use serde::{Deserialize, Serialize};
 use statrs::distribution::{ChiSquared, Continuous, ContinuousCDF};
 
 pub mod sign_region;
+pub mod support_polygon;
+pub use support_polygon::{polygon_from_support, SupportPolygon};
 pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 
 /// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip

@@ -1,0 +1,548 @@
+//! The `ubb` block of a scenario and its report (method `"ubb"`): Tempo's set-membership state
+//! estimation ([`crate::ubb`]).
+//!
+//! ```json
+//! {"method": "ubb",
+//!  "model": {"F": [[0.7, 0.2], [-0.2, 0.7]], "G": [[0.5], [1]], "H": [[1, 0]]},
+//!  "simulate": {"steps": 60, "seed": 1},
+//!  "ubb": {"eps": 0.2, "tau": 0.1, "delta": [2, 2], "alpha": 50, "beta": 50, "gamma": 0.1,
+//!          "norm": "linf", "noise": "random", "time": 40}}
+//! ```
+//!
+//! The system is (35): x(k+1) = F x(k) + G u(k) + B v(k), y(k) = H x(k) + η(k), with the
+//! process noise u bounded by τ (37)/(45), the measurement noise η by ε (46), the known input
+//! v = `simulate.u` through `model.B` (Leontief demand) and x(0) in the box
+//! `x0_center ± delta` (δ = null: unbounded). Without `H` there are no measurements (Markov
+//! chain); `basis` makes H time-varying, H(t) = [g₁(t+1) … g_l(t+1)] (Example 1). Times are
+//! the paper's: y(0 … steps−1), and step k estimates x(k+1).
+
+use super::uniform::constant;
+use super::Scenario;
+use crate::error::{Error, Result};
+use crate::linalg;
+use crate::sets::{chi2_quantile, Ellipsoid, SupportPolygon};
+use crate::ubb::{
+    self, Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem,
+    System,
+};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// The `ubb` block.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct UbbSpec {
+    /// Norm of the stacked noise sequences: "linf" (per sample, (45)–(46)), "l1" or "l2".
+    #[serde(default = "default_norm")]
+    pub norm: Norm,
+    /// Theorem 3's form of l1 bounds: "lifted" or "enumerated" (2^{m−1} rows, small m only).
+    #[serde(default = "default_l1_form")]
+    pub l1_form: L1Form,
+    /// Bound ε of the measurement noise (46).
+    pub eps: f64,
+    /// Bound τ of the process noise (45).
+    #[serde(default)]
+    pub tau: f64,
+    /// Half-widths of the box of x(0) (one number: the same for all); null: δ = ∞.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub delta: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x0_center: Option<Vec<f64>>,
+    /// Σ x(0) (a probability vector: 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x0_sum: Option<f64>,
+    /// Smoothing constants α (45) and β (46); null: ∞ (no smoothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta: Option<f64>,
+    /// Truncation accuracy γ of Theorem 5: the window is j + 1 steps, j from (58).
+    #[serde(default = "default_gamma")]
+    pub gamma: f64,
+    /// Window length set by hand (overrides γ).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<usize>,
+    /// Simulated noise: "random" (uniform within the bound) or "bound" (± the bound).
+    #[serde(default = "default_noise")]
+    pub noise: NoiseMode,
+    /// The step k shown (the set of x(k+1)); default: the last.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<usize>,
+    /// State components of the polygon.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane: Option<[usize; 2]>,
+    /// Most LPs spent on the polygon.
+    #[serde(default = "default_budget")]
+    pub budget: usize,
+    /// Basis functions of Example 1: "1", "k", "k2", "sin:P", "cos:P" (period P).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub basis: Option<Vec<String>>,
+    /// Level of the Kalman ellipsoid compared with the set.
+    #[serde(default = "default_kf_level")]
+    pub kf_level: f64,
+}
+fn default_norm() -> Norm {
+    Norm::Linf
+}
+fn default_l1_form() -> L1Form {
+    L1Form::Lifted
+}
+fn default_gamma() -> f64 {
+    0.1
+}
+fn default_noise() -> NoiseMode {
+    NoiseMode::Random
+}
+fn default_budget() -> usize {
+    64
+}
+fn default_kf_level() -> f64 {
+    0.99
+}
+
+/// Longest window accepted.
+pub const MAX_WINDOW: usize = 400;
+
+/// Theorems 4 and 5 for the scenario (l∞-induced norms).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SmoothingReport {
+    pub a_norm: f64,
+    pub b_norm: f64,
+    /// ‖A‖·e^{1/α}.
+    pub ratio: f64,
+    /// Theorem 4 (47), when ratio < 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limit: Option<f64>,
+    /// Theorem 5 (58), when it applies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub j: Option<usize>,
+    /// (55) at the last step with that j.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tail: Option<f64>,
+    /// Why Theorem 4/5 do not apply, or why the window is not j + 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// One step of the track: the interval hull of x(k+1).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TrackStep {
+    pub k: usize,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    /// Central estimate (31) and its local error (5) (largest half-width).
+    pub center: Vec<f64>,
+    pub radius: f64,
+    /// The true x(k+1) is in the hull (solver tolerance `TOL`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inside: Option<bool>,
+    /// KF prediction x(k+1|k) and whether its ellipsoid holds the truth.
+    pub kf_mean: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kf_inside: Option<bool>,
+}
+
+/// The step at the time cursor.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct UbbStep {
+    pub k: usize,
+    /// First time of the window.
+    pub first: usize,
+    pub polygon: SupportPolygon,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub center: Vec<f64>,
+    pub radius: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth: Option<Vec<f64>>,
+    /// The KF ellipse in the plane at `kf_level`.
+    pub kf: Ellipsoid,
+    pub size: LpSize,
+    /// Central prediction interval of the next output y(k+1) = H(k+1)x(k+1) + η (Example 1's
+    /// f(m+1)), per output.
+    pub prediction: Vec<[f64; 2]>,
+}
+
+/// The report.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct UbbReport {
+    pub r: usize,
+    pub p: usize,
+    pub q: usize,
+    pub steps: usize,
+    pub norm: Norm,
+    pub l1_form: L1Form,
+    pub noise: NoiseMode,
+    pub window: usize,
+    pub gamma: f64,
+    pub plane: [usize; 2],
+    pub smoothing: SmoothingReport,
+    /// Per-component noise levels of the simulation.
+    pub u_level: f64,
+    pub eta_level: f64,
+    /// x(0 … steps) (simulation) and y(0 … steps−1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_true: Option<Vec<Vec<f64>>>,
+    pub y: Vec<Vec<f64>>,
+    /// Steps whose set is bounded (with δ = ∞ the first steps are not).
+    pub track: Vec<TrackStep>,
+    /// Steps where the truth left the hull (must be 0) and where it left the KF ellipsoid.
+    pub outside: usize,
+    pub kf_outside: usize,
+    pub at: UbbStep,
+}
+
+/// Tolerance of the membership checks: the interior-point solver's accuracy on the data scale.
+pub const TOL: f64 = 1e-6;
+
+/// A validated `ubb` scenario.
+pub struct UbbPrepared {
+    pub problem: StateProblem,
+    pub spec: UbbSpec,
+    pub steps: usize,
+    pub seed: u64,
+    pub x0: Option<DVector<f64>>,
+    pub smoothing: SmoothingReport,
+    pub plane: [usize; 2],
+    /// Given data (instead of a simulation).
+    pub data: Option<Vec<DVector<f64>>>,
+}
+
+fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
+    let period = |s: &str| -> Result<f64> {
+        s.parse::<f64>()
+            .ok()
+            .filter(|p| p.is_finite() && *p > 0.0)
+            .ok_or_else(|| Error::field(field, format!("\"{g}\": the period must be a positive number")))
+    };
+    Ok(match g {
+        "1" => 1.0,
+        "k" => k,
+        "k2" => k * k,
+        _ => match g.split_once(':') {
+            Some(("sin", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).sin(),
+            Some(("cos", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).cos(),
+            _ => {
+                return Err(Error::field(
+                    field,
+                    format!("\"{g}\" is not a basis function (\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\")"),
+                ))
+            }
+        },
+    })
+}
+
+fn finite_positive(field: &str, v: f64, allow_zero: bool) -> Result<f64> {
+    if v.is_finite() && (v > 0.0 || (allow_zero && v == 0.0)) {
+        Ok(v)
+    } else {
+        Err(Error::field(
+            field,
+            format!("must be a finite number {} 0, found {v}", if allow_zero { "≥" } else { ">" }),
+        ))
+    }
+}
+
+impl Scenario {
+    /// Validate a `ubb` scenario.
+    pub fn prepare_ubb(&self) -> Result<UbbPrepared> {
+        let spec = self.ubb.clone().ok_or_else(|| {
+            Error::field("ubb", "is missing: the method \"ubb\" needs a ubb block (eps, tau, delta, …)")
+        })?;
+        let ms = &self.model;
+        finite_positive("ubb.eps", spec.eps, false)?;
+        finite_positive("ubb.tau", spec.tau, true)?;
+        for (f, v) in [("ubb.alpha", spec.alpha), ("ubb.beta", spec.beta)] {
+            if let Some(v) = v {
+                finite_positive(f, v, false)?;
+            }
+        }
+        if !(spec.kf_level > 0.0 && spec.kf_level < 1.0) {
+            return Err(Error::field("ubb.kf_level", format!("must lie strictly between 0 and 1, found {}", spec.kf_level)));
+        }
+        if !(8..=512).contains(&spec.budget) {
+            return Err(Error::field("ubb.budget", "must lie in 8..=512 LPs"));
+        }
+        let (steps, seed) = match (&self.simulate, &self.data) {
+            (Some(s), None) => (s.steps, s.seed),
+            (None, Some(d)) => (d.y.len(), 0),
+            (Some(_), Some(_)) => return Err(Error::field("data", "and simulate are both given: choose one")),
+            (None, None) => return Err(Error::field("simulate", "is missing (give simulate.steps or data.y)")),
+        };
+        if !(1..=2000).contains(&steps) {
+            return Err(Error::field(
+                if self.data.is_some() { "data.y" } else { "simulate.steps" },
+                format!("must give 1..=2000 steps, found {steps}"),
+            ));
+        }
+        // A, and the time-varying H of Example 1.
+        let basis = spec.basis.clone().unwrap_or_default();
+        let a = match constant("model.F", &ms.f)? {
+            Some(a) => a,
+            None if !basis.is_empty() => DMatrix::identity(basis.len(), basis.len()),
+            None => return Err(Error::field("model.F", "is missing")),
+        };
+        let r = a.nrows();
+        linalg::expect_shape("model.F", &a, r, r)?;
+        let c: Vec<DMatrix<f64>> = if basis.is_empty() {
+            let h = constant("model.H", &ms.h)?.unwrap_or_else(|| DMatrix::zeros(0, r));
+            linalg::expect_shape("model.H", &h, h.nrows(), r)?;
+            vec![h]
+        } else {
+            if basis.len() != r {
+                return Err(Error::field("ubb.basis", format!("has {} functions for a state of {r} coefficients", basis.len())));
+            }
+            if ms.h.is_some() {
+                return Err(Error::field("model.H", "must be absent when ubb.basis gives the outputs"));
+            }
+            (0..=steps)
+                .map(|t| {
+                    let row = basis
+                        .iter()
+                        .map(|g| basis_value("ubb.basis", g, (t + 1) as f64))
+                        .collect::<Result<Vec<f64>>>()?;
+                    Ok(DMatrix::from_row_slice(1, r, &row))
+                })
+                .collect::<Result<_>>()?
+        };
+        let b = match &ms.g {
+            Some(rows) => linalg::from_rows("model.G", rows)?,
+            None => DMatrix::zeros(r, 0),
+        };
+        linalg::expect_shape("model.G", &b, r, b.ncols())?;
+        // Known input v(t) = B·simulate.u(t).
+        let v = match (constant("model.B", &ms.b)?, self.simulate.as_ref().map(|s| &s.u)) {
+            (Some(bm), Some(u)) if !u.is_empty() => {
+                linalg::expect_shape("model.B", &bm, r, bm.ncols())?;
+                u.iter()
+                    .enumerate()
+                    .map(|(t, row)| Ok(&bm * linalg::vector(&format!("simulate.u[{t}]"), row, bm.ncols())?))
+                    .collect::<Result<Vec<_>>>()?
+            }
+            (Some(_), _) => return Err(Error::field("simulate.u", "is needed with model.B (the known input)")),
+            (None, Some(u)) if !u.is_empty() => return Err(Error::field("model.B", "is needed with simulate.u")),
+            _ => Vec::new(),
+        };
+        let delta = match &spec.delta {
+            None => None,
+            Some(d) => {
+                let d = if d.len() == 1 { vec![d[0]; r] } else { d.clone() };
+                let d = linalg::vector("ubb.delta", &d, r)?;
+                if d.iter().any(|v| !(*v >= 0.0)) {
+                    return Err(Error::field("ubb.delta", "must hold half-widths ≥ 0 (or be null for δ = ∞)"));
+                }
+                Some(d)
+            }
+        };
+        let x0_center = match &spec.x0_center {
+            Some(c) => linalg::vector("ubb.x0_center", c, r)?,
+            None => DVector::zeros(r),
+        };
+        let plane = spec.plane.unwrap_or([0, 1.min(r - 1)]);
+        if r < 2 || plane[0] >= r || plane[1] >= r || plane[0] == plane[1] {
+            return Err(Error::field("ubb.plane", format!("must name two different state components below r = {r}")));
+        }
+        // Theorems 4 and 5 in the l∞-induced norm.
+        let sm = Smoothing::new(ubb::norm_inf(&a), ubb::norm_inf(&b), spec.tau, spec.alpha);
+        let (j, mut note) = match sm.truncation(spec.gamma, "ubb.gamma") {
+            Ok(j) => (Some(j), None),
+            Err(_) if b.ncols() == 0 => (
+                None,
+                Some("no process noise: the unknowns are x(0) alone, so the LP does not grow with k and needs no truncation".into()),
+            ),
+            Err(e) => (None, Some(format!("Theorem 5 {}", e.message))),
+        };
+        let window = match (spec.window, j) {
+            (Some(w), _) => {
+                if !(1..=MAX_WINDOW).contains(&w) {
+                    return Err(Error::field("ubb.window", format!("must lie in 1..={MAX_WINDOW}")));
+                }
+                w
+            }
+            (None, Some(j)) if j < MAX_WINDOW => j + 1,
+            (None, Some(j)) => {
+                note = Some(format!("Theorem 5 asks for j = {j}; the window is capped at {MAX_WINDOW} steps"));
+                MAX_WINDOW
+            }
+            (None, None) if b.ncols() == 0 => steps,
+            (None, None) => {
+                return Err(Error::field(
+                    "ubb.window",
+                    format!("must be given: {} ", note.unwrap_or_default()),
+                ))
+            }
+        };
+        let smoothing = SmoothingReport {
+            a_norm: sm.a_norm,
+            b_norm: sm.b_norm,
+            ratio: sm.ratio,
+            limit: sm.limit(),
+            j,
+            tail: j.map(|j| sm.tail(j, Some(steps))),
+            note,
+        };
+        let x0 = match self.simulate.as_ref().and_then(|s| s.x0.as_ref()) {
+            Some(x) => Some(linalg::vector("simulate.x0", x, r)?),
+            None => None,
+        };
+        if spec.x0_sum.is_some() && x0.is_none() && self.simulate.is_some() {
+            return Err(Error::field("simulate.x0", "is needed with ubb.x0_sum (a true x(0) on the simplex)"));
+        }
+        let data = match &self.data {
+            Some(d) => {
+                let q = c[0].nrows();
+                Some(
+                    d.y.iter()
+                        .enumerate()
+                        .map(|(t, row)| linalg::vector(&format!("data.y[{t}]"), row, q))
+                        .collect::<Result<Vec<_>>>()?,
+                )
+            }
+            None => None,
+        };
+        Ok(UbbPrepared {
+            problem: StateProblem {
+                system: System { a, b, c, v },
+                bounds: Bounds {
+                    norm: spec.norm,
+                    l1_form: spec.l1_form,
+                    tau: spec.tau,
+                    eps: spec.eps,
+                    delta,
+                    x0_center,
+                    x0_sum: spec.x0_sum,
+                    alpha: spec.alpha,
+                    beta: spec.beta,
+                },
+                window,
+            },
+            spec,
+            steps,
+            seed,
+            x0,
+            smoothing,
+            plane,
+            data,
+        })
+    }
+}
+
+impl UbbPrepared {
+    /// The simulated (or given) run.
+    pub fn run_data(&self) -> Run {
+        let mut run = self.problem.simulate(self.steps, self.spec.noise, self.x0.as_ref(), self.seed);
+        if let Some(y) = &self.data {
+            run.y = y.clone();
+        }
+        run
+    }
+
+    /// The report.
+    pub fn report(&self) -> Result<UbbReport> {
+        let run = self.run_data();
+        let simulated = self.data.is_none();
+        let kf = self.problem.kalman(&run, self.spec.noise);
+        let r = self.problem.system.r();
+        let chi_full = chi2_quantile(self.spec.kf_level, r)?;
+        let mut track = Vec::new();
+        let (mut outside, mut kf_outside) = (0, 0);
+        let mut first_error = None;
+        for k in 0..self.steps {
+            let step = match self.problem.step(&run.y, k) {
+                Ok(s) => s,
+                // Unbounded (δ = ∞, not yet observable): no set at this step.
+                Err(e) if e.field == "ubb.delta" => {
+                    first_error.get_or_insert(e);
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            let hull = step.hull()?;
+            let truth = &run.x[k + 1];
+            let inside = simulated.then(|| hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
+            let (m, p) = &kf[k];
+            let kf_inside = simulated.then(|| {
+                Ellipsoid::new(m, p, chi_full).contains(truth.as_slice())
+            });
+            outside += usize::from(inside == Some(false));
+            kf_outside += usize::from(kf_inside == Some(false));
+            track.push(TrackStep {
+                k,
+                center: hull.center(),
+                radius: hull.radius(),
+                lo: hull.lo,
+                hi: hull.hi,
+                inside,
+                kf_mean: m.iter().copied().collect(),
+                kf_inside,
+            });
+        }
+        let Some(last) = track.last() else {
+            return Err(first_error.unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")));
+        };
+        let k = match self.spec.time {
+            Some(t) if t < self.steps => t.max(track[0].k),
+            Some(t) => return Err(Error::field("ubb.time", format!("must be below the {} steps, found {t}", self.steps))),
+            None => last.k,
+        };
+        let at = self.at(&run, &kf, k)?;
+        Ok(UbbReport {
+            r,
+            p: self.problem.system.p(),
+            q: self.problem.system.c[0].nrows(),
+            steps: self.steps,
+            norm: self.spec.norm,
+            l1_form: self.spec.l1_form,
+            noise: self.spec.noise,
+            window: self.problem.window,
+            gamma: self.spec.gamma,
+            plane: self.plane,
+            smoothing: self.smoothing.clone(),
+            u_level: run.u_level,
+            eta_level: run.eta_level,
+            x_true: simulated.then(|| run.x.iter().map(|v| v.iter().copied().collect()).collect()),
+            y: run.y.iter().map(|v| v.iter().copied().collect()).collect(),
+            track,
+            outside,
+            kf_outside,
+            at,
+        })
+    }
+
+    /// The polygon, hull and prediction at step k.
+    pub fn at(&self, run: &Run, kf: &[(DVector<f64>, DMatrix<f64>)], k: usize) -> Result<UbbStep> {
+        let step = self.problem.step(&run.y, k)?;
+        let (hull, polygon, size): (IntervalHull, SupportPolygon, LpSize) =
+            step.hull_and_polygon(self.plane, self.spec.budget)?;
+        // y(k+1) = H(k+1) x(k+1) + η: the hull of H(k+1)x over the set, widened by the
+        // newest sample's bound ε (weight 1 at age 0 in every norm).
+        let sys = &self.problem.system;
+        let h_next = &sys.c[(k + 1).min(sys.c.len() - 1)];
+        let prediction = if h_next.nrows() == 0 {
+            Vec::new()
+        } else {
+            let map = h_next * &step.s_map;
+            let off = h_next * &step.offset;
+            let ph = step.set.interval_hull(&map)?;
+            (0..map.nrows())
+                .map(|i| [ph.lo[i] + off[i] - self.spec.eps, ph.hi[i] + off[i] + self.spec.eps])
+                .collect()
+        };
+        let pl = [self.plane[0], self.plane[1]];
+        let (m, p) = &kf[k];
+        let kf_plane = Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 2)?).project(&pl)?;
+        Ok(UbbStep {
+            k,
+            first: step.first,
+            center: hull.center(),
+            radius: hull.radius(),
+            lo: hull.lo,
+            hi: hull.hi,
+            polygon,
+            truth: self.data.is_none().then(|| pl.iter().map(|&i| run.x[k + 1][i]).collect()),
+            kf: kf_plane,
+            size,
+            prediction,
+        })
+    }
+}

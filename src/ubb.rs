@@ -1,0 +1,1015 @@
+//! Unknown-but-bounded noise: R. Tempo, "Robust estimation and filtering in the presence of
+//! unknown but bounded noise" (CUCS-223-86, 1986).
+//!
+//! - Section II: a problem element f ∈ Rⁿ, the a-priori set K and the information
+//!   ‖h − Nf‖ ≤ ε (2) are all [`NormBound`]s (a weighted l∞, l1 or l2 norm of an affine image of
+//!   f); their intersection is the feasible set T(h) (3), a [`FeasibleSet`].
+//! - The central (strongly optimal) algorithm for an l∞ solution norm is the midpoint of the
+//!   interval hull of S·T(h), one LP per bound ([`FeasibleSet::interval_hull`], (31)); its local
+//!   error (5) is the hull's largest half-width. A 2-D image S·T(h) is computed exactly as a
+//!   polygon ([`FeasibleSet::polygon`]).
+//! - Theorem 1 (Hilbert norms): [`hilbert`]. Theorem 2 (linear optimal algorithm from the
+//!   active constraints): [`linear_optimal`]. Theorem 3 (l1 noise): the 2^{m−1}-row form (30),
+//!   (34) and the lifted form with slacks, chosen by [`L1Form`].
+//! - Section IV: state estimation with exponentially smoothed bounds (45)–(46), Theorem 4's
+//!   asymptotic bound and Theorem 5's truncation length (58): [`StateProblem`], [`Smoothing`].
+//!
+//! Errata followed here (see the crate docs): (50) reads u(k−i); (37) must bound u(0) too (f
+//! contains it); Theorem 1's "‖N⁻¹‖ > ε⁻¹" is reversed; after Theorem 4 a pole near the unit
+//! circle needs exp(1/α) close to 1 (α large, long memory).
+//!
+//! Every LP goes through [`crate::solve`].
+
+use crate::error::{Error, Result};
+use crate::sets::{polygon_from_support, SupportPolygon};
+use crate::solve::{self, Family, Problem};
+use nalgebra::{DMatrix, DVector};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// The norm of a bound (weighted: ‖h‖^w = ‖(w_i h_i)‖).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Norm {
+    Linf,
+    L1,
+    L2,
+}
+
+/// How an l1 bound becomes linear constraints (Theorem 3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum L1Form {
+    /// |r_i| ≤ s_i, Σ s_i ≤ ε: m slack variables and 2m + 1 rows.
+    Lifted,
+    /// The paper's |W_i r| ≤ ε for the 2^{m−1} sign rows W_i of (30).
+    Enumerated,
+}
+
+/// The largest m the enumerated form accepts (2^{m−1} = 8192 row pairs).
+pub const MAX_ENUMERATED_M: usize = 14;
+
+/// ‖diag(w)(M f − c)‖ ≤ bound.
+#[derive(Debug, Clone)]
+pub struct NormBound {
+    pub map: DMatrix<f64>,
+    pub center: DVector<f64>,
+    pub weights: DVector<f64>,
+    pub norm: Norm,
+    pub bound: f64,
+    /// The scenario field this bound comes from (errors name it).
+    pub field: String,
+}
+
+impl NormBound {
+    /// The weighted residual w ∘ (M f − c).
+    fn residual(&self, f: &DVector<f64>) -> DVector<f64> {
+        (&self.map * f - &self.center).component_mul(&self.weights)
+    }
+
+    /// ‖w ∘ (M f − c)‖.
+    pub fn value(&self, f: &DVector<f64>) -> f64 {
+        norm_of(self.norm, &self.residual(f))
+    }
+}
+
+fn norm_of(norm: Norm, r: &DVector<f64>) -> f64 {
+    match norm {
+        Norm::Linf => r.amax(),
+        Norm::L1 => r.iter().map(|v| v.abs()).sum(),
+        Norm::L2 => r.norm(),
+    }
+}
+
+/// Sizes of the optimization problem behind a feasible set.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LpSize {
+    pub variables: usize,
+    /// Linear inequality and equality rows.
+    pub rows: usize,
+    /// Second-order cones (l2 bounds) and their total dimension.
+    pub cones: usize,
+    pub cone_rows: usize,
+}
+
+/// The interval hull of S·T(h): per component, inf and sup of S_i f over T(h).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IntervalHull {
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+}
+
+impl IntervalHull {
+    /// The central estimate (31): the componentwise midpoint.
+    pub fn center(&self) -> Vec<f64> {
+        self.lo.iter().zip(&self.hi).map(|(l, h)| 0.5 * (l + h)).collect()
+    }
+
+    /// Local error (5) of the central estimate in the l∞ solution norm: the largest half-width.
+    pub fn radius(&self) -> f64 {
+        self.lo
+            .iter()
+            .zip(&self.hi)
+            .map(|(l, h)| 0.5 * (h - l))
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether x lies in the hull, with tolerance `tol`.
+    pub fn contains(&self, x: &[f64], tol: f64) -> bool {
+        x.iter()
+            .zip(self.lo.iter().zip(&self.hi))
+            .all(|(v, (l, h))| *v >= l - tol && *v <= h + tol)
+    }
+}
+
+/// The feasible set T(h) (3) of problem elements f ∈ R^dim.
+#[derive(Debug, Clone)]
+pub struct FeasibleSet {
+    pub dim: usize,
+    pub bounds: Vec<NormBound>,
+    /// Equalities E f = e (e.g. a probability vector sums to 1).
+    pub eq: Option<(DMatrix<f64>, DVector<f64>)>,
+    pub l1_form: L1Form,
+    /// The field of an infeasible or unbounded outcome.
+    pub field: String,
+}
+
+impl FeasibleSet {
+    /// Whether f satisfies every bound and equality up to `tol` (relative to each bound).
+    pub fn contains(&self, f: &DVector<f64>, tol: f64) -> bool {
+        self.bounds
+            .iter()
+            .all(|b| b.value(f) <= b.bound * (1.0 + tol) + tol)
+            && self
+                .eq
+                .as_ref()
+                .is_none_or(|(e, v)| (e * f - v).amax() <= tol * (1.0 + v.amax()))
+    }
+
+    /// The LP (or SOCP, with l2 bounds) of T(h) with a zero objective; slack variables of
+    /// lifted l1 bounds come after f.
+    pub fn program(&self) -> Result<(Problem, LpSize)> {
+        let n = self.dim;
+        let slacks: usize = match self.l1_form {
+            L1Form::Lifted => self
+                .bounds
+                .iter()
+                .filter(|b| b.norm == Norm::L1)
+                .map(|b| b.map.nrows())
+                .sum(),
+            L1Form::Enumerated => 0,
+        };
+        let nv = n + slacks;
+        let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
+        let mut soc = Vec::new();
+        let mut next_slack = n;
+        for b in &self.bounds {
+            let m = b.map.nrows();
+            if b.map.ncols() != n || b.center.len() != m || b.weights.len() != m {
+                return Err(Error::field(
+                    b.field.clone(),
+                    format!(
+                        "has a {}×{} map, {} centre entries and {} weights for {n} unknowns",
+                        b.map.nrows(),
+                        b.map.ncols(),
+                        b.center.len(),
+                        b.weights.len()
+                    ),
+                ));
+            }
+            if !(b.bound >= 0.0 && b.bound.is_finite()) {
+                return Err(Error::field(
+                    b.field.clone(),
+                    format!("must be a finite bound ≥ 0, found {}", b.bound),
+                ));
+            }
+            // Row i of the weighted residual: w_i M_i f − w_i c_i.
+            let wrow = |i: usize| -> (Vec<f64>, f64) {
+                let mut r = vec![0.0; nv];
+                for j in 0..n {
+                    r[j] = b.weights[i] * b.map[(i, j)];
+                }
+                (r, b.weights[i] * b.center[i])
+            };
+            match (b.norm, self.l1_form) {
+                (Norm::Linf, _) => {
+                    for i in 0..m {
+                        let (r, c) = wrow(i);
+                        rows.push((r.clone(), b.bound + c));
+                        rows.push((r.iter().map(|v| -v).collect(), b.bound - c));
+                    }
+                }
+                (Norm::L1, L1Form::Lifted) => {
+                    let mut total = vec![0.0; nv];
+                    for i in 0..m {
+                        let (mut r, c) = wrow(i);
+                        let mut neg: Vec<f64> = r.iter().map(|v| -v).collect();
+                        r[next_slack + i] = -1.0;
+                        neg[next_slack + i] = -1.0;
+                        rows.push((r, c));
+                        rows.push((neg, -c));
+                        total[next_slack + i] = 1.0;
+                    }
+                    rows.push((total, b.bound));
+                    next_slack += m;
+                }
+                (Norm::L1, L1Form::Enumerated) => {
+                    if m > MAX_ENUMERATED_M {
+                        return Err(Error::field(
+                            b.field.clone(),
+                            format!(
+                                "is an l1 bound on m = {m} residuals: Theorem 3's enumerated form needs 2^(m−1) = {} sign rows; use the lifted form (l1_form \"lifted\", 2m + 1 rows) or m ≤ {MAX_ENUMERATED_M}",
+                                1u64 << (m - 1).min(63)
+                            ),
+                        ));
+                    }
+                    let base: Vec<(Vec<f64>, f64)> = (0..m).map(wrow).collect();
+                    // (30): the first sign is +, the others run through all 2^{m−1} patterns.
+                    for pattern in 0..(1usize << (m.saturating_sub(1))) {
+                        let mut r = vec![0.0; nv];
+                        let mut c = 0.0;
+                        for (i, (bi, ci)) in base.iter().enumerate() {
+                            let sign = if i > 0 && (pattern >> (m - 1 - i)) & 1 == 1 {
+                                -1.0
+                            } else {
+                                1.0
+                            };
+                            for j in 0..n {
+                                r[j] += sign * bi[j];
+                            }
+                            c += sign * ci;
+                        }
+                        rows.push((r.clone(), b.bound + c));
+                        rows.push((r.iter().map(|v| -v).collect(), b.bound - c));
+                    }
+                }
+                (Norm::L2, _) => {
+                    // s = [bound; W(Mf − c)] = g − G f ∈ SOC.
+                    let mut g = DMatrix::zeros(m + 1, nv);
+                    let mut rhs = DVector::zeros(m + 1);
+                    rhs[0] = b.bound;
+                    for i in 0..m {
+                        let (r, c) = wrow(i);
+                        for j in 0..n {
+                            g[(i + 1, j)] = -r[j];
+                        }
+                        rhs[i + 1] = -c;
+                    }
+                    soc.push((g, rhs));
+                }
+            }
+        }
+        let le = if rows.is_empty() {
+            None
+        } else {
+            let a = DMatrix::from_fn(rows.len(), nv, |i, j| rows[i].0[j]);
+            let b = DVector::from_iterator(rows.len(), rows.iter().map(|r| r.1));
+            Some((a, b))
+        };
+        let eq = match &self.eq {
+            Some((e, v)) => {
+                if e.ncols() != n || e.nrows() != v.len() {
+                    return Err(Error::field(self.field.clone(), "equality has the wrong shape"));
+                }
+                let mut a = DMatrix::zeros(e.nrows(), nv);
+                a.view_mut((0, 0), (e.nrows(), n)).copy_from(e);
+                Some((a, v.clone()))
+            }
+            None => None,
+        };
+        let size = LpSize {
+            variables: nv,
+            rows: le.as_ref().map_or(0, |l| l.0.nrows()) + eq.as_ref().map_or(0, |e| e.0.nrows()),
+            cones: soc.len(),
+            cone_rows: soc.iter().map(|(g, _)| g.nrows()).sum(),
+        };
+        Ok((
+            Problem {
+                p: None,
+                q: DVector::zeros(nv),
+                eq,
+                le,
+                soc,
+                field: self.field.clone(),
+            },
+            size,
+        ))
+    }
+
+    /// A solver loaded with T(h), ready for many objectives.
+    pub fn support_solver(&self) -> Result<SupportSolver> {
+        let (problem, size) = self.program()?;
+        Ok(SupportSolver {
+            family: Family::new(&problem)?,
+            dim: self.dim,
+            size,
+        })
+    }
+
+    /// Interval hull of S·T(h) (2 LPs per row of S).
+    pub fn interval_hull(&self, s: &DMatrix<f64>) -> Result<IntervalHull> {
+        self.support_solver()?.interval_hull(s)
+    }
+
+    /// The exact polygon of the 2-D image S·T(h) (S has 2 rows), with at most `budget` LPs.
+    pub fn polygon(&self, s: &DMatrix<f64>, budget: usize) -> Result<SupportPolygon> {
+        self.support_solver()?.polygon(s, budget)
+    }
+}
+
+/// T(h) loaded in the solver once; each support value is one more solve with a new objective.
+pub struct SupportSolver {
+    family: Family,
+    dim: usize,
+    pub size: LpSize,
+}
+
+impl SupportSolver {
+    /// sup over T(h) of dᵀf, and the maximizer.
+    pub fn support(&mut self, d: &DVector<f64>) -> Result<(f64, DVector<f64>)> {
+        let mut c = DVector::zeros(self.family.dim());
+        for j in 0..self.dim {
+            c[j] = -d[j];
+        }
+        let sol = self.family.minimize(Some(&c))?;
+        Ok((-sol.objective, sol.x.rows(0, self.dim).into_owned()))
+    }
+
+    /// Interval hull of S·T(h).
+    pub fn interval_hull(&mut self, s: &DMatrix<f64>) -> Result<IntervalHull> {
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        for i in 0..s.nrows() {
+            let row = s.row(i).transpose();
+            hi.push(self.support(&row)?.0);
+            lo.push(-self.support(&(-row))?.0);
+        }
+        Ok(IntervalHull { lo, hi })
+    }
+
+    /// Exact polygon of S·T(h) for a 2-row S.
+    pub fn polygon(&mut self, s: &DMatrix<f64>, budget: usize) -> Result<SupportPolygon> {
+        let scale = s.amax().max(1e-300);
+        let mut largest: f64 = 0.0;
+        let mut probe = |d: [f64; 2]| -> Result<(f64, [f64; 2])> {
+            let dir = s.row(0).transpose() * d[0] + s.row(1).transpose() * d[1];
+            let (_, f) = self.support(&dir)?;
+            let p = &*s * &f;
+            largest = largest.max(p[0].abs()).max(p[1].abs());
+            Ok((d[0] * p[0] + d[1] * p[1], [p[0], p[1]]))
+        };
+        // The interior-point solver is accurate to about 1e-8 relative to the data's scale.
+        let first = probe([1.0, 0.0])?;
+        let tol = 1e-7 * (1.0 + first.0.abs().max(scale));
+        let mut first = Some(first);
+        polygon_from_support(
+            |d| match first.take() {
+                Some(v) if d == [1.0, 0.0] => Ok(v),
+                _ => probe(d),
+            },
+            budget,
+            tol,
+        )
+    }
+}
+
+/// Theorem 2: the linear optimal algorithm for a linear functional S from the active constraints
+/// of (22), for T(h) = {f : |P_i f − d_i| ≤ b_i}.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LinearOptimal {
+    /// The active rows t₁ … t_n.
+    pub active: Vec<usize>,
+    /// φ(d) = Σ_j gain_j d_{t_j} = S P̃⁻¹ d̃ (25).
+    pub gain: Vec<f64>,
+    /// E(φ_o) = sup over T(0) of S f (22).
+    pub intrinsic_error: f64,
+}
+
+impl LinearOptimal {
+    /// φ(d) for the full data vector d (19).
+    pub fn apply(&self, d: &DVector<f64>) -> f64 {
+        self.active.iter().zip(&self.gain).map(|(&t, g)| g * d[t]).sum()
+    }
+}
+
+/// Theorem 2 for P ((n+m)×n), bounds b = ε/w and the functional s.
+pub fn linear_optimal(p: &DMatrix<f64>, b: &DVector<f64>, s: &DVector<f64>, field: &str) -> Result<LinearOptimal> {
+    let (rows, n) = p.shape();
+    if b.len() != rows || s.len() != n {
+        return Err(Error::field(field, "P, the bounds and S have inconsistent sizes"));
+    }
+    let mut a = DMatrix::zeros(2 * rows, n);
+    a.view_mut((0, 0), (rows, n)).copy_from(p);
+    a.view_mut((rows, 0), (rows, n)).copy_from(&(-p));
+    let mut rhs = DVector::zeros(2 * rows);
+    rhs.rows_mut(0, rows).copy_from(b);
+    rhs.rows_mut(rows, rows).copy_from(b);
+    let sol = solve::linear(&(-s), None, Some((a, rhs)), field)?;
+    let intrinsic_error = -sol.objective;
+    // Rows by decreasing multiplier, then the other tight rows: any n independent rows that
+    // include every row with a positive multiplier reach the same supremum (LP duality).
+    let mult: Vec<f64> = (0..rows).map(|i| sol.duals[i].max(sol.duals[i + rows])).collect();
+    let slack: Vec<f64> = (0..rows)
+        .map(|i| (b[i] - (p.row(i) * &sol.x)[0].abs()) / (1.0 + b[i]))
+        .collect();
+    let mut order: Vec<usize> = (0..rows).collect();
+    order.sort_by(|&i, &j| mult[j].total_cmp(&mult[i]).then(slack[i].total_cmp(&slack[j])));
+    let mut active = Vec::new();
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    for &i in &order {
+        if active.len() == n {
+            break;
+        }
+        // Gram–Schmidt: keep row i if it adds a new direction.
+        let mut v = p.row(i).transpose();
+        let norm0 = v.norm();
+        for q in &basis {
+            let proj = q.dot(&v);
+            v -= q * proj;
+        }
+        if norm0 > 0.0 && v.norm() > 1e-9 * norm0 {
+            basis.push(v.normalize());
+            active.push(i);
+        }
+    }
+    if active.len() < n {
+        return Err(Error::field(
+            field,
+            format!(
+                "rank P̃ = {} < n = {n}: the active constraints do not determine f, so the intrinsic error is not finite (Theorem 2 needs rank n)",
+                active.len()
+            ),
+        ));
+    }
+    let pt = DMatrix::from_fn(n, n, |i, j| p[(active[i], j)]);
+    // gainᵀ = Sᵀ P̃⁻¹, i.e. P̃ᵀ gain = s.
+    let gain = pt
+        .transpose()
+        .lu()
+        .solve(s)
+        .ok_or_else(|| Error::field(field, "P̃ is singular"))?;
+    Ok(LinearOptimal {
+        active,
+        gain: gain.iter().copied().collect(),
+        intrinsic_error,
+    })
+}
+
+/// Which case of Theorem 1 applies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HilbertCase {
+    /// Δ(ε) ⊂ K: Gauss–Markov is optimal.
+    GaussMarkov,
+    /// K ⊆ Δ(ε): the zero algorithm is optimal.
+    Zero,
+    /// Neither: (11) with μ from (12), which this crate does not solve.
+    Between,
+}
+
+/// Theorem 1 for K = {fᵀVf ≤ 1} and ‖h‖² = hᵀRh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Hilbert {
+    pub case: HilbertCase,
+    /// sup{fᵀVf : ‖Nf‖ ≤ ε} (Δ(ε) ⊂ K iff ≤ 1, i.e. ‖N⁻¹‖ ≤ 1/ε: the paper's ">" is reversed);
+    /// infinite when N is not one-to-one.
+    pub delta_in_k: f64,
+    /// sup{‖Nf‖² : fᵀVf ≤ 1} / ε² (K ⊆ Δ(ε) iff ≤ 1, i.e. ‖N‖ ≤ ε).
+    pub k_in_delta: f64,
+    /// S(NᵀRN)⁻¹NᵀRh, when N is one-to-one.
+    pub gauss_markov: Option<Vec<f64>>,
+    /// The optimal estimate of (14) (None in the case between).
+    pub estimate: Option<Vec<f64>>,
+}
+
+/// Largest generalized eigenvalue max xᵀAx / xᵀBx for B positive definite.
+fn max_generalized_eig(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Option<f64> {
+    let l = b.clone().cholesky()?.l();
+    let li = l.try_inverse()?;
+    let m = &li * a * li.transpose();
+    let m = (&m + m.transpose()) * 0.5;
+    Some(m.symmetric_eigenvalues().max())
+}
+
+/// Theorem 1.
+pub fn hilbert(
+    v: &DMatrix<f64>,
+    r: &DMatrix<f64>,
+    n_op: &DMatrix<f64>,
+    s: &DMatrix<f64>,
+    eps: f64,
+    h: &DVector<f64>,
+) -> Result<Hilbert> {
+    let ntrn = n_op.transpose() * r * n_op;
+    let delta_in_k = max_generalized_eig(v, &ntrn).map_or(f64::INFINITY, |l| eps * eps * l);
+    let k_in_delta = max_generalized_eig(&ntrn, v)
+        .ok_or_else(|| Error::field("V", "must be symmetric positive definite"))?
+        / (eps * eps);
+    let gauss_markov = ntrn
+        .clone()
+        .cholesky()
+        .map(|c| (s * c.solve(&(n_op.transpose() * r * h))).iter().copied().collect::<Vec<f64>>());
+    let case = if delta_in_k <= 1.0 {
+        HilbertCase::GaussMarkov
+    } else if k_in_delta <= 1.0 {
+        HilbertCase::Zero
+    } else {
+        HilbertCase::Between
+    };
+    let estimate = match case {
+        HilbertCase::GaussMarkov => gauss_markov.clone(),
+        HilbertCase::Zero => Some(vec![0.0; s.nrows()]),
+        HilbertCase::Between => None,
+    };
+    Ok(Hilbert {
+        case,
+        delta_in_k,
+        k_in_delta,
+        gauss_markov,
+        estimate,
+    })
+}
+
+/// Induced l∞ operator norm (largest absolute row sum): the norm of Theorems 4 and 5 here,
+/// consistent with the boxes of an l∞ state norm.
+pub fn norm_inf(m: &DMatrix<f64>) -> f64 {
+    (0..m.nrows())
+        .map(|i| m.row(i).iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// Theorems 4 and 5 for given ‖A‖, ‖B‖, τ and α (None: no smoothing, α = ∞).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Smoothing {
+    pub a_norm: f64,
+    pub b_norm: f64,
+    pub tau: f64,
+    pub alpha: Option<f64>,
+    /// ‖A‖·exp(1/α), the ratio of the geometric series (49).
+    pub ratio: f64,
+}
+
+impl Smoothing {
+    pub fn new(a_norm: f64, b_norm: f64, tau: f64, alpha: Option<f64>) -> Self {
+        let ratio = a_norm * alpha.map_or(1.0, |a| (1.0 / a).exp());
+        Smoothing {
+            a_norm,
+            b_norm,
+            tau,
+            alpha,
+            ratio,
+        }
+    }
+
+    /// Theorem 4 (47): limsup ‖x(k+1)‖ ≤ τ‖B‖ / (1 − ‖A‖e^{1/α}), when the ratio is < 1.
+    pub fn limit(&self) -> Option<f64> {
+        (self.ratio < 1.0).then(|| self.tau * self.b_norm / (1.0 - self.ratio))
+    }
+
+    /// (55): the bound on ‖Σ_{i=j+1}^k AⁱBu(k−i)‖ at time k (k = None: its limit (56)).
+    pub fn tail(&self, j: usize, k: Option<usize>) -> f64 {
+        let q = self.ratio;
+        let head = q.powi(j as i32 + 1);
+        let rest = k.map_or(0.0, |k| if k > j { q.powi(k as i32 + 1) } else { head });
+        self.tau * self.b_norm * (head - rest) / (1.0 - q)
+    }
+
+    /// Theorem 5: the smallest j with (ratio)^{j+1} ≤ γ(1 − ratio)/(τ‖B‖) (52), i.e. (58).
+    pub fn truncation(&self, gamma: f64, field: &str) -> Result<usize> {
+        if !(gamma > 0.0 && gamma.is_finite()) {
+            return Err(Error::field(field, format!("must be a positive number, found {gamma}")));
+        }
+        if self.ratio >= 1.0 {
+            return Err(Error::field(
+                field,
+                format!(
+                    "cannot be met: Theorem 5 needs ‖A‖∞·exp(1/α) < 1, but it is {:.4} (raise α, or the system is not contractive in this norm)",
+                    self.ratio
+                ),
+            ));
+        }
+        if self.tau * self.b_norm == 0.0 {
+            return Ok(0);
+        }
+        // (58): (j+1)·ln(ratio) ≤ ln(1 − ratio) + ln γ − ln τ − ln‖B‖.
+        let rhs = (1.0 - self.ratio).ln() + gamma.ln() - self.tau.ln() - self.b_norm.ln();
+        if rhs >= 0.0 {
+            return Ok(0);
+        }
+        let mut j = ((rhs / self.ratio.ln()).ceil() as usize).saturating_sub(1);
+        // Guard the rounding of the logarithms with (52) itself.
+        while self.tail(j, None) > gamma {
+            j += 1;
+        }
+        while j > 0 && self.tail(j - 1, None) <= gamma {
+            j -= 1;
+        }
+        Ok(j)
+    }
+}
+
+/// The dynamic system (35) with a known input v (the Remark after (44)) and output matrices C(t)
+/// (time-varying for the basis-function series of Example 1).
+#[derive(Debug, Clone)]
+pub struct System {
+    pub a: DMatrix<f64>,
+    /// r×p; p = 0 means no process noise.
+    pub b: DMatrix<f64>,
+    /// C(t) for t = 0 … (at least the measured times); q = 0 rows means no measurements.
+    pub c: Vec<DMatrix<f64>>,
+    /// Known input v(t) (empty: none).
+    pub v: Vec<DVector<f64>>,
+}
+
+impl System {
+    pub fn r(&self) -> usize {
+        self.a.nrows()
+    }
+    pub fn p(&self) -> usize {
+        self.b.ncols()
+    }
+    fn c_at(&self, t: usize) -> &DMatrix<f64> {
+        &self.c[t.min(self.c.len() - 1)]
+    }
+    fn v_at(&self, t: usize) -> Option<&DVector<f64>> {
+        if self.v.is_empty() {
+            None
+        } else {
+            Some(&self.v[t.min(self.v.len() - 1)])
+        }
+    }
+
+    /// The nominal trajectory x̄(t) from x̄(0) = c₀ with the known input only.
+    fn nominal(&self, c0: &DVector<f64>, steps: usize) -> Vec<DVector<f64>> {
+        let mut x = vec![c0.clone()];
+        for t in 0..steps {
+            let mut next = &self.a * &x[t];
+            if let Some(v) = self.v_at(t) {
+                next += v;
+            }
+            x.push(next);
+        }
+        x
+    }
+}
+
+/// The a-priori bounds (37), (45)–(46).
+#[derive(Debug, Clone)]
+pub struct Bounds {
+    /// Norm of the stacked (smoothing-weighted) noise sequences.
+    pub norm: Norm,
+    pub l1_form: L1Form,
+    /// τ of (37)/(45) and ε of (46).
+    pub tau: f64,
+    pub eps: f64,
+    /// Half-widths of the box of x(0) around `x0_center` (None: δ = ∞).
+    pub delta: Option<DVector<f64>>,
+    pub x0_center: DVector<f64>,
+    /// Σ x(0) = this (a probability vector, Example 4).
+    pub x0_sum: Option<f64>,
+    /// Smoothing constants (None: ∞, no smoothing).
+    pub alpha: Option<f64>,
+    pub beta: Option<f64>,
+}
+
+/// Weight of a sample of age `age` under smoothing constant `c` (45)–(46): bound·e^{age/c}
+/// on the sample is weight e^{−age/c} on the residual.
+fn age_weight(c: Option<f64>, age: usize) -> f64 {
+    c.map_or(1.0, |c| (-(age as f64) / c).exp())
+}
+
+/// One step of the state estimator: T(h) at time k for f = [x(s) − x̄(s), u(s), …, u(k)].
+#[derive(Debug, Clone)]
+pub struct StateStep {
+    pub k: usize,
+    /// First time of the window (s).
+    pub first: usize,
+    pub set: FeasibleSet,
+    /// x(k+1) = offset + S f.
+    pub s_map: DMatrix<f64>,
+    pub offset: DVector<f64>,
+}
+
+/// Section IV: the state x(k+1) from y(0 … k) with a window of `window` steps.
+#[derive(Debug, Clone)]
+pub struct StateProblem {
+    pub system: System,
+    pub bounds: Bounds,
+    /// Window length j + 1 (Theorem 5); ignored when p = 0 (then all data are used: the
+    /// unknowns do not grow).
+    pub window: usize,
+}
+
+impl StateProblem {
+    /// T(h) at time k given y(0 … k) (y may be longer).
+    pub fn step(&self, y: &[DVector<f64>], k: usize) -> Result<StateStep> {
+        let sys = &self.system;
+        let bd = &self.bounds;
+        let (r, p) = (sys.r(), sys.p());
+        if y.len() <= k {
+            return Err(Error::field("ubb.time", format!("k = {k} needs y(0 … {k}), only {} given", y.len())));
+        }
+        let len = if p == 0 { k + 1 } else { self.window.clamp(1, k + 1) };
+        let s = k + 1 - len;
+        let dim = r + p * len;
+        let nominal = sys.nominal(&bd.x0_center, k + 1);
+        // Powers A⁰ … A^{k+1}.
+        let mut pow = vec![DMatrix::identity(r, r)];
+        for i in 0..=k {
+            let next = &sys.a * &pow[i];
+            pow.push(next);
+        }
+        // Column block of u(l) in f.
+        let ucol = |l: usize| r + p * (l - s);
+        // (39) on the window: x(t) − x̄(t) = A^{t−s} z + Σ_{l=s}^{t−1} A^{t−1−l} B u(l).
+        let state_map = |t: usize| -> DMatrix<f64> {
+            let mut m = DMatrix::zeros(r, dim);
+            m.view_mut((0, 0), (r, r)).copy_from(&pow[t - s]);
+            for l in s..t {
+                m.view_mut((0, ucol(l)), (r, p)).copy_from(&(&pow[t - 1 - l] * &sys.b));
+            }
+            m
+        };
+        let mut bounds = Vec::new();
+        // Measurements (40)–(42) with the smoothed bound (46).
+        let q = sys.c_at(0).nrows();
+        if q > 0 {
+            let mut n_op = DMatrix::zeros(q * len, dim);
+            let mut h = DVector::zeros(q * len);
+            let mut w = DVector::zeros(q * len);
+            for t in s..=k {
+                let c = sys.c_at(t);
+                if c.nrows() != q || y[t].len() != q {
+                    return Err(Error::field("data.y", format!("y({t}) has {} entries, C has {} rows", y[t].len(), c.nrows())));
+                }
+                let row = q * (t - s);
+                n_op.view_mut((row, 0), (q, dim)).copy_from(&(c * state_map(t)));
+                h.rows_mut(row, q).copy_from(&(&y[t] - c * &nominal[t]));
+                w.rows_mut(row, q).fill(age_weight(bd.beta, k - t));
+            }
+            bounds.push(NormBound {
+                map: n_op,
+                center: h,
+                weights: w,
+                norm: bd.norm,
+                bound: bd.eps,
+                field: "ubb.eps".into(),
+            });
+        }
+        // Process noise in the window (37) with the smoothed bound (45).
+        if p > 0 {
+            let mut map = DMatrix::zeros(p * len, dim);
+            map.view_mut((0, r), (p * len, p * len)).fill_with_identity();
+            let w = DVector::from_fn(p * len, |i, _| age_weight(bd.alpha, k - (s + i / p)));
+            bounds.push(NormBound {
+                map,
+                center: DVector::zeros(p * len),
+                weights: w,
+                norm: bd.norm,
+                bound: bd.tau,
+                field: "ubb.tau".into(),
+            });
+        }
+        // The window's initial state z = x(s) − x̄(s): the box of x(0) moved by A^s, plus the
+        // noise before the window, each sample bounded by τe^{(k−l)/α} (45) in the noise norm.
+        if let Some(delta) = &bd.delta {
+            let mut half = DVector::zeros(r);
+            for i in 0..r {
+                let prior: f64 = (0..r).map(|j| pow[s][(i, j)].abs() * delta[j]).sum();
+                let mut noise = 0.0;
+                for l in 0..s {
+                    let m = &pow[s - 1 - l] * &sys.b;
+                    let row = m.row(i).transpose();
+                    // Dual norm of the row: the largest |row·u| over ‖u‖ ≤ 1.
+                    let dual = match bd.norm {
+                        Norm::Linf => row.iter().map(|v| v.abs()).sum::<f64>(),
+                        Norm::L1 => row.amax(),
+                        Norm::L2 => row.norm(),
+                    };
+                    noise += dual * bd.tau * (1.0 / age_weight(bd.alpha, k - l));
+                }
+                half[i] = prior + noise;
+            }
+            if half.iter().all(|v| v.is_finite()) {
+                let mut map = DMatrix::zeros(r, dim);
+                map.view_mut((0, 0), (r, r)).fill_with_identity();
+                // |z_i| ≤ half_i as a unit l∞ ball with weights 1/half_i (half_i = 0 pins z_i).
+                bounds.push(NormBound {
+                    map,
+                    center: DVector::zeros(r),
+                    weights: half.map(|v| if v > 0.0 { 1.0 / v } else { 1e12 }),
+                    norm: Norm::Linf,
+                    bound: 1.0,
+                    field: "ubb.delta".into(),
+                });
+            }
+        }
+        let eq = match (bd.x0_sum, s) {
+            (Some(total), 0) => {
+                let mut e = DMatrix::zeros(1, dim);
+                e.view_mut((0, 0), (1, r)).fill(1.0);
+                Some((e, DVector::from_element(1, total - bd.x0_center.sum())))
+            }
+            _ => None,
+        };
+        if bd.delta.is_none() {
+            self.check_observable(&state_map, s, k, r)?;
+        }
+        Ok(StateStep {
+            k,
+            first: s,
+            set: FeasibleSet {
+                dim,
+                bounds,
+                eq,
+                l1_form: bd.l1_form,
+                field: "ubb.eps".into(),
+            },
+            s_map: state_map(k + 1),
+            offset: nominal[k + 1].clone(),
+        })
+    }
+
+    /// With δ = ∞ the window's outputs must determine x(s) (the Remark on observability).
+    fn check_observable(&self, state_map: &dyn Fn(usize) -> DMatrix<f64>, s: usize, k: usize, r: usize) -> Result<()> {
+        let mut rows = Vec::new();
+        for t in s..=k {
+            let m = self.system.c_at(t) * state_map(t).columns(0, r);
+            rows.extend(m.row_iter().map(|x| x.into_owned()));
+        }
+        let rank = if rows.is_empty() {
+            0
+        } else {
+            DMatrix::from_rows(&rows).svd(false, false).rank(1e-9 * DMatrix::from_rows(&rows).amax().max(1e-300))
+        };
+        if rank < r {
+            return Err(Error::field(
+                "ubb.delta",
+                format!(
+                    "is ∞ (no bound on x(0)), but y({s} … {k}) determine only {rank} of the {r} state directions (rank [C; CA; …] = {rank} < {r}): the feasible set is unbounded; give δ or wait for more data"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl StateStep {
+    /// Interval hull of x(k+1).
+    pub fn hull(&self) -> Result<IntervalHull> {
+        let h = self.set.interval_hull(&self.s_map)?;
+        Ok(self.shift(h))
+    }
+
+    fn shift(&self, h: IntervalHull) -> IntervalHull {
+        IntervalHull {
+            lo: h.lo.iter().zip(self.offset.iter()).map(|(a, b)| a + b).collect(),
+            hi: h.hi.iter().zip(self.offset.iter()).map(|(a, b)| a + b).collect(),
+        }
+    }
+
+    /// Interval hull of all of x(k+1) and the exact polygon of the `plane` components, from
+    /// one loaded solver.
+    pub fn hull_and_polygon(&self, plane: [usize; 2], budget: usize) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
+        let mut solver = self.set.support_solver()?;
+        let hull = self.shift(solver.interval_hull(&self.s_map)?);
+        let rows = DMatrix::from_fn(2, self.s_map.ncols(), |i, j| self.s_map[(plane[i], j)]);
+        let mut poly = solver.polygon(&rows, budget)?;
+        let (ox, oy) = (self.offset[plane[0]], self.offset[plane[1]]);
+        for v in &mut poly.vertices {
+            v[0] += ox;
+            v[1] += oy;
+        }
+        poly.hull = [poly.hull[0] + ox, poly.hull[1] + ox, poly.hull[2] + oy, poly.hull[3] + oy];
+        Ok((hull, poly, solver.size))
+    }
+}
+
+/// Noise in simulations: uniform within the bound, or at the bound with random signs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NoiseMode {
+    Random,
+    Bound,
+}
+
+/// A simulated run: x(0 … steps), y(0 … steps−1), u(0 … steps−1).
+#[derive(Debug, Clone)]
+pub struct Run {
+    pub x: Vec<DVector<f64>>,
+    pub y: Vec<DVector<f64>>,
+    pub u: Vec<DVector<f64>>,
+    /// Per-component magnitude bound of the process and measurement noise used.
+    pub u_level: f64,
+    pub eta_level: f64,
+}
+
+/// Per-component level c such that every window's stacked, weighted noise norm stays within
+/// `bound` when each component is at most c (the sum of the weights over the longest window).
+fn component_level(norm: Norm, bound: f64, smoothing: Option<f64>, longest: usize, dim: usize) -> f64 {
+    let weights = (0..longest.max(1)).map(|a| age_weight(smoothing, a));
+    let d = dim.max(1) as f64;
+    match norm {
+        Norm::Linf => bound,
+        Norm::L1 => bound / (weights.sum::<f64>() * d),
+        Norm::L2 => bound / (weights.map(|w| w * w).sum::<f64>() * d).sqrt(),
+    }
+}
+
+impl StateProblem {
+    /// The longest window any step uses over `steps` steps.
+    fn longest(&self, steps: usize) -> usize {
+        if self.system.p() == 0 {
+            steps
+        } else {
+            self.window.min(steps)
+        }
+    }
+
+    /// Simulate `steps` steps; x(0) is `x0` or drawn in its box (at a corner with `Bound`).
+    pub fn simulate(&self, steps: usize, mode: NoiseMode, x0: Option<&DVector<f64>>, seed: u64) -> Run {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let sys = &self.system;
+        let bd = &self.bounds;
+        let (r, p) = (sys.r(), sys.p());
+        let q = sys.c_at(0).nrows();
+        let longest = self.longest(steps);
+        let u_level = component_level(bd.norm, bd.tau, bd.alpha, longest, p);
+        let eta_level = component_level(bd.norm, bd.eps, bd.beta, longest, q);
+        let mut draw = |level: f64| -> f64 {
+            match mode {
+                NoiseMode::Random => (rng.random::<f64>() * 2.0 - 1.0) * level,
+                NoiseMode::Bound => {
+                    if rng.random::<bool>() {
+                        level
+                    } else {
+                        -level
+                    }
+                }
+            }
+        };
+        let x_start = match (x0, &bd.delta) {
+            (Some(x), _) => x.clone(),
+            (None, Some(d)) => DVector::from_fn(r, |i, _| bd.x0_center[i] + draw(d[i])),
+            (None, None) => bd.x0_center.clone(),
+        };
+        let mut x = vec![x_start];
+        let (mut y, mut u) = (Vec::new(), Vec::new());
+        for t in 0..steps {
+            let eta = DVector::from_fn(q, |_, _| draw(eta_level));
+            y.push(sys.c_at(t) * &x[t] + eta);
+            let ut = DVector::from_fn(p, |_, _| draw(u_level));
+            let mut next = &sys.a * &x[t] + &sys.b * &ut;
+            if let Some(v) = sys.v_at(t) {
+                next += v;
+            }
+            x.push(next);
+            u.push(ut);
+        }
+        Run {
+            x,
+            y,
+            u,
+            u_level,
+            eta_level,
+        }
+    }
+
+    /// The Kalman filter's one-step predictions x(k+1|k) and covariances, k = 0 … steps−1, with
+    /// the variances of the simulated noise (level²/3 uniform, level² at the bound).
+    pub fn kalman(&self, run: &Run, mode: NoiseMode) -> Vec<(DVector<f64>, DMatrix<f64>)> {
+        let sys = &self.system;
+        let (r, p) = (sys.r(), sys.p());
+        let var = |level: f64| match mode {
+            NoiseMode::Random => level * level / 3.0,
+            NoiseMode::Bound => level * level,
+        };
+        let qn = &sys.b * DMatrix::identity(p, p) * var(run.u_level) * sys.b.transpose();
+        let mut x = self.bounds.x0_center.clone();
+        let mut pm = match &self.bounds.delta {
+            Some(d) => DMatrix::from_diagonal(&d.map(|v| var(v))),
+            None => DMatrix::identity(r, r) * 1e8,
+        };
+        let mut out = Vec::new();
+        for (t, yt) in run.y.iter().enumerate() {
+            let c = sys.c_at(t);
+            if c.nrows() > 0 {
+                let rn = DMatrix::identity(c.nrows(), c.nrows()) * var(run.eta_level).max(1e-300);
+                let s = c * &pm * c.transpose() + rn;
+                if let Some(si) = s.try_inverse() {
+                    let g = &pm * c.transpose() * si;
+                    x = &x + &g * (yt - c * &x);
+                    pm = (DMatrix::identity(r, r) - &g * c) * &pm;
+                    pm = (&pm + pm.transpose()) * 0.5;
+                }
+            }
+            x = &sys.a * &x;
+            if let Some(v) = sys.v_at(t) {
+                x += v;
+            }
+            pm = &sys.a * &pm * sys.a.transpose() + &qn;
+            out.push((x.clone(), pm.clone()));
+        }
+        out
+    }
+}
