@@ -698,6 +698,8 @@ pub struct StateProblem {
     /// Window length j + 1 (Theorem 5); ignored when p = 0 (then all data are used: the
     /// unknowns do not grow).
     pub window: usize,
+    /// Simulation only: true levels (τ, ε) when they differ from the bounds.
+    pub sim_levels: (Option<f64>, Option<f64>),
 }
 
 impl StateProblem {
@@ -934,8 +936,8 @@ impl StateProblem {
         let (r, p) = (sys.r(), sys.p());
         let q = sys.c_at(0).nrows();
         let longest = self.longest(steps);
-        let u_level = component_level(bd.norm, bd.tau, bd.alpha, longest, p);
-        let eta_level = component_level(bd.norm, bd.eps, bd.beta, longest, q);
+        let u_level = component_level(bd.norm, self.sim_levels.0.unwrap_or(bd.tau), bd.alpha, longest, p);
+        let eta_level = component_level(bd.norm, self.sim_levels.1.unwrap_or(bd.eps), bd.beta, longest, q);
         let mut draw = |level: f64| -> f64 {
             match mode {
                 NoiseMode::Random => (rng.random::<f64>() * 2.0 - 1.0) * level,

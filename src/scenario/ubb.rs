@@ -77,6 +77,13 @@ pub struct UbbSpec {
     /// Basis functions of Example 1: "1", "k", "k2", "sin:P", "cos:P" (period P).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub basis: Option<Vec<String>>,
+    /// True noise levels of the simulation when they differ from the assumed bounds (default:
+    /// the bounds). Bounds below the truth can contradict the data (an infeasible LP) or
+    /// lose the truth: the page uses this to show what a wrong bound does.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sim_eps: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sim_tau: Option<f64>,
     /// Level of the Kalman ellipsoid compared with the set.
     #[serde(default = "default_kf_level")]
     pub kf_level: f64,
@@ -257,6 +264,11 @@ impl Scenario {
                 finite_positive(f, v, false)?;
             }
         }
+        for (f, v) in [("ubb.sim_eps", spec.sim_eps), ("ubb.sim_tau", spec.sim_tau)] {
+            if let Some(v) = v {
+                finite_positive(f, v, true)?;
+            }
+        }
         if !(spec.kf_level > 0.0 && spec.kf_level < 1.0) {
             return Err(Error::field("ubb.kf_level", format!("must lie strictly between 0 and 1, found {}", spec.kf_level)));
         }
@@ -415,6 +427,7 @@ impl Scenario {
                     beta: spec.beta,
                 },
                 window,
+                sim_levels: (spec.sim_tau, spec.sim_eps),
             },
             spec,
             steps,
@@ -544,5 +557,60 @@ impl UbbPrepared {
             size,
             prediction,
         })
+    }
+}
+
+/// The guarantee counter: over runs, how often the true x(k+1) left the set (interval hull;
+/// must be 0) and how often it left the Kalman ellipsoid at `kf_level`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct GuaranteeCount {
+    pub runs: usize,
+    pub outside: usize,
+    pub kf_outside: usize,
+    /// Largest distance by which a true state left the hull (≤ 0 when inside: the margin).
+    pub worst_excess: f64,
+}
+
+impl GuaranteeCount {
+    /// Add another chunk's counts.
+    pub fn merge(&mut self, other: &GuaranteeCount) {
+        if self.runs == 0 {
+            *self = *other;
+            return;
+        }
+        self.runs += other.runs;
+        self.outside += other.outside;
+        self.kf_outside += other.kf_outside;
+        self.worst_excess = self.worst_excess.max(other.worst_excess);
+    }
+}
+
+impl UbbPrepared {
+    /// `runs` fresh simulations (seeds first_seed, first_seed + 1, …; the truth x(0) is redrawn
+    /// unless `simulate.x0` fixes it), each checked at step k.
+    pub fn guarantee(&self, k: usize, first_seed: u64, runs: usize) -> Result<GuaranteeCount> {
+        if k >= self.steps {
+            return Err(Error::field("ubb.time", format!("must be below the {} steps, found {k}", self.steps)));
+        }
+        let r = self.problem.system.r();
+        let chi = chi2_quantile(self.spec.kf_level, r)?;
+        let mut count = GuaranteeCount { worst_excess: f64::NEG_INFINITY, ..Default::default() };
+        for i in 0..runs {
+            let run = self.problem.simulate(k + 1, self.spec.noise, self.x0.as_ref(), first_seed.wrapping_add(i as u64));
+            let hull = self.problem.step(&run.y, k)?.hull()?;
+            let truth = &run.x[k + 1];
+            let excess = truth
+                .iter()
+                .zip(hull.lo.iter().zip(&hull.hi))
+                .map(|(x, (l, h))| (l - x).max(x - h))
+                .fold(f64::NEG_INFINITY, f64::max);
+            count.worst_excess = count.worst_excess.max(excess);
+            count.outside += usize::from(!hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
+            let kf = self.problem.kalman(&run, self.spec.noise);
+            let (m, p) = &kf[k];
+            count.kf_outside += usize::from(!Ellipsoid::new(m, p, chi).contains(truth.as_slice()));
+            count.runs += 1;
+        }
+        Ok(count)
     }
 }
