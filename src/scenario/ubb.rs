@@ -259,6 +259,7 @@ impl Scenario {
         let ms = &self.model;
         finite_positive("ubb.eps", spec.eps, false)?;
         finite_positive("ubb.tau", spec.tau, true)?;
+        finite_positive("ubb.gamma", spec.gamma, false)?;
         for (f, v) in [("ubb.alpha", spec.alpha), ("ubb.beta", spec.beta)] {
             if let Some(v) = v {
                 finite_positive(f, v, false)?;
