@@ -8,16 +8,16 @@
 //!                                          conditional Monte Carlo (counts JSON)
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
 //!         [--panel state|series|coverage|region|singular|index|plane|precision
-//!                 |ustates|uoutput|uparams|upolygon]
+//!                 |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
 //!         [--time T] [--zoom auto|regions|full]
 //!         [--size WxH]                     default panel: the report's first useful one
 //!                                          (region for LSCR, singular for GLLS, ustates for
-//!                                          uniform_lp, state otherwise)
+//!                                          uniform_lp, ubbset for ubb, state otherwise)
 //! confset figures [-o] DIR [--size WxH]    every useful panel of every preset as SVG
 //!                                          (DIR/PRESET-PANEL.svg; LSCR presets: the region;
 //!                                          GLLS presets: singular, index, plane, precision;
 //!                                          uniform presets: ustates, uoutput, uparams,
-//!                                          upolygon)
+//!                                          upolygon; ubb presets: ubbset, ubbwidth)
 //! ```
 
 use confset::plot::{self, Panel, View, Zoom};
@@ -31,10 +31,10 @@ const USAGE: &str = "usage:
   confset experiment (SCENARIO.json | --preset NAME) [--runs N]
   confset figure (SCENARIO.json | --preset NAME) -o FILE.svg
           [--panel state|series|coverage|region|singular|index|plane|precision
-                  |ustates|uoutput|uparams|upolygon]
+                  |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
           [--time T] [--zoom auto|regions|full]
           [--size WxH]   (default panel: region for LSCR scenarios, singular for GLLS,
-                          ustates for uniform_lp, state otherwise)
+                          ustates for uniform_lp, ubbset for ubb, state otherwise)
   confset figures [-o] DIR [--size WxH]";
 
 /// Flags that take a value (so the value is not mistaken for the scenario file).

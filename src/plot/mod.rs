@@ -42,6 +42,11 @@
 //!   half-widths x̂ᵣ, ŷᵣ with the true values dashed) and [`Panel::UPolygon`]
 //!   (`uniform_polygon.rs`: the consistent-state polygon with truth ◇, LP ⋆, KF × and the
 //!   optimal-face box).
+//! * Set-membership reports (Tempo, method `ubb`) have two panels: [`Panel::UbbSet`]
+//!   (`ubb.rs`: the exact feasible polygon of x(k+1) at the report's step k, its interval hull
+//!   dashed, the central estimate ⋆, the truth ◇, the Kalman ellipse dashed) and
+//!   [`Panel::UbbWidth`] (`ubb_width.rs`: the hull's widths over k with the Theorem 4 bound and
+//!   a cursor at k; below, the truth inside its hull bands).
 //!
 //! Colors, fonts and the legend are shared (`style.rs`): KF vermillion dashed, SCF blue solid,
 //! truth black, measurements grey (Okabe–Ito, colorblind-safe).
@@ -63,6 +68,8 @@ mod region;
 mod series;
 mod state;
 pub mod style;
+mod ubb;
+mod ubb_width;
 mod uniform;
 mod uniform_params;
 mod uniform_polygon;
@@ -116,6 +123,15 @@ pub enum Panel {
     /// components) with the truth, the LP and KF estimates and the optimal-face box.
     #[serde(rename = "upolygon")]
     UPolygon,
+    /// Set-membership (Tempo): the exact feasible set of x(k+1) at the report's step k (a
+    /// polygon in the plane components) with its interval hull, the central estimate, the
+    /// truth and the Kalman ellipse (ubb reports only).
+    #[serde(rename = "ubbset")]
+    UbbSet,
+    /// Set-membership: the widths of the interval hull over k with the Theorem 4 bound, and
+    /// the truth inside its hull bands.
+    #[serde(rename = "ubbwidth")]
+    UbbWidth,
 }
 
 impl Panel {
@@ -134,6 +150,8 @@ impl Panel {
             Panel::UOutput => "uoutput",
             Panel::UParams => "uparams",
             Panel::UPolygon => "upolygon",
+            Panel::UbbSet => "ubbset",
+            Panel::UbbWidth => "ubbwidth",
         }
     }
     /// The panels of a GLLS report.
@@ -150,6 +168,10 @@ impl Panel {
             Panel::UStates | Panel::UOutput | Panel::UParams | Panel::UPolygon
         )
     }
+    /// The panels of a set-membership (ubb) report.
+    pub fn is_ubb(&self) -> bool {
+        matches!(self, Panel::UbbSet | Panel::UbbWidth)
+    }
     /// Parse a lower-case name.
     pub fn from_name(s: &str) -> Result<Panel> {
         match s {
@@ -165,9 +187,11 @@ impl Panel {
             "uoutput" => Ok(Panel::UOutput),
             "uparams" => Ok(Panel::UParams),
             "upolygon" => Ok(Panel::UPolygon),
+            "ubbset" => Ok(Panel::UbbSet),
+            "ubbwidth" => Ok(Panel::UbbWidth),
             _ => Err(Error::field(
                 "panel",
-                format!("\"{s}\" is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams or upolygon"),
+                format!("\"{s}\" is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams, upolygon, ubbset or ubbwidth"),
             )),
         }
     }
@@ -335,6 +359,24 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         ));
     }
     let fonts = Fonts::for_backend::<DB>((w, h));
+    // A set-membership report has no KF/SCF steps: only its panels draw it, and only it.
+    match (view.panel.is_ubb(), report.ubb.is_some()) {
+        (true, _) => {
+            ubb::check(report, view.panel)?;
+            return draw_erased(backend, |root| match view.panel {
+                Panel::UbbSet => ubb::draw_set(root, report, view, fonts),
+                _ => ubb_width::draw(root, report, view, fonts),
+            });
+        }
+        (false, true) => {
+            return Err(not_drawn_by(
+                view.panel,
+                "a set-membership report (method \"ubb\")",
+                "ubbset or ubbwidth",
+            ))
+        }
+        (false, false) => {}
+    }
     // A uniform-innovation report has no KF/SCF steps: only its panels draw it, and only it.
     match (view.panel.is_uniform(), report.uniform.is_some()) {
         (true, _) => {
@@ -422,6 +464,10 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
                 "draws uniform-innovation reports only",
             ))
         }
+        // Handled above (a set-membership report).
+        Panel::UbbSet | Panel::UbbWidth => {
+            return Err(Error::field("panel", "draws set-membership reports only"))
+        }
     };
     root.present().map_err(de)?;
     Ok(frame)
@@ -446,9 +492,12 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
 
 /// The panels worth drawing for a report: Region alone for an LSCR report; Singular, Index,
 /// Plane and (with a Monte Carlo study) Precision for a GLLS report; UStates, UOutput, UParams
-/// and UPolygon for a uniform-innovation report; otherwise State and Series always, Coverage
+/// and UPolygon for a uniform-innovation report; UbbSet and UbbWidth for a set-membership report; otherwise State and Series always, Coverage
 /// when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
+    if report.ubb.is_some() {
+        return vec![Panel::UbbSet, Panel::UbbWidth];
+    }
     if report.uniform.is_some() {
         return vec![
             Panel::UStates,

@@ -214,6 +214,7 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
                 let expect = match (r.lscr.is_some(), r.glls.is_some(), panel) {
                     (_, _, Panel::UPolygon) => "true state",
                     (_, _, p) if p.is_uniform() => "t = ",
+                    (_, _, p) if p.is_ubb() => "k = ",
                     (true, _, _) => "X̂ ",
                     (_, true, Panel::Plane) => "true state",
                     (_, true, _) => "in use",
@@ -1231,4 +1232,179 @@ fn uniform_panels_are_fast() {
         eprintln!("uniform {} 800×600: {ms:.2} ms per SVG", panel.name());
         assert!(ms < 250.0, "{}: {ms} ms", panel.name());
     }
+}
+
+// ------------------------------------------------------------------ set-membership (ubb)
+
+const UBB_PRESETS: [&str; 4] = ["ubb-track", "ubb-series", "ubb-leontief", "ubb-markov"];
+
+#[test]
+fn ubb_presets_draw_both_panels_at_every_size() {
+    for name in UBB_PRESETS {
+        let (s, r) = preset(name);
+        assert_eq!(
+            useful_panels(&r),
+            vec![Panel::UbbSet, Panel::UbbWidth],
+            "{name}"
+        );
+        let k = r.ubb.as_ref().expect("ubb").at.k;
+        for p in [Panel::UbbSet, Panel::UbbWidth] {
+            assert_eq!(Panel::from_name(p.name()).expect("parses"), p);
+            for (w, h) in [(240, 180), (400, 250), (640, 400), (960, 640), (1600, 1200)] {
+                let v = View::new(p).with_scenario(&s);
+                let mut out = String::new();
+                let f = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &v)
+                    .unwrap_or_else(|e| panic!("{name} {} {w}×{h}: {e}", p.name()));
+                let (l, t, rt, b) = f.plot_area;
+                assert!(
+                    0 <= l && l < rt && rt <= w as i32 && 0 <= t && t < b && b <= h as i32,
+                    "{name} {} {w}×{h}: {f:?}",
+                    p.name()
+                );
+                assert!(f.x_range.0 < f.x_range.1 && f.y_range.0 < f.y_range.1);
+                assert!(
+                    out.len() > 2000 && out.contains("<svg"),
+                    "{name} {}: empty",
+                    p.name()
+                );
+                assert!(
+                    out.contains(&format!("k = {k}")),
+                    "{name} {} {w}×{h}: no k = {k}",
+                    p.name()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn ubb_panels_say_what_they_show() {
+    let (s, r) = preset("ubb-track");
+    let set = svg(&s, &r, Panel::UbbSet, None);
+    for label in [
+        "Feasible set of x(41), k = 40",
+        "l∞ bounds",
+        "true state x(41)",
+        "central estimate",
+        "interval hull",
+        "Kalman 99 % ellipse",
+        "x₁(k+1)",
+        "x₂(k+1)",
+        "truth inside the set",
+        "(exact)",
+    ] {
+        assert!(set.contains(label), "ubbset lacks \"{label}\"");
+    }
+    let width = svg(&s, &r, Panel::UbbWidth, None);
+    for label in [
+        "Width of the interval hull",
+        "width of x₁(k+1)",
+        "width of x₂(k+1)",
+        "Theorem 4 bound (2·τ‖B‖/(1−‖A‖e^(1/α)))",
+        "k = 40",
+        "truth in its hull band",
+    ] {
+        assert!(width.contains(label), "ubbwidth lacks \"{label}\"");
+    }
+    let f: Frame = {
+        let mut out = String::new();
+        draw(
+            SVGBackend::with_string(&mut out, (960, 640)),
+            &r,
+            &View::new(Panel::UbbWidth),
+        )
+        .expect("draws")
+    };
+    assert_eq!(f.more.len(), 1, "the truth bands below the widths");
+    // Without process noise there is no Theorem 4 bound, and the panel says why.
+    let (s, r) = preset("ubb-series");
+    let width = svg(&s, &r, Panel::UbbWidth, None);
+    assert!(width.contains("no Theorem 4 bound"));
+    assert!(!width.contains("Theorem 4 bound (2"));
+    // An l1 norm is named; a projection of r = 3 says so; a polygon within a gap says so.
+    let (s, r) = preset("ubb-leontief");
+    let set = svg(&s, &r, Panel::UbbSet, None);
+    assert!(set.contains("r = 3: the projection on x₁, x₂"));
+    if !r.ubb.as_ref().expect("ubb").at.polygon.exact {
+        assert!(set.contains("within gap"));
+    }
+    let mut s1 = s.clone();
+    if let Some(u) = s1.ubb.as_mut() {
+        u.norm = crate::ubb::Norm::L1;
+        u.eps *= 3.0;
+    }
+    let r1 = s1.run().expect("l1 runs");
+    assert!(svg(&s1, &r1, Panel::UbbSet, None).contains("l₁ bounds"));
+}
+
+#[test]
+fn ubb_and_other_panels_do_not_mix() {
+    let (_, r) = preset("ubb-track");
+    for p in [
+        Panel::State,
+        Panel::Series,
+        Panel::Region,
+        Panel::Plane,
+        Panel::UPolygon,
+    ] {
+        let e = report_svg(&r, &View::new(p), 640, 400)
+            .expect_err("a ubb report draws ubb panels only");
+        assert_eq!(e.field, "panel");
+        assert!(e.message.contains("ubbset or ubbwidth"), "{}", e.message);
+    }
+    let (_, other) = preset("uniform-paper");
+    let e = report_svg(&other, &View::new(Panel::UbbSet), 640, 400).expect_err("no ubb part");
+    assert_eq!(e.field, "panel");
+    assert!(e.message.contains("no ubb part"), "{}", e.message);
+    // The set panel holds step k only.
+    let k = r.ubb.as_ref().expect("ubb").at.k;
+    let v = View {
+        time: Some(k + 1),
+        ..View::new(Panel::UbbSet)
+    };
+    assert_eq!(
+        report_svg(&r, &v, 640, 400).expect_err("other k").field,
+        "time"
+    );
+    // Broken reports are errors, not panics.
+    let mut bad = r.clone();
+    if let Some(u) = bad.ubb.as_mut() {
+        u.at.lo.pop();
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UbbSet), 640, 400)
+            .expect_err("short")
+            .field,
+        "report.ubb.at"
+    );
+    let mut bad = r.clone();
+    if let Some(u) = bad.ubb.as_mut() {
+        u.plane = [0, 0];
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UbbWidth), 640, 400)
+            .expect_err("plane")
+            .field,
+        "report.ubb"
+    );
+    let mut bad = r.clone();
+    if let Some(u) = bad.ubb.as_mut() {
+        u.track.clear();
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UbbWidth), 640, 400)
+            .expect_err("empty")
+            .field,
+        "report.ubb"
+    );
+    let mut bad = r;
+    if let Some(u) = bad.ubb.as_mut() {
+        u.at.polygon.vertices.push([f64::NAN, 0.0]);
+    }
+    assert_eq!(
+        report_svg(&bad, &View::new(Panel::UbbSet), 640, 400)
+            .expect_err("nan")
+            .field,
+        "report.ubb.at.polygon"
+    );
 }

@@ -1,0 +1,240 @@
+//! Panel::UbbWidth — over the steps k, the widths hi − lo of the interval hull of x(k+1) in
+//! the two `plane` components (and 2·radius over all components when r > 2) with the
+//! Theorem 4 bound 2·τ‖B‖/(1 − ‖A‖e^{1/α}) on the width of the a-priori set dashed (when it
+//! applies) and the step of the report's set as a cursor; below (figures at least 460 px
+//! high), the true components inside their hull bands.
+
+use super::geom::Win;
+use super::style::{self, num, sub, Axes, Entry, Fonts, Swatch, MUTED};
+use super::ubb::{check, title, HULL, SECOND, SET};
+use super::{Area, Frame, Panel, View};
+use crate::error::Result;
+use crate::scenario::Report;
+use plotters::prelude::*;
+
+const STEP: &str = "step k (set of x(k+1) from y(0 … k))";
+const STEP_SHORT: &str = "step k";
+
+fn time_win(k0: f64, k1: f64, ys: impl Iterator<Item = f64>) -> Win {
+    let mut w = Win::empty();
+    for y in ys {
+        w.add_y(y);
+    }
+    let p = if w.y0 <= w.y1 {
+        Win::new((0.0, 1.0), (w.y0, w.y1)).padded(0.0, 0.07)
+    } else {
+        Win::new((0.0, 1.0), (-1.0, 1.0))
+    };
+    let (a, b) = if k1 > k0 {
+        (k0, k1)
+    } else {
+        (k0 - 0.5, k0 + 0.5)
+    };
+    Win::new((a, b), (p.y0, p.y1))
+}
+
+/// Panel::UbbWidth.
+pub fn draw<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
+    let u = check(report, Panel::UbbWidth)?;
+    let [i, j] = u.plane;
+    let short = fonts.compact;
+    let cursor_k = view.time.unwrap_or(u.at.k);
+    let ks: Vec<f64> = u.track.iter().map(|t| t.k as f64).collect();
+    let width = |c: usize| -> Vec<f64> { u.track.iter().map(|t| t.hi[c] - t.lo[c]).collect() };
+    let (wi, wj) = (width(i), width(j));
+    let wmax: Vec<f64> = u.track.iter().map(|t| 2.0 * t.radius).collect();
+    let bound = u.smoothing.limit.filter(|l| l.is_finite()).map(|l| 2.0 * l);
+    let (k0, k1) = (ks[0], (u.steps.max(1) - 1) as f64);
+    let (xi, xj) = (format!("x{}", sub(i + 1)), format!("x{}", sub(j + 1)));
+
+    let mut notes = vec![format!(
+        "interval hull of the feasible set of x(k+1), {} bounds, window {} steps",
+        super::ubb::norm_name(u.norm),
+        u.window
+    )];
+    match (bound, &u.smoothing.note) {
+        (Some(b), _) => notes.push(format!(
+            "Theorem 4: width ≤ 2·τ‖B‖/(1−‖A‖e^(1/α)) = {} (‖A‖e^(1/α) = {})",
+            num(b, 3),
+            num(u.smoothing.ratio, 3)
+        )),
+        (None, _) if u.smoothing.b_norm == 0.0 || u.p == 0 => notes
+            .push("no Theorem 4 bound: no process noise, the unknowns are x(0) alone".to_string()),
+        (None, _) => notes.push(format!(
+            "no Theorem 4 bound (‖A‖e^(1/α) = {} ≥ 1)",
+            num(u.smoothing.ratio, 3)
+        )),
+    }
+    let truth = u.x_true.as_ref();
+    let stacked = root.dim_in_pixel().1 >= 460;
+
+    let line = |color, dashed, width| Swatch::Line {
+        color,
+        dashed,
+        width,
+    };
+    let mut entries = vec![
+        Entry::new(format!("width of {xi}(k+1)"), line(SET, false, 2)),
+        Entry::new(format!("width of {xj}(k+1)"), line(SECOND, false, 2)),
+    ];
+    if u.r > 2 {
+        entries.push(Entry::new(
+            format!("2·radius (all {} components)", u.r),
+            line(MUTED, false, 1),
+        ));
+    }
+    if bound.is_some() {
+        entries.push(Entry::new(
+            if short {
+                "Theorem 4 bound".to_string()
+            } else {
+                "Theorem 4 bound (2·τ‖B‖/(1−‖A‖e^(1/α)))".to_string()
+            },
+            line(HULL, true, 2),
+        ));
+    }
+    if stacked {
+        entries.push(Entry::new(
+            if truth.is_some() {
+                "below: truth in its hull band"
+            } else {
+                "below: hull bands, centres"
+            },
+            Swatch::Region {
+                color: SET,
+                dashed: false,
+                fill: true,
+            },
+        ));
+    }
+    let title = title(view, &fonts, "Width of the interval hull over k");
+    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
+    let (area, side) = style::legend(&area, &fonts, &entries)?;
+
+    let (top, bottom) = if stacked {
+        let h = area.dim_in_pixel().1 as f64;
+        let (a, b) = area.split_vertically((0.58 * h).round() as i32);
+        (a, Some(b))
+    } else {
+        (area, None)
+    };
+
+    // Widths.
+    let win = time_win(
+        k0,
+        k1,
+        wi.iter()
+            .chain(&wj)
+            .chain(if u.r > 2 { wmax.as_slice() } else { &[] })
+            .copied()
+            .chain(bound)
+            .chain(std::iter::once(0.0)),
+    );
+    let y_desc = if short {
+        "width".to_string()
+    } else {
+        "hull width hi − lo".to_string()
+    };
+    let step_label = if short { STEP_SHORT } else { STEP };
+    let axes = Axes {
+        win,
+        x_desc: step_label,
+        y_desc: &y_desc,
+        x_integer: true,
+        equal: false,
+        x_labels: bottom.is_none(),
+    };
+    let chart = style::chart(&top, &fonts, &axes)?;
+    let mut marks = Vec::new();
+    if let Some(b) = bound {
+        style::path(
+            root,
+            &chart,
+            &[(win.x0, b), (win.x1, b)],
+            &HULL,
+            2,
+            Some(style::DASH),
+        )?;
+        marks.extend(style::marks_of(&chart, &[(win.x0, b), (win.x1, b)]));
+    }
+    let pts =
+        |ys: &[f64]| -> Vec<(f64, f64)> { ks.iter().copied().zip(ys.iter().copied()).collect() };
+    if u.r > 2 {
+        style::path(root, &chart, &pts(&wmax), &MUTED, 1, None)?;
+    }
+    for (ys, color) in [(&wi, SET), (&wj, SECOND)] {
+        let p = pts(ys);
+        style::path(root, &chart, &p, &color, 2, None)?;
+        if p.len() == 1 {
+            style::dots(root, &chart, &p, &color, 3)?;
+        }
+        marks.extend(style::marks_of(&chart, &p));
+    }
+    style::cursor(
+        root,
+        &chart,
+        &fonts,
+        cursor_k as f64,
+        &format!("k = {cursor_k}"),
+    )?;
+    let mut frame = style::frame_of(&chart, step_label, &y_desc);
+
+    if let Some(bottom) = bottom {
+        let mut ys: Vec<f64> = Vec::new();
+        for t in &u.track {
+            ys.extend([t.lo[i], t.hi[i], t.lo[j], t.hi[j]]);
+            if let Some(x) = truth.and_then(|x| x.get(t.k + 1)) {
+                ys.extend([x[i], x[j]]);
+            }
+        }
+        let win2 = time_win(k0, k1, ys.into_iter());
+        let y2 = format!("{xi}(k+1), {xj}(k+1)");
+        let axes2 = Axes {
+            win: win2,
+            x_desc: step_label,
+            y_desc: &y2,
+            x_integer: true,
+            equal: false,
+            x_labels: true,
+        };
+        let chart2 = style::chart(&bottom, &fonts, &axes2)?;
+        for (c, color) in [(i, SET), (j, SECOND)] {
+            let lo: Vec<f64> = u.track.iter().map(|t| t.lo[c]).collect();
+            let hi: Vec<f64> = u.track.iter().map(|t| t.hi[c]).collect();
+            style::band(root, &chart2, &ks, &lo, &hi, &color)?;
+            style::path(root, &chart2, &pts(&lo), &color, 1, None)?;
+            style::path(root, &chart2, &pts(&hi), &color, 1, None)?;
+        }
+        for (c, color) in [(i, SET), (j, SECOND)] {
+            let line: Vec<(f64, f64)> = match truth {
+                Some(x) => u
+                    .track
+                    .iter()
+                    .filter_map(|t| x.get(t.k + 1).map(|v| (t.k as f64, v[c])))
+                    .collect(),
+                None => u.track.iter().map(|t| (t.k as f64, t.center[c])).collect(),
+            };
+            style::path(
+                root,
+                &chart2,
+                &line,
+                &color,
+                2,
+                if truth.is_some() {
+                    None
+                } else {
+                    Some(style::DASH)
+                },
+            )?;
+        }
+        style::cursor(root, &chart2, &fonts, cursor_k as f64, "")?;
+        frame.more.push(style::frame_of(&chart2, step_label, &y2));
+    }
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    Ok(frame)
+}
