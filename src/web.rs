@@ -24,6 +24,11 @@
 //! const g = new GllsStudy(JSON.stringify(withMonteCarlo));    // needs glls.monte_carlo
 //! while (!g.finished()) study = JSON.parse(g.step(100));     // PrecisionReport so far
 //! s.set_precision(JSON.stringify(study));                     // report.glls.precision = study
+//!
+//! // Set-membership (method "ubb"): fresh simulations checked at the scenario's step k, in
+//! // chunks — the truth must never leave the set, the Kalman ellipsoid may.
+//! const u = new UbbGuarantee(JSON.stringify(ubbScenario), 2000);
+//! while (!u.finished()) c = JSON.parse(u.step(50));  // {runs, total, outside, kf_outside, …}
 //! ```
 //!
 //! Every error is thrown as a JS `Error` whose `message` is the crate [`Error`]'s text (it
@@ -43,6 +48,7 @@ use crate::lscr;
 use crate::plot::{self, Frame, View};
 use crate::presets;
 use crate::scenario::lscr::{coverage_report, plane_region};
+use crate::scenario::ubb::{GuaranteeCount, UbbPrepared};
 use crate::scenario::{Report, Scenario};
 use plotters::prelude::DrawingBackend;
 use plotters_backend::{
@@ -367,6 +373,108 @@ impl GllsStudy {
 
     pub fn finished(&self) -> bool {
         self.inner.finished()
+    }
+}
+
+/// The guarantee of a set-membership scenario (method "ubb") made visible: `total` fresh
+/// simulations (seeds after the scenario's own), each checked at the scenario's step k
+/// (`ubb.time`, default the last): how often the true x(k+1) left the set (its interval hull;
+/// must be 0) and how often it left the Kalman ellipsoid at `ubb.kf_level`. Run in chunks so
+/// the page stays responsive and can cancel (by dropping it).
+#[wasm_bindgen]
+pub struct UbbGuarantee {
+    prepared: UbbPrepared,
+    k: usize,
+    next_seed: u64,
+    total: usize,
+    count: GuaranteeCount,
+}
+
+/// Most runs one guarantee study may ask for.
+const MAX_GUARANTEE_RUNS: usize = 1_000_000;
+
+#[wasm_bindgen]
+impl UbbGuarantee {
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario_json: &str, total: u32) -> Result<UbbGuarantee, JsValue> {
+        let prepared = Scenario::from_json(scenario_json)
+            .and_then(|s| s.prepare_ubb())
+            .map_err(|e| js_error(&e))?;
+        let total = total as usize;
+        if !(1..=MAX_GUARANTEE_RUNS).contains(&total) {
+            return Err(js_error(&Error::field(
+                "runs",
+                format!("must lie in 1..={MAX_GUARANTEE_RUNS}, found {total}"),
+            )));
+        }
+        let k = prepared
+            .spec
+            .time
+            .unwrap_or(prepared.steps.saturating_sub(1));
+        if k >= prepared.steps {
+            return Err(js_error(&Error::field(
+                "ubb.time",
+                format!("must be below the {} steps, found {k}", prepared.steps),
+            )));
+        }
+        let next_seed = prepared.seed.wrapping_mul(1_000_003).wrapping_add(1);
+        Ok(UbbGuarantee {
+            prepared,
+            k,
+            next_seed,
+            total,
+            count: GuaranteeCount::default(),
+        })
+    }
+
+    /// Run up to `runs` more simulations (never past the total); returns the counts so far
+    /// (JSON: `runs`, `total`, `k`, `outside`, `kf_outside`, `worst_excess`).
+    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
+        let n = (runs as usize).min(self.total - self.count.runs);
+        if n > 0 {
+            let c = self
+                .prepared
+                .guarantee(self.k, self.next_seed, n)
+                .map_err(|e| js_error(&e))?;
+            self.next_seed = self.next_seed.wrapping_add(n as u64);
+            self.count.merge(&c);
+        }
+        self.counts()
+    }
+
+    /// The counts so far (JSON, as [`UbbGuarantee::step`]).
+    pub fn counts(&self) -> Result<String, JsValue> {
+        #[derive(Serialize)]
+        struct Out<'a> {
+            #[serde(flatten)]
+            count: &'a GuaranteeCount,
+            total: usize,
+            k: usize,
+            kf_level: f64,
+        }
+        to_json(
+            "the guarantee counts",
+            &Out {
+                count: &self.count,
+                total: self.total,
+                k: self.k,
+                kf_level: self.prepared.spec.kf_level,
+            },
+        )
+    }
+
+    /// Total number of runs asked for.
+    pub fn total(&self) -> usize {
+        self.total
+    }
+
+    /// The step k checked.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+
+    pub fn finished(&self) -> bool {
+        self.count.runs >= self.total
     }
 }
 

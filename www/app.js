@@ -1,11 +1,12 @@
 // Bootstrap: load the wasm module, then hand the presets to the SCF vs KF panel, the LSCR panel,
-// the GLLS panel and the uniform-innovation panel. The page computes nothing itself: every number and every picture comes from
+// the GLLS panel, the uniform-innovation panel and the set-membership (ubb) panel. The page computes nothing itself: every number and every picture comes from
 // ./pkg/confset.js.
 import init, * as confset from './pkg/confset.js';
 import { mountScf } from './scf.js';
 import { mountLscr } from './lscr.js';
 import { mountGlls } from './glls.js';
 import { mountUniform } from './uniform.js';
+import { mountUbb } from './ubb.js';
 
 async function main() {
   const status = document.getElementById('t-run');
@@ -20,10 +21,11 @@ async function main() {
   window.confset = confset;
   const list = JSON.parse(confset.presets());
   const method = (p) => p.scenario.method;
-  await mountScf(document.getElementById('scf'), list.filter((p) => !['lscr', 'glls', 'uniform_lp'].includes(method(p))));
+  await mountScf(document.getElementById('scf'), list.filter((p) => !['lscr', 'glls', 'uniform_lp', 'ubb'].includes(method(p))));
   await mountLscr(document.getElementById('lscr'), list.filter((p) => method(p) === 'lscr'));
   await mountGlls(document.getElementById('glls'), list.filter((p) => method(p) === 'glls'));
   await mountUniform(document.getElementById('uniform'), list.filter((p) => method(p) === 'uniform_lp'));
+  await mountUbb(document.getElementById('ubb'), list.filter((p) => method(p) === 'ubb'));
   document.body.dataset.ready = '1';
 }
 

@@ -1,0 +1,174 @@
+// The set-membership (ubb) panel end to end: the two core-drawn figures of ubb-track and its
+// numbers, ε moving the polygon and the numbers, an ε so small the data contradict the bounds
+// shown inline (field ubb.eps, "infeasible") while the last picture stays, the l1 and l2 norms,
+// the chunked guarantee (truth never outside the set), every preset, the animation of k, and
+// screenshots at DPR 1 and 2 (www/screenshot-ubb.png from DPR 1).
+import { join, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+
+const PANELS = ['ubbset', 'ubbwidth'];
+const PRESETS = ['ubb-track', 'ubb-series', 'ubb-leontief', 'ubb-markov'];
+const idle = (page) => page.waitForFunction(() => !document.body.dataset.ubbBusy, null, { timeout: 60_000 });
+const gIdle = (page) => page.waitForFunction(() => !document.body.dataset.ubbGuaranteeBusy, null, { timeout: 120_000 });
+const numbers = (page) => page.$eval('#b-numbers-card', (e) => e.innerText.trim().replace(/\s+/g, ' '));
+const pixels = (page, panel) => page.$eval(`#fig-${panel} canvas`, (c) => c.toDataURL());
+const inked = (page, panel) => inkedFraction(page, `#fig-${panel} canvas`);
+const set = (page, id, value) => setField(page, id, value, idle);
+const choose = (page, name) => choosePreset(page, 'b-preset', name, idle);
+const NUM = '-?[\\d.]+(?:e[+-]?\\d+)?';
+const www = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'www');
+
+async function drawnWell(page, assert, what) {
+  for (const p of PANELS) {
+    assert.equal(await text(page, `#fig-${p} .fig-err`), '', `${what}: the ${p} figure is drawn without error`);
+    const ink = await inked(page, p);
+    assert.ok(ink > 0.02, `${what}: the ${p} figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);
+  }
+  assert.equal(await text(page, '#ubb form .err[data-for="ubb.eps"]'), '', `${what}: no ε error`);
+}
+
+export default async function ubb(env) {
+  const { assert, screenshotDir } = env;
+  for (const dpr of [1, 2]) {
+    const page = await openApp(env, dpr, idle);
+
+    // The ubb presets live in this panel's menu only.
+    const menu = (id) => page.$$eval(`#${id} option`, (os) => os.map((o) => o.value));
+    assert.deepEqual(await menu('b-preset'), PRESETS);
+    for (const id of ['preset', 'l-preset', 'g-preset', 'u-preset']) {
+      assert.ok(!(await menu(id)).some((v) => v.startsWith('ubb')), `#${id} has no ubb preset`);
+    }
+
+    // ubb-track at k = 40: two figures at the pixel ratio, the numbers.
+    assert.equal(await page.$eval('#b-preset', (e) => e.value), 'ubb-track');
+    for (const p of PANELS) {
+      const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
+      assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
+      assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
+      assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
+    }
+    await drawnWell(page, assert, 'ubb-track');
+    let nb = await numbers(page);
+    assert.match(await text(page, '#b-num-title'), /^At step k = 40: the set of x\(41\) from y\(11\) … y\(40\), l∞ bounds$/);
+    assert.match(nb, /window 30 steps/);
+    assert.match(nb, /LP size \d+ variables, \d+ rows/);
+    assert.match(nb, new RegExp(`polygon \\d+ vertices from \\d+ LPs — exact`));
+    assert.match(nb, new RegExp(`central estimate \\(${NUM}, ${NUM}\\)`));
+    assert.match(nb, new RegExp(`radius ${NUM}`));
+    assert.match(nb, /Theorem 4 bound 1\.222/);
+    assert.match(nb, /Theorem 5 j 29/);
+    assert.match(nb, /truth inside the set ✓ yes/);
+    assert.match(nb, /truth inside the KF 99 % ellipsoid [✓✗]/);
+    assert.match(nb, new RegExp(`prediction of y\\(41\\) ∈ \\[${NUM}, ${NUM}\\]`));
+    assert.match(nb, /over the run truth outside the set 0 \/ 60 steps/);
+    assert.match(await text(page, '#b-window-out'), /^Theorem 5: j = 29, window 30 steps$/);
+    assert.match(await text(page, '#b-timing'), /^rendered in [\d.]+ ms \(run [\d.]+ ms \+ draw [\d.]+ ms\)$/);
+    assert.match(await text(page, '#b-time-out'), /^= 40$/);
+
+    if (dpr === 1) {
+      // Timings of the page's wasm run (report of 60 steps, 30-step windows, the polygon).
+      const ms = await page.evaluate(() => {
+        const s = new window.confset.Session();
+        const sc = JSON.parse(window.confset.presets()).find((p) => p.name === 'ubb-track').scenario;
+        const t0 = performance.now();
+        for (let i = 0; i < 3; i++) s.run(JSON.stringify(sc));
+        const dt = (performance.now() - t0) / 3;
+        s.free();
+        return dt;
+      });
+      console.log(`    ubb-track Session.run in the page: ${ms.toFixed(1)} ms`);
+      assert.ok(ms < 5000, `ubb-track runs in ${ms.toFixed(0)} ms`);
+
+      // ε moves the polygon and the numbers.
+      const before = { set: await pixels(page, 'ubbset'), nb };
+      await set(page, 'b-eps', '0.3');
+      await drawnWell(page, assert, 'ε = 0.3');
+      assert.notEqual(await pixels(page, 'ubbset'), before.set, 'ε changes the polygon picture');
+      nb = await numbers(page);
+      assert.notEqual(nb, before.nb, 'ε changes the numbers');
+      assert.match(nb, /truth inside the set ✓ yes/);
+
+      // ε so small the data contradict the bounds: inline error naming ε, last picture kept.
+      const good = await pixels(page, 'ubbset');
+      const goodNb = await numbers(page);
+      await set(page, 'b-eps', '0.001');
+      const err = await text(page, '#ubb form .err[data-for="ubb.eps"]');
+      assert.match(err, /^ubb\.eps .*infeasible/, `inline ε error: "${err}"`);
+      assert.equal(await page.$eval('#b-eps', (e) => e.getAttribute('aria-invalid')), 'true');
+      assert.equal(await page.$eval('#b-stale', (e) => e.hidden), false, 'the stale note shows');
+      assert.equal(await pixels(page, 'ubbset'), good, 'the last good picture stays');
+      assert.equal(await numbers(page), goodNb, 'the last good numbers stay');
+      await set(page, 'b-eps', '0.2');
+      await drawnWell(page, assert, 'ε back to 0.2');
+      assert.equal(await page.$eval('#b-stale', (e) => e.hidden), true);
+
+      // The l1 and l2 norms: other pictures, no error.
+      let last = await pixels(page, 'ubbset');
+      for (const [norm, name] of [['l1', 'l₁'], ['l2', 'l₂']]) {
+        await set(page, 'b-norm', norm);
+        await drawnWell(page, assert, `norm ${norm}`);
+        const now = await pixels(page, 'ubbset');
+        assert.notEqual(now, last, `${norm} changes the picture`);
+        last = now;
+        assert.match(await text(page, '#b-num-title'), new RegExp(`${name} bounds$`));
+        assert.match(await numbers(page), /truth inside the set ✓ yes/);
+      }
+      await set(page, 'b-norm', 'linf');
+
+      // Noise at the bound and empty α, β (∞): still guaranteed.
+      await set(page, 'b-noise', 'true');
+      await drawnWell(page, assert, 'noise at the bound');
+      assert.match(await numbers(page), /truth inside the set ✓ yes/);
+      await set(page, 'b-noise', 'false');
+
+      // The guarantee: a few runs, never outside the set.
+      await set(page, 'b-runs', '60');
+      await page.click('#b-go');
+      await gIdle(page);
+      assert.equal(await text(page, '#b-g-err'), '');
+      const g = await text(page, '#b-g-result');
+      assert.match(g, /^truth outside the set: 0 \/ 60; outside the KF 99 % ellipse: \d+ \/ 60/, g);
+      assert.match(await text(page, '#b-g-status'), /^60 runs at k = 40 in \d+ ms/);
+
+      // The step slider moves the set; the animation steps k.
+      await set(page, 'b-time', '20');
+      assert.match(await text(page, '#b-num-title'), /^At step k = 20:/);
+      await page.click('#b-animate');
+      await page.waitForFunction(() => Number(document.querySelector('#b-time').value) >= 22, null, { timeout: 30_000 });
+      await page.click('#b-animate');
+      await idle(page);
+      const k = Number(await page.$eval('#b-time', (e) => e.value));
+      assert.ok(k >= 22, `animated to k = ${k}`);
+      assert.match(await text(page, '#b-num-title'), new RegExp(`^At step k = ${k}:`));
+      await set(page, 'b-time', '40');
+
+      // The cursor read-out of both figures.
+      for (const p of PANELS) {
+        const c = await page.$(`#fig-${p} canvas`);
+        await c.scrollIntoViewIfNeeded();
+        const bb = await c.boundingBox();
+        let cur = '';
+        for (const [fx, fy] of [0.3, 0.5, 0.7].flatMap((y) => [0.55, 0.35, 0.8].map((x) => [x, y]))) {
+          await page.mouse.move(bb.x + bb.width * fx, bb.y + bb.height * fy);
+          cur = await text(page, `#fig-${p} .cursor`);
+          if (cur) break;
+        }
+        assert.match(cur, /^.+ = -?[\d.e+-]+, .+ = -?[\d.e+-]+$/, `${p} cursor read-out: "${cur}"`);
+      }
+      await page.mouse.move(0, 0);
+
+      // Every preset loads and draws without error.
+      for (const name of PRESETS) {
+        await choose(page, name);
+        await drawnWell(page, assert, name);
+        const n = await numbers(page);
+        assert.match(n, /truth inside the set ✓ yes/, `${name}: ${n}`);
+        await shootSection(page, 'ubb-section', screenshotDir, `ubb-${name}`);
+      }
+      await choose(page, 'ubb-track');
+      await shootSection(page, 'ubb-section', www, 'screenshot-ubb');
+    }
+    await shootSection(page, 'ubb-section', screenshotDir, `ubb-dpr${dpr}`);
+  }
+}
