@@ -166,10 +166,18 @@ pub fn draw_set<DB: DrawingBackend>(
     let mut w = Win::empty();
     w.add_points(&poly);
     w.add_points(&hull);
-    w.add_points(&ellipse);
     w.add(center.0, center.1);
     if let Some(p) = truth {
         w.add(p.0, p.1);
+    }
+    // The Kalman ellipse widens the window up to three times the set's (a much larger ellipse
+    // would shrink the set to a dot): beyond that it is clipped, and the chart says so.
+    let reach = w.padded(1.0, 1.0);
+    let mut kf_clipped = false;
+    for &(x, y) in &ellipse {
+        let (cx, cy) = (x.clamp(reach.x0, reach.x1), y.clamp(reach.y0, reach.y1));
+        kf_clipped |= cx != x || cy != y;
+        w.add(cx, cy);
     }
     let pad = if short { 0.25 } else { 0.1 };
     let win = w.padded(pad, pad);
@@ -318,6 +326,13 @@ pub fn draw_set<DB: DrawingBackend>(
             "polygon within gap {} of the set",
             sig(at.polygon.gap)
         ));
+    }
+    if kf_clipped {
+        chart_notes.push(if short {
+            "Kalman ellipse clipped".to_string()
+        } else {
+            "the Kalman ellipse reaches beyond the window".to_string()
+        });
     }
     if poly.is_empty() {
         chart_notes.push("the feasible set is empty".to_string());

@@ -167,6 +167,10 @@ export default async function ubb(env) {
         await shootSection(page, 'ubb-section', screenshotDir, `ubb-${name}`);
       }
       await choose(page, 'ubb-track');
+      await set(page, 'b-runs', '200');
+      await page.click('#b-go');
+      await gIdle(page);
+      assert.match(await text(page, '#b-g-result'), /^truth outside the set: 0 \/ 200;/);
       await shootSection(page, 'ubb-section', www, 'screenshot-ubb');
     }
     await shootSection(page, 'ubb-section', screenshotDir, `ubb-dpr${dpr}`);
