@@ -868,6 +868,7 @@ mod tests {
                 seed: 3,
                 u: vec![],
                 condition: Some(Condition { t, x: vec![xbar] }),
+                x0: None,
             });
             s.experiment = Some(ExperimentSpec {
                 runs,

@@ -347,6 +347,18 @@ impl SupportSolver {
         Ok(IntervalHull { lo, hi })
     }
 
+    /// The support function of S·T(h) (2-row S) in `count` equally spaced directions: the data
+    /// of the outer polygon, and the speed measure (one LP per direction).
+    pub fn support_fan(&mut self, s: &DMatrix<f64>, count: usize) -> Result<Vec<f64>> {
+        (0..count)
+            .map(|i| {
+                let t = 2.0 * std::f64::consts::PI * i as f64 / count as f64;
+                let dir = s.row(0).transpose() * t.cos() + s.row(1).transpose() * t.sin();
+                Ok(self.support(&dir)?.0)
+            })
+            .collect()
+    }
+
     /// Exact polygon of S·T(h) for a 2-row S.
     pub fn polygon(&mut self, s: &DMatrix<f64>, budget: usize) -> Result<SupportPolygon> {
         let scale = s.amax().max(1e-300);
@@ -678,7 +690,8 @@ fn age_weight(c: Option<f64>, age: usize) -> f64 {
     c.map_or(1.0, |c| (-(age as f64) / c).exp())
 }
 
-/// One step of the state estimator: T(h) at time k for f = [x(s) − x̄(s), u(s), …, u(k)].
+/// One step of the state estimator: T(h) at time k for f = [e(s) … e(k+1), u(s) … u(k)],
+/// e = x − x̄ (f = e(0) without process noise).
 #[derive(Debug, Clone)]
 pub struct StateStep {
     pub k: usize,
@@ -713,7 +726,6 @@ impl StateProblem {
         }
         let len = if p == 0 { k + 1 } else { self.window.clamp(1, k + 1) };
         let s = k + 1 - len;
-        let dim = r + p * len;
         let nominal = sys.nominal(&bd.x0_center, k + 1);
         // Powers A⁰ … A^{k+1}.
         let mut pow = vec![DMatrix::identity(r, r)];
@@ -721,17 +733,35 @@ impl StateProblem {
             let next = &sys.a * &pow[i];
             pow.push(next);
         }
-        // Column block of u(l) in f.
-        let ucol = |l: usize| r + p * (l - s);
-        // (39) on the window: x(t) − x̄(t) = A^{t−s} z + Σ_{l=s}^{t−1} A^{t−1−l} B u(l).
+        // With process noise the unknowns are stage-wise, f = [e(s) … e(k+1), u(s) … u(k)]
+        // with e = x − x̄ and the dynamics as equalities: a banded KKT system, several times
+        // faster to factor than the condensed (39), whose N is a dense triangle. Without
+        // process noise f = e(s) = e(0) alone and (39) is x(t) − x̄(t) = A^t e(0).
+        let stagewise = p > 0;
+        let dim = if stagewise { r * (len + 1) + p * len } else { r };
+        let xcol = |t: usize| r * (t - s);
+        let ucol = |l: usize| r * (len + 1) + p * (l - s);
         let state_map = |t: usize| -> DMatrix<f64> {
             let mut m = DMatrix::zeros(r, dim);
-            m.view_mut((0, 0), (r, r)).copy_from(&pow[t - s]);
-            for l in s..t {
-                m.view_mut((0, ucol(l)), (r, p)).copy_from(&(&pow[t - 1 - l] * &sys.b));
+            if stagewise {
+                m.view_mut((0, xcol(t)), (r, r)).fill_with_identity();
+            } else {
+                m.view_mut((0, 0), (r, r)).copy_from(&pow[t - s]);
             }
             m
         };
+        let mut eq_rows: Vec<(DMatrix<f64>, DVector<f64>)> = Vec::new();
+        if stagewise {
+            // (35): e(t+1) − A e(t) − B u(t) = 0 (the known input cancels with x̄).
+            let mut e = DMatrix::zeros(r * len, dim);
+            for t in s..=k {
+                let row = r * (t - s);
+                e.view_mut((row, xcol(t + 1)), (r, r)).fill_with_identity();
+                e.view_mut((row, xcol(t)), (r, r)).copy_from(&(-&sys.a));
+                e.view_mut((row, ucol(t)), (r, p)).copy_from(&(-&sys.b));
+            }
+            eq_rows.push((e, DVector::zeros(r * len)));
+        }
         let mut bounds = Vec::new();
         // Measurements (40)–(42) with the smoothed bound (46).
         let q = sys.c_at(0).nrows();
@@ -761,7 +791,7 @@ impl StateProblem {
         // Process noise in the window (37) with the smoothed bound (45).
         if p > 0 {
             let mut map = DMatrix::zeros(p * len, dim);
-            map.view_mut((0, r), (p * len, p * len)).fill_with_identity();
+            map.view_mut((0, ucol(s)), (p * len, p * len)).fill_with_identity();
             let w = DVector::from_fn(p * len, |i, _| age_weight(bd.alpha, k - (s + i / p)));
             bounds.push(NormBound {
                 map,
@@ -793,8 +823,7 @@ impl StateProblem {
                 half[i] = prior + noise;
             }
             if half.iter().all(|v| v.is_finite()) {
-                let mut map = DMatrix::zeros(r, dim);
-                map.view_mut((0, 0), (r, r)).fill_with_identity();
+                let map = state_map(s);
                 // |z_i| ≤ half_i as a unit l∞ ball with weights 1/half_i (half_i = 0 pins z_i).
                 bounds.push(NormBound {
                     map,
@@ -806,16 +835,24 @@ impl StateProblem {
                 });
             }
         }
-        let eq = match (bd.x0_sum, s) {
-            (Some(total), 0) => {
-                let mut e = DMatrix::zeros(1, dim);
-                e.view_mut((0, 0), (1, r)).fill(1.0);
-                Some((e, DVector::from_element(1, total - bd.x0_center.sum())))
+        if let (Some(total), 0) = (bd.x0_sum, s) {
+            let e = DMatrix::from_element(1, r, 1.0) * state_map(0);
+            eq_rows.push((e, DVector::from_element(1, total - bd.x0_center.sum())));
+        }
+        let eq = (!eq_rows.is_empty()).then(|| {
+            let rows: usize = eq_rows.iter().map(|(e, _)| e.nrows()).sum();
+            let mut e = DMatrix::zeros(rows, dim);
+            let mut v = DVector::zeros(rows);
+            let mut at = 0;
+            for (blk, rhs) in &eq_rows {
+                e.view_mut((at, 0), (blk.nrows(), dim)).copy_from(blk);
+                v.rows_mut(at, blk.nrows()).copy_from(rhs);
+                at += blk.nrows();
             }
-            _ => None,
-        };
+            (e, v)
+        });
         if bd.delta.is_none() {
-            self.check_observable(&state_map, s, k, r)?;
+            self.check_observable(&pow, s, k, r)?;
         }
         Ok(StateStep {
             k,
@@ -833,10 +870,10 @@ impl StateProblem {
     }
 
     /// With δ = ∞ the window's outputs must determine x(s) (the Remark on observability).
-    fn check_observable(&self, state_map: &dyn Fn(usize) -> DMatrix<f64>, s: usize, k: usize, r: usize) -> Result<()> {
+    fn check_observable(&self, pow: &[DMatrix<f64>], s: usize, k: usize, r: usize) -> Result<()> {
         let mut rows = Vec::new();
         for t in s..=k {
-            let m = self.system.c_at(t) * state_map(t).columns(0, r);
+            let m = self.system.c_at(t) * &pow[t - s];
             rows.extend(m.row_iter().map(|x| x.into_owned()));
         }
         let rank = if rows.is_empty() {
@@ -870,13 +907,17 @@ impl StateStep {
         }
     }
 
+    /// The rows of S for the `plane` components.
+    pub fn plane_map(&self, plane: [usize; 2]) -> DMatrix<f64> {
+        DMatrix::from_fn(2, self.s_map.ncols(), |i, j| self.s_map[(plane[i], j)])
+    }
+
     /// Interval hull of all of x(k+1) and the exact polygon of the `plane` components, from
     /// one loaded solver.
     pub fn hull_and_polygon(&self, plane: [usize; 2], budget: usize) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
         let mut solver = self.set.support_solver()?;
         let hull = self.shift(solver.interval_hull(&self.s_map)?);
-        let rows = DMatrix::from_fn(2, self.s_map.ncols(), |i, j| self.s_map[(plane[i], j)]);
-        let mut poly = solver.polygon(&rows, budget)?;
+        let mut poly = solver.polygon(&self.plane_map(plane), budget)?;
         let (ox, oy) = (self.offset[plane[0]], self.offset[plane[1]]);
         for v in &mut poly.vertices {
             v[0] += ox;

@@ -447,6 +447,7 @@ fn simulate_problems() {
         steps: 10,
         seed: 0,
         u: vec![],
+        x0: None,
         condition: Some(Condition {
             t: 4,
             x: vec![f64::NAN, 0.0],
@@ -656,6 +657,7 @@ fn random_scenario(rng: &mut ChaCha8Rng) -> Scenario {
             seed: rng.random(),
             u: vec![],
             condition: None,
+            x0: None,
         });
     }
     for _ in 0..rng.random_range(0..4) {
@@ -716,6 +718,7 @@ fn random_scenario(rng: &mut ChaCha8Rng) -> Scenario {
                     steps: rng.random_range(0..200),
                     seed: rng.random(),
                     u: vec![],
+                    x0: None,
                     condition: Some(Condition {
                         t: rng.random_range(0..20),
                         x: (0..n).map(|_| random_entry(rng)).collect(),

@@ -85,6 +85,7 @@ fn scalar_example_intervals_long_run_and_asymptotic() {
             seed: 5,
             u: vec![],
             condition: None,
+            x0: None,
         });
         s.coverage_curve = None;
         s.asymptotic = asymptotic;

@@ -384,13 +384,21 @@ fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
                 Ok(s) => s,
                 Err(e) => panic!("{kind:?} k = {k}: {}", e.message),
             };
+            // f = [e(s) … e(k+1), u(s) … u(k)], e = x − x̄ (f = e(0) without process noise).
             let s = step.first;
+            let len = k + 1 - s;
             let mut f = DVector::zeros(step.set.dim);
-            f.rows_mut(0, r).copy_from(&(&run.x[s] - &nominal[s]));
-            for l in s..=k {
-                if p > 0 {
-                    f.rows_mut(r + p * (l - s), p).copy_from(&run.u[l]);
+            if p > 0 {
+                assert_eq!(step.set.dim, r * (len + 1) + p * len);
+                for t in s..=k + 1 {
+                    f.rows_mut(r * (t - s), r).copy_from(&(&run.x[t] - &nominal[t]));
                 }
+                for l in s..=k {
+                    f.rows_mut(r * (len + 1) + p * (l - s), p).copy_from(&run.u[l]);
+                }
+            } else {
+                assert_eq!((s, step.set.dim), (0, r));
+                f.copy_from(&(&run.x[0] - &nominal[0]));
             }
             let x = &step.s_map * &f + &step.offset;
             assert!((&x - &run.x[k + 1]).amax() < 1e-9 * (1.0 + run.x[k + 1].amax()), "{kind:?} k = {k}: map gives {x}, truth {}", run.x[k + 1]);
@@ -580,3 +588,4 @@ fn l2_and_l1_state_sets_are_consistent_with_linf() {
         assert!(l1.hi[i] - l1.lo[i] <= l2.hi[i] - l2.lo[i] + 1e-6, "l1 ball ⊂ l2 ball");
     }
 }
+

@@ -514,3 +514,35 @@ fn uniform_wasm_timings() {
     wasm_bindgen_test::console_log!("[wasm timing] uniform window LP (∂ = 5, 2 states): {window:.3} ms; uniform-paper report (120 samples, swapping, faces, polygon, KF): {run:.0} ms");
     assert_eq!(u.steps.len(), 120);
 }
+
+/// The set-membership issue's wasm speed figures: one step of ubb-track (window 30).
+#[wasm_bindgen_test]
+fn ubb_wasm_timings() {
+    let prep = confset::presets::get("ubb-track").expect("preset").prepare_ubb().expect("valid");
+    let run = prep.run_data();
+    let mean_ms = |reps: usize, f: &mut dyn FnMut()| {
+        let t0 = js_sys::Date::now();
+        for _ in 0..reps {
+            f();
+        }
+        (js_sys::Date::now() - t0) / reps as f64
+    };
+    let mut calls = 0;
+    let mut size = confset::ubb::LpSize::default();
+    let exact = mean_ms(20, &mut || {
+        let step = prep.problem.step(&run.y, 40).expect("step");
+        let (_, poly, sz) = step.hull_and_polygon([0, 1], 64).expect("LPs");
+        calls = poly.calls;
+        size = sz;
+    });
+    let fan = mean_ms(20, &mut || {
+        let step = prep.problem.step(&run.y, 40).expect("step");
+        let mut solver = step.set.support_solver().expect("LP");
+        std::hint::black_box(solver.support_fan(&step.plane_map([0, 1]), 64).expect("LPs"));
+    });
+    let report = mean_ms(3, &mut || {
+        std::hint::black_box(prep.report().expect("report"));
+    });
+    wasm_bindgen_test::console_log!("[wasm timing] ubb step, window 30 ({} variables, {} rows): hull + exact polygon ({calls} LPs) {exact:.2} ms; support in 64 directions {fan:.2} ms; ubb-track report (60 steps) {report:.0} ms", size.variables, size.rows);
+    assert!(exact.is_finite() && fan.is_finite());
+}

@@ -49,6 +49,7 @@ fn main() {
     lscr_figures();
     glls_figures();
     uniform_figures();
+    ubb_figures();
     for p in presets::all() {
         let s = p.scenario.clone();
         let ms = median_ms(21, || {
@@ -189,6 +190,30 @@ fn glls_figures() {
 
 /// The uniform-innovation issue's targets: one window LP (∂ = 5, 2 states) and the full
 /// 120-sample on-line run of the paper's example with the swapping method.
+/// Tempo: one state-estimation step of ubb-track (2-D, window 30: 32 unknowns, 124 rows).
+fn ubb_figures() {
+    let prep = presets::get("ubb-track").expect("preset").prepare_ubb().expect("valid");
+    let run = prep.run_data();
+    let k = 40;
+    let mut calls = 0;
+    let mut size = confset::ubb::LpSize::default();
+    let exact = median_ms(21, || {
+        let step = prep.problem.step(&run.y, k).expect("step");
+        let (_, poly, _) = step.hull_and_polygon([0, 1], 64).expect("LPs");
+        calls = poly.calls;
+        size = step.set.program().expect("LP").1;
+    });
+    let fan = median_ms(21, || {
+        let step = prep.problem.step(&run.y, k).expect("step");
+        let mut solver = step.set.support_solver().expect("LP");
+        std::hint::black_box(solver.support_fan(&step.plane_map([0, 1]), 64).expect("LPs"));
+    });
+    let report = median_ms(5, || {
+        std::hint::black_box(prep.report().expect("report"));
+    });
+    println!("ubb: one step, window 30 ({} variables, {} rows): hull + exact polygon ({calls} LPs) {exact:.2} ms; support in 64 directions {fan:.2} ms; ubb-track report (60 steps: 4 hull LPs each + polygon + prediction) {report:.0} ms", size.variables, size.rows);
+}
+
 fn uniform_figures() {
     use confset::uniform::{estimate_states, simulate, StatePrior, Window};
     use nalgebra::DVector;
