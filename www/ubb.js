@@ -93,15 +93,16 @@ export async function mountUbb(root, presets) {
     if (u) ui['time-min'].textContent = String(u.track[0].k);
   }
 
-  // An optional positive number: empty = ∞ (null).
-  const optional = (field, t) => (String(t).trim() === '' ? null : parseNumber(field, t));
+  // An optional positive number: empty (or ∞, inf) = ∞ (null).
+  const infinite = (t) => ['', '∞', 'inf', 'infinity'].includes(String(t).trim().toLowerCase());
+  const optional = (field, t) => (infinite(t) ? null : parseNumber(field, t));
 
   function buildScenario() {
     const s = clone(st.preset.scenario);
     const u = s.ubb;
     u.eps = parseNumber('ubb.eps', ui.eps.value);
     u.tau = parseNumber('ubb.tau', ui.tau.value);
-    u.delta = ui.delta.value.trim() === '' ? null : parseVector('ubb.delta', ui.delta.value);
+    u.delta = infinite(ui.delta.value) ? null : parseVector('ubb.delta', ui.delta.value);
     if (u.delta === null) delete u.delta;
     u.alpha = optional('ubb.alpha', ui.alpha.value);
     if (u.alpha === null) delete u.alpha;

@@ -122,6 +122,14 @@ export default async function ubb(env) {
       assert.match(await numbers(page), /truth inside the set ✓ yes/);
       await set(page, 'b-noise', 'false');
 
+      // δ = ∞ (empty) and α = ∞: the set is unbounded until the data fix the state; no error.
+      await set(page, 'b-delta', '');
+      await set(page, 'b-alpha', '∞');
+      await drawnWell(page, assert, 'δ = ∞, α = ∞');
+      assert.match(await numbers(page), /truth inside the set ✓ yes/);
+      await set(page, 'b-delta', '2');
+      await set(page, 'b-alpha', '50');
+
       // The guarantee: a few runs, never outside the set.
       await set(page, 'b-runs', '60');
       await page.click('#b-go');
