@@ -22,7 +22,7 @@ pub struct Problem {
     pub q: DVector<f64>,
     pub eq: Option<(DMatrix<f64>, DVector<f64>)>,
     pub le: Option<(DMatrix<f64>, DVector<f64>)>,
-    /// Second-order cones: each (G, g) asks ‖(g − Gx)[1..]‖₂ ≤ (g − Gx)[0].
+    /// Second-order cones: each (G, g) asks that s = g − Gx has ‖(s₁, …, s_d)‖₂ ≤ s₀.
     pub soc: Vec<(DMatrix<f64>, DVector<f64>)>,
     pub field: String,
 }
