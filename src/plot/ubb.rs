@@ -182,18 +182,31 @@ pub fn draw_set<DB: DrawingBackend>(
     let pad = if short { 0.25 } else { 0.1 };
     let win = w.padded(pad, pad);
 
-    let comp = |c: usize| format!("x{}(k+1)", sub(c + 1));
+    // Example 1's state is the coefficient vector a (constant in k): its names come as "a₁ (1)".
+    let coefficients = u.state_names.first().is_some_and(|n| !n.starts_with('x'));
+    let comp = |c: usize| match u.state_names.get(c) {
+        Some(name) if coefficients => name.clone(),
+        _ => format!("x{}(k+1)", sub(c + 1)),
+    };
+    let target = if coefficients {
+        "the coefficients a".to_string()
+    } else {
+        format!("x({})", k + 1)
+    };
     let axis = |c: usize| match view.names.get(c) {
         Some(name) if !name.is_empty() && !short => format!("{}: {name}", comp(c)),
         _ => comp(c),
     };
     let (x_desc, y_desc) = (axis(i), axis(j));
     let norm = norm_name(u.norm);
-    let mut notes = vec![format!(
-        "x({}) consistent with y({}) … y({k}) and the {norm} noise bounds",
-        k + 1,
-        at.first
-    )];
+    let mut notes = vec![if u.q == 0 {
+        format!("{target}: the image of the a-priori set (no measurements)")
+    } else {
+        format!(
+            "{target} consistent with y({}) … y({k}) and the {norm} noise bounds",
+            at.first
+        )
+    }];
     notes.push(format!(
         "polygon: {} vertices from {} LPs{}",
         poly.len(),
@@ -231,7 +244,11 @@ pub fn draw_set<DB: DrawingBackend>(
     let mut entries = Vec::new();
     if truth.is_some() {
         entries.push(Entry::new(
-            format!("true state x({})", k + 1),
+            if coefficients {
+                "true coefficients a".to_string()
+            } else {
+                format!("true state x({})", k + 1)
+            },
             marker(Marker::Diamond, TRUTH),
         ));
     }
@@ -278,7 +295,7 @@ pub fn draw_set<DB: DrawingBackend>(
     let title = title(
         view,
         &fonts,
-        &format!("Feasible set of x({}), k = {k}, {norm} bounds", k + 1),
+        &format!("Feasible set of {target}, k = {k}, {norm} bounds"),
     );
     let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
     let (area, side) = match fonts

@@ -183,6 +183,9 @@ pub struct UbbReport {
     pub window: usize,
     pub gamma: f64,
     pub plane: [usize; 2],
+    /// Names of the state components for axes and tables: "x₁", … or, with a basis
+    /// (Example 1), the coefficients "a₁ (1)", "a₂ (k)", ….
+    pub state_names: Vec<String>,
     pub smoothing: SmoothingReport,
     /// Per-component noise levels of the simulation.
     pub u_level: f64,
@@ -441,7 +444,23 @@ impl Scenario {
     }
 }
 
+fn subscript(i: usize) -> String {
+    (i + 1)
+        .to_string()
+        .chars()
+        .map(|c| char::from_u32(0x2080 + c.to_digit(10).unwrap_or(0)).unwrap_or(c))
+        .collect()
+}
+
 impl UbbPrepared {
+    /// See [`UbbReport::state_names`].
+    pub fn state_names(&self) -> Vec<String> {
+        match &self.spec.basis {
+            Some(b) => b.iter().enumerate().map(|(i, g)| format!("a{} ({g})", subscript(i))).collect(),
+            None => (0..self.problem.system.r()).map(|i| format!("x{}", subscript(i))).collect(),
+        }
+    }
+
     /// The simulated (or given) run.
     pub fn run_data(&self) -> Run {
         let mut run = self.problem.simulate(self.steps, self.spec.noise, self.x0.as_ref(), self.seed);
@@ -511,6 +530,7 @@ impl UbbPrepared {
             window: self.problem.window,
             gamma: self.spec.gamma,
             plane: self.plane,
+            state_names: self.state_names(),
             smoothing: self.smoothing.clone(),
             u_level: run.u_level,
             eta_level: run.eta_level,
