@@ -1282,7 +1282,7 @@ fn ubb_panels_say_what_they_show() {
     let (s, r) = preset("ubb-track");
     let set = svg(&s, &r, Panel::UbbSet, None);
     for label in [
-        "Feasible set of x(41), k = 40",
+        "Feasible set at k = 40: x(41)",
         "l∞ bounds",
         "true state x(41)",
         "central estimate",

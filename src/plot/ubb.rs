@@ -295,7 +295,7 @@ pub fn draw_set<DB: DrawingBackend>(
     let title = title(
         view,
         &fonts,
-        &format!("Feasible set of {target}, k = {k}, {norm} bounds"),
+        &format!("Feasible set at k = {k}: {target}, {norm} bounds"),
     );
     let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
     let (area, side) = match fonts
