@@ -466,8 +466,11 @@ fn the_true_state_never_leaves_the_set() {
         runs += n / scale;
     }
     assert!(runs >= 10_400 / scale);
-    // The KF ellipsoid at 99 % is a probability statement: it does miss.
-    assert!(kf_out > 0, "the KF never missed in {runs} runs");
+    // The KF ellipsoid at 99 % is a probability statement: over the 10,400 native runs it
+    // misses (a handful of times); the browser's 1,040 runs are too few to require one.
+    if scale == 1 {
+        assert!(kf_out > 0, "the KF never missed in {runs} runs");
+    }
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]

@@ -546,3 +546,35 @@ fn ubb_wasm_timings() {
     wasm_bindgen_test::console_log!("[wasm timing] ubb step, window 30 ({} variables, {} rows): hull + exact polygon ({calls} LPs) {exact:.2} ms; support in 64 directions {fan:.2} ms; ubb-track report (60 steps) {report:.0} ms", size.variables, size.rows);
     assert!(exact.is_finite() && fan.is_finite());
 }
+
+/// The set-membership guarantee in chunks: every run's truth inside the set, the counts merge.
+#[wasm_bindgen_test]
+fn ubb_guarantee_steps_to_completion() {
+    use confset::web::UbbGuarantee;
+    let mut sc = preset("ubb-track");
+    sc["ubb"]["window"] = serde_json::json!(8);
+    sc["ubb"]["time"] = serde_json::json!(11);
+    sc["ubb"]["noise"] = serde_json::json!("bound");
+    let mut g = UbbGuarantee::new(&sc.to_string(), 120)
+        .unwrap_or_else(|err| panic!("guarantee: {:?}", thrown(err)));
+    assert!(!g.finished());
+    let first: Value = serde_json::from_str(&g.step(50).expect("step")).expect("JSON");
+    assert_eq!(first["runs"], 50);
+    let mut last = first;
+    let mut chunks = 1;
+    while !g.finished() {
+        last = serde_json::from_str(&g.step(50).expect("step")).expect("JSON");
+        chunks += 1;
+        assert!(chunks < 10, "the guarantee does not finish");
+    }
+    assert_eq!(last["runs"], 120);
+    assert_eq!(last["outside"], 0, "{last}");
+    assert!(num(&last["worst_excess"]) <= 1e-5, "{last}");
+    // A bound below the simulated noise is refused by the LP, naming ε.
+    sc["ubb"]["eps"] = serde_json::json!(0.002);
+    sc["ubb"]["sim_eps"] = serde_json::json!(0.2);
+    let mut bad = UbbGuarantee::new(&sc.to_string(), 10).expect("the scenario itself is valid");
+    let (message, field) = thrown(bad.step(10).expect_err("infeasible"));
+    assert_eq!(field, "ubb.eps", "{message}");
+    assert!(message.contains("infeasible"), "{message}");
+}

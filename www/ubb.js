@@ -169,7 +169,11 @@ export async function mountUbb(root, presets) {
     const [i, j] = u.plane;
     const sm = u.smoothing;
     const step = u.track.find((t) => t.k === k);
-    ui['num-title'].textContent = `At step k = ${k}: the set of x(${k + 1}) from y(${at.first}) … y(${k}), ${NORM[u.norm] || u.norm} bounds`;
+    // Example 1's state is the coefficient vector a: the report names it ("a₁ (1)", …).
+    const names = u.state_names || at.lo.map((_, c) => `x${sub(c + 1)}`);
+    const coef = !names[0].startsWith('x');
+    const target = coef ? 'the coefficients a' : `x(${k + 1})`;
+    ui['num-title'].textContent = `At step k = ${k}: the set of ${target} from y(${at.first}) … y(${k}), ${NORM[u.norm] || u.norm} bounds`;
     const rows = [];
     const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
     row('window', `${u.window} ${u.window === 1 ? 'step' : 'steps'} <span class="hint">(data y(${at.first}) … y(${k}))</span>`);
@@ -178,14 +182,14 @@ export async function mountUbb(root, presets) {
     row('polygon', `${at.polygon.vertices.length} vertices from ${at.polygon.calls} LPs — ${at.polygon.exact
       ? '<b class="good">exact</b>' : `within ${fmt(at.polygon.gap)} of the set`}${u.r > 2 ? ` <span class="hint">(projection on x${sub(i + 1)}, x${sub(j + 1)})</span>` : ''}`);
     row('central estimate', vec(at.center));
-    row('interval hull', at.lo.map((lo, c) => `<span class="nw">x${sub(c + 1)} ∈ [${fmt(lo)}, ${fmt(at.hi[c])}]</span>`).join(' '));
+    row('interval hull', at.lo.map((lo, c) => `<span class="nw">${names[c]} ∈ [${fmt(lo)}, ${fmt(at.hi[c])}]</span>`).join(' '));
     row('radius', `${fmt(at.radius)} <span class="hint">(largest half-width: the guaranteed error of the central estimate)</span>`);
     row('Theorem 4 bound', sm.limit != null ? `${fmt(sm.limit)} <span class="hint">(on the radius; ‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)})</span>`
       : `– <span class="hint">(‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)}${sm.b_norm === 0 ? ', no process noise' : ' ≥ 1'})</span>`);
     row('Theorem 5 j', sm.j != null ? `${sm.j} <span class="hint">(γ = ${fmt(u.gamma)}: window j + 1 = ${sm.j + 1}${sm.tail != null ? `, tail ${fmt(sm.tail)}` : ''})</span>`
       : `– <span class="hint">${sm.note ? richText(sm.note) : ''}</span>`);
     const truth = u.x_true ? u.x_true[k + 1] : null;
-    row(`true x(${k + 1})`, truth ? vec(truth) : '– (data given)');
+    row(coef ? 'true a' : `true x(${k + 1})`, truth ? vec(truth) : '– (data given)');
     row('truth inside the set', `${mark(step?.inside, 'yes', 'no')}${step?.inside === false
       ? ' <span class="hint">(ε or τ below the simulated noise: the bounds are wrong, so no guarantee)</span>' : ''}`);
     const kfLevel = Math.round(100 * (1 - Math.exp(-at.kf.radius2 / 2)));
