@@ -592,3 +592,68 @@ fn l2_and_l1_state_sets_are_consistent_with_linf() {
     }
 }
 
+
+/// Garbage in every `ubb` field and the model: a report or a named error, never a panic (a
+/// panic in the browser would kill the page).
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn garbage_gives_a_report_or_a_named_error() {
+    let mut rng = ChaCha8Rng::seed_from_u64(99);
+    let base = serde_json::to_value(presets::ubb_preset(UbbKind::Track)).unwrap();
+    let pick = |rng: &mut ChaCha8Rng, xs: &[serde_json::Value]| xs[rng.random_range(0..xs.len())].clone();
+    let cases = if cfg!(target_arch = "wasm32") { 40 } else { 160 };
+    let (mut ok, mut refused) = (0, 0);
+    for _ in 0..cases {
+        let mut sc = base.clone();
+        let num = [json!(0.0), json!(1e-300), json!(1e300), json!(-1.0), json!(0.1), json!(2.0), json!(null)];
+        for key in ["eps", "tau", "alpha", "beta", "gamma", "sim_eps", "kf_level"] {
+            if rng.random::<f64>() < 0.3 {
+                sc["ubb"][key] = pick(&mut rng, &num);
+            }
+        }
+        if rng.random::<f64>() < 0.3 {
+            sc["ubb"]["delta"] = pick(&mut rng, &[json!([]), json!([0.0]), json!([1e300]), json!([1.0, 2.0, 3.0]), json!(null)]);
+        }
+        if rng.random::<f64>() < 0.3 {
+            sc["ubb"]["window"] = pick(&mut rng, &[json!(0), json!(1), json!(2), json!(400), json!(100000)]);
+        }
+        if rng.random::<f64>() < 0.2 {
+            sc["ubb"]["time"] = json!(rng.random_range(0..80));
+        }
+        if rng.random::<f64>() < 0.2 {
+            sc["ubb"]["plane"] = pick(&mut rng, &[json!([0, 1]), json!([1, 0]), json!([0, 5]), json!([1, 1])]);
+        }
+        if rng.random::<f64>() < 0.2 {
+            sc["ubb"]["norm"] = pick(&mut rng, &[json!("l1"), json!("l2"), json!("linf")]);
+            sc["ubb"]["l1_form"] = pick(&mut rng, &[json!("lifted"), json!("enumerated")]);
+        }
+        if rng.random::<f64>() < 0.2 {
+            sc["model"]["F"] = pick(&mut rng, &[json!([[1e200, 0.0], [0.0, 1e200]]), json!([[1.0]]), json!([[2.0, 0.0], [0.0, 2.0]]), json!([[0.0, 0.0], [0.0, 0.0]])]);
+        }
+        if rng.random::<f64>() < 0.2 {
+            sc["model"]["H"] = pick(&mut rng, &[json!([[0.0, 0.0]]), json!([[1e300, 0.0]]), json!(null)]);
+        }
+        if rng.random::<f64>() < 0.2 {
+            sc["simulate"]["steps"] = pick(&mut rng, &[json!(1), json!(2), json!(3), json!(0)]);
+        }
+        if rng.random::<f64>() < 0.1 {
+            sc["ubb"]["basis"] = pick(&mut rng, &[json!(["1", "k"]), json!(["sin:0", "k"]), json!(["1"])]);
+        }
+        match serde_json::from_value::<confset::scenario::Scenario>(sc.clone()) {
+            Err(_) => refused += 1,
+            Ok(s) => match s.run() {
+                Ok(r) => {
+                    let u = r.ubb.expect("a ubb report");
+                    assert!(u.track.iter().all(|t| t.lo.iter().chain(&t.hi).all(|v| v.is_finite())), "{sc}: non-finite hull");
+                    assert!(u.at.polygon.vertices.iter().all(|v| v[0].is_finite() && v[1].is_finite()) || u.at.polygon.vertices.is_empty(), "{sc}");
+                    ok += 1;
+                }
+                Err(e) => {
+                    assert!(!e.field.is_empty() && !e.message.is_empty(), "{sc}: {e:?}");
+                    refused += 1;
+                }
+            },
+        }
+    }
+    assert!(ok > 10 && refused > 10, "{ok} reports, {refused} refusals");
+}
