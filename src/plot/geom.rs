@@ -114,6 +114,20 @@ impl Win {
         let (dx, dy) = (w.width() * fx, w.height() * fy);
         Win::new((w.x0 - dx, w.x1 + dx), (w.y0 - dy, w.y1 + dy))
     }
+    /// The window of a time chart spanning `x` and holding `ys`: the y range padded by 7 % (a
+    /// flat range gets a unit span), or [−1, 1] when `ys` is empty.
+    pub fn time(x: (f64, f64), ys: impl Iterator<Item = f64>) -> Win {
+        let mut w = Win::empty();
+        for y in ys {
+            w.add_y(y);
+        }
+        let p = if w.y0 <= w.y1 {
+            Win::new((0.0, 1.0), (w.y0, w.y1)).padded(0.0, 0.07)
+        } else {
+            Win::new((0.0, 1.0), (-1.0, 1.0))
+        };
+        Win::new(x, (p.y0, p.y1))
+    }
     /// Grow the narrower side so one unit has the same length in pixels on both axes.
     pub fn equal_aspect(&self, px_w: f64, px_h: f64) -> Win {
         let (sx, sy) = (self.width() / px_w, self.height() / px_h);

@@ -572,19 +572,7 @@ pub fn draw_index<DB: DrawingBackend>(
         marks.extend(point_label(root, &chart, &fonts, q, &label, &color)?);
         marks.push(q);
     }
-    note_box(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, xd, yd))
-}
-
-/// Notes in a framed box over the emptiest corner of the chart (text and frame in the panel's
-/// ink); their pixels join `marks`.
-pub(crate) fn note_box<DB: DrawingBackend>(
-    root: &Area<DB>,
-    chart: &style::Chart<DB>,
-    fonts: &Fonts,
-    lines: &[String],
-    marks: &mut Vec<(i32, i32)>,
-) -> Result<()> {
-    style::note_box(root, chart, fonts, lines, marks, &TEXT, &style::FRAME)
 }

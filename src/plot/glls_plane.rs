@@ -7,7 +7,7 @@
 //! when the truth lies outside the sets and why, and when rounding rivals the bound.
 
 use super::geom::Win;
-use super::glls::{estimator_name, glls_of, note_box, title};
+use super::glls::{estimator_name, glls_of, title};
 use super::style::{
     self, sci, sig, sub, Entry, Fonts, Marker, Swatch, BALL, GLLS_EST, INTERVAL_BOX, REGULARIZED,
     STATE_NOISE, TRUTH,
@@ -374,7 +374,7 @@ pub fn draw<DB: DrawingBackend>(
     if !outside.is_empty() {
         chart_notes.push(format!("outside the window: {}", outside.join(", ")));
     }
-    note_box(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, &x_desc, &y_desc))
 }

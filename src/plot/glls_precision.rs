@@ -9,7 +9,7 @@
 //! ensemble as a dash-dotted horizontal line (or a note when it is off the axis).
 
 use super::geom::Win;
-use super::glls::{glls_of, horizon_chart, horizon_desc, horizon_marker, note_box, title};
+use super::glls::{glls_of, horizon_chart, horizon_desc, horizon_marker, title};
 use super::style::{self, sci, Entry, Fonts, Marker, Swatch, GLLS_EST, STATE_NOISE, TEXT};
 use super::{de, Area, Frame, Panel, View};
 use crate::error::{Error, Result};
@@ -320,7 +320,7 @@ pub fn draw<DB: DrawingBackend>(
         }
     }
     horizon_marker(root, &chart, &fonts, g.s, &mut chart_notes)?;
-    note_box(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, xd, yd))
 }

@@ -877,6 +877,27 @@ pub fn legend_beside<DB: DrawingBackend>(
     Ok(Some(chart))
 }
 
+/// [`titled_legend`] for an equal-scale chart: on small figures the chart is limited by its
+/// height, so the legend goes beside it when it takes at most 45 % of the width.
+pub fn titled_legend_beside<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    title: &str,
+    notes: &[String],
+    entries: &[Entry],
+) -> Result<(DrawingArea<DB, Shift>, LegendSide)> {
+    let area = title_block(root, fonts, title, &notes.join(" · "))?;
+    match fonts
+        .compact
+        .then(|| legend_beside(&area, fonts, entries, 0.45))
+        .transpose()?
+        .flatten()
+    {
+        Some(a) => Ok((a, LegendSide::Right)),
+        None => legend(&area, fonts, entries),
+    }
+}
+
 /// The entries a figure of this size shows.
 fn shown_entries(fonts: &Fonts, entries: &[Entry]) -> Vec<Entry> {
     entries
@@ -1073,6 +1094,23 @@ pub fn marker_inside<DB: DrawingBackend>(
     marks.push(q);
     marker(root, q, shape, color, 5)?;
     Ok(true)
+}
+
+/// [`marker_inside`] for each `(point, shape, color, name)` in turn: the names of the points
+/// outside the window, for the caller to say so.
+pub fn markers_inside<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    points: &[((f64, f64), Marker, RGBColor, &'static str)],
+    marks: &mut Vec<(i32, i32)>,
+) -> Result<Vec<&'static str>> {
+    let mut outside = Vec::new();
+    for &(p, shape, color, what) in points {
+        if !marker_inside(root, chart, p, shape, &color, marks)? {
+            outside.push(what);
+        }
+    }
+    Ok(outside)
 }
 
 /// A chart of a state plane: both axes in the same units, so they share one scale (a disk
@@ -1463,6 +1501,17 @@ pub fn cursor<DB: DrawingBackend>(
             (HPos::Right, VPos::Top),
         )
     }
+}
+
+/// [`note_box`] in the text ink with a frame-grey border.
+pub fn chart_notes<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    fonts: &Fonts,
+    lines: &[String],
+    marks: &mut Vec<(i32, i32)>,
+) -> Result<()> {
+    note_box(root, chart, fonts, lines, marks, &TEXT, &FRAME)
 }
 
 /// Notes in a framed box over the emptiest corner of a chart, wrapped to its width, in `ink`

@@ -9,7 +9,7 @@
 //! equal scales on both axes of the set panel.
 
 use super::geom::Win;
-use super::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TEXT, TRUTH};
+use super::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
 use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
 use crate::scenario::{Report, UbbReport};
@@ -297,16 +297,7 @@ pub fn draw_set<DB: DrawingBackend>(
         &fonts,
         &format!("Feasible set at k = {k}: {target}, {norm} bounds"),
     );
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = match fonts
-        .compact
-        .then(|| style::legend_beside(&area, &fonts, &entries, 0.45))
-        .transpose()?
-        .flatten()
-    {
-        Some(a) => (a, style::LegendSide::Right),
-        None => style::legend(&area, &fonts, &entries)?,
-    };
+    let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let mut marks = Vec::new();
     if poly.len() >= 2 {
@@ -317,19 +308,12 @@ pub fn draw_set<DB: DrawingBackend>(
     marks.extend(style::marks_of(&chart, &hull));
     style::region(root, &chart, &ellipse, &KF, true, false)?;
     marks.extend(style::marks_of(&chart, &ellipse));
-    let mut outside: Vec<&str> = Vec::new();
-    let mut point =
-        |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| -> Result<()> {
-            if !style::marker_inside(root, &chart, p, shape, color, &mut marks)? {
-                outside.push(what);
-            }
-            Ok(())
-        };
-    point(kf_center, Marker::Cross, &KF, "KF prediction")?;
-    point(center, Marker::Star, &SET, "central estimate")?;
-    if let Some(p) = truth {
-        point(p, Marker::Diamond, &TRUTH, "true state")?;
-    }
+    let mut points = vec![
+        (kf_center, Marker::Cross, KF, "KF prediction"),
+        (center, Marker::Star, SET, "central estimate"),
+    ];
+    points.extend(truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")));
+    let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
     let mut chart_notes = Vec::new();
     let inside = u.track.iter().find(|t| t.k == k).and_then(|t| t.inside);
@@ -363,15 +347,7 @@ pub fn draw_set<DB: DrawingBackend>(
             num(at.radius, 3)
         ));
     }
-    style::note_box(
-        root,
-        &chart,
-        &fonts,
-        &chart_notes,
-        &mut marks,
-        &TEXT,
-        &style::FRAME,
-    )?;
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, &x_desc, &y_desc))
 }

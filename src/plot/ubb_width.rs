@@ -16,21 +16,12 @@ const STEP: &str = "step k (set of x(k+1) from y(0 … k))";
 const STEP_SHORT: &str = "step k";
 
 fn time_win(k0: f64, k1: f64, ys: impl Iterator<Item = f64>) -> Win {
-    let mut w = Win::empty();
-    for y in ys {
-        w.add_y(y);
-    }
-    let p = if w.y0 <= w.y1 {
-        Win::new((0.0, 1.0), (w.y0, w.y1)).padded(0.0, 0.07)
-    } else {
-        Win::new((0.0, 1.0), (-1.0, 1.0))
-    };
-    let (a, b) = if k1 > k0 {
+    let x = if k1 > k0 {
         (k0, k1)
     } else {
         (k0 - 0.5, k0 + 0.5)
     };
-    Win::new((a, b), (p.y0, p.y1))
+    Win::time(x, ys)
 }
 
 /// Panel::UbbWidth.

@@ -376,16 +376,7 @@ pub(crate) fn stacked(frames: impl Iterator<Item = Frame>) -> Option<Frame> {
 
 /// The y window of a time chart holding `ys`, padded.
 pub(crate) fn time_win(steps: usize, ys: impl Iterator<Item = f64>) -> Win {
-    let mut w = Win::empty();
-    for y in ys {
-        w.add_y(y);
-    }
-    let p = if w.y0 <= w.y1 {
-        Win::new((0.0, 1.0), (w.y0, w.y1)).padded(0.0, 0.07)
-    } else {
-        Win::new((0.0, 1.0), (-1.0, 1.0))
-    };
-    Win::new((0.0, steps.max(1) as f64), (p.y0, p.y1))
+    Win::time((0.0, steps.max(1) as f64), ys)
 }
 
 /// The sliding window x_{first−1} … x_time as a grey band behind a time chart.

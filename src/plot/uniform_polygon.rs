@@ -8,7 +8,7 @@
 
 use super::geom::Win;
 use super::style::{
-    self, num, sig, sub, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TEXT, TRUTH, UNIFORM_LP,
+    self, num, sig, sub, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TRUTH, UNIFORM_LP,
 };
 use super::uniform::{check, U};
 use super::{Area, Frame, Panel, View};
@@ -154,18 +154,7 @@ pub fn draw<DB: DrawingBackend>(
             sub(t)
         ),
     );
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    // Small figures: the equal-scale chart is limited by its height, so the legend goes beside
-    // it when it fits.
-    let (area, side) = match fonts
-        .compact
-        .then(|| style::legend_beside(&area, &fonts, &entries, 0.45))
-        .transpose()?
-        .flatten()
-    {
-        Some(a) => (a, style::LegendSide::Right),
-        None => style::legend(&area, &fonts, &entries)?,
-    };
+    let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let mut marks = Vec::new();
     if poly.len() >= 2 {
@@ -183,19 +172,12 @@ pub fn draw<DB: DrawingBackend>(
         2,
         Some((4, 3)),
     )?;
-    let mut outside: Vec<&str> = Vec::new();
-    let mut point =
-        |p: (f64, f64), shape: Marker, color: &RGBColor, what: &'static str| -> Result<()> {
-            if !style::marker_inside(root, &chart, p, shape, color, &mut marks)? {
-                outside.push(what);
-            }
-            Ok(())
-        };
-    point(kf, Marker::Cross, &KF, "KF estimate")?;
-    point(lp, Marker::Star, &UNIFORM_LP, "LP estimate")?;
-    if let Some(p) = truth {
-        point(p, Marker::Diamond, &TRUTH, "true state")?;
-    }
+    let mut points = vec![
+        (kf, Marker::Cross, KF, "KF estimate"),
+        (lp, Marker::Star, UNIFORM_LP, "LP estimate"),
+    ];
+    points.extend(truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")));
+    let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
     let mut chart_notes = Vec::new();
     chart_notes.push(if at.polygon_theta_true {
@@ -228,15 +210,7 @@ pub fn draw<DB: DrawingBackend>(
             ));
         }
     }
-    style::note_box(
-        root,
-        &chart,
-        &fonts,
-        &chart_notes,
-        &mut marks,
-        &TEXT,
-        &style::FRAME,
-    )?;
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, &x_desc, &y_desc))
 }
