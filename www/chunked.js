@@ -73,6 +73,29 @@ export function fieldErrors(root, staleNote, within = '') {
   return { show, clear };
 }
 
+// One run of a panel's scenario: `build()` makes it, `run(scenario)` returns the report's JSON
+// (one wasm call, or two when the first report fixes something the scenario must be run with).
+// On success the report, its JSON, the scenario and the run time (ms, `build` excluded) land in
+// `st` and the inline errors clear; on failure the error shows next to its field (the last good
+// picture, if any, stays). Returns whether it succeeded.
+export function runScenario(st, errors, build, run) {
+  let scenario, json;
+  try {
+    scenario = build();
+    const t0 = performance.now();
+    json = run(scenario);
+    st.runMs = performance.now() - t0;
+    st.report = JSON.parse(json);
+    errors.clear();
+  } catch (e) {
+    errors.show(e, !!st.report);
+    return false;
+  }
+  st.reportJson = json;
+  st.scenario = scenario;
+  return true;
+}
+
 // A counter of running computations shown as document.body.dataset[key] (set while > 0), which
 // the end-to-end tests wait on.
 export function busyFlag(key) {

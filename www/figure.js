@@ -11,6 +11,23 @@ export function download(name, blob) {
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
 
+// Hi-DPI: `redraw()` (a refit of the backing stores, no recompute) when the layout of a figure's
+// canvas or the pixel ratio changes.
+export function redrawOnResize(figures, redraw) {
+  const ro = new ResizeObserver(() => redraw());
+  for (const f of figures) ro.observe(f.canvas);
+  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
+    .addEventListener('change', () => { redraw(); watchDpr(); }, { once: true });
+  watchDpr();
+}
+
+// Draw every figure; the time it took (ms).
+export function drawFigures(figures) {
+  const t0 = performance.now();
+  for (const f of figures) f.draw();
+  return performance.now() - t0;
+}
+
 const fmt = (v) => (Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toPrecision(4));
 
 export class Figure {

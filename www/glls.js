@@ -5,8 +5,8 @@
 // "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
 // and shows what the core reports.
 import { Session, GllsStudy } from './pkg/confset.js';
-import { Figure, download } from './figure.js';
-import { runChunked, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { Figure, download, redrawOnResize } from './figure.js';
+import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 import { bracedScripts } from './richtext.js';
 
@@ -199,36 +199,27 @@ export async function mountGlls(root, presets) {
 
   // ----- errors next to the field they name -----
   const errors = fieldErrors(root, ui.stale, 'form ');
-  const showError = (e) => errors.show(e, !!st.report);
 
   // ----- compute and draw -----
   const setBusy = busyFlag('gllsBusy');
   const setMcBusy = busyFlag('gllsMcBusy');
 
-  function compute() {
-    let built, json;
-    try {
-      built = buildScenario();
-      const t0 = performance.now();
-      json = session.run(JSON.stringify(built.scenario));
-      const g = built.scenario.glls;
-      if (g.noise === 'worst' && g.horizon == null) {
-        // The worst-case noise is aligned with the gain of the horizon in use: the best one,
-        // which only the report knows — run again with it fixed.
-        g.horizon = JSON.parse(json).glls.s;
-        json = session.run(JSON.stringify(built.scenario));
-      }
-      st.runMs = performance.now() - t0;
-      st.report = JSON.parse(json);
-      errors.clear();
-    } catch (e) {
-      showError(e);
-      return;
+  function runReport(scenario) {
+    let json = session.run(JSON.stringify(scenario));
+    const g = scenario.glls;
+    if (g.noise === 'worst' && g.horizon == null) {
+      // The worst-case noise is aligned with the gain of the horizon in use: the best one,
+      // which only the report knows — run again with it fixed.
+      g.horizon = JSON.parse(json).glls.s;
+      json = session.run(JSON.stringify(scenario));
     }
-    st.reportJson = json;
-    st.scenario = built.scenario;
-    const mc = monteCarlo(built.scenario);
-    const key = studyKey(built.scenario, mc);
+    return json;
+  }
+
+  function compute() {
+    if (!runScenario(st, errors, () => buildScenario().scenario, runReport)) return;
+    const mc = monteCarlo(st.scenario);
+    const key = studyKey(st.scenario, mc);
     if (key !== st.studyKey) {
       newStudy(key);
       queueMicrotask(() => runStudy(true));
@@ -462,11 +453,7 @@ export async function mountGlls(root, presets) {
   ui['mc-cancel'].addEventListener('click', () => { if (running) running.cancelled = true; });
 
   // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
-  const ro = new ResizeObserver(() => schedule('redraw'));
-  for (const f of figures) ro.observe(f.canvas);
-  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
-    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
-  watchDpr();
+  redrawOnResize(figures, () => schedule('redraw'));
 
   $('g-dl-report').addEventListener('click', () => {
     if (!st.report) return;

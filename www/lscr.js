@@ -3,8 +3,8 @@
 // experiment (wasm LscrExperiment) at a true state placed with a click. No estimation happens
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Session, LscrExperiment } from './pkg/confset.js';
-import { Figure, download } from './figure.js';
-import { runChunked, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { Figure, download, redrawOnResize } from './figure.js';
+import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
@@ -135,35 +135,26 @@ export async function mountLscr(root, presets) {
 
   // ----- errors next to the field they name -----
   const errors = fieldErrors(root, ui.stale, 'form ');
-  const showError = (e) => errors.show(e, !!st.report);
-  const clearErrors = () => errors.clear();
 
   // ----- compute and draw -----
   const setBusy = busyFlag('lscrBusy');
 
-  function compute() {
-    let scenario, json;
-    try {
-      scenario = buildScenario();
-      const t0 = performance.now();
-      json = session.run(JSON.stringify(scenario));
-      let report = JSON.parse(json);
-      const c = scenario.simulate.condition;
-      if (c && report.lscr.time !== c.t) { // the truth belongs at the estimated time
-        c.t = report.lscr.time;
+  function runReport(scenario) {
+    let json = session.run(JSON.stringify(scenario));
+    const c = scenario.simulate.condition;
+    if (c) {
+      const time = JSON.parse(json).lscr.time;
+      if (time !== c.t) { // the truth belongs at the estimated time
+        c.t = time;
         json = session.run(JSON.stringify(scenario));
-        report = JSON.parse(json);
       }
-      st.runMs = performance.now() - t0;
-      st.report = report;
-      clearErrors();
-    } catch (e) {
-      showError(e);
-      return;
     }
-    st.reportJson = json;
-    st.scenario = scenario;
-    const sj = JSON.stringify(scenario);
+    return json;
+  }
+
+  function compute() {
+    if (!runScenario(st, errors, buildScenario, runReport)) return;
+    const sj = JSON.stringify(st.scenario);
     if (sj !== st.scenarioJson) resetCoverage();
     st.scenarioJson = sj;
     redraw();
@@ -363,10 +354,7 @@ export async function mountLscr(root, presets) {
   ui['cov-cancel'].addEventListener('click', () => { if (running) running.cancelled = true; });
 
   // Hi-DPI: refit the backing store when the layout or the pixel ratio changes (no recompute).
-  new ResizeObserver(() => schedule('redraw')).observe(figure.canvas);
-  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
-    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
-  watchDpr();
+  redrawOnResize([figure], () => schedule('redraw'));
 
   $('l-dl-report').addEventListener('click', () => st.reportJson
     && download(`${stem()}-report.json`, new Blob([st.reportJson], { type: 'application/json' })));

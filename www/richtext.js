@@ -1,6 +1,9 @@
 // Preset descriptions and notes write sub-/superscripts as x_{…} and x^{…}: they are shown as
 // HTML, so the text is escaped first and only the markup the panels add is live.
 
+// A check mark for the numbers tables: ✓ `yes`, ✗ `no`, or – when unknown (null).
+export const verdict = (b, yes, no) => (b == null ? '–' : b ? `<b class="good">✓ ${yes}</b>` : `<b class="warn">✗ ${no}</b>`);
+
 const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
 
 // Escaped text with runs of whitespace folded and the braced _{…} / ^{…} as <sub>/<sup>; each

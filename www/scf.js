@@ -1,8 +1,8 @@
 // The SCF vs KF panel: controls → Scenario JSON → wasm Session.run → figures and numbers.
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
-import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { Session } from './pkg/confset.js';
-import { Figure, download } from './figure.js';
+import { Figure, download, redrawOnResize } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
 import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
 
@@ -37,7 +37,7 @@ export async function mountScf(root, presets) {
     'preset-desc', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw']
     .map((id) => [id, $(id)]));
   const all = [...presets, CUSTOM_PRESET];
-  const st = { preset: all[0], report: null, reportJson: '', scenario: null };
+  const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0 };
   const stem = () => `${st.preset.name}-t${ui.time.value}`;
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new Figure(c, session, stem));
   const coverageCard = $('fig-coverage');
@@ -119,28 +119,13 @@ export async function mountScf(root, presets) {
 
   // ----- errors next to the field they name -----
   const errors = fieldErrors(root, ui.stale);
-  const showError = (e) => errors.show(e, !!st.report);
-  const clearErrors = () => errors.clear();
 
   // ----- compute and draw -----
   const setBusy = busyFlag('busy');
 
   function compute() {
-    let scenario;
-    try {
-      scenario = buildScenario();
-      const t0 = performance.now();
-      const json = session.run(JSON.stringify(scenario));
-      const ms = performance.now() - t0;
-      st.report = JSON.parse(json);
-      st.reportJson = json;
-      st.scenario = scenario;
-      ui['t-run'].textContent = `computed in ${ms.toFixed(1)} ms`;
-      clearErrors();
-    } catch (e) {
-      showError(e);
-      return;
-    }
+    if (!runScenario(st, errors, buildScenario, (s) => session.run(JSON.stringify(s)))) return;
+    ui['t-run'].textContent = `computed in ${st.runMs.toFixed(1)} ms`;
     const steps = st.report.steps.length;
     ui.time.max = steps;
     if (ui.time.dataset.preset !== undefined) {
@@ -222,11 +207,7 @@ export async function mountScf(root, presets) {
   ui.time.addEventListener('input', () => { showOutputs(); schedule('redraw'); });
 
   // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
-  const resized = new ResizeObserver(() => schedule('redraw'));
-  for (const f of figures) resized.observe(f.canvas);
-  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
-    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
-  watchDpr();
+  redrawOnResize(figures, () => schedule('redraw'));
 
   $('dl-report').addEventListener('click', () => st.reportJson
     && download(`${stem()}-report.json`, new Blob([st.reportJson], { type: 'application/json' })));

@@ -5,10 +5,10 @@
 // (wasm UbbGuarantee) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Session, UbbGuarantee } from './pkg/confset.js';
-import { Figure, download } from './figure.js';
-import { runChunked, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
+import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
-import { bracedScripts } from './richtext.js';
+import { bracedScripts, verdict } from './richtext.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
@@ -124,35 +124,19 @@ export async function mountUbb(root, presets) {
 
   // ----- errors next to the field they name -----
   const errors = fieldErrors(root, ui.stale, 'form ');
-  const showError = (e) => errors.show(e, !!st.report);
 
   // ----- compute and draw -----
   const setBusy = busyFlag('ubbBusy');
 
   function compute() {
-    let scenario, json;
-    try {
-      scenario = buildScenario();
-      const t0 = performance.now();
-      json = session.run(JSON.stringify(scenario));
-      st.runMs = performance.now() - t0;
-      st.report = JSON.parse(json);
-      errors.clear();
-    } catch (e) {
-      showError(e);
-      return false;
-    }
-    st.reportJson = json;
-    st.scenario = scenario;
+    if (!runScenario(st, errors, buildScenario, (s) => session.run(JSON.stringify(s)))) return false;
     redraw();
     return true;
   }
 
   function redraw() {
     if (!st.report) return;
-    const t0 = performance.now();
-    for (const f of figures) f.draw();
-    st.drawMs = performance.now() - t0;
+    st.drawMs = drawFigures(figures);
     showTime();
     showNumbers();
   }
@@ -160,8 +144,6 @@ export async function mountUbb(root, presets) {
   const schedule = frameScheduler(setBusy, () => compute(), () => redraw());
 
   // ----- numbers from the report -----
-  const mark = (b, yes, no) => (b == null ? '–' : b ? `<b class="good">✓ ${yes}</b>` : `<b class="warn">✗ ${no}</b>`);
-
   function showNumbers() {
     const u = st.report.ubb;
     const at = u.at;
@@ -190,10 +172,10 @@ export async function mountUbb(root, presets) {
       : `– <span class="hint">${sm.note ? richText(sm.note) : ''}</span>`);
     const truth = u.x_true ? u.x_true[k + 1] : null;
     row(coef ? 'true a' : `true x(${k + 1})`, truth ? vec(truth) : '– (data given)');
-    row('truth inside the set', `${mark(step?.inside, 'yes', 'no')}${step?.inside === false
+    row('truth inside the set', `${verdict(step?.inside, 'yes', 'no')}${step?.inside === false
       ? ' <span class="hint">(ε or τ below the simulated noise: the bounds are wrong, so no guarantee)</span>' : ''}`);
     const kfLevel = Math.round(100 * (1 - Math.exp(-at.kf.radius2 / 2)));
-    row(`truth inside the KF ${kfLevel} % ellipsoid`, mark(step?.kf_inside, 'yes', 'no'));
+    row(`truth inside the KF ${kfLevel} % ellipsoid`, verdict(step?.kf_inside, 'yes', 'no'));
     if (at.prediction.length) {
       row(`prediction of y(${k + 1})`, at.prediction.map(([lo, hi], o) => `<span class="nw">${at.prediction.length > 1 ? `y${sub(o + 1)} ` : ''}∈ [${fmt(lo)}, ${fmt(hi)}]</span>`).join(' '));
     } else {
@@ -295,11 +277,7 @@ export async function mountUbb(root, presets) {
   ui.cancel.addEventListener('click', () => { if (running) running.cancelled = true; });
 
   // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
-  const ro = new ResizeObserver(() => schedule('redraw'));
-  for (const f of figures) ro.observe(f.canvas);
-  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
-    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
-  watchDpr();
+  redrawOnResize(figures, () => schedule('redraw'));
 
   $('b-dl-report').addEventListener('click', () => {
     if (st.reportJson) download(`${stem()}-report.json`, new Blob([st.reportJson], { type: 'application/json' }));

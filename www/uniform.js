@@ -5,10 +5,10 @@
 // figure marks it. No estimation happens here: the page edits the preset's scenario and shows
 // what the core reports.
 import { Session } from './pkg/confset.js';
-import { Figure, download } from './figure.js';
-import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
+import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
-import { bracedScripts } from './richtext.js';
+import { bracedScripts, verdict } from './richtext.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
@@ -169,34 +169,17 @@ export async function mountUniform(root, presets) {
 
   // ----- errors next to the field they name -----
   const errors = fieldErrors(root, ui.stale, 'form ');
-  const showError = (e) => errors.show(e, !!st.report);
 
   // ----- compute and draw -----
   const setBusy = busyFlag('uniformBusy');
 
   function compute() {
-    let scenario, json;
-    try {
-      scenario = buildScenario();
-      const t0 = performance.now();
-      json = session.run(JSON.stringify(scenario));
-      st.runMs = performance.now() - t0;
-      st.report = JSON.parse(json);
-      errors.clear();
-    } catch (e) {
-      showError(e);
-      return;
-    }
-    st.reportJson = json;
-    st.scenario = scenario;
-    redraw();
+    if (runScenario(st, errors, buildScenario, (s) => session.run(JSON.stringify(s)))) redraw();
   }
 
   function redraw() {
     if (!st.report) return;
-    const t0 = performance.now();
-    for (const f of figures) f.draw();
-    st.drawMs = performance.now() - t0;
+    st.drawMs = drawFigures(figures);
     showTime();
     showNumbers();
   }
@@ -205,8 +188,6 @@ export async function mountUniform(root, presets) {
   const schedule = frameScheduler(setBusy, () => compute(), () => redraw());
 
   // ----- numbers from the report -----
-  const mark = (b, yes, no) => (b == null ? '–' : b ? `<b class="good">✓ ${yes}</b>` : `<b class="warn">✗ ${no}</b>`);
-
   function showNumbers() {
     const u = st.report.uniform;
     const at = u.at;
@@ -227,7 +208,7 @@ export async function mountUniform(root, presets) {
     row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', `${fmt(at.objective)} vs the truth’s ${fmt(at.true_objective)} ${below
       ? '<b class="good">✓ the optimum is never above the truth’s</b>'
       : `<b class="warn">✗ above the truth’s</b>${guaranteed ? '' : ' <span class="hint">(Θ̂ ≠ Θ: the truth need not be feasible)</span>'}`}`);
-    row('truth in polygon', `${mark(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
+    row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
       ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}</span>`);
     ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
 
@@ -272,11 +253,7 @@ export async function mountUniform(root, presets) {
   });
 
   // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
-  const ro = new ResizeObserver(() => schedule('redraw'));
-  for (const f of figures) ro.observe(f.canvas);
-  const watchDpr = () => matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`)
-    .addEventListener('change', () => { schedule('redraw'); watchDpr(); }, { once: true });
-  watchDpr();
+  redrawOnResize(figures, () => schedule('redraw'));
 
   $('u-dl-report').addEventListener('click', () => {
     if (st.reportJson) download(`${stem()}-report.json`, new Blob([st.reportJson], { type: 'application/json' }));
