@@ -101,7 +101,7 @@ fn default_noise() -> NoiseMode {
     NoiseMode::Random
 }
 fn default_budget() -> usize {
-    64
+    128
 }
 fn default_kf_level() -> f64 {
     0.99
