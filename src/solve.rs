@@ -74,7 +74,8 @@ impl Family {
         let n = problem.q.len();
         let bad = |what: &str| Error::field(problem.field.clone(), what.to_string());
         let finite = |m: &DMatrix<f64>| m.iter().all(|v| v.is_finite());
-        if !problem.q.iter().all(|v| v.is_finite()) || problem.p.as_ref().is_some_and(|p| !finite(p))
+        if !problem.q.iter().all(|v| v.is_finite())
+            || problem.p.as_ref().is_some_and(|p| !finite(p))
         {
             return Err(bad("the optimization problem has non-finite coefficients"));
         }
@@ -153,7 +154,9 @@ impl Family {
         let bad = |what: &str| Error::field(self.field.clone(), what.to_string());
         if let Some(c) = c {
             if c.len() != self.n || !c.iter().all(|v| v.is_finite()) {
-                return Err(bad("the objective has the wrong length or non-finite entries"));
+                return Err(bad(
+                    "the objective has the wrong length or non-finite entries",
+                ));
             }
             self.solver
                 .update_q(&c.as_slice().to_vec())

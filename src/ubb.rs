@@ -103,7 +103,11 @@ pub struct IntervalHull {
 impl IntervalHull {
     /// The central estimate (31): the componentwise midpoint.
     pub fn center(&self) -> Vec<f64> {
-        self.lo.iter().zip(&self.hi).map(|(l, h)| 0.5 * (l + h)).collect()
+        self.lo
+            .iter()
+            .zip(&self.hi)
+            .map(|(l, h)| 0.5 * (l + h))
+            .collect()
     }
 
     /// Local error (5) of the central estimate in the l∞ solution norm: the largest half-width.
@@ -270,7 +274,10 @@ impl FeasibleSet {
         let eq = match &self.eq {
             Some((e, v)) => {
                 if e.ncols() != n || e.nrows() != v.len() {
-                    return Err(Error::field(self.field.clone(), "equality has the wrong shape"));
+                    return Err(Error::field(
+                        self.field.clone(),
+                        "equality has the wrong shape",
+                    ));
                 }
                 let mut a = DMatrix::zeros(e.nrows(), nv);
                 a.view_mut((0, 0), (e.nrows(), n)).copy_from(e);
@@ -400,15 +407,27 @@ pub struct LinearOptimal {
 impl LinearOptimal {
     /// φ(d) for the full data vector d (19).
     pub fn apply(&self, d: &DVector<f64>) -> f64 {
-        self.active.iter().zip(&self.gain).map(|(&t, g)| g * d[t]).sum()
+        self.active
+            .iter()
+            .zip(&self.gain)
+            .map(|(&t, g)| g * d[t])
+            .sum()
     }
 }
 
 /// Theorem 2 for P ((n+m)×n), bounds b = ε/w and the functional s.
-pub fn linear_optimal(p: &DMatrix<f64>, b: &DVector<f64>, s: &DVector<f64>, field: &str) -> Result<LinearOptimal> {
+pub fn linear_optimal(
+    p: &DMatrix<f64>,
+    b: &DVector<f64>,
+    s: &DVector<f64>,
+    field: &str,
+) -> Result<LinearOptimal> {
     let (rows, n) = p.shape();
     if b.len() != rows || s.len() != n {
-        return Err(Error::field(field, "P, the bounds and S have inconsistent sizes"));
+        return Err(Error::field(
+            field,
+            "P, the bounds and S have inconsistent sizes",
+        ));
     }
     let mut a = DMatrix::zeros(2 * rows, n);
     a.view_mut((0, 0), (rows, n)).copy_from(p);
@@ -420,12 +439,18 @@ pub fn linear_optimal(p: &DMatrix<f64>, b: &DVector<f64>, s: &DVector<f64>, fiel
     let intrinsic_error = -sol.objective;
     // Rows by decreasing multiplier, then the other tight rows: any n independent rows that
     // include every row with a positive multiplier reach the same supremum (LP duality).
-    let mult: Vec<f64> = (0..rows).map(|i| sol.duals[i].max(sol.duals[i + rows])).collect();
+    let mult: Vec<f64> = (0..rows)
+        .map(|i| sol.duals[i].max(sol.duals[i + rows]))
+        .collect();
     let slack: Vec<f64> = (0..rows)
         .map(|i| (b[i] - (p.row(i) * &sol.x)[0].abs()) / (1.0 + b[i]))
         .collect();
     let mut order: Vec<usize> = (0..rows).collect();
-    order.sort_by(|&i, &j| mult[j].total_cmp(&mult[i]).then(slack[i].total_cmp(&slack[j])));
+    order.sort_by(|&i, &j| {
+        mult[j]
+            .total_cmp(&mult[i])
+            .then(slack[i].total_cmp(&slack[j]))
+    });
     let mut active = Vec::new();
     let mut basis: Vec<DVector<f64>> = Vec::new();
     for &i in &order {
@@ -517,10 +542,12 @@ pub fn hilbert(
     let k_in_delta = max_generalized_eig(&ntrn, v)
         .ok_or_else(|| Error::field("V", "must be symmetric positive definite"))?
         / (eps * eps);
-    let gauss_markov = ntrn
-        .clone()
-        .cholesky()
-        .map(|c| (s * c.solve(&(n_op.transpose() * r * h))).iter().copied().collect::<Vec<f64>>());
+    let gauss_markov = ntrn.clone().cholesky().map(|c| {
+        (s * c.solve(&(n_op.transpose() * r * h)))
+            .iter()
+            .copied()
+            .collect::<Vec<f64>>()
+    });
     let case = if delta_in_k <= 1.0 {
         HilbertCase::GaussMarkov
     } else if k_in_delta <= 1.0 {
@@ -589,7 +616,10 @@ impl Smoothing {
     /// Theorem 5: the smallest j with (ratio)^{j+1} ≤ γ(1 − ratio)/(τ‖B‖) (52), i.e. (58).
     pub fn truncation(&self, gamma: f64, field: &str) -> Result<usize> {
         if !(gamma > 0.0 && gamma.is_finite()) {
-            return Err(Error::field(field, format!("must be a positive number, found {gamma}")));
+            return Err(Error::field(
+                field,
+                format!("must be a positive number, found {gamma}"),
+            ));
         }
         if self.ratio >= 1.0 {
             return Err(Error::field(
@@ -722,9 +752,16 @@ impl StateProblem {
         let bd = &self.bounds;
         let (r, p) = (sys.r(), sys.p());
         if y.len() <= k {
-            return Err(Error::field("ubb.time", format!("k = {k} needs y(0 … {k}), only {} given", y.len())));
+            return Err(Error::field(
+                "ubb.time",
+                format!("k = {k} needs y(0 … {k}), only {} given", y.len()),
+            ));
         }
-        let len = if p == 0 { k + 1 } else { self.window.clamp(1, k + 1) };
+        let len = if p == 0 {
+            k + 1
+        } else {
+            self.window.clamp(1, k + 1)
+        };
         let s = k + 1 - len;
         let nominal = sys.nominal(&bd.x0_center, k + 1);
         // Powers A⁰ … A^{k+1}.
@@ -738,7 +775,11 @@ impl StateProblem {
         // faster to factor than the condensed (39), whose N is a dense triangle. Without
         // process noise f = e(s) = e(0) alone and (39) is x(t) − x̄(t) = A^t e(0).
         let stagewise = p > 0;
-        let dim = if stagewise { r * (len + 1) + p * len } else { r };
+        let dim = if stagewise {
+            r * (len + 1) + p * len
+        } else {
+            r
+        };
         let xcol = |t: usize| r * (t - s);
         let ucol = |l: usize| r * (len + 1) + p * (l - s);
         let state_map = |t: usize| -> DMatrix<f64> {
@@ -772,10 +813,18 @@ impl StateProblem {
             for t in s..=k {
                 let c = sys.c_at(t);
                 if c.nrows() != q || y[t].len() != q {
-                    return Err(Error::field("data.y", format!("y({t}) has {} entries, C has {} rows", y[t].len(), c.nrows())));
+                    return Err(Error::field(
+                        "data.y",
+                        format!(
+                            "y({t}) has {} entries, C has {} rows",
+                            y[t].len(),
+                            c.nrows()
+                        ),
+                    ));
                 }
                 let row = q * (t - s);
-                n_op.view_mut((row, 0), (q, dim)).copy_from(&(c * state_map(t)));
+                n_op.view_mut((row, 0), (q, dim))
+                    .copy_from(&(c * state_map(t)));
                 h.rows_mut(row, q).copy_from(&(&y[t] - c * &nominal[t]));
                 w.rows_mut(row, q).fill(age_weight(bd.beta, k - t));
             }
@@ -791,7 +840,8 @@ impl StateProblem {
         // Process noise in the window (37) with the smoothed bound (45).
         if p > 0 {
             let mut map = DMatrix::zeros(p * len, dim);
-            map.view_mut((0, ucol(s)), (p * len, p * len)).fill_with_identity();
+            map.view_mut((0, ucol(s)), (p * len, p * len))
+                .fill_with_identity();
             let w = DVector::from_fn(p * len, |i, _| age_weight(bd.alpha, k - (s + i / p)));
             bounds.push(NormBound {
                 map,
@@ -879,7 +929,9 @@ impl StateProblem {
         let rank = if rows.is_empty() {
             0
         } else {
-            DMatrix::from_rows(&rows).svd(false, false).rank(1e-9 * DMatrix::from_rows(&rows).amax().max(1e-300))
+            DMatrix::from_rows(&rows)
+                .svd(false, false)
+                .rank(1e-9 * DMatrix::from_rows(&rows).amax().max(1e-300))
         };
         if rank < r {
             return Err(Error::field(
@@ -902,8 +954,18 @@ impl StateStep {
 
     fn shift(&self, h: IntervalHull) -> IntervalHull {
         IntervalHull {
-            lo: h.lo.iter().zip(self.offset.iter()).map(|(a, b)| a + b).collect(),
-            hi: h.hi.iter().zip(self.offset.iter()).map(|(a, b)| a + b).collect(),
+            lo: h
+                .lo
+                .iter()
+                .zip(self.offset.iter())
+                .map(|(a, b)| a + b)
+                .collect(),
+            hi: h
+                .hi
+                .iter()
+                .zip(self.offset.iter())
+                .map(|(a, b)| a + b)
+                .collect(),
         }
     }
 
@@ -914,7 +976,11 @@ impl StateStep {
 
     /// Interval hull of all of x(k+1) and the exact polygon of the `plane` components, from
     /// one loaded solver.
-    pub fn hull_and_polygon(&self, plane: [usize; 2], budget: usize) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
+    pub fn hull_and_polygon(
+        &self,
+        plane: [usize; 2],
+        budget: usize,
+    ) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
         let mut solver = self.set.support_solver()?;
         let hull = self.shift(solver.interval_hull(&self.s_map)?);
         let mut poly = solver.polygon(&self.plane_map(plane), budget)?;
@@ -923,7 +989,12 @@ impl StateStep {
             v[0] += ox;
             v[1] += oy;
         }
-        poly.hull = [poly.hull[0] + ox, poly.hull[1] + ox, poly.hull[2] + oy, poly.hull[3] + oy];
+        poly.hull = [
+            poly.hull[0] + ox,
+            poly.hull[1] + ox,
+            poly.hull[2] + oy,
+            poly.hull[3] + oy,
+        ];
         Ok((hull, poly, solver.size))
     }
 }
@@ -949,7 +1020,13 @@ pub struct Run {
 
 /// Per-component level c such that every window's stacked, weighted noise norm stays within
 /// `bound` when each component is at most c (the sum of the weights over the longest window).
-fn component_level(norm: Norm, bound: f64, smoothing: Option<f64>, longest: usize, dim: usize) -> f64 {
+fn component_level(
+    norm: Norm,
+    bound: f64,
+    smoothing: Option<f64>,
+    longest: usize,
+    dim: usize,
+) -> f64 {
     let weights = (0..longest.max(1)).map(|a| age_weight(smoothing, a));
     let d = dim.max(1) as f64;
     match norm {
@@ -970,15 +1047,33 @@ impl StateProblem {
     }
 
     /// Simulate `steps` steps; x(0) is `x0` or drawn in its box (at a corner with `Bound`).
-    pub fn simulate(&self, steps: usize, mode: NoiseMode, x0: Option<&DVector<f64>>, seed: u64) -> Run {
+    pub fn simulate(
+        &self,
+        steps: usize,
+        mode: NoiseMode,
+        x0: Option<&DVector<f64>>,
+        seed: u64,
+    ) -> Run {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let sys = &self.system;
         let bd = &self.bounds;
         let (r, p) = (sys.r(), sys.p());
         let q = sys.c_at(0).nrows();
         let longest = self.longest(steps);
-        let u_level = component_level(bd.norm, self.sim_levels.0.unwrap_or(bd.tau), bd.alpha, longest, p);
-        let eta_level = component_level(bd.norm, self.sim_levels.1.unwrap_or(bd.eps), bd.beta, longest, q);
+        let u_level = component_level(
+            bd.norm,
+            self.sim_levels.0.unwrap_or(bd.tau),
+            bd.alpha,
+            longest,
+            p,
+        );
+        let eta_level = component_level(
+            bd.norm,
+            self.sim_levels.1.unwrap_or(bd.eps),
+            bd.beta,
+            longest,
+            q,
+        );
         let mut draw = |level: f64| -> f64 {
             match mode {
                 NoiseMode::Random => (rng.random::<f64>() * 2.0 - 1.0) * level,

@@ -78,7 +78,13 @@ impl Boxy {
         let (rows, n) = self.p.shape();
         let mut out = Vec::new();
         let mut pick = vec![0usize; n];
-        fn rec(start: usize, depth: usize, pick: &mut Vec<usize>, rows: usize, f: &mut dyn FnMut(&[usize])) {
+        fn rec(
+            start: usize,
+            depth: usize,
+            pick: &mut Vec<usize>,
+            rows: usize,
+            f: &mut dyn FnMut(&[usize]),
+        ) {
             if depth == pick.len() {
                 f(pick);
                 return;
@@ -90,14 +96,18 @@ impl Boxy {
         }
         rec(0, 0, &mut pick, rows, &mut |idx: &[usize]| {
             let a = DMatrix::from_fn(n, n, |i, j| self.p[(idx[i], j)]);
-            let Some(lu) = a.clone().lu().try_inverse() else { return };
+            let Some(lu) = a.clone().lu().try_inverse() else {
+                return;
+            };
             for signs in 0..(1 << n) {
                 let rhs = DVector::from_fn(n, |i, _| {
                     let s = if (signs >> i) & 1 == 1 { 1.0 } else { -1.0 };
                     self.d[idx[i]] + s * self.b[idx[i]]
                 });
                 let f = &lu * rhs;
-                let ok = (0..rows).all(|r| ((self.p.row(r) * &f)[0] - self.d[r]).abs() <= self.b[r] * (1.0 + 1e-9) + 1e-12);
+                let ok = (0..rows).all(|r| {
+                    ((self.p.row(r) * &f)[0] - self.d[r]).abs() <= self.b[r] * (1.0 + 1e-9) + 1e-12
+                });
                 if ok {
                     out.push(f);
                 }
@@ -116,46 +126,89 @@ fn interval_hull_and_polygon_match_vertex_enumeration() {
         let n = 3;
         let bx = random_boxy(&mut rng, n, 2 + case % 3, 0.3);
         let verts = bx.vertices();
-        assert!(!verts.is_empty(), "case {case}: the truth's set has vertices");
+        assert!(
+            !verts.is_empty(),
+            "case {case}: the truth's set has vertices"
+        );
         nonempty += 1;
         let s = rand_mat(&mut rng, 2, n);
         let hull = bx.set().interval_hull(&s).unwrap();
         for i in 0..2 {
             let vals: Vec<f64> = verts.iter().map(|v| (s.row(i) * v)[0]).collect();
-            let (lo, hi) = (vals.iter().cloned().fold(f64::INFINITY, f64::min), vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
-            assert!((hull.lo[i] - lo).abs() < 1e-6 && (hull.hi[i] - hi).abs() < 1e-6, "case {case} row {i}: LP [{}, {}] vs vertices [{lo}, {hi}]", hull.lo[i], hull.hi[i]);
+            let (lo, hi) = (
+                vals.iter().cloned().fold(f64::INFINITY, f64::min),
+                vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+            );
+            assert!(
+                (hull.lo[i] - lo).abs() < 1e-6 && (hull.hi[i] - hi).abs() < 1e-6,
+                "case {case} row {i}: LP [{}, {}] vs vertices [{lo}, {hi}]",
+                hull.lo[i],
+                hull.hi[i]
+            );
         }
         // Strong optimality: the centre's local error (5) in the l∞ norm is the radius, and
         // moving the estimate can only increase it.
         let err = |phi: &[f64]| {
             verts
                 .iter()
-                .map(|v| (0..2).map(|i| ((s.row(i) * v)[0] - phi[i]).abs()).fold(0.0, f64::max))
+                .map(|v| {
+                    (0..2)
+                        .map(|i| ((s.row(i) * v)[0] - phi[i]).abs())
+                        .fold(0.0, f64::max)
+                })
                 .fold(0.0, f64::max)
         };
         let c = hull.center();
-        assert!((err(&c) - hull.radius()).abs() < 1e-6, "case {case}: local error {} vs radius {}", err(&c), hull.radius());
+        assert!(
+            (err(&c) - hull.radius()).abs() < 1e-6,
+            "case {case}: local error {} vs radius {}",
+            err(&c),
+            hull.radius()
+        );
         for _ in 0..20 {
-            let other = [c[0] + 0.2 * (rng.random::<f64>() - 0.5), c[1] + 0.2 * (rng.random::<f64>() - 0.5)];
+            let other = [
+                c[0] + 0.2 * (rng.random::<f64>() - 0.5),
+                c[1] + 0.2 * (rng.random::<f64>() - 0.5),
+            ];
             assert!(err(&other) >= err(&c) - 1e-9);
         }
         // The polygon is the convex hull of the projected vertices: same support everywhere,
         // and each polygon vertex is (close to) a projected vertex.
         let poly = bx.set().polygon(&s, 128).unwrap();
-        assert!(poly.exact, "case {case}: not exact after {} calls", poly.calls);
-        let projected: Vec<[f64; 2]> = verts.iter().map(|v| {
-            let p = &s * v;
-            [p[0], p[1]]
-        }).collect();
+        assert!(
+            poly.exact,
+            "case {case}: not exact after {} calls",
+            poly.calls
+        );
+        let projected: Vec<[f64; 2]> = verts
+            .iter()
+            .map(|v| {
+                let p = &s * v;
+                [p[0], p[1]]
+            })
+            .collect();
         for t in 0..48 {
             let a = t as f64 * std::f64::consts::PI / 24.0;
             let d = [a.cos(), a.sin()];
-            let sup = |pts: &[[f64; 2]]| pts.iter().map(|p| d[0] * p[0] + d[1] * p[1]).fold(f64::NEG_INFINITY, f64::max);
-            assert!((sup(&poly.vertices) - sup(&projected)).abs() < 1e-6, "case {case}: support differs at {a}");
+            let sup = |pts: &[[f64; 2]]| {
+                pts.iter()
+                    .map(|p| d[0] * p[0] + d[1] * p[1])
+                    .fold(f64::NEG_INFINITY, f64::max)
+            };
+            assert!(
+                (sup(&poly.vertices) - sup(&projected)).abs() < 1e-6,
+                "case {case}: support differs at {a}"
+            );
         }
         for v in &poly.vertices {
-            let near = projected.iter().map(|p| (p[0] - v[0]).hypot(p[1] - v[1])).fold(f64::INFINITY, f64::min);
-            assert!(near < 1e-5, "case {case}: polygon vertex {v:?} is {near} from every projected vertex");
+            let near = projected
+                .iter()
+                .map(|p| (p[0] - v[0]).hypot(p[1] - v[1]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                near < 1e-5,
+                "case {case}: polygon vertex {v:?} is {near} from every projected vertex"
+            );
         }
     }
     assert_eq!(nonempty, 12);
@@ -170,8 +223,22 @@ fn l1_set(rng: &mut ChaCha8Rng, n: usize, m: usize, form: L1Form) -> (FeasibleSe
     let set = FeasibleSet {
         dim: n,
         bounds: vec![
-            NormBound { map: DMatrix::identity(n, n), center: DVector::zeros(n), weights: DVector::from_element(n, 1.0), norm: Norm::Linf, bound: 1.0, field: "K".into() },
-            NormBound { map: nm, center: h, weights: w, norm: Norm::L1, bound: 0.4, field: "eps".into() },
+            NormBound {
+                map: DMatrix::identity(n, n),
+                center: DVector::zeros(n),
+                weights: DVector::from_element(n, 1.0),
+                norm: Norm::Linf,
+                bound: 1.0,
+                field: "K".into(),
+            },
+            NormBound {
+                map: nm,
+                center: h,
+                weights: w,
+                norm: Norm::L1,
+                bound: 0.4,
+                field: "eps".into(),
+            },
         ],
         eq: None,
         l1_form: form,
@@ -186,7 +253,12 @@ fn l1_enumerated_rows_and_lifted_lp_agree() {
     for seed in 0..8u64 {
         let m = 2 + seed as usize;
         let (lifted, s) = l1_set(&mut ChaCha8Rng::seed_from_u64(seed), 3, m, L1Form::Lifted);
-        let (enumerated, s2) = l1_set(&mut ChaCha8Rng::seed_from_u64(seed), 3, m, L1Form::Enumerated);
+        let (enumerated, s2) = l1_set(
+            &mut ChaCha8Rng::seed_from_u64(seed),
+            3,
+            m,
+            L1Form::Enumerated,
+        );
         assert_eq!(s, s2);
         let (_, size_l) = lifted.program().unwrap();
         let (_, size_e) = enumerated.program().unwrap();
@@ -196,7 +268,10 @@ fn l1_enumerated_rows_and_lifted_lp_agree() {
         let a = lifted.interval_hull(&s).unwrap();
         let b = enumerated.interval_hull(&s).unwrap();
         for i in 0..3 {
-            assert!((a.lo[i] - b.lo[i]).abs() < 1e-6 && (a.hi[i] - b.hi[i]).abs() < 1e-6, "m = {m}: {a:?} vs {b:?}");
+            assert!(
+                (a.lo[i] - b.lo[i]).abs() < 1e-6 && (a.hi[i] - b.hi[i]).abs() < 1e-6,
+                "m = {m}: {a:?} vs {b:?}"
+            );
         }
         assert!(a.radius() > 1e-3, "the set is not a point");
     }
@@ -204,7 +279,11 @@ fn l1_enumerated_rows_and_lifted_lp_agree() {
     let (big, _) = l1_set(&mut ChaCha8Rng::seed_from_u64(1), 3, 20, L1Form::Enumerated);
     let err = big.program().unwrap_err();
     assert_eq!(err.field, "eps");
-    assert!(err.message.contains("lifted") && err.message.contains("524288"), "{}", err.message);
+    assert!(
+        err.message.contains("lifted") && err.message.contains("524288"),
+        "{}",
+        err.message
+    );
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
@@ -221,8 +300,22 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     let set = FeasibleSet {
         dim: n,
         bounds: vec![
-            NormBound { map: DMatrix::identity(n, n), center: DVector::zeros(n), weights: DVector::from_element(n, 0.1), norm: Norm::L2, bound: 1.0, field: "K".into() },
-            NormBound { map: nm.clone(), center: h.clone(), weights: DVector::from_element(n, 1.0), norm: Norm::L2, bound: eps, field: "eps".into() },
+            NormBound {
+                map: DMatrix::identity(n, n),
+                center: DVector::zeros(n),
+                weights: DVector::from_element(n, 0.1),
+                norm: Norm::L2,
+                bound: 1.0,
+                field: "K".into(),
+            },
+            NormBound {
+                map: nm.clone(),
+                center: h.clone(),
+                weights: DVector::from_element(n, 1.0),
+                norm: Norm::L2,
+                bound: eps,
+                field: "eps".into(),
+            },
         ],
         eq: None,
         l1_form: L1Form::Lifted,
@@ -234,7 +327,11 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     let gm = &s * &ninv * &h;
     for i in 0..2 {
         let half = eps * (s.row(i) * &ninv).norm();
-        assert!((hull.lo[i] - (gm[i] - half)).abs() < 1e-6 && (hull.hi[i] - (gm[i] + half)).abs() < 1e-6, "{hull:?} vs {gm} ± {half}");
+        assert!(
+            (hull.lo[i] - (gm[i] - half)).abs() < 1e-6
+                && (hull.hi[i] - (gm[i] + half)).abs() < 1e-6,
+            "{hull:?} vs {gm} ± {half}"
+        );
     }
     // Theorem 1: Δ(ε) ⊂ K, so Gauss–Markov, which is the centre of T(h) here.
     let v = DMatrix::identity(n, n) * 0.01;
@@ -244,18 +341,43 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     assert!(th.delta_in_k <= 1.0);
     let est = th.estimate.unwrap();
     let c = hull.center();
-    assert!((est[0] - c[0]).abs() < 1e-6 && (est[1] - c[1]).abs() < 1e-6, "{est:?} vs {c:?}");
+    assert!(
+        (est[0] - c[0]).abs() < 1e-6 && (est[1] - c[1]).abs() < 1e-6,
+        "{est:?} vs {c:?}"
+    );
     // The zero case: ‖N‖ ≤ ε, so K ⊆ Δ(ε); then sup over T(0) of S_i f is sup over K (16),
     // i.e. ‖S_i‖₂ for the unit ball, and the optimal estimate is 0.
     let small = &nm * (0.5 * eps / nm.norm());
-    let th0 = hilbert(&DMatrix::identity(n, n), &r, &small, &s, eps, &DVector::zeros(n)).unwrap();
+    let th0 = hilbert(
+        &DMatrix::identity(n, n),
+        &r,
+        &small,
+        &s,
+        eps,
+        &DVector::zeros(n),
+    )
+    .unwrap();
     assert_eq!(th0.case, HilbertCase::Zero);
     assert_eq!(th0.estimate.unwrap(), vec![0.0, 0.0]);
     let t0 = FeasibleSet {
         dim: n,
         bounds: vec![
-            NormBound { map: DMatrix::identity(n, n), center: DVector::zeros(n), weights: DVector::from_element(n, 1.0), norm: Norm::L2, bound: 1.0, field: "K".into() },
-            NormBound { map: small, center: DVector::zeros(n), weights: DVector::from_element(n, 1.0), norm: Norm::L2, bound: eps, field: "eps".into() },
+            NormBound {
+                map: DMatrix::identity(n, n),
+                center: DVector::zeros(n),
+                weights: DVector::from_element(n, 1.0),
+                norm: Norm::L2,
+                bound: 1.0,
+                field: "K".into(),
+            },
+            NormBound {
+                map: small,
+                center: DVector::zeros(n),
+                weights: DVector::from_element(n, 1.0),
+                norm: Norm::L2,
+                bound: eps,
+                field: "eps".into(),
+            },
         ],
         eq: None,
         l1_form: L1Form::Lifted,
@@ -263,11 +385,24 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     };
     let h0 = t0.interval_hull(&s).unwrap();
     for i in 0..2 {
-        assert!((h0.hi[i] - s.row(i).norm()).abs() < 1e-6, "{} vs {}", h0.hi[i], s.row(i).norm());
+        assert!(
+            (h0.hi[i] - s.row(i).norm()).abs() < 1e-6,
+            "{} vs {}",
+            h0.hi[i],
+            s.row(i).norm()
+        );
     }
     // Neither case: N not one-to-one with a small K.
     let rank1 = DMatrix::from_fn(n, n, |i, j| (i + 1) as f64 * (j + 1) as f64);
-    let th2 = hilbert(&DMatrix::identity(n, n), &r, &rank1, &s, eps, &DVector::zeros(n)).unwrap();
+    let th2 = hilbert(
+        &DMatrix::identity(n, n),
+        &r,
+        &rank1,
+        &s,
+        eps,
+        &DVector::zeros(n),
+    )
+    .unwrap();
     assert_eq!(th2.case, HilbertCase::Between);
     assert!(th2.delta_in_k.is_infinite() && th2.estimate.is_none());
 }
@@ -284,25 +419,56 @@ fn theorem_2_linear_algorithm_attains_the_intrinsic_error() {
         let lin = linear_optimal(&bx.p, &bx.b, &s, "test").unwrap();
         assert_eq!(lin.active.len(), n);
         // (22) by brute force: the largest S f over the vertices of T(0).
-        let t0 = Boxy { p: bx.p.clone(), d: DVector::zeros(n + m), b: bx.b.clone() };
-        let intrinsic = t0.vertices().iter().map(|v| s.dot(v)).fold(f64::NEG_INFINITY, f64::max);
-        assert!((lin.intrinsic_error - intrinsic).abs() < 1e-6, "case {case}: {} vs {intrinsic}", lin.intrinsic_error);
+        let t0 = Boxy {
+            p: bx.p.clone(),
+            d: DVector::zeros(n + m),
+            b: bx.b.clone(),
+        };
+        let intrinsic = t0
+            .vertices()
+            .iter()
+            .map(|v| s.dot(v))
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(
+            (lin.intrinsic_error - intrinsic).abs() < 1e-6,
+            "case {case}: {} vs {intrinsic}",
+            lin.intrinsic_error
+        );
         // Local error (26) of φ(h) = S P̃⁻¹ d̃ at this h, by vertex enumeration: never above
         // the intrinsic error, and never below the central algorithm's.
         let verts = bx.vertices();
         let phi = lin.apply(&bx.d);
-        let local = verts.iter().map(|v| (s.dot(v) - phi).abs()).fold(0.0, f64::max);
-        assert!(local <= lin.intrinsic_error + 1e-6, "case {case}: local error {local} above E = {}", lin.intrinsic_error);
+        let local = verts
+            .iter()
+            .map(|v| (s.dot(v) - phi).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            local <= lin.intrinsic_error + 1e-6,
+            "case {case}: local error {local} above E = {}",
+            lin.intrinsic_error
+        );
         let vals: Vec<f64> = verts.iter().map(|v| s.dot(v)).collect();
-        let central = 0.5 * (vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - vals.iter().cloned().fold(f64::INFINITY, f64::min));
+        let central = 0.5
+            * (vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+                - vals.iter().cloned().fold(f64::INFINITY, f64::min));
         assert!(central <= local + 1e-9);
         // At h = 0 the local error is the intrinsic error itself (φ(0) = 0): attained.
-        let local0 = t0.vertices().iter().map(|v| (s.dot(v) - lin.apply(&t0.d)).abs()).fold(0.0, f64::max);
+        let local0 = t0
+            .vertices()
+            .iter()
+            .map(|v| (s.dot(v) - lin.apply(&t0.d)).abs())
+            .fold(0.0, f64::max);
         assert!((local0 - lin.intrinsic_error).abs() < 1e-6);
     }
     // Rank P̃ < n: a direction nothing bounds (no prior, one measurement in R²) is refused.
     let p = DMatrix::from_row_slice(1, 2, &[1.0, 0.0]);
-    let err = linear_optimal(&p, &DVector::from_element(1, 1.0), &DVector::from_vec(vec![1.0, 0.0]), "ubb.eps").unwrap_err();
+    let err = linear_optimal(
+        &p,
+        &DVector::from_element(1, 1.0),
+        &DVector::from_vec(vec![1.0, 0.0]),
+        "ubb.eps",
+    )
+    .unwrap_err();
     assert_eq!(err.field, "ubb.eps");
 }
 
@@ -316,7 +482,11 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
         a *= (0.3 + 0.6 * rng.random::<f64>()) / ubb::norm_inf(&a);
         let b = rand_mat(&mut rng, r, 1 + case % 2);
         let tau = 0.05 + rng.random::<f64>();
-        let alpha = if case % 2 == 0 { None } else { Some(20.0 + 80.0 * rng.random::<f64>()) };
+        let alpha = if case % 2 == 0 {
+            None
+        } else {
+            Some(20.0 + 80.0 * rng.random::<f64>())
+        };
         let sm = Smoothing::new(ubb::norm_inf(&a), ubb::norm_inf(&b), tau, alpha);
         if sm.ratio >= 1.0 {
             assert!(sm.limit().is_none() && sm.truncation(0.1, "ubb.gamma").is_err());
@@ -334,7 +504,11 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
             pow = &a * pow;
         }
         let total: f64 = terms.iter().sum();
-        assert!(total <= sm.limit().unwrap() * (1.0 + 1e-12), "case {case}: {total} > {}", sm.limit().unwrap());
+        assert!(
+            total <= sm.limit().unwrap() * (1.0 + 1e-12),
+            "case {case}: {total} > {}",
+            sm.limit().unwrap()
+        );
         // Theorem 5: j satisfies (52), j − 1 does not, and the neglected terms stay below γ
         // at every k (55).
         for gamma in [0.5, 0.05, 0.005] {
@@ -346,9 +520,17 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
             for k in [j + 1, j + 5, j + 50, 399] {
                 let neglected: f64 = terms[(j + 1).min(k + 1)..=k].iter().sum();
                 let bound = sm.tail(j, Some(k));
-                let direct: f64 = (j + 1..=k).map(|i| tau * sm.b_norm * sm.ratio.powi(i as i32)).sum();
-                assert!((bound - direct).abs() <= 1e-9 * direct.max(1e-12), "(55) formula at k = {k}");
-                assert!(neglected <= bound * (1.0 + 1e-12) && bound <= gamma * (1.0 + 1e-12), "k = {k}: {neglected} ≤ {bound} ≤ {gamma}");
+                let direct: f64 = (j + 1..=k)
+                    .map(|i| tau * sm.b_norm * sm.ratio.powi(i as i32))
+                    .sum();
+                assert!(
+                    (bound - direct).abs() <= 1e-9 * direct.max(1e-12),
+                    "(55) formula at k = {k}"
+                );
+                assert!(
+                    neglected <= bound * (1.0 + 1e-12) && bound <= gamma * (1.0 + 1e-12),
+                    "k = {k}: {neglected} ≤ {bound} ≤ {gamma}"
+                );
             }
         }
     }
@@ -365,7 +547,12 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
-    for kind in [UbbKind::Track, UbbKind::Leontief, UbbKind::Series, UbbKind::Markov] {
+    for kind in [
+        UbbKind::Track,
+        UbbKind::Leontief,
+        UbbKind::Series,
+        UbbKind::Markov,
+    ] {
         let prep = presets::ubb_preset(kind).prepare_ubb().unwrap();
         let pb = &prep.problem;
         let run = prep.run_data();
@@ -391,18 +578,27 @@ fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
             if p > 0 {
                 assert_eq!(step.set.dim, r * (len + 1) + p * len);
                 for t in s..=k + 1 {
-                    f.rows_mut(r * (t - s), r).copy_from(&(&run.x[t] - &nominal[t]));
+                    f.rows_mut(r * (t - s), r)
+                        .copy_from(&(&run.x[t] - &nominal[t]));
                 }
                 for l in s..=k {
-                    f.rows_mut(r * (len + 1) + p * (l - s), p).copy_from(&run.u[l]);
+                    f.rows_mut(r * (len + 1) + p * (l - s), p)
+                        .copy_from(&run.u[l]);
                 }
             } else {
                 assert_eq!((s, step.set.dim), (0, r));
                 f.copy_from(&(&run.x[0] - &nominal[0]));
             }
             let x = &step.s_map * &f + &step.offset;
-            assert!((&x - &run.x[k + 1]).amax() < 1e-9 * (1.0 + run.x[k + 1].amax()), "{kind:?} k = {k}: map gives {x}, truth {}", run.x[k + 1]);
-            assert!(step.set.contains(&f, 1e-9), "{kind:?} k = {k}: the truth violates a bound");
+            assert!(
+                (&x - &run.x[k + 1]).amax() < 1e-9 * (1.0 + run.x[k + 1].amax()),
+                "{kind:?} k = {k}: map gives {x}, truth {}",
+                run.x[k + 1]
+            );
+            assert!(
+                step.set.contains(&f, 1e-9),
+                "{kind:?} k = {k}: the truth violates a bound"
+            );
         }
     }
     // No measurements, window = all: the set is the image of the box K, so its hull is the
@@ -424,10 +620,18 @@ fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
                 exact += 0.1 * (i as f64 / 50.0).exp() * (&pow * b)[(c, 0)].abs();
                 pow = a * pow;
             }
-            assert!((hull.hi[c] - exact).abs() < 1e-6 * exact && (hull.lo[c] + exact).abs() < 1e-6 * exact, "k = {k}: {hull:?} vs ±{exact}");
+            assert!(
+                (hull.hi[c] - exact).abs() < 1e-6 * exact
+                    && (hull.lo[c] + exact).abs() < 1e-6 * exact,
+                "k = {k}: {hull:?} vs ±{exact}"
+            );
         }
         let bound = ubb::norm_inf(&ak) * 2.0 + prep.smoothing.limit.unwrap();
-        assert!(hull.radius() <= bound, "k = {k}: {} > {bound}", hull.radius());
+        assert!(
+            hull.radius() <= bound,
+            "k = {k}: {} > {bound}",
+            hull.radius()
+        );
     }
 }
 
@@ -442,8 +646,16 @@ fn guarantee(norm: Norm, noise: NoiseMode, runs: usize, seed: u64) -> usize {
     let prep = sc.prepare_ubb().unwrap();
     let count = prep.guarantee(11, seed, runs).unwrap();
     assert_eq!(count.runs, runs);
-    assert_eq!(count.outside, 0, "{norm:?}/{noise:?}: the truth left the set {} times (worst excess {})", count.outside, count.worst_excess);
-    assert!(count.worst_excess <= confset::scenario::ubb::TOL * 10.0, "{}", count.worst_excess);
+    assert_eq!(
+        count.outside, 0,
+        "{norm:?}/{noise:?}: the truth left the set {} times (worst excess {})",
+        count.outside, count.worst_excess
+    );
+    assert!(
+        count.worst_excess <= confset::scenario::ubb::TOL * 10.0,
+        "{}",
+        count.worst_excess
+    );
     count.kf_outside
 }
 
@@ -478,27 +690,58 @@ fn the_true_state_never_leaves_the_set() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn presets_report_exact_polygons_and_hold_the_truth() {
-    for kind in [UbbKind::Track, UbbKind::Series, UbbKind::Leontief, UbbKind::Markov] {
+    for kind in [
+        UbbKind::Track,
+        UbbKind::Series,
+        UbbKind::Leontief,
+        UbbKind::Markov,
+    ] {
         let rep = presets::ubb_preset(kind).run().unwrap().ubb.unwrap();
         assert_eq!(rep.outside, 0, "{kind:?}");
         assert!(rep.track.iter().all(|t| t.inside == Some(true)));
         let at = &rep.at;
         let truth = at.truth.clone().unwrap();
-        assert!(confset::scenario::uniform::point_in_convex(&at.polygon.vertices, [truth[0], truth[1]], 1e-6) || at.polygon.vertices.len() < 3, "{kind:?}: truth outside the polygon");
+        assert!(
+            confset::scenario::uniform::point_in_convex(
+                &at.polygon.vertices,
+                [truth[0], truth[1]],
+                1e-6
+            ) || at.polygon.vertices.len() < 3,
+            "{kind:?}: truth outside the polygon"
+        );
         // The polygon's axis extremes are the hull of the plane components.
         let (i, j) = (rep.plane[0], rep.plane[1]);
         let h = at.polygon.hull;
-        assert!((h[0] - at.lo[i]).abs() < 1e-6 && (h[1] - at.hi[i]).abs() < 1e-6 && (h[2] - at.lo[j]).abs() < 1e-6 && (h[3] - at.hi[j]).abs() < 1e-6, "{kind:?}: {h:?} vs {:?} {:?}", at.lo, at.hi);
+        assert!(
+            (h[0] - at.lo[i]).abs() < 1e-6
+                && (h[1] - at.hi[i]).abs() < 1e-6
+                && (h[2] - at.lo[j]).abs() < 1e-6
+                && (h[3] - at.hi[j]).abs() < 1e-6,
+            "{kind:?}: {h:?} vs {:?} {:?}",
+            at.lo,
+            at.hi
+        );
         // Leontief's 3-D projection has 47 vertices: exact after 104 of the 128 LPs allowed.
-        assert!(at.polygon.exact, "{kind:?}: {} calls, gap {}", at.polygon.calls, at.polygon.gap);
+        assert!(
+            at.polygon.exact,
+            "{kind:?}: {} calls, gap {}",
+            at.polygon.calls, at.polygon.gap
+        );
         assert_eq!(at.polygon.gap, 0.0);
     }
     // Example 4: the set of distributions stays on the simplex, and the transient mass decays.
-    let rep = presets::ubb_preset(UbbKind::Markov).run().unwrap().ubb.unwrap();
+    let rep = presets::ubb_preset(UbbKind::Markov)
+        .run()
+        .unwrap()
+        .ubb
+        .unwrap();
     let first = &rep.track[0];
     let last = rep.track.last().unwrap();
     assert!(last.hi[1] + last.hi[2] < 0.5 * (first.hi[1] + first.hi[2]));
-    assert!(rep.track.iter().all(|t| t.lo.iter().all(|v| *v >= -1e-7) && t.hi.iter().all(|v| *v <= 1.0 + 1e-7)));
+    assert!(rep
+        .track
+        .iter()
+        .all(|t| t.lo.iter().all(|v| *v >= -1e-7) && t.hi.iter().all(|v| *v <= 1.0 + 1e-7)));
     // Example 1: the prediction interval of f(m+1) holds the next sample and shrinks with m.
     let sc = presets::ubb_preset(UbbKind::Series);
     let early = sc.run().unwrap().ubb.unwrap();
@@ -506,7 +749,12 @@ fn presets_report_exact_polygons_and_hold_the_truth() {
     later.ubb.as_mut().unwrap().time = Some(25);
     let later = later.run().unwrap().ubb.unwrap();
     let width = |r: &confset::scenario::UbbReport| r.at.prediction[0][1] - r.at.prediction[0][0];
-    assert!(width(&later) < width(&early), "{} vs {}", width(&later), width(&early));
+    assert!(
+        width(&later) < width(&early),
+        "{} vs {}",
+        width(&later),
+        width(&early)
+    );
     let y_next = later.y[26][0];
     assert!(later.at.prediction[0][0] <= y_next && y_next <= later.at.prediction[0][1]);
 }
@@ -524,7 +772,10 @@ fn contradictory_data_and_bad_input_name_their_field() {
     assert!(err.message.contains("infeasible"), "{}", err.message);
     // δ = ∞ with an output that never sees x₂: unbounded, named.
     let mut sc = presets::ubb_preset(UbbKind::Track);
-    sc.model.f = Some(confset::model::MatrixSpec::Constant(vec![vec![0.5, 0.0], vec![0.0, 0.5]]));
+    sc.model.f = Some(confset::model::MatrixSpec::Constant(vec![
+        vec![0.5, 0.0],
+        vec![0.0, 0.5],
+    ]));
     sc.ubb.as_mut().unwrap().delta = None;
     let err = sc.run().unwrap_err();
     assert_eq!(err.field, "ubb.delta");
@@ -544,12 +795,18 @@ fn contradictory_data_and_bad_input_name_their_field() {
             ("ubb.window", json!({"ubb": {"window": 0}})),
             ("ubb.gamma", json!({"ubb": {"gamma": -1.0, "window": null}})),
             ("ubb.time", json!({"ubb": {"time": 60}})),
-            ("ubb.basis", json!({"ubb": {"basis": ["1", "z"]}, "model": {"H": null}})),
+            (
+                "ubb.basis",
+                json!({"ubb": {"basis": ["1", "z"]}, "model": {"H": null}}),
+            ),
             ("model.F", json!({"model": {"F": [[1.0, 0.0]]}})),
             ("model.G", json!({"model": {"G": [[1.0]]}})),
             ("model.H", json!({"model": {"H": [[1.0, 0.0, 0.0]]}})),
             ("simulate.steps", json!({"simulate": {"steps": 0}})),
-            ("ubb.eps", json!({"ubb": {"norm": "l1", "l1_form": "enumerated"}})),
+            (
+                "ubb.eps",
+                json!({"ubb": {"norm": "l1", "l1_form": "enumerated"}}),
+            ),
         ],
     );
     // Theorem 5 with ‖A‖e^{1/α} ≥ 1 and no window: refused, naming the window.
@@ -587,12 +844,17 @@ fn l2_and_l1_state_sets_are_consistent_with_linf() {
     let (inf, l1, l2) = (hull_of(Norm::Linf), hull_of(Norm::L1), hull_of(Norm::L2));
     for i in 0..2 {
         for h in [&l1, &l2] {
-            assert!(h.lo[i] >= inf.lo[i] - 1e-6 && h.hi[i] <= inf.hi[i] + 1e-6, "{h:?} not inside {inf:?}");
+            assert!(
+                h.lo[i] >= inf.lo[i] - 1e-6 && h.hi[i] <= inf.hi[i] + 1e-6,
+                "{h:?} not inside {inf:?}"
+            );
         }
-        assert!(l1.hi[i] - l1.lo[i] <= l2.hi[i] - l2.lo[i] + 1e-6, "l1 ball ⊂ l2 ball");
+        assert!(
+            l1.hi[i] - l1.lo[i] <= l2.hi[i] - l2.lo[i] + 1e-6,
+            "l1 ball ⊂ l2 ball"
+        );
     }
 }
-
 
 /// Garbage in every `ubb` field and the model: a report or a named error, never a panic (a
 /// panic in the browser would kill the page).
@@ -601,52 +863,104 @@ fn l2_and_l1_state_sets_are_consistent_with_linf() {
 fn garbage_gives_a_report_or_a_named_error() {
     let mut rng = ChaCha8Rng::seed_from_u64(99);
     let base = serde_json::to_value(presets::ubb_preset(UbbKind::Track)).unwrap();
-    let pick = |rng: &mut ChaCha8Rng, xs: &[serde_json::Value]| xs[rng.random_range(0..xs.len())].clone();
+    let pick =
+        |rng: &mut ChaCha8Rng, xs: &[serde_json::Value]| xs[rng.random_range(0..xs.len())].clone();
     let cases = 160;
     let (mut ok, mut refused) = (0, 0);
     for _ in 0..cases {
         let mut sc = base.clone();
-        let num = [json!(0.0), json!(1e-300), json!(1e300), json!(-1.0), json!(0.1), json!(2.0), json!(null)];
-        for key in ["eps", "tau", "alpha", "beta", "gamma", "sim_eps", "kf_level"] {
+        let num = [
+            json!(0.0),
+            json!(1e-300),
+            json!(1e300),
+            json!(-1.0),
+            json!(0.1),
+            json!(2.0),
+            json!(null),
+        ];
+        for key in [
+            "eps", "tau", "alpha", "beta", "gamma", "sim_eps", "kf_level",
+        ] {
             if rng.random::<f64>() < 0.3 {
                 sc["ubb"][key] = pick(&mut rng, &num);
             }
         }
         if rng.random::<f64>() < 0.3 {
-            sc["ubb"]["delta"] = pick(&mut rng, &[json!([]), json!([0.0]), json!([1e300]), json!([1.0, 2.0, 3.0]), json!(null)]);
+            sc["ubb"]["delta"] = pick(
+                &mut rng,
+                &[
+                    json!([]),
+                    json!([0.0]),
+                    json!([1e300]),
+                    json!([1.0, 2.0, 3.0]),
+                    json!(null),
+                ],
+            );
         }
         if rng.random::<f64>() < 0.3 {
-            sc["ubb"]["window"] = pick(&mut rng, &[json!(0), json!(1), json!(2), json!(400), json!(100000)]);
+            sc["ubb"]["window"] = pick(
+                &mut rng,
+                &[json!(0), json!(1), json!(2), json!(400), json!(100000)],
+            );
         }
         if rng.random::<f64>() < 0.2 {
             sc["ubb"]["time"] = json!(rng.random_range(0..80));
         }
         if rng.random::<f64>() < 0.2 {
-            sc["ubb"]["plane"] = pick(&mut rng, &[json!([0, 1]), json!([1, 0]), json!([0, 5]), json!([1, 1])]);
+            sc["ubb"]["plane"] = pick(
+                &mut rng,
+                &[json!([0, 1]), json!([1, 0]), json!([0, 5]), json!([1, 1])],
+            );
         }
         if rng.random::<f64>() < 0.2 {
             sc["ubb"]["norm"] = pick(&mut rng, &[json!("l1"), json!("l2"), json!("linf")]);
             sc["ubb"]["l1_form"] = pick(&mut rng, &[json!("lifted"), json!("enumerated")]);
         }
         if rng.random::<f64>() < 0.2 {
-            sc["model"]["F"] = pick(&mut rng, &[json!([[1e200, 0.0], [0.0, 1e200]]), json!([[1.0]]), json!([[2.0, 0.0], [0.0, 2.0]]), json!([[0.0, 0.0], [0.0, 0.0]])]);
+            sc["model"]["F"] = pick(
+                &mut rng,
+                &[
+                    json!([[1e200, 0.0], [0.0, 1e200]]),
+                    json!([[1.0]]),
+                    json!([[2.0, 0.0], [0.0, 2.0]]),
+                    json!([[0.0, 0.0], [0.0, 0.0]]),
+                ],
+            );
         }
         if rng.random::<f64>() < 0.2 {
-            sc["model"]["H"] = pick(&mut rng, &[json!([[0.0, 0.0]]), json!([[1e300, 0.0]]), json!(null)]);
+            sc["model"]["H"] = pick(
+                &mut rng,
+                &[json!([[0.0, 0.0]]), json!([[1e300, 0.0]]), json!(null)],
+            );
         }
         if rng.random::<f64>() < 0.2 {
             sc["simulate"]["steps"] = pick(&mut rng, &[json!(1), json!(2), json!(3), json!(0)]);
         }
         if rng.random::<f64>() < 0.1 {
-            sc["ubb"]["basis"] = pick(&mut rng, &[json!(["1", "k"]), json!(["sin:0", "k"]), json!(["1"])]);
+            sc["ubb"]["basis"] = pick(
+                &mut rng,
+                &[json!(["1", "k"]), json!(["sin:0", "k"]), json!(["1"])],
+            );
         }
         match serde_json::from_value::<confset::scenario::Scenario>(sc.clone()) {
             Err(_) => refused += 1,
             Ok(s) => match s.run() {
                 Ok(r) => {
                     let u = r.ubb.expect("a ubb report");
-                    assert!(u.track.iter().all(|t| t.lo.iter().chain(&t.hi).all(|v| v.is_finite())), "{sc}: non-finite hull");
-                    assert!(u.at.polygon.vertices.iter().all(|v| v[0].is_finite() && v[1].is_finite()) || u.at.polygon.vertices.is_empty(), "{sc}");
+                    assert!(
+                        u.track
+                            .iter()
+                            .all(|t| t.lo.iter().chain(&t.hi).all(|v| v.is_finite())),
+                        "{sc}: non-finite hull"
+                    );
+                    assert!(
+                        u.at.polygon
+                            .vertices
+                            .iter()
+                            .all(|v| v[0].is_finite() && v[1].is_finite())
+                            || u.at.polygon.vertices.is_empty(),
+                        "{sc}"
+                    );
                     ok += 1;
                 }
                 Err(e) => {

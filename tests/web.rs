@@ -518,7 +518,10 @@ fn uniform_wasm_timings() {
 /// The set-membership issue's wasm speed figures: one step of ubb-track (window 30).
 #[wasm_bindgen_test]
 fn ubb_wasm_timings() {
-    let prep = confset::presets::get("ubb-track").expect("preset").prepare_ubb().expect("valid");
+    let prep = confset::presets::get("ubb-track")
+        .expect("preset")
+        .prepare_ubb()
+        .expect("valid");
     let run = prep.run_data();
     let mean_ms = |reps: usize, f: &mut dyn FnMut()| {
         let t0 = js_sys::Date::now();
@@ -538,7 +541,11 @@ fn ubb_wasm_timings() {
     let fan = mean_ms(20, &mut || {
         let step = prep.problem.step(&run.y, 40).expect("step");
         let mut solver = step.set.support_solver().expect("LP");
-        std::hint::black_box(solver.support_fan(&step.plane_map([0, 1]), 64).expect("LPs"));
+        std::hint::black_box(
+            solver
+                .support_fan(&step.plane_map([0, 1]), 64)
+                .expect("LPs"),
+        );
     });
     let report = mean_ms(3, &mut || {
         std::hint::black_box(prep.report().expect("report"));

@@ -223,7 +223,12 @@ fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
         s.parse::<f64>()
             .ok()
             .filter(|p| p.is_finite() && *p > 0.0)
-            .ok_or_else(|| Error::field(field, format!("\"{g}\": the period must be a positive number")))
+            .ok_or_else(|| {
+                Error::field(
+                    field,
+                    format!("\"{g}\": the period must be a positive number"),
+                )
+            })
     };
     Ok(match g {
         "1" => 1.0,
@@ -232,12 +237,12 @@ fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
         _ => match g.split_once(':') {
             Some(("sin", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).sin(),
             Some(("cos", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).cos(),
-            _ => {
-                return Err(Error::field(
-                    field,
-                    format!("\"{g}\" is not a basis function (\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\")"),
-                ))
-            }
+            _ => return Err(Error::field(
+                field,
+                format!(
+                    "\"{g}\" is not a basis function (\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\")"
+                ),
+            )),
         },
     })
 }
@@ -248,7 +253,10 @@ fn finite_positive(field: &str, v: f64, allow_zero: bool) -> Result<f64> {
     } else {
         Err(Error::field(
             field,
-            format!("must be a finite number {} 0, found {v}", if allow_zero { "≥" } else { ">" }),
+            format!(
+                "must be a finite number {} 0, found {v}",
+                if allow_zero { "≥" } else { ">" }
+            ),
         ))
     }
 }
@@ -257,7 +265,10 @@ impl Scenario {
     /// Validate a `ubb` scenario.
     pub fn prepare_ubb(&self) -> Result<UbbPrepared> {
         let spec = self.ubb.clone().ok_or_else(|| {
-            Error::field("ubb", "is missing: the method \"ubb\" needs a ubb block (eps, tau, delta, …)")
+            Error::field(
+                "ubb",
+                "is missing: the method \"ubb\" needs a ubb block (eps, tau, delta, …)",
+            )
         })?;
         let ms = &self.model;
         finite_positive("ubb.eps", spec.eps, false)?;
@@ -274,7 +285,10 @@ impl Scenario {
             }
         }
         if !(spec.kf_level > 0.0 && spec.kf_level < 1.0) {
-            return Err(Error::field("ubb.kf_level", format!("must lie strictly between 0 and 1, found {}", spec.kf_level)));
+            return Err(Error::field(
+                "ubb.kf_level",
+                format!("must lie strictly between 0 and 1, found {}", spec.kf_level),
+            ));
         }
         if !(8..=512).contains(&spec.budget) {
             return Err(Error::field("ubb.budget", "must lie in 8..=512 LPs"));
@@ -282,12 +296,26 @@ impl Scenario {
         let (steps, seed) = match (&self.simulate, &self.data) {
             (Some(s), None) => (s.steps, s.seed),
             (None, Some(d)) => (d.y.len(), 0),
-            (Some(_), Some(_)) => return Err(Error::field("data", "and simulate are both given: choose one")),
-            (None, None) => return Err(Error::field("simulate", "is missing (give simulate.steps or data.y)")),
+            (Some(_), Some(_)) => {
+                return Err(Error::field(
+                    "data",
+                    "and simulate are both given: choose one",
+                ))
+            }
+            (None, None) => {
+                return Err(Error::field(
+                    "simulate",
+                    "is missing (give simulate.steps or data.y)",
+                ))
+            }
         };
         if !(1..=2000).contains(&steps) {
             return Err(Error::field(
-                if self.data.is_some() { "data.y" } else { "simulate.steps" },
+                if self.data.is_some() {
+                    "data.y"
+                } else {
+                    "simulate.steps"
+                },
                 format!("must give 1..=2000 steps, found {steps}"),
             ));
         }
@@ -306,10 +334,19 @@ impl Scenario {
             vec![h]
         } else {
             if basis.len() != r {
-                return Err(Error::field("ubb.basis", format!("has {} functions for a state of {r} coefficients", basis.len())));
+                return Err(Error::field(
+                    "ubb.basis",
+                    format!(
+                        "has {} functions for a state of {r} coefficients",
+                        basis.len()
+                    ),
+                ));
             }
             if ms.h.is_some() {
-                return Err(Error::field("model.H", "must be absent when ubb.basis gives the outputs"));
+                return Err(Error::field(
+                    "model.H",
+                    "must be absent when ubb.basis gives the outputs",
+                ));
             }
             (0..=steps)
                 .map(|t| {
@@ -327,25 +364,44 @@ impl Scenario {
         };
         linalg::expect_shape("model.G", &b, r, b.ncols())?;
         // Known input v(t) = B·simulate.u(t).
-        let v = match (constant("model.B", &ms.b)?, self.simulate.as_ref().map(|s| &s.u)) {
+        let v = match (
+            constant("model.B", &ms.b)?,
+            self.simulate.as_ref().map(|s| &s.u),
+        ) {
             (Some(bm), Some(u)) if !u.is_empty() => {
                 linalg::expect_shape("model.B", &bm, r, bm.ncols())?;
                 u.iter()
                     .enumerate()
-                    .map(|(t, row)| Ok(&bm * linalg::vector(&format!("simulate.u[{t}]"), row, bm.ncols())?))
+                    .map(|(t, row)| {
+                        Ok(&bm * linalg::vector(&format!("simulate.u[{t}]"), row, bm.ncols())?)
+                    })
                     .collect::<Result<Vec<_>>>()?
             }
-            (Some(_), _) => return Err(Error::field("simulate.u", "is needed with model.B (the known input)")),
-            (None, Some(u)) if !u.is_empty() => return Err(Error::field("model.B", "is needed with simulate.u")),
+            (Some(_), _) => {
+                return Err(Error::field(
+                    "simulate.u",
+                    "is needed with model.B (the known input)",
+                ))
+            }
+            (None, Some(u)) if !u.is_empty() => {
+                return Err(Error::field("model.B", "is needed with simulate.u"))
+            }
             _ => Vec::new(),
         };
         let delta = match &spec.delta {
             None => None,
             Some(d) => {
-                let d = if d.len() == 1 { vec![d[0]; r] } else { d.clone() };
+                let d = if d.len() == 1 {
+                    vec![d[0]; r]
+                } else {
+                    d.clone()
+                };
                 let d = linalg::vector("ubb.delta", &d, r)?;
                 if d.iter().any(|v| !(*v >= 0.0)) {
-                    return Err(Error::field("ubb.delta", "must hold half-widths ≥ 0 (or be null for δ = ∞)"));
+                    return Err(Error::field(
+                        "ubb.delta",
+                        "must hold half-widths ≥ 0 (or be null for δ = ∞)",
+                    ));
                 }
                 Some(d)
             }
@@ -356,7 +412,10 @@ impl Scenario {
         };
         let plane = spec.plane.unwrap_or([0, 1.min(r - 1)]);
         if r < 2 || plane[0] >= r || plane[1] >= r || plane[0] == plane[1] {
-            return Err(Error::field("ubb.plane", format!("must name two different state components below r = {r}")));
+            return Err(Error::field(
+                "ubb.plane",
+                format!("must name two different state components below r = {r}"),
+            ));
         }
         // Theorems 4 and 5 in the l∞-induced norm.
         let sm = Smoothing::new(ubb::norm_inf(&a), ubb::norm_inf(&b), spec.tau, spec.alpha);
@@ -371,13 +430,18 @@ impl Scenario {
         let window = match (spec.window, j) {
             (Some(w), _) => {
                 if !(1..=MAX_WINDOW).contains(&w) {
-                    return Err(Error::field("ubb.window", format!("must lie in 1..={MAX_WINDOW}")));
+                    return Err(Error::field(
+                        "ubb.window",
+                        format!("must lie in 1..={MAX_WINDOW}"),
+                    ));
                 }
                 w
             }
             (None, Some(j)) if j < MAX_WINDOW => j + 1,
             (None, Some(j)) => {
-                note = Some(format!("Theorem 5 asks for j = {j}; the window is capped at {MAX_WINDOW} steps"));
+                note = Some(format!(
+                    "Theorem 5 asks for j = {j}; the window is capped at {MAX_WINDOW} steps"
+                ));
                 MAX_WINDOW
             }
             (None, None) if b.ncols() == 0 => steps,
@@ -402,7 +466,10 @@ impl Scenario {
             None => None,
         };
         if spec.x0_sum.is_some() && x0.is_none() && self.simulate.is_some() {
-            return Err(Error::field("simulate.x0", "is needed with ubb.x0_sum (a true x(0) on the simplex)"));
+            return Err(Error::field(
+                "simulate.x0",
+                "is needed with ubb.x0_sum (a true x(0) on the simplex)",
+            ));
         }
         let data = match &self.data {
             Some(d) => {
@@ -456,14 +523,22 @@ impl UbbPrepared {
     /// See [`UbbReport::state_names`].
     pub fn state_names(&self) -> Vec<String> {
         match &self.spec.basis {
-            Some(b) => b.iter().enumerate().map(|(i, g)| format!("a{} ({g})", subscript(i))).collect(),
-            None => (0..self.problem.system.r()).map(|i| format!("x{}", subscript(i))).collect(),
+            Some(b) => b
+                .iter()
+                .enumerate()
+                .map(|(i, g)| format!("a{} ({g})", subscript(i)))
+                .collect(),
+            None => (0..self.problem.system.r())
+                .map(|i| format!("x{}", subscript(i)))
+                .collect(),
         }
     }
 
     /// The simulated (or given) run.
     pub fn run_data(&self) -> Run {
-        let mut run = self.problem.simulate(self.steps, self.spec.noise, self.x0.as_ref(), self.seed);
+        let mut run =
+            self.problem
+                .simulate(self.steps, self.spec.noise, self.x0.as_ref(), self.seed);
         if let Some(y) = &self.data {
             run.y = y.clone();
         }
@@ -492,11 +567,11 @@ impl UbbPrepared {
             };
             let hull = step.hull()?;
             let truth = &run.x[k + 1];
-            let inside = simulated.then(|| hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
+            let inside =
+                simulated.then(|| hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
             let (m, p) = &kf[k];
-            let kf_inside = simulated.then(|| {
-                Ellipsoid::new(m, p, chi_full).contains(truth.as_slice())
-            });
+            let kf_inside =
+                simulated.then(|| Ellipsoid::new(m, p, chi_full).contains(truth.as_slice()));
             outside += usize::from(inside == Some(false));
             kf_outside += usize::from(kf_inside == Some(false));
             track.push(TrackStep {
@@ -511,11 +586,17 @@ impl UbbPrepared {
             });
         }
         let Some(last) = track.last() else {
-            return Err(first_error.unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")));
+            return Err(first_error
+                .unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")));
         };
         let k = match self.spec.time {
             Some(t) if t < self.steps => t.max(track[0].k),
-            Some(t) => return Err(Error::field("ubb.time", format!("must be below the {} steps, found {t}", self.steps))),
+            Some(t) => {
+                return Err(Error::field(
+                    "ubb.time",
+                    format!("must be below the {} steps, found {t}", self.steps),
+                ))
+            }
             None => last.k,
         };
         let at = self.at(&run, &kf, k)?;
@@ -559,7 +640,12 @@ impl UbbPrepared {
             let off = h_next * &step.offset;
             let ph = step.set.interval_hull(&map)?;
             (0..map.nrows())
-                .map(|i| [ph.lo[i] + off[i] - self.spec.eps, ph.hi[i] + off[i] + self.spec.eps])
+                .map(|i| {
+                    [
+                        ph.lo[i] + off[i] - self.spec.eps,
+                        ph.hi[i] + off[i] + self.spec.eps,
+                    ]
+                })
                 .collect()
         };
         let pl = [self.plane[0], self.plane[1]];
@@ -573,7 +659,10 @@ impl UbbPrepared {
             lo: hull.lo,
             hi: hull.hi,
             polygon,
-            truth: self.data.is_none().then(|| pl.iter().map(|&i| run.x[k + 1][i]).collect()),
+            truth: self
+                .data
+                .is_none()
+                .then(|| pl.iter().map(|&i| run.x[k + 1][i]).collect()),
             kf: kf_plane,
             size,
             prediction,
@@ -611,13 +700,24 @@ impl UbbPrepared {
     /// unless `simulate.x0` fixes it), each checked at step k.
     pub fn guarantee(&self, k: usize, first_seed: u64, runs: usize) -> Result<GuaranteeCount> {
         if k >= self.steps {
-            return Err(Error::field("ubb.time", format!("must be below the {} steps, found {k}", self.steps)));
+            return Err(Error::field(
+                "ubb.time",
+                format!("must be below the {} steps, found {k}", self.steps),
+            ));
         }
         let r = self.problem.system.r();
         let chi = chi2_quantile(self.spec.kf_level, r)?;
-        let mut count = GuaranteeCount { worst_excess: f64::NEG_INFINITY, ..Default::default() };
+        let mut count = GuaranteeCount {
+            worst_excess: f64::NEG_INFINITY,
+            ..Default::default()
+        };
         for i in 0..runs {
-            let run = self.problem.simulate(k + 1, self.spec.noise, self.x0.as_ref(), first_seed.wrapping_add(i as u64));
+            let run = self.problem.simulate(
+                k + 1,
+                self.spec.noise,
+                self.x0.as_ref(),
+                first_seed.wrapping_add(i as u64),
+            );
             let hull = self.problem.step(&run.y, k)?.hull()?;
             let truth = &run.x[k + 1];
             let excess = truth
@@ -626,7 +726,8 @@ impl UbbPrepared {
                 .map(|(x, (l, h))| (l - x).max(x - h))
                 .fold(f64::NEG_INFINITY, f64::max);
             count.worst_excess = count.worst_excess.max(excess);
-            count.outside += usize::from(!hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
+            count.outside +=
+                usize::from(!hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
             let kf = self.problem.kalman(&run, self.spec.noise);
             let (m, p) = &kf[k];
             count.kf_outside += usize::from(!Ellipsoid::new(m, p, chi).contains(truth.as_slice()));

@@ -13,8 +13,8 @@ use statrs::distribution::{ChiSquared, Continuous, ContinuousCDF};
 
 pub mod sign_region;
 pub mod support_polygon;
-pub use support_polygon::{polygon_from_support, SupportPolygon};
 pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
+pub use support_polygon::{polygon_from_support, SupportPolygon};
 
 /// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip
 /// checked (statrs 0.18 returned NaN in the lower tail; DESIGN.md), so no NaN ellipse escapes.

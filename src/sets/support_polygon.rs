@@ -65,7 +65,8 @@ where
         probes[1].value,
     ];
     let dot = |d: [f64; 2], p: [f64; 2]| d[0] * p[0] + d[1] * p[1];
-    let close = |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() <= tol;
+    let close =
+        |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() <= tol;
     // confirmed[i]: the stretch from probes[i] to probes[i+1] is settled.
     let mut confirmed = vec![false; probes.len()];
     loop {
@@ -141,8 +142,7 @@ where
 fn simplify(points: Vec<[f64; 2]>, tol: f64) -> Vec<[f64; 2]> {
     let mut v: Vec<[f64; 2]> = Vec::with_capacity(points.len());
     for p in points {
-        if v
-            .last()
+        if v.last()
             .is_none_or(|q: &[f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) > tol)
         {
             v.push(p);
@@ -196,7 +196,10 @@ mod tests {
         assert!(p.exact);
         assert_eq!(p.vertices.len(), 7, "{:?}", p.vertices);
         for v in &hexagon {
-            assert!(p.vertices.iter().any(|w| (w[0] - v[0]).hypot(w[1] - v[1]) < 1e-12));
+            assert!(p
+                .vertices
+                .iter()
+                .any(|w| (w[0] - v[0]).hypot(w[1] - v[1]) < 1e-12));
         }
         assert!(p.calls <= 4 + 2 * 7, "{} calls", p.calls);
         // A budget too small leaves a gap that bounds the error.
@@ -214,6 +217,10 @@ mod tests {
         let p = polygon_from_support(oracle(&pt), 50, 1e-9).unwrap();
         assert_eq!(p.vertices, vec![[3.0, -1.0]]);
         let want = [3.0, 3.0, -1.0, -1.0];
-        assert!(p.hull.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.hull);
+        assert!(
+            p.hull.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12),
+            "{:?}",
+            p.hull
+        );
     }
 }

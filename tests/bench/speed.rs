@@ -192,7 +192,10 @@ fn glls_figures() {
 /// 120-sample on-line run of the paper's example with the swapping method.
 /// Tempo: one state-estimation step of ubb-track (2-D, window 30: 32 unknowns, 124 rows).
 fn ubb_figures() {
-    let prep = presets::get("ubb-track").expect("preset").prepare_ubb().expect("valid");
+    let prep = presets::get("ubb-track")
+        .expect("preset")
+        .prepare_ubb()
+        .expect("valid");
     let run = prep.run_data();
     let k = 40;
     let mut calls = 0;
@@ -206,7 +209,11 @@ fn ubb_figures() {
     let fan = median_ms(21, || {
         let step = prep.problem.step(&run.y, k).expect("step");
         let mut solver = step.set.support_solver().expect("LP");
-        std::hint::black_box(solver.support_fan(&step.plane_map([0, 1]), 64).expect("LPs"));
+        std::hint::black_box(
+            solver
+                .support_fan(&step.plane_map([0, 1]), 64)
+                .expect("LPs"),
+        );
     });
     let report = median_ms(5, || {
         std::hint::black_box(prep.report().expect("report"));
