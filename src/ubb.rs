@@ -368,27 +368,13 @@ impl SupportSolver {
 
     /// Exact polygon of S·T(h) for a 2-row S.
     pub fn polygon(&mut self, s: &DMatrix<f64>, budget: usize) -> Result<SupportPolygon> {
-        let scale = s.amax().max(1e-300);
-        let mut largest: f64 = 0.0;
-        let mut probe = |d: [f64; 2]| -> Result<(f64, [f64; 2])> {
+        let probe = |d: [f64; 2]| -> Result<(f64, [f64; 2])> {
             let dir = s.row(0).transpose() * d[0] + s.row(1).transpose() * d[1];
-            let (_, f) = self.support(&dir)?;
-            let p = &*s * &f;
-            largest = largest.max(p[0].abs()).max(p[1].abs());
+            let p = s * self.support(&dir)?.1;
             Ok((d[0] * p[0] + d[1] * p[1], [p[0], p[1]]))
         };
         // The interior-point solver is accurate to about 1e-8 relative to the data's scale.
-        let first = probe([1.0, 0.0])?;
-        let tol = 1e-7 * (1.0 + first.0.abs().max(scale));
-        let mut first = Some(first);
-        polygon_from_support(
-            |d| match first.take() {
-                Some(v) if d == [1.0, 0.0] => Ok(v),
-                _ => probe(d),
-            },
-            budget,
-            tol,
-        )
+        polygon_from_support(probe, budget, 1e-7)
     }
 }
 

@@ -237,12 +237,13 @@ fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
         _ => match g.split_once(':') {
             Some(("sin", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).sin(),
             Some(("cos", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).cos(),
-            _ => return Err(Error::field(
-                field,
-                format!(
-                    "\"{g}\" is not a basis function (\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\")"
-                ),
-            )),
+            _ => {
+                let known = "\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\"";
+                return Err(Error::field(
+                    field,
+                    format!("\"{g}\" is not a basis function ({known})"),
+                ));
+            }
         },
     })
 }
@@ -566,12 +567,9 @@ impl UbbPrepared {
                 Err(e) => return Err(e),
             };
             let hull = step.hull()?;
-            let truth = &run.x[k + 1];
-            let inside =
-                simulated.then(|| hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
-            let (m, p) = &kf[k];
-            let kf_inside =
-                simulated.then(|| Ellipsoid::new(m, p, chi_full).contains(truth.as_slice()));
+            let held = simulated.then(|| holds(&hull, &kf[k], chi_full, &run.x[k + 1]));
+            let (inside, kf_inside) = (held.map(|h| h.0), held.map(|h| h.1));
+            let m = &kf[k].0;
             outside += usize::from(inside == Some(false));
             kf_outside += usize::from(kf_inside == Some(false));
             track.push(TrackStep {
@@ -695,6 +693,26 @@ impl GuaranteeCount {
     }
 }
 
+/// Whether the truth lies in the hull (tolerance `TOL`) and in the Kalman ellipsoid (prediction,
+/// covariance; radius² `chi`), and by how much it exceeds the hull (≤ 0: its margin).
+fn holds(
+    hull: &IntervalHull,
+    kf: &(DVector<f64>, DMatrix<f64>),
+    chi: f64,
+    truth: &DVector<f64>,
+) -> (bool, bool, f64) {
+    let excess = truth
+        .iter()
+        .zip(hull.lo.iter().zip(&hull.hi))
+        .map(|(x, (l, h))| (l - x).max(x - h))
+        .fold(f64::NEG_INFINITY, f64::max);
+    (
+        hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())),
+        Ellipsoid::new(&kf.0, &kf.1, chi).contains(truth.as_slice()),
+        excess,
+    )
+}
+
 impl UbbPrepared {
     /// `runs` fresh simulations (seeds first_seed, first_seed + 1, …; the truth x(0) is redrawn
     /// unless `simulate.x0` fixes it), each checked at step k.
@@ -719,18 +737,11 @@ impl UbbPrepared {
                 first_seed.wrapping_add(i as u64),
             );
             let hull = self.problem.step(&run.y, k)?.hull()?;
-            let truth = &run.x[k + 1];
-            let excess = truth
-                .iter()
-                .zip(hull.lo.iter().zip(&hull.hi))
-                .map(|(x, (l, h))| (l - x).max(x - h))
-                .fold(f64::NEG_INFINITY, f64::max);
-            count.worst_excess = count.worst_excess.max(excess);
-            count.outside +=
-                usize::from(!hull.contains(truth.as_slice(), TOL * (1.0 + truth.amax())));
             let kf = self.problem.kalman(&run, self.spec.noise);
-            let (m, p) = &kf[k];
-            count.kf_outside += usize::from(!Ellipsoid::new(m, p, chi).contains(truth.as_slice()));
+            let (inside, kf_inside, excess) = holds(&hull, &kf[k], chi, &run.x[k + 1]);
+            count.worst_excess = count.worst_excess.max(excess);
+            count.outside += usize::from(!inside);
+            count.kf_outside += usize::from(!kf_inside);
             count.runs += 1;
         }
         Ok(count)

@@ -36,8 +36,13 @@ struct Probe {
 }
 
 /// Build the polygon with at most `budget` calls of `support(d) = (h(d), argmax point)`.
-/// `tol` is the absolute tolerance of the edge test (the solver's accuracy on this scale).
-pub fn polygon_from_support<F>(mut support: F, budget: usize, tol: f64) -> Result<SupportPolygon>
+/// `rel_tol` is the tolerance of the edge test relative to the set's scale (1 + its largest
+/// coordinate, read from the four axis calls): the solver's relative accuracy.
+pub fn polygon_from_support<F>(
+    mut support: F,
+    budget: usize,
+    rel_tol: f64,
+) -> Result<SupportPolygon>
 where
     F: FnMut([f64; 2]) -> Result<(f64, [f64; 2])>,
 {
@@ -64,6 +69,7 @@ where
         -probes[3].value,
         probes[1].value,
     ];
+    let tol = rel_tol * (1.0 + hull.iter().fold(0.0f64, |m, v| m.max(v.abs())));
     let dot = |d: [f64; 2], p: [f64; 2]| d[0] * p[0] + d[1] * p[1];
     let close =
         |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() <= tol;
