@@ -1772,3 +1772,19 @@ mod tests {
         assert!(sv.iter().all(|&v| (v - 1.0).abs() < 1e-15));
     }
 }
+
+impl crate::study::Study for Precision {
+    fn step(&mut self, runs: usize) -> Result<()> {
+        Precision::step(self, runs);
+        Ok(())
+    }
+    fn runs(&self) -> usize {
+        self.runs
+    }
+    fn total(&self) -> usize {
+        self.total
+    }
+    fn result(&self) -> Result<serde_json::Value> {
+        crate::study::to_value(&self.report())
+    }
+}

@@ -108,11 +108,11 @@
 //! side by side.
 
 pub mod error;
-pub mod experiment;
 pub mod glls;
 pub mod kalman;
 pub mod linalg;
 pub mod lscr;
+pub mod method;
 pub mod model;
 pub mod plot;
 pub mod presets;
@@ -120,12 +120,16 @@ pub mod scenario;
 pub mod scf;
 pub mod sets;
 pub mod solve;
+pub mod stats;
+pub mod study;
 pub mod ubb;
 pub mod uniform;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 
 pub use error::{Error, Result};
+pub use method::Method;
+pub use study::Study;
 
 // The unit tests (`#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test)]` in the modules) run in
 // Chromium under `wasm-pack test --chrome`; without this line wasm-bindgen-test skips them

@@ -923,7 +923,7 @@ impl Experiment {
         }
         let sampler = est.sampler()?;
         let level = est.levels().1;
-        let blue_r2 = crate::sets::chi2_quantile(level, n)?;
+        let blue_r2 = crate::stats::chi2_quantile(level, n)?;
         // The Kalman covariance does not depend on the data: invert it once.
         let kf = match (&est.kalman, est.problem.regression.target) {
             (Some(g), target) => {
@@ -1045,19 +1045,5 @@ impl Experiment {
             self.counts.runs += 1;
         }
         &self.counts
-    }
-}
-
-/// Binomial central interval [lo, hi] holding a Binomial(runs, p) count with probability
-/// ≥ 1 − 2·tail (tail = 0.0005 gives the 99.9 % band used on the page and in the tests).
-pub fn binomial_band(runs: usize, p: f64, tail: f64) -> (usize, usize) {
-    use statrs::distribution::{Binomial, DiscreteCDF};
-    match Binomial::new(p.clamp(0.0, 1.0), runs as u64) {
-        Ok(b) => {
-            let lo = b.inverse_cdf(tail) as usize;
-            let hi = b.inverse_cdf(1.0 - tail) as usize;
-            (lo.min(runs), hi.min(runs))
-        }
-        Err(_) => (0, runs),
     }
 }

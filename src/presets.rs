@@ -4,6 +4,7 @@
 use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
 use crate::lscr::Construction;
+use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
 use crate::scenario::{
     CollisionSpec, Condition, CurveSpec, ExperimentSpec, LscrSpec, Scenario, SimulateSpec,
@@ -176,14 +177,16 @@ fn rows(r: &[&[f64]]) -> Option<MatrixSpec> {
 }
 
 pub fn glls_preset(kind: GllsKind) -> Scenario {
-    use crate::scenario::glls::{GllsMonteCarloSpec, GllsSpec};
+    use crate::scenario::glls::{
+        GllsEstimator, GllsMonteCarloSpec, GllsNoise, GllsSpec, GllsStudyKind,
+    };
     let (t, s) = (0.5f64.cos(), 0.5f64.sin());
     let (title, model, steps, spec, notes) = match kind {
         GllsKind::Saturate => (
             "GLLS: a saturating singular value (Figs. 1a, 2a, 3a kind)",
             ModelSpec { f: rows(&[&[0.6, 0.0, 0.0], &[0.0, t, -s], &[0.0, s, t]]), h: rows(&[&[1.0, 1.0, 0.0]]), w: rows(&[&[0.01]]), x1_mean: Some(vec![1.0, 1.0, 0.0]), ..Default::default() },
             40,
-            GllsSpec { horizon: None, max_horizon: 60, estimator: "lls".into(), p: Some(2), mu: Some(0.1), noise: "bounded".into(), plane: Some([1, 2]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: "precision".into(), steps: None, max_horizon: Some(30) }) },
+            GllsSpec { horizon: None, max_horizon: 60, estimator: GllsEstimator::Lls, p: Some(2), mu: Some(0.1), noise: GllsNoise::Bounded, plane: Some([1, 2]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::Precision, steps: None, max_horizon: Some(30) }) },
             "A = diag(0.6, rotation by 0.5 rad), C = [1 1 0]: the stable mode's contribution to Γ_{s+1}ᵀΓ_{s+1} converges, so σ₃ saturates while σ₁, σ₂ grow like √s; σ₃/√s peaks at the best horizon. \
              Noise bounded by μ = 0.1 (uniform in the ball): the guaranteed ball and box of x(k) must hold the truth. \
              The paper prints no matrices for its three systems; these are built to show each behaviour.",
@@ -192,7 +195,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
             "GLLS: every singular value grows (Figs. 1b, 2b, 3b kind)",
             ModelSpec { f: rows(&[&[1.5, 0.2], &[0.0, 1.3]]), h: rows(&[&[1.0, 0.0]]), w: rows(&[&[0.01]]), x1_mean: Some(vec![1.0, 1.0]), ..Default::default() },
             40,
-            GllsSpec { horizon: Some(8), max_horizon: 60, estimator: "lls".into(), p: None, mu: Some(0.3), noise: "gaussian".into(), plane: Some([0, 1]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: "precision".into(), steps: None, max_horizon: Some(30) }) },
+            GllsSpec { horizon: Some(8), max_horizon: 60, estimator: GllsEstimator::Lls, p: None, mu: Some(0.3), noise: GllsNoise::Gaussian, plane: Some([0, 1]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::Precision, steps: None, max_horizon: Some(30) }) },
             "A = [[1.5, 0.2], [0, 1.3]], C = [1 0]: both modes unstable, every σ_i(Γ_{s+1}) and σ_n/√s grow without bound (Fig. 2b). \
              ‖x(39)‖ ≈ 10⁷, as in the paper's Fig. 3b (1.47·10⁷): the estimates of longer horizons lose to rounding what the condition number promises — the page marks where the estimated rounding error exceeds the bound.",
         ),
@@ -206,7 +209,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
                 ..Default::default()
             },
             40,
-            GllsSpec { horizon: None, max_horizon: 60, estimator: "glls".into(), p: Some(2), mu: Some(0.1), noise: "gaussian".into(), plane: Some([0, 1]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: "precision".into(), steps: None, max_horizon: Some(30) }) },
+            GllsSpec { horizon: None, max_horizon: 60, estimator: GllsEstimator::Glls, p: Some(2), mu: Some(0.1), noise: GllsNoise::Gaussian, plane: Some([0, 1]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::Precision, steps: None, max_horizon: Some(30) }) },
             "A = T diag(0.7, 1, 1.05) T⁻¹ with T = [[1, 0.5, 0.2], [0, 1, 0.4], [0.3, 0, 1]] (rounded to 4 digits), C = [1 0 0]: one σ saturates, one grows like √s, one exponentially. \
              The bound κ·√E‖δ(k,s)‖² becomes conservative for long horizons, as in the paper's Fig. 3c.",
         ),
@@ -227,13 +230,13 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
                 ..Default::default()
             },
             16,
-            GllsSpec { horizon: Some(8), max_horizon: 30, estimator: "state_noise".into(), p: None, mu: Some(0.0), noise: "gaussian".into(), plane: Some([0, 3]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: "state_noise".into(), steps: None, max_horizon: Some(15) }) },
+            GllsSpec { horizon: Some(8), max_horizon: 30, estimator: GllsEstimator::StateNoise, p: None, mu: Some(0.0), noise: GllsNoise::Gaussian, plane: Some([0, 3]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::StateNoise, steps: None, max_horizon: Some(15) }) },
             "x(k+1) = A x(k) + ξ(k), y = C x exactly (54)–(55), ξ ~ N(0, 0.01·I), 16 steps. A is built (real Schur form, fitted off-diagonal entries, a fixed rotation) to have the paper's eigenvalues 3.057, −0.374 ± 1.130i, −0.600, 1.095 and its singular values 3.735, 3.166, 1.828, 0.636, 0.206 (to 3 digits); the paper prints neither A nor C (C = [1 0 0 0 0] here). \
              The state-noise estimator (63)–(64) is solved in closed form and checked against clarabel's QP.",
         ),
     };
     Scenario {
-        method: "glls".into(),
+        method: Method::Glls,
         title: Some(title.into()),
         model,
         data: None,
@@ -278,7 +281,7 @@ fn lscr_scenario(
     notes: &str,
 ) -> Scenario {
     Scenario {
-        method: "lscr".into(),
+        method: Method::Lscr,
         title: Some(title.into()),
         model,
         data: None,
@@ -389,7 +392,7 @@ fn constant(m: &DMatrix<f64>) -> Option<MatrixSpec> {
 pub fn scalar() -> Scenario {
     let one = DMatrix::from_element(1, 1, 1.0);
     Scenario {
-        method: "scf".into(),
+        method: Method::Scf,
         title: Some("Scalar example (SCF paper, Example 1)".into()),
         model: ModelSpec {
             f: constant(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt())),
@@ -574,7 +577,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
             .expect("robot prior is non-singular at t = 40");
     let literal = reading == NoiseReading::Literal;
     Scenario {
-        method: "scf".into(),
+        method: Method::Scf,
         title: Some(format!("Two robots returning to base (SCF paper, Section II{})", if literal { ", Δ²V_A" } else { "" })),
         model: spec,
         data: None,
@@ -632,7 +635,7 @@ pub fn uniform_paper() -> Scenario {
     use crate::scenario::uniform::{PriorOverride, UniformSpec};
     let (theta, xr, yr) = uniform_paper_model();
     Scenario {
-        method: "uniform_lp".into(),
+        method: Method::UniformLp,
         title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
         model: ModelSpec { f: constant(&theta.a), h: constant(&theta.c), b: constant(&theta.b), ..Default::default() },
         data: None,

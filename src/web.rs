@@ -1,33 +1,34 @@
 //! WebAssembly bindings of the explorer page (`www/`): JSON in, JSON out, nothing computed here.
 //!
 //! ```js
-//! import init, { presets, Session, Experiment } from './pkg/confset.js';
+//! import init, { presets, Session, Study } from './pkg/confset.js';
 //! await init();
 //! const list = JSON.parse(presets());            // [{name, description, scenario}, …]
 //! const s = new Session();
 //! const report = JSON.parse(s.run(JSON.stringify(list[0].scenario)));
 //! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
 //! const svg = s.svg('{"panel":"coverage"}', 800, 500);
-//! const e = new Experiment(JSON.stringify(scenario));   // needs simulate.condition + experiment
-//! while (!e.finished()) counts = JSON.parse(e.step(500));
+//!
+//! // Every method's Monte Carlo through one class (0: the scenario's own run count):
+//! // SCF `experiment`, LSCR `lscr.coverage`, GLLS `glls.monte_carlo`, ubb `ubb.guarantee`.
+//! const e = new Study(JSON.stringify(scenario), 0);
+//! while (!e.finished()) result = JSON.parse(e.step(500));  // what `confset experiment` prints
 //!
 //! // LSCR (method "lscr"): the kept report's 2-D region as a membership raster over its window,
 //! // and the chunked coverage experiment at a fixed true state.
 //! const r = JSON.parse(s.run(JSON.stringify(lscrScenario)));
 //! const mask = s.raster(512, 512);        // Uint32Array, row 0 on top: 0 = in X̂, bit l = outside X̂_l
-//! const c = new LscrExperiment(JSON.stringify(withCoverage)); // simulate.condition + lscr.coverage
-//! while (!c.finished()) report = JSON.parse(c.step(200));    // counts, levels, 99.9 % bands
 //!
 //! // GLLS (method "glls"): the page runs its scenario without glls.monte_carlo (fast) and the
 //! // Monte Carlo of Section 5 apart, in chunks; the study's result goes into the kept report
 //! // so the "precision" panel draws it.
-//! const g = new GllsStudy(JSON.stringify(withMonteCarlo));    // needs glls.monte_carlo
+//! const g = new Study(JSON.stringify(withMonteCarlo), 0);     // needs glls.monte_carlo
 //! while (!g.finished()) study = JSON.parse(g.step(100));     // PrecisionReport so far
 //! s.set_precision(JSON.stringify(study));                     // report.glls.precision = study
 //!
 //! // Set-membership (method "ubb"): fresh simulations checked at the scenario's step k, in
 //! // chunks — the truth must never leave the set, the Kalman ellipsoid may.
-//! const u = new UbbGuarantee(JSON.stringify(ubbScenario), 2000);
+//! const u = new Study(JSON.stringify(ubbScenario), 2000);
 //! while (!u.finished()) c = JSON.parse(u.step(50));  // {runs, total, outside, kf_outside, …}
 //! ```
 //!
@@ -42,13 +43,10 @@
 //! `plot_area` is therefore in CSS pixels of the canvas, like `MouseEvent.offsetX/Y`.
 
 use crate::error::Error;
-use crate::experiment::ConditionalExperiment;
 use crate::glls;
-use crate::lscr;
 use crate::plot::{self, Frame, View};
 use crate::presets;
-use crate::scenario::lscr::{coverage_report, plane_region};
-use crate::scenario::ubb::{GuaranteeCount, UbbPrepared};
+use crate::scenario::lscr::plane_region;
 use crate::scenario::{Report, Scenario};
 use plotters::prelude::DrawingBackend;
 use plotters_backend::{
@@ -209,7 +207,7 @@ impl Session {
 #[wasm_bindgen]
 impl Session {
     /// Store a GLLS precision study's result (JSON of a `PrecisionReport`, as
-    /// [`GllsStudy::step`] returns it) as the kept report's `glls.precision`, so the
+    /// [`Study::step`] returns it) as the kept report's `glls.precision`, so the
     /// `"precision"` panel draws it; `"null"` removes it. Returns nothing; the next `run`
     /// replaces the kept report (and so drops the study).
     pub fn set_precision(&mut self, precision_json: &str) -> Result<(), JsValue> {
@@ -243,238 +241,50 @@ impl Session {
     }
 }
 
-/// The conditional Monte Carlo of a scenario with `simulate.condition` and `experiment`, run
-/// in chunks so the page stays responsive and can cancel (by dropping it).
+/// The Monte Carlo study of any method's scenario (the SCF conditional experiment, the LSCR
+/// coverage experiment, the GLLS Section 5 study, the set-membership guarantee), run in chunks
+/// so the page stays responsive and can cancel (by dropping it). `runs` (0: the scenario's own)
+/// overrides the run count. Its result is the same JSON `confset experiment` prints.
 #[wasm_bindgen]
-pub struct Experiment {
-    inner: ConditionalExperiment,
+pub struct Study {
+    inner: Box<dyn crate::study::Study>,
 }
 
 #[wasm_bindgen]
-impl Experiment {
+impl Study {
     #[wasm_bindgen(constructor)]
-    pub fn new(scenario_json: &str) -> Result<Experiment, JsValue> {
-        let p = Scenario::from_json(scenario_json)
-            .and_then(|s| s.prepare())
-            .map_err(|e| js_error(&e))?;
-        let inner = ConditionalExperiment::new(&p).map_err(|e| js_error(&e))?;
-        Ok(Experiment { inner })
-    }
-
-    /// Run about `runs` more realizations (whole batches, never past the total); returns the
-    /// counts so far (JSON).
-    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
-        to_json("the counts", self.inner.step(runs as usize))
-    }
-
-    /// The counts so far (JSON).
-    pub fn counts(&self) -> Result<String, JsValue> {
-        to_json("the counts", self.inner.result())
-    }
-
-    pub fn finished(&self) -> bool {
-        self.inner.finished()
-    }
-}
-
-/// The LSCR coverage experiment (Theorem 3.2 made visible) of a scenario with
-/// `simulate.condition` (the fixed true state at the estimated time) and `lscr.coverage`
-/// (`runs`, `seed`), run in chunks so the page stays responsive and can cancel (by dropping it).
-#[wasm_bindgen]
-pub struct LscrExperiment {
-    inner: lscr::Experiment,
-}
-
-#[wasm_bindgen]
-impl LscrExperiment {
-    #[wasm_bindgen(constructor)]
-    pub fn new(scenario_json: &str) -> Result<LscrExperiment, JsValue> {
+    pub fn new(scenario_json: &str, runs: u32) -> Result<Study, JsValue> {
+        let runs = (runs > 0).then_some(runs as usize);
         let inner = Scenario::from_json(scenario_json)
-            .and_then(|s| s.lscr_experiment())
+            .and_then(|s| s.study(runs))
             .map_err(|e| js_error(&e))?;
-        Ok(LscrExperiment { inner })
+        Ok(Study { inner })
     }
 
-    /// Run up to `runs` more realizations; returns the coverage report so far (JSON): the
-    /// truth, `runs`, `inside_each`, `inside`, `blue`, `kf` (counts, null when there is no
-    /// such region), the promised `level_each` (1 − 2q/M) and `level` (1 − 2qn/M), and the
-    /// 99.9 % binomial bands `band_each`, `band` (counts) for the runs so far.
+    /// Run up to `runs` more runs (never past the total); returns the result so far (JSON).
     pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
-        self.inner.step(runs as usize);
-        self.counts()
+        self.inner.step(runs as usize).map_err(|e| js_error(&e))?;
+        self.result()
     }
 
-    /// The coverage report so far (JSON, as [`LscrExperiment::step`]).
-    pub fn counts(&self) -> Result<String, JsValue> {
-        let e = &self.inner;
-        to_json(
-            "the coverage report",
-            &coverage_report(e.estimator(), e.truth(), e.counts.clone()),
-        )
-    }
-
-    /// Total number of runs asked for.
-    pub fn total(&self) -> usize {
-        self.inner.total
-    }
-
-    pub fn finished(&self) -> bool {
-        self.inner.finished()
-    }
-}
-
-/// The Monte Carlo of the GLLS paper's Section 5 (`glls.monte_carlo`: `runs`, `seed`, `study`
-/// "precision" | "state_noise", `steps`, `max_horizon`) of a GLLS scenario, run in chunks so the
-/// page stays responsive and can cancel (by dropping it).
-#[wasm_bindgen]
-pub struct GllsStudy {
-    inner: glls::Precision,
-}
-
-#[wasm_bindgen]
-impl GllsStudy {
-    #[wasm_bindgen(constructor)]
-    pub fn new(scenario_json: &str) -> Result<GllsStudy, JsValue> {
-        let prepared = Scenario::from_json(scenario_json)
-            .and_then(|s| s.prepare_glls())
-            .map_err(|e| js_error(&e))?;
-        let mc = prepared.spec.monte_carlo.as_ref().ok_or_else(|| {
-            js_error(&Error::field(
-                "glls.monte_carlo",
-                "is missing: the study needs glls.monte_carlo (runs, seed, study)",
-            ))
-        })?;
-        let inner = prepared.precision(mc).map_err(|e| js_error(&e))?;
-        Ok(GllsStudy { inner })
-    }
-
-    /// Run up to `runs` more realizations; returns the study so far (JSON `PrecisionReport`:
-    /// `runs`, `total`, `horizons`, `first`/`second` spreads per horizon, `bound`,
-    /// `mean_state_norm`).
-    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
-        self.inner.step(runs as usize);
-        self.report()
-    }
-
-    /// The study so far (JSON, as [`GllsStudy::step`]).
-    pub fn report(&self) -> Result<String, JsValue> {
-        to_json("the precision study", &self.inner.report())
-    }
-
-    /// Total number of runs asked for.
-    pub fn total(&self) -> usize {
-        self.inner.total
+    /// The result so far (JSON, as [`Study::step`]).
+    pub fn result(&self) -> Result<String, JsValue> {
+        let v = self.inner.result().map_err(|e| js_error(&e))?;
+        to_json("the study result", &v)
     }
 
     /// Runs done so far.
     pub fn runs(&self) -> usize {
-        self.inner.runs
+        self.inner.runs()
+    }
+
+    /// Runs asked for.
+    pub fn total(&self) -> usize {
+        self.inner.total()
     }
 
     pub fn finished(&self) -> bool {
         self.inner.finished()
-    }
-}
-
-/// The guarantee of a set-membership scenario (method "ubb") made visible: `total` fresh
-/// simulations (seeds after the scenario's own), each checked at the scenario's step k
-/// (`ubb.time`, default the last): how often the true x(k+1) left the set (its interval hull;
-/// must be 0) and how often it left the Kalman ellipsoid at `ubb.kf_level`. Run in chunks so
-/// the page stays responsive and can cancel (by dropping it).
-#[wasm_bindgen]
-pub struct UbbGuarantee {
-    prepared: UbbPrepared,
-    k: usize,
-    next_seed: u64,
-    total: usize,
-    count: GuaranteeCount,
-}
-
-/// Most runs one guarantee study may ask for.
-const MAX_GUARANTEE_RUNS: usize = 1_000_000;
-
-#[wasm_bindgen]
-impl UbbGuarantee {
-    #[wasm_bindgen(constructor)]
-    pub fn new(scenario_json: &str, total: u32) -> Result<UbbGuarantee, JsValue> {
-        let prepared = Scenario::from_json(scenario_json)
-            .and_then(|s| s.prepare_ubb())
-            .map_err(|e| js_error(&e))?;
-        let total = total as usize;
-        if !(1..=MAX_GUARANTEE_RUNS).contains(&total) {
-            return Err(js_error(&Error::field(
-                "runs",
-                format!("must lie in 1..={MAX_GUARANTEE_RUNS}, found {total}"),
-            )));
-        }
-        let k = prepared
-            .spec
-            .time
-            .unwrap_or(prepared.steps.saturating_sub(1));
-        if k >= prepared.steps {
-            return Err(js_error(&Error::field(
-                "ubb.time",
-                format!("must be below the {} steps, found {k}", prepared.steps),
-            )));
-        }
-        let next_seed = prepared.seed.wrapping_mul(1_000_003).wrapping_add(1);
-        Ok(UbbGuarantee {
-            prepared,
-            k,
-            next_seed,
-            total,
-            count: GuaranteeCount::default(),
-        })
-    }
-
-    /// Run up to `runs` more simulations (never past the total); returns the counts so far
-    /// (JSON: `runs`, `total`, `k`, `outside`, `kf_outside`, `worst_excess`).
-    pub fn step(&mut self, runs: u32) -> Result<String, JsValue> {
-        let n = (runs as usize).min(self.total - self.count.runs);
-        if n > 0 {
-            let c = self
-                .prepared
-                .guarantee(self.k, self.next_seed, n)
-                .map_err(|e| js_error(&e))?;
-            self.next_seed = self.next_seed.wrapping_add(n as u64);
-            self.count.merge(&c);
-        }
-        self.counts()
-    }
-
-    /// The counts so far (JSON, as [`UbbGuarantee::step`]).
-    pub fn counts(&self) -> Result<String, JsValue> {
-        #[derive(Serialize)]
-        struct Out<'a> {
-            #[serde(flatten)]
-            count: &'a GuaranteeCount,
-            total: usize,
-            k: usize,
-            kf_level: f64,
-        }
-        to_json(
-            "the guarantee counts",
-            &Out {
-                count: &self.count,
-                total: self.total,
-                k: self.k,
-                kf_level: self.prepared.spec.kf_level,
-            },
-        )
-    }
-
-    /// Total number of runs asked for.
-    pub fn total(&self) -> usize {
-        self.total
-    }
-
-    /// The step k checked.
-    pub fn k(&self) -> usize {
-        self.k
-    }
-
-    pub fn finished(&self) -> bool {
-        self.count.runs >= self.total
     }
 }
 

@@ -20,7 +20,6 @@ wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 mod common;
 
 use common::*;
-use confset::experiment::ConditionalExperiment;
 use confset::model::{normal_vector, ConditionedSampler, Inputs, LinearModel};
 use confset::presets::{self, NoiseReading};
 use confset::scf::{self, ScfOptions};
@@ -231,8 +230,8 @@ fn robot_experiment_counts() {
     let mut s = presets::robots(NoiseReading::Unscaled);
     let runs = RUNS;
     s.experiment.as_mut().unwrap().runs = runs;
-    let p = s.prepare().unwrap();
-    let mut e = ConditionalExperiment::new(&p).unwrap();
+    let p = s.prepare_scf().unwrap();
+    let mut e = p.conditional_experiment().unwrap();
     while !e.finished() {
         e.step(500);
     }

@@ -8,7 +8,8 @@ wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 mod common;
 
 use common::*;
-use confset::sets::{chi2_quantile, Ellipsoid, PlanarEllipse};
+use confset::sets::{Ellipsoid, PlanarEllipse};
+use confset::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

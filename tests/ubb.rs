@@ -817,7 +817,7 @@ fn contradictory_data_and_bad_input_name_their_field() {
     assert!(err.message.contains("Theorem 5"), "{}", err.message);
     // An unknown block for another method is refused.
     let mut sc = presets::ubb_preset(UbbKind::Track);
-    sc.method = "kf".into();
+    sc.method = confset::Method::Kf;
     assert_eq!(sc.run().unwrap_err().field, "ubb");
 }
 

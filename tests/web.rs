@@ -4,7 +4,7 @@
 //! chunked coverage experiment.
 #![cfg(target_arch = "wasm32")]
 
-use confset::web::{presets, Experiment, LscrExperiment, Session};
+use confset::web::{presets, Session, Study};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -131,7 +131,7 @@ fn session_draws_on_a_canvas_and_as_svg() {
 fn experiment_runs_in_chunks() {
     let mut robots = preset("scf-robots");
     robots["experiment"]["runs"] = serde_json::json!(300);
-    let mut e = Experiment::new(&robots.to_string()).expect("experiment");
+    let mut e = Study::new(&robots.to_string(), 0).expect("experiment");
     assert!(!e.finished());
     // Chunks are whole batches of 8 runs (so counts do not depend on the chunking).
     let first: Value = serde_json::from_str(&e.step(96).expect("step")).expect("counts");
@@ -139,7 +139,7 @@ fn experiment_runs_in_chunks() {
     while !e.finished() {
         e.step(128).expect("step");
     }
-    let c: Value = serde_json::from_str(&e.counts().expect("counts")).expect("counts");
+    let c: Value = serde_json::from_str(&e.result().expect("counts")).expect("counts");
     assert_eq!(c["runs_done"], 300);
     let scf = c["scf_inside"].as_u64().expect("scf_inside");
     let kf = c["kf_inside"].as_u64().expect("kf_inside");
@@ -150,7 +150,7 @@ fn experiment_runs_in_chunks() {
 
     // The scalar preset has no experiment block: a thrown error naming it.
     let (msg, field) = thrown(
-        Experiment::new(&preset("scf-scalar").to_string())
+        Study::new(&preset("scf-scalar").to_string(), 0)
             .err()
             .expect("no experiment in the scalar preset"),
     );
@@ -253,7 +253,7 @@ fn lscr_experiment_steps_to_completion() {
     let mut sc = preset("lscr-predict");
     sc["simulate"]["condition"] = serde_json::json!({"t": 31, "x": [0.1, 0.2]});
     sc["lscr"]["coverage"] = serde_json::json!({"runs": 300, "seed": 4});
-    let mut e = LscrExperiment::new(&sc.to_string())
+    let mut e = Study::new(&sc.to_string(), 0)
         .unwrap_or_else(|err| panic!("experiment: {:?}", thrown(err)));
     assert_eq!(e.total(), 300);
     assert!(!e.finished());
@@ -268,7 +268,7 @@ fn lscr_experiment_steps_to_completion() {
     }
     assert_eq!(last["runs"], 300);
     assert_eq!(
-        serde_json::from_str::<Value>(&e.counts().expect("counts")).expect("JSON"),
+        serde_json::from_str::<Value>(&e.result().expect("counts")).expect("JSON"),
         last
     );
     assert!((num(&last["level_each"]) - 0.95).abs() < 1e-12);
@@ -314,7 +314,7 @@ fn lscr_experiment_steps_to_completion() {
         .expect("simulate")
         .remove("condition");
     let (msg, field) = thrown(
-        LscrExperiment::new(&no_cond.to_string())
+        Study::new(&no_cond.to_string(), 0)
             .err()
             .expect("needs a condition"),
     );
@@ -325,7 +325,7 @@ fn lscr_experiment_steps_to_completion() {
         .expect("lscr")
         .remove("coverage");
     let (msg, field) = thrown(
-        LscrExperiment::new(&no_cov.to_string())
+        Study::new(&no_cov.to_string(), 0)
             .err()
             .expect("needs lscr.coverage"),
     );
@@ -333,7 +333,7 @@ fn lscr_experiment_steps_to_completion() {
     let mut wrong_t = sc.clone();
     wrong_t["simulate"]["condition"]["t"] = serde_json::json!(30);
     let (msg, field) = thrown(
-        LscrExperiment::new(&wrong_t.to_string())
+        Study::new(&wrong_t.to_string(), 0)
             .err()
             .expect("condition at the wrong time"),
     );
@@ -557,12 +557,11 @@ fn ubb_wasm_timings() {
 /// The set-membership guarantee in chunks: every run's truth inside the set, the counts merge.
 #[wasm_bindgen_test]
 fn ubb_guarantee_steps_to_completion() {
-    use confset::web::UbbGuarantee;
     let mut sc = preset("ubb-track");
     sc["ubb"]["window"] = serde_json::json!(8);
     sc["ubb"]["time"] = serde_json::json!(11);
     sc["ubb"]["noise"] = serde_json::json!("bound");
-    let mut g = UbbGuarantee::new(&sc.to_string(), 120)
+    let mut g = Study::new(&sc.to_string(), 120)
         .unwrap_or_else(|err| panic!("guarantee: {:?}", thrown(err)));
     assert!(!g.finished());
     let first: Value = serde_json::from_str(&g.step(50).expect("step")).expect("JSON");
@@ -580,7 +579,7 @@ fn ubb_guarantee_steps_to_completion() {
     // A bound below the simulated noise is refused by the LP, naming ε.
     sc["ubb"]["eps"] = serde_json::json!(0.002);
     sc["ubb"]["sim_eps"] = serde_json::json!(0.2);
-    let mut bad = UbbGuarantee::new(&sc.to_string(), 10).expect("the scenario itself is valid");
+    let mut bad = Study::new(&sc.to_string(), 10).expect("the scenario itself is valid");
     let (message, field) = thrown(bad.step(10).expect_err("infeasible"));
     assert_eq!(field, "ubb.eps", "{message}");
     assert!(message.contains("infeasible"), "{message}");

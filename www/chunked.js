@@ -9,7 +9,7 @@ const waiting = [];
 channel.port1.onmessage = () => waiting.shift()?.();
 const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2.postMessage(0); });
 
-// Step `exp` (a wasm Experiment / LscrExperiment: step(k) → JSON counts, finished()) `chunk`
+// Step `exp` (a wasm Study: step(k) → JSON result, finished()) `chunk`
 // runs at a time until it finishes or `me.cancelled` is set; `onChunk(counts)` after every
 // slice. Returns the last counts, the wall time and the time spent computing (ms).
 export async function runChunked(exp, chunk, me, onChunk) {

@@ -1,10 +1,10 @@
 // The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → wasm
 // Session.run → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
 // "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, in chunks
-// (wasm GllsStudy), and its result is handed back to the Session (set_precision) so the
+// (wasm Study), and its result is handed back to the Session (set_precision) so the
 // "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
 // and shows what the core reports.
-import { Session, GllsStudy } from './pkg/confset.js';
+import { Session, Study } from './pkg/confset.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -21,7 +21,7 @@ const SUB = '₀₁₂₃₄₅₆₇₈₉';
 const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
 const mark = (b) => (b == null ? '' : b ? '<b class="good">✓ inside</b>' : '<b class="warn">✗ outside</b>');
 const CUSTOM = 'custom';
-const CHUNK = 25; // runs per GllsStudy.step
+const CHUNK = 25; // runs per Study.step
 const STUDY_DRAW_MS = 120; // redraw the precision figure at most this often while the study runs
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
@@ -394,7 +394,7 @@ export async function mountGlls(root, presets) {
       total = wholeNumber('glls.monte_carlo.runs', ui['mc-n'].value);
       const s = clone(st.scenario);
       s.glls.monte_carlo = { ...monteCarlo(s), runs: total };
-      study = new GllsStudy(JSON.stringify(s));
+      study = new Study(JSON.stringify(s), 0);
     } catch (e) {
       ui['mc-err'].textContent = e.message;
       return;

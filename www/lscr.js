@@ -1,8 +1,8 @@
 // The LSCR panel: controls → Scenario JSON (method "lscr") → wasm Session.run → the region figure
 // (Session.draw, view {"panel":"region"}), the numbers of the report, and the chunked coverage
-// experiment (wasm LscrExperiment) at a true state placed with a click. No estimation happens
+// experiment (wasm Study) at a true state placed with a click. No estimation happens
 // here: the page only edits the preset's scenario and shows what the core reports.
-import { Session, LscrExperiment } from './pkg/confset.js';
+import { Session, Study } from './pkg/confset.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -16,7 +16,7 @@ const int = (v) => v.toLocaleString('en-US');
 const SUB = '₀₁₂₃₄₅₆₇₈₉';
 const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
 const CUSTOM = 'custom';
-const CHUNK = 100; // runs per LscrExperiment.step
+const CHUNK = 100; // runs per Study.step
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {
@@ -304,7 +304,7 @@ export async function mountLscr(root, presets) {
       if (!x) throw { field: 'simulate.condition.x', message: 'the coverage experiment needs a true state: click the figure to place one' };
       s.simulate.condition = { t: st.report.lscr.time, x };
       s.lscr.coverage = { runs: total, seed: 1 };
-      exp = new LscrExperiment(JSON.stringify(s));
+      exp = new Study(JSON.stringify(s), 0);
     } catch (e) {
       ui['cov-err'].textContent = e.message;
       return;

@@ -1,6 +1,6 @@
-// Monte Carlo over rare realizations (SCF paper, Section II-B), run by the wasm Experiment in
+// Monte Carlo over rare realizations (SCF paper, Section II-B), run by the wasm Study in
 // chunks: about 12 ms of work per task, so the page keeps painting and can cancel.
-import { Experiment } from './pkg/confset.js';
+import { Study } from './pkg/confset.js';
 import { wholeNumber } from './parse.js';
 
 import { runChunked } from './chunked.js';
@@ -39,7 +39,7 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
       scenario.experiment = { ...preset.experiment, runs };
       for (const el of root.querySelectorAll('.mc-tc')) el.textContent = scenario.simulate.condition.t;
       for (const el of root.querySelectorAll('.mc-tw')) el.textContent = `${scenario.experiment.warning_t} (τ = ${scenario.tau})`;
-      exp = new Experiment(JSON.stringify(scenario));
+      exp = new Study(JSON.stringify(scenario), 0);
     } catch (e) {
       err.textContent = e.message;
       return;

@@ -2,9 +2,9 @@
 // two figures drawn by the core (views {"panel": "ubbset" | "ubbwidth"}) and the numbers of the
 // report (report.ubb). The step k is the scenario's ubb.time: the core computes the exact polygon,
 // the interval hull and the prediction there. The guarantee runs fresh simulations in chunks
-// (wasm UbbGuarantee) and counts how often the truth left the set (never) and the KF ellipse.
+// (wasm Study) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
-import { Session, UbbGuarantee } from './pkg/confset.js';
+import { Session, Study } from './pkg/confset.js';
 import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
@@ -18,7 +18,7 @@ const int = (n) => n.toLocaleString('en-US');
 const SUB = '₀₁₂₃₄₅₆₇₈₉';
 const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
-const CHUNK = 10; // runs per UbbGuarantee.step
+const CHUNK = 10; // runs per Study.step
 const ANIMATE_MS = 350; // per step of the animation (at least one LP solve per frame)
 
 const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
@@ -226,7 +226,7 @@ export async function mountUbb(root, presets) {
     let g, total;
     try {
       total = wholeNumber('runs', ui.runs.value);
-      g = new UbbGuarantee(JSON.stringify(st.scenario), total);
+      g = new Study(JSON.stringify(st.scenario), total);
     } catch (e) {
       ui['g-err'].textContent = e.message;
       return;

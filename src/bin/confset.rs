@@ -5,7 +5,9 @@
 //! confset run SCENARIO.json                report JSON on stdout
 //! confset run --preset NAME                the same for a preset
 //! confset experiment SCENARIO.json|--preset NAME [--runs N]
-//!                                          conditional Monte Carlo (counts JSON)
+//!                                          the method's Monte Carlo study (result JSON):
+//!                                          SCF conditional coverage, LSCR coverage, GLLS
+//!                                          precision, set-membership guarantee
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
 //!         [--panel state|series|coverage|region|singular|index|plane|precision
 //!                 |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
@@ -151,18 +153,20 @@ fn run(args: &[String]) -> Result<(), Error> {
         }
         Some("run") => json(&scenario(args)?.run()?),
         Some("experiment") => {
-            let mut s = scenario(args)?;
-            if let (Some(r), Some(e)) = (flag(args, "--runs"), s.experiment.as_mut()) {
-                e.runs = r
-                    .parse()
-                    .map_err(|_| Error::field("--runs", "must be a positive integer"))?;
-            }
-            let prepared = s.prepare()?;
-            let mut exp = confset::experiment::ConditionalExperiment::new(&prepared)?;
-            while !exp.finished() {
-                exp.step(1000);
-            }
-            json(exp.result())
+            let s = scenario(args)?;
+            let runs = match flag(args, "--runs") {
+                Some(r) => Some(
+                    r.parse()
+                        .map_err(|_| Error::field("--runs", "must be a positive integer"))?,
+                ),
+                None => None,
+            };
+            let mut study = s.study(runs)?;
+            json(&confset::study::run_to_end(
+                study.as_mut(),
+                1000,
+                |_, _| {},
+            )?)
         }
         Some("figure") => {
             let out = flag(args, "-o")

@@ -8,7 +8,7 @@ use super::geom::Win;
 use super::style::{self, pct, sci, sub, Axes, Entry, Swatch, KF, REFERENCE, SCF};
 use super::{Area, Ctx, Frame};
 use crate::error::{Error, Result};
-use crate::sets::chi2_quantile;
+use crate::stats::chi2_quantile;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 

@@ -13,7 +13,7 @@ use super::geom::Win;
 use super::style::{self, sci, sub, Axes, Entry, Fonts, Marker, Swatch, FLOOR, TEXT};
 use super::{de, Area, Frame, Panel, View};
 use crate::error::{Error, Result};
-use crate::scenario::glls::GllsReport;
+use crate::scenario::glls::{GllsEstimator, GllsReport};
 use crate::scenario::Report;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
@@ -96,10 +96,10 @@ pub(crate) fn horizon_chart<'a, DB: DrawingBackend>(
 
 /// The estimator's name ("LLS", "GLLS", "state-noise").
 pub(crate) fn estimator_name(g: &GllsReport) -> &'static str {
-    match g.estimator.as_str() {
-        "glls" => "GLLS",
-        "state_noise" => "state-noise",
-        _ => "LLS",
+    match g.estimator {
+        GllsEstimator::Glls => "GLLS",
+        GllsEstimator::StateNoise => "state-noise",
+        GllsEstimator::Lls => "LLS",
     }
 }
 

@@ -678,7 +678,7 @@ impl<'a> Ctx<'a> {
     }
     /// Why there is no SCF region at the shown time.
     pub fn scf_missing_note(&self) -> String {
-        if self.report.method == "kf" {
+        if self.report.method == crate::method::Method::Kf {
             "method \"kf\": KF regions only".to_string()
         } else {
             let first = self

@@ -368,7 +368,7 @@ fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> R
     if let Some(v) = &verdict {
         subtitle = format!("{v}\n{subtitle}");
     }
-    let title = cx.title(if cx.report.method == "kf" {
+    let title = cx.title(if cx.report.method == crate::method::Method::Kf {
         "KF regions in the state plane"
     } else {
         "KF and SCF regions in the state plane"

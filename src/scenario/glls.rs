@@ -13,7 +13,7 @@
 //! horizon s uses y(k−s) … y(k). `model.W` is Ω (default I), `model.V` the covariance of the
 //! transition noise ξ of (54) (default 0), `model.B` with `simulate.u` / `data.u` the inputs.
 
-use super::{Scenario, SimulateSpec};
+use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::glls::{
     self, Curves, GllsModel, Horizon, Precision, PrecisionReport, StateNoise, Study, Weighting,
@@ -25,6 +25,7 @@ use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+use std::ops::RangeInclusive;
 
 /// Monte Carlo of Section 5.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -34,8 +35,8 @@ pub struct GllsMonteCarloSpec {
     #[serde(default)]
     pub seed: u64,
     /// "precision" (5.1: error vs horizon with the bound) or "state_noise" (5.2: vs LLS).
-    #[serde(default = "default_study")]
-    pub study: String,
+    #[serde(default)]
+    pub study: GllsStudyKind,
     /// Steps per run (default: the simulation's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub steps: Option<usize>,
@@ -43,8 +44,42 @@ pub struct GllsMonteCarloSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_horizon: Option<usize>,
 }
-fn default_study() -> String {
-    "precision".into()
+
+/// Which Monte Carlo of Section 5 (`glls.monte_carlo.study`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GllsStudyKind {
+    /// 5.1: the error of the current-state estimate against the horizon, with the bound.
+    #[default]
+    Precision,
+    /// 5.2: the state-noise estimator against LLS.
+    StateNoise,
+}
+
+/// The estimator (`glls.estimator`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GllsEstimator {
+    /// Least squares with Ω = I.
+    #[default]
+    Lls,
+    /// Generalized least squares with the model's Ω.
+    Glls,
+    /// The state-noise estimator (60)–(64) beside LLS.
+    StateNoise,
+}
+
+/// The simulated measurement noise (`glls.noise`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GllsNoise {
+    /// N(0, Ω).
+    #[default]
+    Gaussian,
+    /// Uniform in the ball ‖δ(k)‖₂ ≤ μ.
+    Bounded,
+    /// ‖δ(k)‖₂ = μ, aligned to push the first plotted component as far as the bound allows.
+    Worst,
 }
 
 /// The `glls` block.
@@ -58,8 +93,8 @@ pub struct GllsSpec {
     #[serde(default = "default_max_horizon")]
     pub max_horizon: usize,
     /// "lls" (Ω = I), "glls" (the model's Ω) or "state_noise" ((60)–(64)).
-    #[serde(default = "default_estimator")]
-    pub estimator: String,
+    #[serde(default)]
+    pub estimator: GllsEstimator,
     /// Singular values kept by the regularized estimators (default n: none dropped).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub p: Option<usize>,
@@ -69,8 +104,8 @@ pub struct GllsSpec {
     /// Simulated measurement noise: "gaussian" (N(0, Ω)), "bounded" (uniform in the ball
     /// ‖δ(k)‖₂ ≤ μ) or "worst" (‖δ(k)‖₂ = μ aligned to push the first plotted component of the
     /// current estimate as far as the bound allows).
-    #[serde(default = "default_noise")]
-    pub noise: String,
+    #[serde(default)]
+    pub noise: GllsNoise,
     /// Two state components for the state plane (default [0, 1], or [0, 0] when n = 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane: Option<[usize; 2]>,
@@ -79,12 +114,6 @@ pub struct GllsSpec {
 }
 fn default_max_horizon() -> usize {
     60
-}
-fn default_estimator() -> String {
-    "lls".into()
-}
-fn default_noise() -> String {
-    "gaussian".into()
 }
 
 /// The regularized estimators at the chosen horizon.
@@ -138,7 +167,7 @@ pub struct GllsReport {
     /// Time of the current state (k = steps − 1) and the horizon s.
     pub k: usize,
     pub s: usize,
-    pub estimator: String,
+    pub estimator: GllsEstimator,
     pub plane: [usize; 2],
     /// Figs. 1–2 for s = 0..S.
     pub curves: Curves,
@@ -239,23 +268,12 @@ fn window(v: &[DVector<f64>], k: usize, s: usize) -> DVector<f64> {
 impl Scenario {
     /// Validate a GLLS scenario and produce its data.
     pub fn prepare_glls(&self) -> Result<GllsPrepared> {
-        let spec = self.glls.clone().ok_or_else(|| {
-            Error::field(
-                "glls",
-                "is missing: the method \"glls\" needs a glls block (horizon, estimator, …)",
-            )
-        })?;
+        let spec = self.block(&self.glls, "horizon, estimator, …")?.clone();
         let model = GllsModel::from_spec(&self.model)?;
         let (n, m, r) = (model.n(), model.m(), model.r());
-        let weighting = match spec.estimator.as_str() {
-            "lls" | "state_noise" => Weighting::Lls,
-            "glls" => Weighting::Glls,
-            other => {
-                return Err(Error::field(
-                    "glls.estimator",
-                    format!("must be \"lls\", \"glls\" or \"state_noise\", found \"{other}\""),
-                ))
-            }
+        let weighting = match spec.estimator {
+            GllsEstimator::Lls | GllsEstimator::StateNoise => Weighting::Lls,
+            GllsEstimator::Glls => Weighting::Glls,
         };
         if !(1..=2000).contains(&spec.max_horizon) {
             return Err(Error::field(
@@ -281,65 +299,15 @@ impl Scenario {
             }
             None => [0, 1.min(n - 1)],
         };
-        let inputs = |field: &str, rows: &[Vec<f64>]| -> Result<Vec<DVector<f64>>> {
-            if r == 0 && !rows.is_empty() {
-                return Err(Error::field(
-                    field,
-                    "needs model.B (the model has no inputs)",
-                ));
-            }
-            rows.iter()
-                .enumerate()
-                .map(|(k, row)| linalg::vector(&format!("{field}[{k}]"), row, r))
-                .collect()
-        };
-        let (y, u, x_true, noise_max) = match (&self.data, &self.simulate) {
-            (Some(_), Some(_)) => {
-                return Err(Error::field(
-                    "data",
-                    "and simulate are both given: choose one",
-                ))
-            }
-            (None, None) => {
-                return Err(Error::field(
-                    "data",
-                    "is missing (give data.y or a simulate block)",
-                ))
-            }
-            (Some(d), None) => {
-                let y: Vec<DVector<f64>> =
-                    d.y.iter()
-                        .enumerate()
-                        .map(|(k, row)| linalg::vector(&format!("data.y[{k}]"), row, m))
-                        .collect::<Result<_>>()?;
-                (y, inputs("data.u", &d.u)?, None, None)
-            }
-            (None, Some(sim)) => {
-                let u = inputs("simulate.u", &sim.u)?;
+        let source = self.source(&Glls)?;
+        let u = source.inputs(r)?.unwrap_or_default();
+        let (y, x_true, noise_max) = match source {
+            Source::Data(_) => (source.measurements(m)?, None, None),
+            Source::Simulate(sim) => {
                 let (x, y, dmax) = simulate(&model, sim, &u, &spec, mu, weighting)?;
-                (y, u, Some(x), dmax)
+                (y, Some(x), dmax)
             }
         };
-        if y.is_empty() {
-            return Err(Error::field(
-                if self.data.is_some() {
-                    "data.y"
-                } else {
-                    "simulate.steps"
-                },
-                "must hold at least one measurement",
-            ));
-        }
-        if y.len() > 5000 {
-            return Err(Error::field(
-                if self.data.is_some() {
-                    "data.y"
-                } else {
-                    "simulate.steps"
-                },
-                "at most 5000 measurements are supported",
-            ));
-        }
         Ok(GllsPrepared {
             spec,
             model,
@@ -377,20 +345,14 @@ fn simulate(
         ));
     }
     let mut rng = ChaCha8Rng::seed_from_u64(sim.seed);
-    let (xs, mut ys) = match spec.noise.as_str() {
-        "gaussian" => model.simulate(steps, u, &mut rng),
-        "bounded" | "worst" => {
+    let (xs, mut ys) = match spec.noise {
+        GllsNoise::Gaussian => model.simulate(steps, u, &mut rng),
+        GllsNoise::Bounded | GllsNoise::Worst => {
             let quiet = GllsModel {
                 omega: DMatrix::zeros(model.m(), model.m()),
                 ..model.clone()
             };
             quiet.simulate(steps, u, &mut rng)
-        }
-        other => {
-            return Err(Error::field(
-                "glls.noise",
-                format!("must be \"gaussian\", \"bounded\" or \"worst\", found \"{other}\""),
-            ))
         }
     };
     if !xs
@@ -401,8 +363,8 @@ fn simulate(
         return Err(Error::field("simulate.steps", "the simulated states overflow double precision (A is unstable): shorten the simulation"));
     }
     let m = model.m();
-    let dmax = match spec.noise.as_str() {
-        "bounded" => {
+    let dmax = match spec.noise {
+        GllsNoise::Bounded => {
             // Uniform in the ball of radius μ: direction uniform, radius μ·U^{1/m}.
             let mut big: f64 = 0.0;
             for y in ys.iter_mut() {
@@ -418,7 +380,7 @@ fn simulate(
             }
             Some(big)
         }
-        "worst" => {
+        GllsNoise::Worst => {
             // δ(j) = μ·g_j/‖g_j‖ with g_j the block of row `plane[0]` of the current-state gain:
             // the error of that component reaches its interval bound exactly.
             let k = steps - 1;
@@ -445,7 +407,7 @@ fn simulate(
             }
             Some(mu)
         }
-        _ => None,
+        GllsNoise::Gaussian => None,
     };
     Ok((xs, ys, dmax))
 }
@@ -522,7 +484,7 @@ impl GllsPrepared {
             DVector::zeros(0)
         };
         let (lls_past, lls_cur) = h.estimate(&y, &u);
-        let state_noise = if spec.estimator == "state_noise" {
+        let state_noise = if spec.estimator == GllsEstimator::StateNoise {
             let sn = StateNoise::new(model, s)?;
             let (xp, xi, xc) = sn.estimate(&y, &u);
             let (qx, qxi) = sn.estimate_qp(model, &y, &u)?;
@@ -621,7 +583,7 @@ impl GllsPrepared {
             m: model.m(),
             k,
             s,
-            estimator: spec.estimator.clone(),
+            estimator: spec.estimator,
             plane: self.plane,
             index,
             best_horizon,
@@ -670,15 +632,9 @@ impl GllsPrepared {
 
     /// The Monte Carlo of the `monte_carlo` block, not yet run (the page steps it in chunks).
     pub fn precision(&self, mc: &GllsMonteCarloSpec) -> Result<Precision> {
-        let study = match mc.study.as_str() {
-            "precision" => Study::Precision,
-            "state_noise" => Study::StateNoiseVsLls,
-            other => {
-                return Err(Error::field(
-                    "glls.monte_carlo.study",
-                    format!("must be \"precision\" or \"state_noise\", found \"{other}\""),
-                ))
-            }
+        let study = match mc.study {
+            GllsStudyKind::Precision => Study::Precision,
+            GllsStudyKind::StateNoise => Study::StateNoiseVsLls,
         };
         let steps = mc.steps.unwrap_or(self.y.len());
         if !(2..=5000).contains(&steps) {
@@ -705,5 +661,41 @@ impl GllsPrepared {
             mc.runs,
             mc.seed,
         )
+    }
+}
+
+/// GLLS (Gubarev & Mishchenko): the `glls` block, curves, estimates, guaranteed sets and the
+/// Section 5 Monte Carlo.
+pub(crate) struct Glls;
+
+impl MethodScenario for Glls {
+    fn steps(&self) -> RangeInclusive<usize> {
+        1..=5000
+    }
+    fn run(&self, s: &Scenario) -> Result<Report> {
+        let g = s.prepare_glls()?.report()?;
+        let mut r = Report::of(
+            s.method,
+            s.alpha,
+            (g.n, g.m),
+            g.k,
+            g.plane.to_vec(),
+            g.y.clone(),
+        );
+        r.glls = Some(g);
+        Ok(r)
+    }
+    fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn crate::study::Study>> {
+        let p = s.prepare_glls()?;
+        let mut mc = p.spec.monte_carlo.clone().ok_or_else(|| {
+            Error::field(
+                "glls.monte_carlo",
+                "is missing: the study needs glls.monte_carlo (runs, seed, study)",
+            )
+        })?;
+        if let Some(r) = runs {
+            mc.runs = r;
+        }
+        Ok(Box::new(p.precision(&mc)?))
     }
 }

@@ -15,15 +15,17 @@
 //! from their law given it. `M`, `q` default to the choice of [`lscr::choose_m_q`] for `level`
 //! (default 0.9, the paper's).
 
-use super::{Scenario, SimulateSpec};
+use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
 use crate::model::{ConditionedSampler, Inputs};
 use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
+use crate::study::{self, Study};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+use std::ops::RangeInclusive;
 
 /// Coverage experiment at the fixed true state `simulate.condition.x`.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -284,71 +286,31 @@ fn simulate(
 impl Scenario {
     /// Validate an LSCR scenario and produce its data.
     pub fn prepare_lscr(&self) -> Result<LscrPrepared> {
-        let spec = self.lscr.clone().ok_or_else(|| {
-            Error::field(
-                "lscr",
-                "is missing: the method \"lscr\" needs an lscr block (estimate, M, q, …)",
-            )
-        })?;
+        let spec = self.block(&self.lscr, "estimate, M, q, …")?.clone();
         let model = LscrModel::from_spec(&self.model)?;
         let n = model.f.nrows();
-        let t = match (&self.data, &self.simulate) {
-            (Some(_), Some(_)) => {
-                return Err(Error::field(
-                    "data",
-                    "and simulate are both given: choose one",
-                ))
-            }
-            (None, None) => {
-                return Err(Error::field(
-                    "data",
-                    "is missing (give data.y or a simulate block)",
-                ))
-            }
-            (Some(d), None) => d.y.len(),
-            (None, Some(s)) => s.steps,
-        };
+        let source = self.source(&Lscr)?;
+        let t = source.steps();
         if t < n {
-            let field = if self.data.is_some() {
-                "data.y"
-            } else {
-                "simulate.steps"
-            };
             return Err(Error::field(
-                field,
+                source.steps_field(),
                 format!("gives t = {t} measurements: LSCR needs t ≥ n = {n}"),
-            ));
-        }
-        if t > 2000 {
-            let field = if self.data.is_some() {
-                "data.y"
-            } else {
-                "simulate.steps"
-            };
-            return Err(Error::field(
-                field,
-                format!("gives t = {t} measurements: at most 2000 are supported"),
             ));
         }
         let options = spec.options(n, t)?;
         let tau = options.target.time(t);
-        let (y, x_true) = match (&self.data, &self.simulate) {
-            (Some(d), _) => {
+        let (y, x_true) = match source {
+            Source::Data(d) => {
                 if !d.u.is_empty() {
                     return Err(Error::field("data.u", "is not used by LSCR (no inputs)"));
                 }
-                let y =
-                    d.y.iter()
-                        .enumerate()
-                        .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, 1).map(|v| v[0]))
-                        .collect::<Result<Vec<_>>>()?;
+                let y = source.measurements(1)?.iter().map(|v| v[0]).collect();
                 (y, None)
             }
-            (None, Some(s)) => {
+            Source::Simulate(s) => {
                 let (y, x) = simulate(&model, s, t, tau)?;
                 (y, Some(x))
             }
-            _ => unreachable!("checked above"),
         };
         if n < 2 {
             return Err(Error::field(
@@ -423,7 +385,12 @@ impl Scenario {
             .simulate
             .as_ref()
             .and_then(|s| s.condition.as_ref())
-            .expect("checked in prepare");
+            .ok_or_else(|| {
+                Error::field(
+                    "simulate.condition",
+                    "is needed by lscr.coverage (the fixed true state)",
+                )
+            })?;
         let tau = p.estimator.problem.regression.target.time(p.y.len());
         if cond.t != tau {
             return Err(Error::field(
@@ -689,8 +656,8 @@ impl LscrPrepared {
 /// Counts with their promised levels and 99.9 % bands.
 pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> CoverageReport {
     let (level_each, level) = est.levels();
-    let (a, b) = lscr::binomial_band(counts.runs, level_each, 0.0005);
-    let (c, d) = lscr::binomial_band(counts.runs, level.max(0.0), 0.0005);
+    let (a, b) = crate::stats::band(counts.runs, level_each);
+    let (c, d) = crate::stats::band(counts.runs, level.max(0.0));
     CoverageReport {
         truth: truth.to_vec(),
         counts,
@@ -698,5 +665,72 @@ pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> Cove
         level,
         band_each: [a, b],
         band: [c, d],
+    }
+}
+
+/// LSCR (Weyer & Campi): the `lscr` block, the region report and the coverage experiment.
+pub(crate) struct Lscr;
+
+impl MethodScenario for Lscr {
+    fn steps(&self) -> RangeInclusive<usize> {
+        1..=2000
+    }
+    fn run(&self, s: &Scenario) -> Result<Report> {
+        let p = s.prepare_lscr()?;
+        let mut l = p.report()?;
+        if p.spec.coverage.is_some() {
+            let x = s
+                .simulate
+                .as_ref()
+                .and_then(|s| s.condition.as_ref())
+                .ok_or_else(|| {
+                    Error::field(
+                        "simulate.condition",
+                        "is needed by lscr.coverage (the fixed true state)",
+                    )
+                })?
+                .x
+                .clone();
+            l.coverage = Some(p.coverage(&x)?);
+        }
+        let y = p.y.iter().map(|v| vec![*v]).collect();
+        let mut r = Report::of(
+            s.method,
+            l.level,
+            (p.estimator.problem.n(), 1),
+            l.time,
+            l.plot.to_vec(),
+            y,
+        );
+        r.lscr = Some(l);
+        Ok(r)
+    }
+    fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
+        let mut s = s.clone();
+        if let (Some(r), Some(c)) = (runs, s.lscr.as_mut().and_then(|l| l.coverage.as_mut())) {
+            c.runs = r;
+        }
+        Ok(Box::new(LscrStudy(s.lscr_experiment()?)))
+    }
+}
+
+/// The LSCR coverage experiment as a [`Study`]: its result is the [`CoverageReport`] (counts,
+/// promised levels, exact bands).
+pub struct LscrStudy(pub lscr::Experiment);
+
+impl Study for LscrStudy {
+    fn step(&mut self, runs: usize) -> Result<()> {
+        self.0.step(runs);
+        Ok(())
+    }
+    fn runs(&self) -> usize {
+        self.0.counts.runs
+    }
+    fn total(&self) -> usize {
+        self.0.total
+    }
+    fn result(&self) -> Result<serde_json::Value> {
+        let e = &self.0;
+        study::to_value(&coverage_report(e.estimator(), e.truth(), e.counts.clone()))
     }
 }

@@ -4,23 +4,32 @@
 //! (seeded; optionally conditioned on a state x_c at time t_c, drawn backwards with the
 //! backward representation). Everything numeric in a report is a JSON number; ellipsoids are
 //! `{"center", "cov", "radius2"}` meaning (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2.
+//!
+//! This module holds only what every method shares: the scenario and report types, JSON
+//! parsing with field paths, the one observations step ([`Source`]: `data` or `simulate`, one
+//! step-count check, one wording), and the one dispatch from [`Method`] to its scenario file
+//! ([`make_method`]). Each method's block, validation and report live in its own file:
+//! [`scf`], [`lscr`], [`glls`], [`uniform`], [`ubb`].
 
 use crate::error::{Error, Result};
 use crate::linalg;
-use crate::model::{Inputs, LinearModel, ModelSpec, Trajectory};
-use crate::scf::{self, Asymptotic, ScfOptions, ScfStep};
-use crate::sets::{Ellipsoid, PlanarEllipse};
+use crate::method::Method;
+use crate::model::ModelSpec;
+use crate::scf::{Asymptotic, ScfStep};
+use crate::study::Study;
 use nalgebra::DVector;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+use std::ops::RangeInclusive;
 
 pub mod glls;
 pub mod lscr;
+pub mod scf;
 pub mod ubb;
 pub mod uniform;
+pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
+pub use scf::{CollisionReport, ScfPrepared};
 pub use ubb::{UbbReport, UbbSpec};
 pub use uniform::{UniformReport, UniformSpec};
 
@@ -61,50 +70,12 @@ pub struct SimulateSpec {
     pub x0: Option<Vec<f64>>,
 }
 
-/// Two 2-D position blocks and a collision distance (SCF Section II).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct CollisionSpec {
-    /// Components of the first body's position (two indices).
-    pub a: Vec<usize>,
-    /// Components of the second body's position.
-    pub b: Vec<usize>,
-    pub d_min: f64,
-}
-
-/// Fig. 1: conditional coverage P{x_t ∈ X_t | x_t = x̄} as x̄ moves along one component.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct CurveSpec {
-    pub component: usize,
-    pub from: f64,
-    pub to: f64,
-    #[serde(default = "default_points")]
-    pub points: usize,
-}
-fn default_points() -> usize {
-    201
-}
-
-/// Monte Carlo over conditioned realizations (SCF Section II-B).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct ExperimentSpec {
-    pub runs: usize,
-    #[serde(default)]
-    pub seed: u64,
-    /// Components whose coverage is counted at the conditioning time.
-    pub components: Vec<usize>,
-    /// Time from which the τ-step collision warning is issued (needs `collision`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub warning_t: Option<usize>,
-}
-
 /// A scenario: see the module docs and README.md for the fields.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    pub method: String,
+    /// The method (parsed once; unknown names are refused with the list of methods).
+    pub method: Method,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub title: Option<String>,
     pub model: ModelSpec,
@@ -156,42 +127,10 @@ fn default_alpha() -> f64 {
     0.95
 }
 
-/// Collision warning from the τ-step prediction regions at one time.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct CollisionReport {
-    /// Time of the prediction (the regions are for `time + tau`).
-    pub time: usize,
-    pub kf_distance: f64,
-    pub scf_distance: Option<f64>,
-    pub kf_warning: bool,
-    pub scf_warning: Option<bool>,
-    /// Regions of the two bodies' positions: [kf_a, kf_b], [scf_a, scf_b].
-    pub kf_regions: Vec<Ellipsoid>,
-    pub scf_regions: Vec<Ellipsoid>,
-    /// True distance at time + tau, when simulated.
-    pub true_distance: Option<f64>,
-}
-
-fn st_kf_mean(st: &ScfStep) -> DVector<f64> {
-    st.kf.center_vec()
-}
-
-/// Fig. 1 curve.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct CoverageCurve {
-    pub component: usize,
-    pub time: usize,
-    pub xbar: Vec<f64>,
-    pub kf: Vec<f64>,
-    pub scf: Vec<f64>,
-    /// "closed form" (n = 1) or "monte carlo (N draws per point)".
-    pub how: String,
-}
-
 /// The result of a scenario.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct Report {
-    pub method: String,
+    pub method: Method,
     pub alpha: f64,
     pub n: usize,
     pub q: usize,
@@ -257,56 +196,196 @@ fn non_numeric_entry(v: &serde_json::Value, path: &str) -> Option<(String, Strin
     }
 }
 
-/// A validated scenario: the model, data (given or simulated) and options.
-pub struct Prepared {
-    pub scenario: Scenario,
-    pub model: LinearModel,
-    pub inputs: Inputs,
-    pub y: Vec<DVector<f64>>,
-    pub x_true: Option<Vec<DVector<f64>>>,
-    pub options: ScfOptions,
-}
-
 impl Scenario {
     /// Parse JSON; errors say where the JSON is wrong.
     pub fn from_json(text: &str) -> Result<Self> {
-        serde_json::from_str(text).map_err(|e| {
-            // serde cannot name the field of an untagged matrix ("data did not match any
-            // variant of untagged enum MatrixSpec"): find a non-number inside a list ourselves.
-            let found = serde_json::from_str::<serde_json::Value>(text)
-                .ok()
-                .and_then(|v| non_numeric_entry(&v, ""));
-            match found {
-                Some((field, message)) => Error::field(
+        let mut de = serde_json::Deserializer::from_str(text);
+        let parsed: std::result::Result<Scenario, _> = serde_path_to_error::deserialize(&mut de);
+        let e = match parsed.map(|s| (s, de.end())) {
+            Ok((s, Ok(()))) => return Ok(s),
+            Ok((_, Err(e))) => {
+                return Err(Error::field("scenario", format!("is not valid: {e}")));
+            }
+            Err(e) => e,
+        };
+        // serde cannot name the field of an untagged matrix ("data did not match any
+        // variant of untagged enum MatrixSpec"): find a non-number inside a list ourselves.
+        let found = serde_json::from_str::<serde_json::Value>(text)
+            .ok()
+            .and_then(|v| non_numeric_entry(&v, ""));
+        let (line, column) = (e.inner().line(), e.inner().column());
+        Err(match found {
+            Some((field, message)) => {
+                Error::field(field, format!("{message} (line {line}, column {column})"))
+            }
+            None => {
+                let path = e.path().to_string();
+                let field = if path == "." {
+                    "scenario".to_string()
+                } else {
+                    path
+                };
+                Error::field(
                     field,
-                    format!("{message} (line {}, column {})", e.line(), e.column()),
-                ),
-                None => Error::field("scenario", format!("is not valid: {e}")),
+                    format!("is not valid: {}", plain_serde_message(e.inner())),
+                )
             }
         })
     }
+}
 
-    /// Validate everything and produce the data (simulating if asked).
-    pub fn prepare(&self) -> Result<Prepared> {
+/// serde's message in the words of a JSON user: values in double quotes, no Rust type names.
+fn plain_serde_message(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    let (what, position) = match text.rsplit_once(" at line ") {
+        Some((w, p)) => (w.to_string(), format!(" (line {p})")),
+        None => (text.clone(), String::new()),
+    };
+    let what = if what.contains("untagged enum MatrixSpec") {
+        "expected a matrix: a list of rows of numbers, or one such matrix per time step".to_string()
+    } else if what == "expected value" {
+        "expected a JSON value here (JSON has no NaN or Infinity: write a number)".to_string()
+    } else {
+        what.replace('`', "\"")
+    };
+    format!("{what}{position}")
+}
+
+/// Where a scenario's measurements come from: the user's `data` or a seeded `simulate` block.
+/// Every method goes through [`Scenario::source`], so the choice, the step-count limits and
+/// their wording are the same for all five.
+#[derive(Debug, Clone, Copy)]
+pub enum Source<'a> {
+    Data(&'a DataSpec),
+    Simulate(&'a SimulateSpec),
+}
+
+impl<'a> Source<'a> {
+    /// The number of time steps: data rows, or simulated steps.
+    pub fn steps(&self) -> usize {
+        match self {
+            Source::Data(d) => d.y.len(),
+            Source::Simulate(s) => s.steps,
+        }
+    }
+    /// `"data"` or `"simulate"`: the block that errors about inputs name.
+    pub fn prefix(&self) -> &'static str {
+        match self {
+            Source::Data(_) => "data",
+            Source::Simulate(_) => "simulate",
+        }
+    }
+    /// The field a step-count error names: `data.y` or `simulate.steps`.
+    pub fn steps_field(&self) -> &'static str {
+        match self {
+            Source::Data(_) => "data.y",
+            Source::Simulate(_) => "simulate.steps",
+        }
+    }
+    /// Whether the measurements are the user's (then a report has no truth).
+    pub fn is_data(&self) -> bool {
+        matches!(self, Source::Data(_))
+    }
+    /// The simulation seed (0 for data).
+    pub fn seed(&self) -> u64 {
+        match self {
+            Source::Data(_) => 0,
+            Source::Simulate(s) => s.seed,
+        }
+    }
+    /// The input rows with their field (`data.u` or `simulate.u`).
+    pub fn input_rows(&self) -> (&'static str, &'a [Vec<f64>]) {
+        match self {
+            Source::Data(d) => ("data.u", &d.u),
+            Source::Simulate(s) => ("simulate.u", &s.u),
+        }
+    }
+    /// The input rows as vectors of length r (`None` when none are given), each field-named.
+    pub fn inputs(&self, r: usize) -> Result<Option<Vec<DVector<f64>>>> {
+        let (field, rows) = self.input_rows();
+        if rows.is_empty() {
+            return Ok(None);
+        }
+        if r == 0 {
+            return Err(Error::field(
+                field,
+                "is given, but the model has no inputs (model.B)",
+            ));
+        }
+        rows.iter()
+            .enumerate()
+            .map(|(k, row)| linalg::vector(&format!("{field}[{k}]"), row, r))
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
+    }
+    /// The user's measurements y_1, y_2, … as vectors of length q (empty for a simulation).
+    pub fn measurements(&self, q: usize) -> Result<Vec<DVector<f64>>> {
+        match self {
+            Source::Data(d) => {
+                d.y.iter()
+                    .enumerate()
+                    .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, q))
+                    .collect()
+            }
+            Source::Simulate(_) => Ok(Vec::new()),
+        }
+    }
+}
+
+/// What each method's scenario file provides; [`make_method`] is the one place that maps a
+/// [`Method`] to it (the pattern of Clarabel.rs's `SupportedConeT` → `make_cone`).
+pub(crate) trait MethodScenario: Sync {
+    /// The time steps (data rows or simulated steps) the method accepts: checked by
+    /// [`Scenario::source`] before any work.
+    fn steps(&self) -> RangeInclusive<usize>;
+    /// Validate and run: the report.
+    fn run(&self, s: &Scenario) -> Result<Report>;
+    /// The method's Monte Carlo study, not yet run (`runs` overrides the scenario's count).
+    fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>>;
+}
+
+/// The one dispatch from a method to its scenario file.
+pub(crate) fn make_method(m: Method) -> &'static dyn MethodScenario {
+    match m {
+        Method::Scf | Method::Kf => &scf::Scf,
+        Method::Lscr => &lscr::Lscr,
+        Method::Glls => &glls::Glls,
+        Method::UniformLp => &uniform::Uniform,
+        Method::Ubb => &ubb::Ubb,
+    }
+}
+
+/// Most runs any study may ask for.
+pub const MAX_STUDY_RUNS: usize = 10_000_000;
+
+impl Scenario {
+    /// Validate and run: the report of this scenario.
+    pub fn run(&self) -> Result<Report> {
         self.check_method_blocks()?;
-        if !matches!(self.method.as_str(), "scf" | "kf") {
-            return Err(Error::field(
-                "method",
-                format!(
-                    "\"{}\" is not available yet (this build has \"scf\", \"kf\", \"lscr\", \"glls\", \"uniform_lp\" and \"ubb\")",
-                    self.method
-                ),
-            ));
+        make_method(self.method).run(self)
+    }
+
+    /// The Monte Carlo study of this scenario's method, not yet run: the SCF conditional
+    /// experiment (`experiment`), the LSCR coverage experiment (`lscr.coverage`), the GLLS
+    /// study (`glls.monte_carlo`) or the set-membership guarantee (`ubb.guarantee`). `runs`
+    /// overrides the scenario's run count (the CLI's `--runs`, the page's field).
+    pub fn study(&self, runs: Option<usize>) -> Result<Box<dyn Study>> {
+        self.check_method_blocks()?;
+        if let Some(r) = runs {
+            if !(1..=MAX_STUDY_RUNS).contains(&r) {
+                return Err(Error::field(
+                    "runs",
+                    format!("must lie in 1..={MAX_STUDY_RUNS}, found {r}"),
+                ));
+            }
         }
-        if !(self.alpha > 0.0 && self.alpha < 1.0) {
-            return Err(Error::field(
-                "alpha",
-                format!("must lie strictly between 0 and 1, found {}", self.alpha),
-            ));
-        }
-        let model = LinearModel::from_spec(&self.model)?;
-        let n = model.n();
-        let (inputs, y, x_true) = match (&self.data, &self.simulate) {
+        make_method(self.method).study(self, runs)
+    }
+
+    /// The one observations step: `data` or `simulate` (exactly one), with the number of
+    /// steps checked against what the method accepts.
+    pub(crate) fn source(&self, method: &dyn MethodScenario) -> Result<Source<'_>> {
+        let source = match (&self.data, &self.simulate) {
             (Some(_), Some(_)) => {
                 return Err(Error::field(
                     "data",
@@ -319,167 +398,53 @@ impl Scenario {
                     "is missing (give data.y or a simulate block)",
                 ))
             }
-            (Some(d), None) => {
-                let u = Inputs::from_rows("data.u", &d.u)?;
-                model
-                    .check_inputs(&u)
-                    .map_err(|e| Error::field(format!("data.{}", e.field), e.message))?;
-                if d.y.is_empty() {
-                    return Err(Error::field(
-                        "data.y",
-                        "is empty: at least one measurement is needed",
-                    ));
-                }
-                let y =
-                    d.y.iter()
-                        .enumerate()
-                        .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, model.q()))
-                        .collect::<Result<Vec<_>>>()?;
-                (u, y, None)
-            }
-            (None, Some(s)) => {
-                if s.steps == 0 || s.steps > 100_000 {
-                    return Err(Error::field(
-                        "simulate.steps",
-                        format!("must lie in 1..=100000, found {}", s.steps),
-                    ));
-                }
-                let u = Inputs::from_rows("simulate.u", &s.u)?;
-                model
-                    .check_inputs(&u)
-                    .map_err(|e| Error::field(format!("simulate.{}", e.field), e.message))?;
-                let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
-                let traj: Trajectory = match &s.condition {
-                    None => model.simulate(s.steps, &u, None, &mut rng),
-                    Some(c) => {
-                        let xc = linalg::vector("simulate.condition.x", &c.x, n)?;
-                        model
-                            .simulate_conditioned(s.steps, &u, c.t, &xc, &mut rng)
-                            .map_err(|e| {
-                                if e.field == "condition.t" {
-                                    Error::field("simulate.condition.t", e.message)
-                                } else {
-                                    e
-                                }
-                            })?
-                    }
-                };
-                let finite = |v: &[DVector<f64>]| v.iter().all(|x| x.iter().all(|e| e.is_finite()));
-                if !(finite(&traj.x) && finite(&traj.y)) {
-                    return Err(Error::field(
-                        "simulate.steps",
-                        "the simulated trajectory overflows double precision: the model is too large or unstable over this many steps",
-                    ));
-                }
-                (u, traj.y, Some(traj.x))
-            }
+            (Some(d), None) => Source::Data(d),
+            (None, Some(s)) => Source::Simulate(s),
         };
-        if y.len() < n {
+        let range = method.steps();
+        let steps = source.steps();
+        if !range.contains(&steps) {
+            let what = if source.is_data() {
+                "measurements"
+            } else {
+                "steps"
+            };
+            let found = if steps == 0 && source.is_data() {
+                "is empty".to_string()
+            } else {
+                format!("gives {steps} {what}")
+            };
             return Err(Error::field(
-                if self.data.is_some() { "data.y" } else { "simulate.steps" },
-                format!("gives {} measurements: at least n = {n} are needed before an SCF region exists", y.len()),
+                source.steps_field(),
+                format!(
+                    "{found}: method \"{}\" takes {}..={} {what}",
+                    self.method,
+                    range.start(),
+                    range.end()
+                ),
             ));
         }
-        if let Some(t) = self.time {
-            crate::kalman::check_time("time", t, y.len())?;
-        }
-        if self.tau > 10_000 {
-            return Err(Error::field("tau", "must be at most 10000"));
-        }
-        // Index lists are checked here, before any method indexes a matrix with them (the
-        // experiment reads `collision` and `experiment.components` without a report).
-        let check_idx = |field: &str, idx: &[usize]| {
-            Ellipsoid::new(&DVector::zeros(n), &nalgebra::DMatrix::identity(n, n), 1.0)
-                .project(idx)
-                .map(|_| ())
-                .map_err(|e| Error::field(field, e.message))
-        };
-        if let Some(c) = &self.collision {
-            for (name, blk) in [("collision.a", &c.a), ("collision.b", &c.b)] {
-                if blk.len() != 2 {
-                    return Err(Error::field(name, "must name two state components"));
-                }
-                check_idx(name, blk)?;
-            }
-        }
-        if let Some(e) = &self.experiment {
-            check_idx("experiment.components", &e.components)?;
-        }
-        let options = ScfOptions {
-            alpha: self.alpha,
-            components: self.components.clone(),
-            tau: self.tau,
-            asymptotic: self.asymptotic,
-            kf_only: self.method == "kf",
-        };
-        if self.asymptotic
-            && !(model.is_time_invariant() && model.stationary_prior && model.m() == 0)
-        {
-            return Err(Error::field(
-                "asymptotic",
-                "needs a stable time-invariant model with the stationary prior and no inputs",
-            ));
-        }
-        Ok(Prepared {
-            scenario: self.clone(),
-            model,
-            inputs,
-            y,
-            x_true,
-            options,
-        })
+        Ok(source)
     }
 
-    /// Validate and run: the report of this scenario.
-    pub fn run(&self) -> Result<Report> {
-        self.check_method_blocks()?;
-        match self.method.as_str() {
-            "lscr" => self.run_lscr(),
-            "glls" => {
-                let g = self.prepare_glls()?.report()?;
-                let mut r =
-                    self.method_report(self.alpha, g.n, g.m, g.k, g.plane.to_vec(), g.y.clone());
-                r.glls = Some(g);
-                Ok(r)
-            }
-            "uniform_lp" => {
-                let u = self.uniform_report()?;
-                let q = u.y.first().map_or(0, |y| y.len());
-                let mut r = self.method_report(
-                    self.alpha,
-                    u.n,
-                    q,
-                    u.at.time,
-                    u.plane.to_vec(),
-                    u.y.clone(),
-                );
-                r.uniform = Some(u);
-                Ok(r)
-            }
-            "ubb" => {
-                let u = self.prepare_ubb()?.report()?;
-                let mut r =
-                    self.method_report(self.alpha, u.r, u.q, u.at.k, u.plane.to_vec(), u.y.clone());
-                r.ubb = Some(u);
-                Ok(r)
-            }
-            _ => self.prepare()?.report(),
-        }
-    }
-
-    /// A method block (`lscr`, `glls`, `uniform`) belongs to its own method only.
+    /// A method block (`lscr`, `glls`, `uniform`, `ubb`) belongs to its own method only.
     fn check_method_blocks(&self) -> Result<()> {
-        for (block, present, method) in [
-            ("lscr", self.lscr.is_some(), "lscr"),
-            ("glls", self.glls.is_some(), "glls"),
-            ("uniform", self.uniform.is_some(), "uniform_lp"),
-            ("ubb", self.ubb.is_some(), "ubb"),
-        ] {
-            if present && self.method != method {
+        let present = [
+            ("lscr", self.lscr.is_some()),
+            ("glls", self.glls.is_some()),
+            ("uniform", self.uniform.is_some()),
+            ("ubb", self.ubb.is_some()),
+        ];
+        for (block, is_there) in present {
+            if is_there && self.method.block() != Some(block) {
+                let owner = Method::ALL
+                    .into_iter()
+                    .find(|m| m.block() == Some(block))
+                    .map_or("", |m| m.name());
                 return Err(Error::field(
                     block,
                     format!(
-                        "is only used with \"method\": \"{method}\" (found \"{}\")",
+                        "is only used with \"method\": \"{owner}\" (found \"{}\")",
                         self.method
                     ),
                 ));
@@ -488,19 +453,34 @@ impl Scenario {
         Ok(())
     }
 
-    /// The report of a method with its own result block (LSCR, GLLS, uniform): the SCF fields
-    /// stay empty; the caller sets its block.
-    fn method_report(
-        &self,
+    /// The method's own block, or a field error saying what it needs.
+    pub(crate) fn block<'a, T>(&self, block: &'a Option<T>, needs: &str) -> Result<&'a T> {
+        block.as_ref().ok_or_else(|| {
+            let name = self.method.block().unwrap_or("");
+            Error::field(
+                name,
+                format!(
+                    "is missing: the method \"{}\" needs a {name} block ({needs})",
+                    self.method
+                ),
+            )
+        })
+    }
+}
+
+impl Report {
+    /// The report of a method with its own result block: the SCF fields stay empty; the caller
+    /// sets its block.
+    pub(crate) fn of(
+        method: Method,
         alpha: f64,
-        n: usize,
-        q: usize,
+        (n, q): (usize, usize),
         time: usize,
         plot: Vec<usize>,
         y: Vec<Vec<f64>>,
     ) -> Report {
         Report {
-            method: self.method.clone(),
+            method,
             alpha,
             n,
             q,
@@ -518,172 +498,5 @@ impl Scenario {
             uniform: None,
             ubb: None,
         }
-    }
-
-    /// An LSCR scenario's report: `lscr` holds the result.
-    fn run_lscr(&self) -> Result<Report> {
-        let p = self.prepare_lscr()?;
-        let mut l = p.report()?;
-        if p.spec.coverage.is_some() {
-            let x = self
-                .simulate
-                .as_ref()
-                .and_then(|s| s.condition.as_ref())
-                .ok_or_else(|| {
-                    Error::field(
-                        "simulate.condition",
-                        "is needed by lscr.coverage (the fixed true state)",
-                    )
-                })?
-                .x
-                .clone();
-            l.coverage = Some(p.coverage(&x)?);
-        }
-        let y = p.y.iter().map(|v| vec![*v]).collect();
-        let mut r = self.method_report(
-            l.level,
-            p.estimator.problem.n(),
-            1,
-            l.time,
-            l.plot.to_vec(),
-            y,
-        );
-        r.lscr = Some(l);
-        Ok(r)
-    }
-}
-
-impl Prepared {
-    /// Compute the report.
-    pub fn report(&self) -> Result<Report> {
-        let s = &self.scenario;
-        let n = self.model.n();
-        let steps = self.y.len();
-        let time = s.time.unwrap_or(steps);
-        let plot = s
-            .plot
-            .clone()
-            .unwrap_or_else(|| if n >= 2 { vec![0, 1] } else { vec![0] });
-        Ellipsoid::new(&DVector::zeros(n), &nalgebra::DMatrix::identity(n, n), 1.0)
-            .project(&plot)
-            .map_err(|e| Error::field("plot", e.message))?;
-        if plot.len() > 2 {
-            return Err(Error::field("plot", "must name one or two components"));
-        }
-        let mut run = scf::run(&self.model, &self.y, &self.inputs, &self.options)?;
-        if s.method == "kf" {
-            for st in &mut run.steps {
-                st.scf = None;
-                if let Some(t) = &mut st.target {
-                    t.scf = None;
-                }
-            }
-        }
-        let asymptotic =
-            if self.model.is_time_invariant() && self.model.stationary_prior && self.model.m() == 0
-            {
-                // Optional extra: omitted when the steady state has no invertible ratio (unobservable).
-                scf::asymptotic(&self.model).ok()
-            } else {
-                None
-            };
-        let collision = match &s.collision {
-            Some(c) => Some(self.collisions(c, &run.steps)?),
-            None => None,
-        };
-        let coverage_curve = match &s.coverage_curve {
-            Some(c) => Some(self.coverage_curve(c, time)?),
-            None => None,
-        };
-        let moments = self.model.moments(steps, &self.inputs);
-        Ok(Report {
-            method: s.method.clone(),
-            alpha: s.alpha,
-            n,
-            q: self.model.q(),
-            time,
-            plot,
-            steps: run.steps,
-            y: self.y.iter().map(|v| v.iter().copied().collect()).collect(),
-            x_true: self
-                .x_true
-                .as_ref()
-                .map(|xs| xs.iter().map(|v| v.iter().copied().collect()).collect()),
-            prior_mean: moments
-                .mean
-                .iter()
-                .map(|v| v.iter().copied().collect())
-                .collect(),
-            asymptotic,
-            collision,
-            coverage_curve,
-            lscr: None,
-            glls: None,
-            uniform: None,
-            ubb: None,
-        })
-    }
-
-    fn collisions(&self, c: &CollisionSpec, steps: &[ScfStep]) -> Result<Vec<CollisionReport>> {
-        let n = self.model.n();
-        for (name, blk) in [("collision.a", &c.a), ("collision.b", &c.b)] {
-            if blk.len() != 2 || blk.iter().any(|&i| i >= n) {
-                return Err(Error::field(
-                    name,
-                    format!("must name two state components below n = {n}"),
-                ));
-            }
-        }
-        if !(c.d_min.is_finite() && c.d_min > 0.0) {
-            return Err(Error::field(
-                "collision.d_min",
-                "must be a positive distance",
-            ));
-        }
-        let tau = self.options.tau;
-        let o = crate::kalman::Offline::new(&self.model, steps.len() + tau, &self.inputs)?;
-        let mut out = Vec::new();
-        for st in steps {
-            let g = &o.gains.steps[st.t - 1];
-            let (xp, pp) =
-                crate::kalman::predict(&self.model, st.t, tau, &st_kf_mean(st), &g.p, &self.inputs);
-            let (mp, gp) = (
-                &o.moments.mean[st.t + tau - 1],
-                &o.moments.cov[st.t + tau - 1],
-            );
-            let pair = |idx: &[usize]| {
-                scf::region_pair(st.t + tau, idx, &xp, &pp, mp, gp, self.options.alpha)
-            };
-            let (ra, rb) = (pair(&c.a)?, pair(&c.b)?);
-            let kf_distance = PlanarEllipse::from(&ra.kf).distance(&PlanarEllipse::from(&rb.kf));
-            let scf_distance = match (&ra.scf, &rb.scf) {
-                (Some(a), Some(b)) => {
-                    Some(PlanarEllipse::from(a).distance(&PlanarEllipse::from(b)))
-                }
-                _ => None,
-            };
-            let true_distance = self
-                .x_true
-                .as_ref()
-                .and_then(|xs| xs.get(st.t + tau - 1))
-                .map(|x| {
-                    ((x[c.a[0]] - x[c.b[0]]).powi(2) + (x[c.a[1]] - x[c.b[1]]).powi(2)).sqrt()
-                });
-            out.push(CollisionReport {
-                time: st.t,
-                kf_distance,
-                scf_distance,
-                kf_warning: kf_distance < c.d_min,
-                scf_warning: scf_distance.map(|d| d < c.d_min),
-                kf_regions: vec![ra.kf.clone(), rb.kf.clone()],
-                scf_regions: [ra.scf, rb.scf].into_iter().flatten().collect(),
-                true_distance,
-            });
-        }
-        Ok(out)
-    }
-
-    fn coverage_curve(&self, c: &CurveSpec, time: usize) -> Result<CoverageCurve> {
-        crate::experiment::coverage_curve(&self.model, &self.inputs, &self.options, c, time)
     }
 }

@@ -17,16 +17,30 @@
 //! the paper's: y(0 … steps−1), and step k estimates x(k+1).
 
 use super::uniform::constant;
-use super::Scenario;
+use super::{MethodScenario, Report, Scenario, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
-use crate::sets::{chi2_quantile, Ellipsoid, SupportPolygon};
+use crate::sets::{Ellipsoid, SupportPolygon};
+use crate::stats::chi2_quantile;
+use crate::study::{self, Study};
 use crate::ubb::{
     self, Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem,
     System,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
+use std::ops::RangeInclusive;
+
+/// The guarantee study: `runs` fresh simulations checked at the step k of `ubb.time`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GuaranteeSpec {
+    #[serde(default = "default_guarantee_runs")]
+    pub runs: usize,
+}
+fn default_guarantee_runs() -> usize {
+    2000
+}
 
 /// The `ubb` block.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -87,6 +101,9 @@ pub struct UbbSpec {
     /// Level of the Kalman ellipsoid compared with the set.
     #[serde(default = "default_kf_level")]
     pub kf_level: f64,
+    /// The guarantee study (`confset experiment`, the page's counter).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guarantee: Option<GuaranteeSpec>,
 }
 fn default_norm() -> Norm {
     Norm::Linf
@@ -265,12 +282,7 @@ fn finite_positive(field: &str, v: f64, allow_zero: bool) -> Result<f64> {
 impl Scenario {
     /// Validate a `ubb` scenario.
     pub fn prepare_ubb(&self) -> Result<UbbPrepared> {
-        let spec = self.ubb.clone().ok_or_else(|| {
-            Error::field(
-                "ubb",
-                "is missing: the method \"ubb\" needs a ubb block (eps, tau, delta, …)",
-            )
-        })?;
+        let spec = self.block(&self.ubb, "eps, tau, delta, …")?.clone();
         let ms = &self.model;
         finite_positive("ubb.eps", spec.eps, false)?;
         finite_positive("ubb.tau", spec.tau, true)?;
@@ -294,32 +306,8 @@ impl Scenario {
         if !(8..=512).contains(&spec.budget) {
             return Err(Error::field("ubb.budget", "must lie in 8..=512 LPs"));
         }
-        let (steps, seed) = match (&self.simulate, &self.data) {
-            (Some(s), None) => (s.steps, s.seed),
-            (None, Some(d)) => (d.y.len(), 0),
-            (Some(_), Some(_)) => {
-                return Err(Error::field(
-                    "data",
-                    "and simulate are both given: choose one",
-                ))
-            }
-            (None, None) => {
-                return Err(Error::field(
-                    "simulate",
-                    "is missing (give simulate.steps or data.y)",
-                ))
-            }
-        };
-        if !(1..=2000).contains(&steps) {
-            return Err(Error::field(
-                if self.data.is_some() {
-                    "data.y"
-                } else {
-                    "simulate.steps"
-                },
-                format!("must give 1..=2000 steps, found {steps}"),
-            ));
-        }
+        let source = self.source(&Ubb)?;
+        let (steps, seed) = (source.steps(), source.seed());
         // A, and the time-varying H of Example 1.
         let basis = spec.basis.clone().unwrap_or_default();
         let a = match constant("model.F", &ms.f)? {
@@ -472,17 +460,9 @@ impl Scenario {
                 "is needed with ubb.x0_sum (a true x(0) on the simplex)",
             ));
         }
-        let data = match &self.data {
-            Some(d) => {
-                let q = c[0].nrows();
-                Some(
-                    d.y.iter()
-                        .enumerate()
-                        .map(|(t, row)| linalg::vector(&format!("data.y[{t}]"), row, q))
-                        .collect::<Result<Vec<_>>>()?,
-                )
-            }
-            None => None,
+        let data = match source {
+            Source::Data(_) => Some(source.measurements(c[0].nrows())?),
+            Source::Simulate(_) => None,
         };
         Ok(UbbPrepared {
             problem: StateProblem {
@@ -745,5 +725,126 @@ impl UbbPrepared {
             count.runs += 1;
         }
         Ok(count)
+    }
+}
+
+/// The guarantee of a set-membership scenario made visible, as a [`Study`]: `total` fresh
+/// simulations, run i with seed `base + i` where base = seed·1000003 + 1 (so the count of any
+/// run range depends only on the scenario's seed and the range: chunks and shards merge
+/// exactly), each checked at step k: how often the true x(k+1) left the set (must be 0) and how
+/// often it left the Kalman ellipsoid at `ubb.kf_level`.
+pub struct Guarantee {
+    prepared: UbbPrepared,
+    k: usize,
+    base_seed: u64,
+    total: usize,
+    count: GuaranteeCount,
+}
+
+/// The guarantee counts so far, as the study's result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GuaranteeReport {
+    #[serde(flatten)]
+    pub count: GuaranteeCount,
+    pub total: usize,
+    pub k: usize,
+    pub kf_level: f64,
+}
+
+impl Guarantee {
+    /// `total` runs of the prepared scenario checked at its step k (`ubb.time`, default the last).
+    pub fn new(prepared: UbbPrepared, total: usize) -> Result<Guarantee> {
+        if !(1..=super::MAX_STUDY_RUNS).contains(&total) {
+            return Err(Error::field(
+                "ubb.guarantee.runs",
+                format!("must lie in 1..={}, found {total}", super::MAX_STUDY_RUNS),
+            ));
+        }
+        let k = prepared
+            .spec
+            .time
+            .unwrap_or(prepared.steps.saturating_sub(1));
+        if k >= prepared.steps {
+            return Err(Error::field(
+                "ubb.time",
+                format!("must be below the {} steps, found {k}", prepared.steps),
+            ));
+        }
+        let base_seed = prepared.seed.wrapping_mul(1_000_003).wrapping_add(1);
+        Ok(Guarantee {
+            prepared,
+            k,
+            base_seed,
+            total,
+            // worst_excess starts at 0 (not −∞, which JSON cannot hold); the first chunk's
+            // counts replace it (GuaranteeCount::merge).
+            count: GuaranteeCount::default(),
+        })
+    }
+
+    /// The step k checked.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+
+    /// The counts so far.
+    pub fn report(&self) -> GuaranteeReport {
+        GuaranteeReport {
+            count: self.count,
+            total: self.total,
+            k: self.k,
+            kf_level: self.prepared.spec.kf_level,
+        }
+    }
+}
+
+impl Study for Guarantee {
+    fn step(&mut self, runs: usize) -> Result<()> {
+        let n = runs.min(self.total - self.count.runs);
+        if n > 0 {
+            let first = self.base_seed.wrapping_add(self.count.runs as u64);
+            let c = self.prepared.guarantee(self.k, first, n)?;
+            self.count.merge(&c);
+        }
+        Ok(())
+    }
+    fn runs(&self) -> usize {
+        self.count.runs
+    }
+    fn total(&self) -> usize {
+        self.total
+    }
+    fn result(&self) -> Result<serde_json::Value> {
+        study::to_value(&self.report())
+    }
+}
+
+/// Set-membership estimation (Tempo): the `ubb` block, the hull of x(k+1) at every step, the
+/// exact polygon and the guarantee study.
+pub(crate) struct Ubb;
+
+impl MethodScenario for Ubb {
+    fn steps(&self) -> RangeInclusive<usize> {
+        1..=2000
+    }
+    fn run(&self, s: &Scenario) -> Result<Report> {
+        let u = s.prepare_ubb()?.report()?;
+        let mut r = Report::of(
+            s.method,
+            s.alpha,
+            (u.r, u.q),
+            u.at.k,
+            u.plane.to_vec(),
+            u.y.clone(),
+        );
+        r.ubb = Some(u);
+        Ok(r)
+    }
+    fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
+        let p = s.prepare_ubb()?;
+        let total = runs
+            .or(p.spec.guarantee.as_ref().map(|g| g.runs))
+            .unwrap_or_else(default_guarantee_runs);
+        Ok(Box::new(Guarantee::new(p, total)?))
     }
 }

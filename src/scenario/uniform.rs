@@ -12,14 +12,16 @@
 //!
 //! Times are the paper's: x_0 = `model.x1_mean`, data u_t, y_t for t = 1 … steps.
 
-use super::Scenario;
+use super::{MethodScenario, Report, Scenario, Source};
 use crate::error::{Error, Result};
 use crate::kalman::KalmanGains;
 use crate::linalg;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
+use crate::study::Study;
 use crate::uniform::{self, Joint, Online, OnlineStep, StatePrior, Theta, ThetaPrior, Window};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
+use std::ops::RangeInclusive;
 
 /// One entry of Θ's prior box set by hand (the paper's A₂₂ ∈ [−0.3, 0.3]).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -176,7 +178,9 @@ fn positive(field: &str, v: &[f64], len: usize) -> Result<DVector<f64>> {
 impl Scenario {
     /// Validate a uniform-innovation scenario and run it.
     pub fn uniform_report(&self) -> Result<UniformReport> {
-        let spec = self.uniform.clone().ok_or_else(|| Error::field("uniform", "is missing: the method \"uniform_lp\" needs a uniform block (xr, yr, estimator, window, …)"))?;
+        let spec = self
+            .block(&self.uniform, "xr, yr, estimator, window, …")?
+            .clone();
         let ms: &ModelSpec = &self.model;
         let a = constant("model.F", &ms.f)?.ok_or_else(|| Error::field("model.F", "is missing"))?;
         let n = a.nrows();
@@ -254,24 +258,13 @@ impl Scenario {
                 ))
             }
         };
-        let sim = self.simulate.as_ref().ok_or_else(|| {
-            Error::field(
-                "simulate",
-                "is needed: the uniform-innovation panel simulates its data (steps, seed)",
-            )
-        })?;
-        if self.data.is_some() {
+        let source = self.source(&Uniform)?;
+        let Source::Simulate(sim) = source else {
             return Err(Error::field(
                 "data",
                 "is not supported for uniform_lp yet: use simulate",
             ));
-        }
-        if !(2..=2000).contains(&sim.steps) {
-            return Err(Error::field(
-                "simulate.steps",
-                format!("must lie in 2..=2000, found {}", sim.steps),
-            ));
-        }
+        };
         let x0 = match &ms.x1_mean {
             Some(v) => linalg::vector("model.x1_mean", v, n)?,
             None => DVector::zeros(n),
@@ -503,4 +496,34 @@ fn kalman_uniform(
         .collect();
     let gains = KalmanGains::new(&model, steps)?;
     Ok(gains.filter(&model, &y, &inputs))
+}
+
+/// Linear models with uniform innovations (Pavelková): the `uniform` block, the on-line LP
+/// estimates and the window at the cursor.
+pub(crate) struct Uniform;
+
+impl MethodScenario for Uniform {
+    fn steps(&self) -> RangeInclusive<usize> {
+        2..=2000
+    }
+    fn run(&self, s: &Scenario) -> Result<Report> {
+        let u = s.uniform_report()?;
+        let q = u.y.first().map_or(0, |y| y.len());
+        let mut r = Report::of(
+            s.method,
+            s.alpha,
+            (u.n, q),
+            u.at.time,
+            u.plane.to_vec(),
+            u.y.clone(),
+        );
+        r.uniform = Some(u);
+        Ok(r)
+    }
+    fn study(&self, _: &Scenario, _: Option<usize>) -> Result<Box<dyn Study>> {
+        Err(Error::field(
+            "method",
+            "\"uniform_lp\" has no Monte Carlo study: its LP gives MAP estimates and a consistent set, with no probability to count",
+        ))
+    }
 }

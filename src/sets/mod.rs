@@ -7,63 +7,14 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, symmetrize};
+use crate::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ChiSquared, Continuous, ContinuousCDF};
 
 pub mod sign_region;
 pub mod support_polygon;
 pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 pub use support_polygon::{polygon_from_support, SupportPolygon};
-
-/// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip
-/// checked (statrs 0.18 returned NaN in the lower tail; DESIGN.md), so no NaN ellipse escapes.
-pub fn chi2_quantile(alpha: f64, k: usize) -> Result<f64> {
-    // A report asks for the same (α, k) at every time step: remember the last answer.
-    thread_local! {
-        static LAST: std::cell::Cell<(f64, usize, f64)> = const { std::cell::Cell::new((f64::NAN, 0, 0.0)) };
-    }
-    let (a, kk, r) = LAST.with(|c| c.get());
-    if a == alpha && kk == k {
-        return Ok(r);
-    }
-    let r2 = chi2_quantile_uncached(alpha, k)?;
-    LAST.with(|c| c.set((alpha, k, r2)));
-    Ok(r2)
-}
-
-fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
-    if !(alpha > 0.0 && alpha < 1.0) {
-        return Err(Error::field(
-            "alpha",
-            format!("must lie strictly between 0 and 1, found {alpha}"),
-        ));
-    }
-    if k == 0 {
-        return Err(Error::field("alpha", "needs at least one dimension"));
-    }
-    let law = ChiSquared::new(k as f64).map_err(|e| Error::field("alpha", e.to_string()))?;
-    let mut r2 = law.inverse_cdf(alpha);
-    // statrs' inverse is only ~1e-10 relative (α = 0.95, k = 2: 5.9914645461 vs the exact
-    // −2 ln 0.05 = 5.9914645471); two Newton steps on the CDF bring it to rounding level.
-    for _ in 0..2 {
-        let step = (law.cdf(r2) - alpha) / law.pdf(r2);
-        let next = r2 - step;
-        if next.is_finite()
-            && next > 0.0
-            && (law.cdf(next) - alpha).abs() <= (law.cdf(r2) - alpha).abs()
-        {
-            r2 = next;
-        }
-    }
-    if !r2.is_finite() || (law.cdf(r2) - alpha).abs() > 1e-8 {
-        return Err(Error::field(
-            "alpha",
-            format!("χ² quantile for α = {alpha}, k = {k} could not be computed accurately"),
-        ));
-    }
-    Ok(r2)
-}
 
 /// {x : (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2}. JSON: `{"center", "cov", "radius2"}`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

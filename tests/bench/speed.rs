@@ -3,7 +3,6 @@
 //!
 //! Each figure is the median of several repetitions, in milliseconds.
 
-use confset::experiment::ConditionalExperiment;
 use confset::lscr::{self, Construction, Estimator, LscrModel, Options, Target};
 use confset::presets;
 use std::time::Instant;
@@ -25,13 +24,13 @@ fn main() {
         glls_figures();
     }
     let robots = presets::get("scf-robots").expect("preset");
-    let prepared = robots.prepare().expect("valid");
+    let prepared = robots.prepare_scf().expect("valid");
     let setup = median_ms(11, || {
-        ConditionalExperiment::new(&prepared).expect("experiment");
+        prepared.conditional_experiment().expect("experiment");
     });
     let mut last = None;
     let runs = median_ms(11, || {
-        let mut e = ConditionalExperiment::new(&prepared).expect("experiment");
+        let mut e = prepared.conditional_experiment().expect("experiment");
         while !e.finished() {
             e.step(10_000);
         }

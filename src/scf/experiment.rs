@@ -12,14 +12,65 @@ use crate::error::{Error, Result};
 use crate::kalman::{self, Offline};
 use crate::linalg::{self, sub_matrix, sub_vector};
 use crate::model::{Inputs, LinearModel};
-use crate::scenario::{CoverageCurve, CurveSpec, Prepared};
 use crate::scf::{self, ScfOptions};
-use crate::sets::{chi2_quantile, Ellipsoid, PlanarEllipse};
+use crate::sets::{Ellipsoid, PlanarEllipse};
+use crate::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
+
+/// Two 2-D position blocks and a collision distance (SCF Section II).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CollisionSpec {
+    /// Components of the first body's position (two indices).
+    pub a: Vec<usize>,
+    /// Components of the second body's position.
+    pub b: Vec<usize>,
+    pub d_min: f64,
+}
+
+/// Fig. 1: conditional coverage P{x_t ∈ X_t | x_t = x̄} as x̄ moves along one component.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSpec {
+    pub component: usize,
+    pub from: f64,
+    pub to: f64,
+    #[serde(default = "default_points")]
+    pub points: usize,
+}
+fn default_points() -> usize {
+    201
+}
+
+/// Monte Carlo over conditioned realizations (SCF Section II-B).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSpec {
+    pub runs: usize,
+    #[serde(default)]
+    pub seed: u64,
+    /// Components whose coverage is counted at the conditioning time.
+    pub components: Vec<usize>,
+    /// Time from which the τ-step collision warning is issued (needs `collision`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub warning_t: Option<usize>,
+}
+
+/// Fig. 1 curve.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CoverageCurve {
+    pub component: usize,
+    pub time: usize,
+    pub xbar: Vec<f64>,
+    pub kf: Vec<f64>,
+    pub scf: Vec<f64>,
+    /// "closed form" (n = 1) or "monte carlo (N draws per point)".
+    pub how: String,
+}
 
 /// Draws per point of a Monte Carlo coverage curve.
 pub const CURVE_DRAWS: usize = 2000;
@@ -469,7 +520,7 @@ pub struct ExperimentResult {
     pub warning_t: Option<usize>,
     pub kf_warnings: usize,
     pub scf_warnings: usize,
-    /// 99.9 % Clopper–Pearson-like interval (normal approximation) for the SCF count at α.
+    /// Exact 99.9 % binomial band ([`crate::stats::band`]) of the SCF count at α.
     pub scf_expected_range: (usize, usize),
 }
 
@@ -494,36 +545,29 @@ pub struct ConditionalExperiment {
 }
 
 impl ConditionalExperiment {
-    /// Prepare from a validated scenario with `simulate.condition` and `experiment`.
-    pub fn new(p: &Prepared) -> Result<Self> {
-        let s = &p.scenario;
-        let e = s
-            .experiment
-            .as_ref()
-            .ok_or_else(|| Error::field("experiment", "is missing"))?;
-        let cond = s
-            .simulate
-            .as_ref()
-            .and_then(|s| s.condition.as_ref())
-            .ok_or_else(|| {
-                Error::field(
-                    "simulate.condition",
-                    "is needed: the experiment draws realizations conditioned on a state",
-                )
-            })?;
+    /// Prepare the study: `spec.runs` realizations of the model with inputs, each conditioned
+    /// on x_{t_c} = x_c, scored with the SCF options' regions (and, with `spec.warning_t`, the
+    /// τ-step collision warning of `collision`).
+    pub fn new(
+        model: &LinearModel,
+        inputs: &Inputs,
+        opts: &ScfOptions,
+        (t_c, x_c): (usize, &[f64]),
+        e: &ExperimentSpec,
+        collision: Option<&CollisionSpec>,
+    ) -> Result<Self> {
         if e.runs == 0 || e.runs > 10_000_000 {
             return Err(Error::field("experiment.runs", "must lie in 1..=10000000"));
         }
-        let model = &p.model;
-        let (n, q, t_c) = (model.n(), model.q(), cond.t);
+        let (n, q) = (model.n(), model.q());
         let steps = t_c;
         if t_c < 1 || t_c > 100_000 {
             return Err(Error::field("simulate.condition.t", "must be at least 1"));
         }
-        let moments = model.moments(steps, &p.inputs);
+        let moments = model.moments(steps, inputs);
         let innov = backward_innovations(model, &moments, t_c)?;
-        let off = Offline::new(model, steps + s.tau, &p.inputs)?;
-        let r2c = chi2_quantile(s.alpha, e.components.len())?;
+        let off = Offline::new(model, steps + opts.tau, inputs)?;
+        let r2c = chi2_quantile(opts.alpha, e.components.len())?;
         let region = |idx: &[usize],
                       t: usize,
                       mean: &DVector<f64>,
@@ -558,7 +602,7 @@ impl ConditionalExperiment {
             &off.gains.steps[t_c - 1].p,
             r2c,
         )?;
-        let warning = match (e.warning_t, &s.collision) {
+        let warning = match (e.warning_t, collision) {
             (None, _) => None,
             (Some(_), None) => {
                 return Err(Error::field(
@@ -568,12 +612,12 @@ impl ConditionalExperiment {
             }
             (Some(tw), Some(c)) => {
                 kalman::check_time("experiment.warning_t", tw, t_c)?;
-                let tau = s.tau;
+                let tau = opts.tau;
                 // x̂_{tw+τ|tw} = Φ x̂_tw + c: an affine map, composed once.
                 let (mut phi, mut cst) = (DMatrix::identity(n, n), DVector::zeros(n));
                 for k in tw..tw + tau {
                     phi = model.f(k) * phi;
-                    cst = model.f(k) * cst + model.input_term(k, &p.inputs);
+                    cst = model.f(k) * cst + model.input_term(k, inputs);
                 }
                 let (_, pp) = kalman::predict(
                     model,
@@ -581,10 +625,10 @@ impl ConditionalExperiment {
                     tau,
                     &DVector::zeros(n),
                     &off.gains.steps[tw - 1].p,
-                    &p.inputs,
+                    inputs,
                 );
                 let tt = tw + tau;
-                let r2 = chi2_quantile(s.alpha, 2)?;
+                let r2 = chi2_quantile(opts.alpha, 2)?;
                 let mt = &off.moments.mean[tt - 1];
                 let (ka, sa) = region(&c.a, tt, mt, &pp, r2)?;
                 let (kb, sb) = region(&c.b, tt, mt, &pp, r2)?;
@@ -597,21 +641,14 @@ impl ConditionalExperiment {
                 ))
             }
         };
-        let lo_hi = {
-            let (nn, a) = (e.runs as f64, s.alpha);
-            let sd = (nn * a * (1.0 - a)).sqrt();
-            (
-                ((nn * a - 3.29 * sd).floor().max(0.0)) as usize,
-                ((nn * a + 3.29 * sd).ceil().min(nn)) as usize,
-            )
-        };
+        let lo_hi = crate::stats::band(e.runs, opts.alpha);
         let kf: Vec<_> = (1..=steps)
             .map(|t| {
                 (
                     off.gains.steps[t - 1].k.clone(),
                     model.h(t).clone(),
                     model.f(t).clone(),
-                    model.input_term(t, &p.inputs),
+                    model.input_term(t, inputs),
                 )
             })
             .collect();
@@ -648,12 +685,11 @@ impl ConditionalExperiment {
             blocks,
             n,
             t_c,
-            x_c: linalg::vector("simulate.condition.x", &cond.x, n)?
+            x_c: linalg::vector("simulate.condition.x", x_c, n)?
                 .iter()
                 .copied()
                 .collect(),
-            x_c_dev: cond
-                .x
+            x_c_dev: x_c
                 .iter()
                 .zip(moments.mean[t_c - 1].iter())
                 .map(|(x, m)| x - m)
@@ -665,7 +701,7 @@ impl ConditionalExperiment {
             warning,
             result: ExperimentResult {
                 runs_total: e.runs,
-                alpha: s.alpha,
+                alpha: opts.alpha,
                 condition_t: t_c,
                 components: e.components.clone(),
                 warning_t: e.warning_t,
@@ -849,6 +885,22 @@ impl ConditionalExperiment {
     }
 }
 
+impl crate::study::Study for ConditionalExperiment {
+    fn step(&mut self, runs: usize) -> Result<()> {
+        ConditionalExperiment::step(self, runs);
+        Ok(())
+    }
+    fn runs(&self) -> usize {
+        self.result.runs_done
+    }
+    fn total(&self) -> usize {
+        self.result.runs_total
+    }
+    fn result(&self) -> Result<serde_json::Value> {
+        crate::study::to_value(&self.result)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -876,8 +928,8 @@ mod tests {
                 components: vec![0],
                 warning_t: None,
             });
-            let p = s.prepare().unwrap();
-            let mut e = ConditionalExperiment::new(&p).unwrap();
+            let p = s.prepare_scf().unwrap();
+            let mut e = p.conditional_experiment().unwrap();
             while !e.finished() {
                 e.step(333);
             }
@@ -902,9 +954,9 @@ mod tests {
     fn chunking_does_not_change_counts() {
         let mut s = crate::presets::robots(crate::presets::NoiseReading::Unscaled);
         s.experiment.as_mut().unwrap().runs = 203;
-        let p = s.prepare().unwrap();
+        let p = s.prepare_scf().unwrap();
         let run = |chunk: usize| {
-            let mut e = ConditionalExperiment::new(&p).unwrap();
+            let mut e = p.conditional_experiment().unwrap();
             while !e.finished() {
                 e.step(chunk);
             }

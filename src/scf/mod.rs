@@ -15,11 +15,18 @@
 //!   (V-E). We write it as x̂_t = m_t + R_t⁻¹(x̂^KF_t − m_t) with m_t = E(x_t), which is the same
 //!   formula and also covers a non-zero prior mean of x_1.
 
+pub mod experiment;
+pub use experiment::{
+    CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ExperimentResult,
+    ExperimentSpec,
+};
+
 use crate::error::{Error, Result};
 use crate::kalman::{self, KalmanGains, Offline};
 use crate::linalg::{self, sub_matrix, sub_vector, symmetrize};
 use crate::model::{Inputs, LinearModel};
-use crate::sets::{chi2_quantile, Ellipsoid};
+use crate::sets::Ellipsoid;
+use crate::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 

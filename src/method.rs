@@ -1,0 +1,97 @@
+//! The methods of confset: one enum, parsed once from a scenario's `"method"`.
+//!
+//! Everything that lists methods dispatches on [`Method`] in one place: the scenario layer's
+//! `scenario::make_method` (run, study, the method's own block), the plot layer's
+//! `plot::make_figures` (useful panels, drawing), and through them the CLI and the bindings.
+//! Adding a method is one arm here, one scenario file, one method file, one plot folder and
+//! one page module.
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// A state-estimation method. JSON: `"scf"`, `"kf"`, `"lscr"`, `"glls"`, `"uniform_lp"`, `"ubb"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// State Conditional Filter regions beside the Kalman ones (Ghirardi et al.).
+    Scf,
+    /// Kalman filter regions only (the same scenario, no SCF, no observability requirement).
+    Kf,
+    /// Leave-out Sign-dominant Correlation Regions (Weyer & Campi).
+    Lscr,
+    /// Generalized linear least squares on a moving horizon (Gubarev & Mishchenko).
+    Glls,
+    /// Linear models with uniform innovations, estimated by LP (Pavelková).
+    UniformLp,
+    /// Unknown-but-bounded noise, set-membership estimation (Tempo).
+    Ubb,
+}
+
+impl Method {
+    /// Every method, in the order the page and the CLI list them.
+    pub const ALL: [Method; 6] = [
+        Method::Scf,
+        Method::Kf,
+        Method::Lscr,
+        Method::Glls,
+        Method::UniformLp,
+        Method::Ubb,
+    ];
+
+    /// The JSON name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Scf => "scf",
+            Method::Kf => "kf",
+            Method::Lscr => "lscr",
+            Method::Glls => "glls",
+            Method::UniformLp => "uniform_lp",
+            Method::Ubb => "ubb",
+        }
+    }
+
+    /// The scenario block that holds this method's own options (`None`: SCF and KF keep
+    /// theirs at the top level).
+    pub fn block(self) -> Option<&'static str> {
+        match self {
+            Method::Scf | Method::Kf => None,
+            Method::Lscr => Some("lscr"),
+            Method::Glls => Some("glls"),
+            Method::UniformLp => Some("uniform"),
+            Method::Ubb => Some("ubb"),
+        }
+    }
+
+    /// Parse a JSON name; the error lists the allowed ones.
+    pub fn from_name(s: &str) -> Result<Method> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                Error::field("method", format!("{} is unknown: {}", quoted(s), allowed()))
+            })
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// "choose \"scf\", \"kf\", …".
+pub(crate) fn allowed() -> String {
+    let names: Vec<String> = Method::ALL.iter().map(|m| format!("\"{m}\"")).collect();
+    format!("choose {}", names.join(", "))
+}
+
+/// A user string in a message, cut to 40 characters.
+pub(crate) fn quoted(s: &str) -> String {
+    let cut: String = s.chars().take(40).collect();
+    if cut.len() < s.len() {
+        format!("\"{cut}…\"")
+    } else {
+        format!("\"{cut}\"")
+    }
+}

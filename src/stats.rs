@@ -1,0 +1,79 @@
+//! Statistics shared by every method: χ² quantiles for ellipsoidal regions and the exact
+//! binomial bands that every Monte Carlo study (SCF, LSCR, GLLS, set-membership) compares its
+//! counts with. statrs does the work; this module adds the round-trip checks and the one band
+//! definition, so that no method carries its own.
+
+use crate::error::{Error, Result};
+use statrs::distribution::{Binomial, ChiSquared, Continuous, ContinuousCDF, DiscreteCDF};
+
+/// The two-sided level of every band shown on the page and asserted in the tests.
+pub const BAND_LEVEL: f64 = 0.999;
+
+/// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip
+/// checked (statrs 0.18 returned NaN in the lower tail: crate docs, toolchain facts), so no NaN ellipse escapes.
+pub fn chi2_quantile(alpha: f64, k: usize) -> Result<f64> {
+    // A report asks for the same (α, k) at every time step: remember the last answer.
+    thread_local! {
+        static LAST: std::cell::Cell<(f64, usize, f64)> = const { std::cell::Cell::new((f64::NAN, 0, 0.0)) };
+    }
+    let (a, kk, r) = LAST.with(|c| c.get());
+    if a == alpha && kk == k {
+        return Ok(r);
+    }
+    let r2 = chi2_quantile_uncached(alpha, k)?;
+    LAST.with(|c| c.set((alpha, k, r2)));
+    Ok(r2)
+}
+
+fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
+    if !(alpha > 0.0 && alpha < 1.0) {
+        return Err(Error::field(
+            "alpha",
+            format!("must lie strictly between 0 and 1, found {alpha}"),
+        ));
+    }
+    if k == 0 {
+        return Err(Error::field("alpha", "needs at least one dimension"));
+    }
+    let law = ChiSquared::new(k as f64).map_err(|e| Error::field("alpha", e.to_string()))?;
+    let mut r2 = law.inverse_cdf(alpha);
+    // statrs' inverse is only ~1e-10 relative (α = 0.95, k = 2: 5.9914645461 vs the exact
+    // −2 ln 0.05 = 5.9914645471); two Newton steps on the CDF bring it to rounding level.
+    for _ in 0..2 {
+        let step = (law.cdf(r2) - alpha) / law.pdf(r2);
+        let next = r2 - step;
+        if next.is_finite()
+            && next > 0.0
+            && (law.cdf(next) - alpha).abs() <= (law.cdf(r2) - alpha).abs()
+        {
+            r2 = next;
+        }
+    }
+    if !r2.is_finite() || (law.cdf(r2) - alpha).abs() > 1e-8 {
+        return Err(Error::field(
+            "alpha",
+            format!("χ² quantile for α = {alpha}, k = {k} could not be computed accurately"),
+        ));
+    }
+    Ok(r2)
+}
+
+/// Exact binomial central interval [lo, hi] holding a Binomial(runs, p) count with probability
+/// ≥ 1 − 2·tail (tail = 0.0005 gives the 99.9 % band of [`BAND_LEVEL`]): lo is the largest
+/// count with P(X < lo) ≤ tail, hi the smallest with P(X > hi) ≤ tail, from statrs' exact CDF
+/// (no normal approximation, so it stays right for p near 0 or 1 and for few runs).
+pub fn binomial_band(runs: usize, p: f64, tail: f64) -> (usize, usize) {
+    match Binomial::new(p.clamp(0.0, 1.0), runs as u64) {
+        Ok(b) => {
+            let lo = b.inverse_cdf(tail) as usize;
+            let hi = b.inverse_cdf(1.0 - tail) as usize;
+            (lo.min(runs), hi.min(runs))
+        }
+        Err(_) => (0, runs),
+    }
+}
+
+/// The [`BAND_LEVEL`] band of a Binomial(runs, p) count.
+pub fn band(runs: usize, p: f64) -> (usize, usize) {
+    binomial_band(runs, p, (1.0 - BAND_LEVEL) / 2.0)
+}
