@@ -17,7 +17,7 @@ pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 pub use support_polygon::{polygon_from_support, SupportPolygon};
 
 /// χ²(α, k): the quantile at probability α of the χ² law with k degrees of freedom, round-trip
-/// checked (statrs 0.18 returned NaN in the lower tail; DESIGN.md), so no NaN ellipse escapes.
+/// checked (statrs 0.18 returned NaN in the lower tail; crate docs), so no NaN ellipse escapes.
 pub fn chi2_quantile(alpha: f64, k: usize) -> Result<f64> {
     // A report asks for the same (α, k) at every time step: remember the last answer.
     thread_local! {
