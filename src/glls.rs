@@ -23,7 +23,7 @@
 //! * [`Precision`]: the Monte Carlo of Section 5.1 (error of the current-state estimate against
 //!   the horizon, with κ·√E‖δ(k,s)‖²) and of Section 5.2 (state-noise estimator vs LLS), chunked.
 //!
-//! Erratum handled here (DESIGN.md): the authors' remark that σ(Γ_{s+1}) and σ(Γ_{s+1}A^{−s})
+//! Erratum handled here (crate docs): the authors' remark that σ(Γ_{s+1}) and σ(Γ_{s+1}A^{−s})
 //! coincide is empirical; both are computed and shown, and they differ unless A is orthogonal.
 
 use crate::error::{Error, Result};

@@ -44,7 +44,8 @@
 //! * Every public function that takes user input returns [`Result`]; no panic is reachable from
 //!   input, valid or not (a panic would kill the page).
 //! * Every random stream takes a seed and is a named generator (ChaCha8), so a scenario with a
-//!   seed gives the same report natively and in the browser.
+//!   seed gives the same report natively and in the browser; given explicit `data`, a report is
+//!   deterministic and native = wasm to 1e-9 relative (`tests/determinism.rs`).
 //! * Time is 1-based as in the papers; JSON matrices are lists of rows; every number in a report
 //!   is a JSON number; an ellipsoid is `{"center", "cov", "radius2"}` meaning
 //!   (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2.
@@ -55,11 +56,17 @@
 //! * SCF robot noise: (3) adds v·Δ, i.e. covariance Δ²V_A; the `scf-robots` preset uses V_A
 //!   (the paper's "moderate enlargement"), `scf-robots-literal` uses Δ²V_A.
 //! * SCF Example 1: the ρ integrand should read exp(−x²/(2p̄)) (then ρ ≈ 2.00 as printed).
+//! * SCF subset estimation (V-A): the region for components ζ holds α when only ζ_t is fixed;
+//!   with the whole state fixed its coverage can fall far below α. The robot Monte Carlo fixes
+//!   the whole state but counts ζ = robot A's four states, a block independent of robot B; the
+//!   SCF panel's robot hint says so.
 //! * Backward noise covariance: Γ − F^bΓF^bᵀ = Γ − ΓFᵀΓ⁻¹FΓ (the LSCR paper's (7) prints
 //!   Π − FΠFᵀ).
 //! * LSCR V-A: the text says q = 4 but computes 1 − 2·2·2/80 = 0.9; Theorem 3.2 needs q = 2 for
 //!   a 90 % joint level with M = 80, n = 2 — the presets use q = 2.
 //! * LSCR Lemma 3.1: Cov n̄ = σ_v²D + σ_w²I (the paper swaps the variances); used by the BLUE.
+//! * LSCR Fig. 3: the caption says x₂₀; text and data say x₂₁, which the `lscr-ma1` preset
+//!   predicts.
 //! * LSCR smoothing: the Karhunen–Loève eigenvalues come in exact pairs, so the basis is not
 //!   unique; [`lscr::KarhunenLoeve`] fixes it block by block before seeing the data.
 //! * GLLS (34): δ(k,s) stacks s + 1 errors, so ‖δ(k,s)‖₂ ≤ √(s+1)·μ (printed √s); the ball
@@ -78,6 +85,10 @@
 //!   [`uniform::consistent_polygon`] draws.
 //! * Tempo, Theorem 1: "Δ(ε) ⊂ K is equivalent to ‖N⁻¹‖ > ε⁻¹" is reversed: Δ(ε) ⊂ K iff
 //!   sup{‖f‖ : ‖Nf‖ ≤ ε} ≤ 1, i.e. ‖N⁻¹‖ ≤ ε⁻¹ ([`ubb::Hilbert::delta_in_k`]).
+//! * Tempo, Theorem 3: the l1 bound as the 2^{m−1} sign rows of (30) is exact but exponential
+//!   in m; the same set is a polynomial LP with slacks |r_i| ≤ s_i, Σ s_i ≤ ε (2m + 1 rows).
+//!   [`ubb::L1Form::Lifted`] (the default) builds that, [`ubb::L1Form::Enumerated`] the paper's
+//!   rows up to m = [`ubb::MAX_ENUMERATED_M`]; tests check both give the same hull.
 //! * Tempo (37) bounds u(1 … k) but f contains u(0): every u of the window is bounded.
 //! * Tempo (50) reads u(j−i); the sum is Σ_{i=0}^{j} AⁱBu(k−i). The estimator here keeps the
 //!   whole window exactly: its unknowns are x(k−j) and u(k−j … k), and x(k−j)'s a-priori box is
@@ -86,6 +97,10 @@
 //!   LP size is constant in k as Theorem 5 intends.
 //! * Tempo, after Theorem 4: a pole near the unit circle needs exp(1/α) close to 1 (α large: a
 //!   long memory), not "very small".
+//! * Tempo, Theorem 4: (47) bounds lim sup_{k→∞} ‖x(k+1)‖, not every step: early hulls also
+//!   carry the image of δ (‖A^{k+1}‖δ) and can be wider than the bound.
+//!   [`ubb::Smoothing::limit`] is that lim sup; `tests/ubb.rs` bounds the hull's radius (no
+//!   measurements) by ‖A^{k+1}‖δ + (47).
 //! * Tempo, Example 4: with rows of A summing to 1 (and the absorbing form [[I, O], [D, G]])
 //!   the distribution evolves as x(k+1) = Aᵀx(k); the `ubb-markov` preset's F is Aᵀ.
 //!
@@ -106,6 +121,51 @@
 //! forward; SCF regions are affine in the KF estimate with data-independent shapes. The model is
 //! split into independent blocks (the robots' four axes), each on fixed-size arrays, eight runs
 //! side by side.
+//!
+//! ## Toolchain facts the build relies on
+//!
+//! Measured on the Debian machines this is built on; `.ci/`, `Cargo.toml`, `webdriver.json`
+//! and the tests depend on them.
+//!
+//! * `wasm-bindgen` is pinned exactly (`"=X.Y.Z"` in `Cargo.toml`) and `.ci/setup` installs
+//!   `wasm-bindgen-cli` at the version in `Cargo.lock`: otherwise wasm-pack silently installs its own copy
+//!   (`--mode no-install` makes a mismatch an error). `cargo install wasm-bindgen-cli --locked`
+//!   fails (a pinned transitive crate is missing from the registry), so setup installs without
+//!   `--locked`.
+//! * Debian's wasm-opt (binaryen 108) silently corrupts the module (the page dies with
+//!   "WebAssembly.Table.set(): Argument 1 is invalid"), and with no wasm-opt on `PATH`
+//!   `wasm-pack build --release` tries to download one and fails: every wasm-pack profile in
+//!   `Cargo.toml` sets `wasm-opt = false`. `wasm-pack test` never runs wasm-opt, so only a page
+//!   load catches a bad module: the end-to-end layer of `.ci/test` loads the *release* build.
+//! * Always pass `--chromedriver /usr/bin/chromedriver` (Debian's `chromium-driver`) to
+//!   `wasm-pack test`: without it wasm-pack tries to download a chromedriver.
+//! * `webdriver.json` in the crate root gives Chromium the flags that stop its background
+//!   network calls (`--disable-background-networking`, `--disable-component-update`, …) next
+//!   to `--headless=new` and `--no-sandbox`.
+//! * statrs 0.19 (0.19.1): 0.18.0 returns NaN from `ChiSquared::inverse_cdf` in the lower tail
+//!   for small degrees of freedom (p = 0.01, k = 1). [`stats::chi2_quantile`] still round-trips
+//!   every quantile and turns a failure into an error, never a NaN ellipse.
+//! * clarabel 0.11 keeps its default features (with `default-features = false` it does not
+//!   compile); it times itself with `web-time`, so its `solve()` runs in Chromium — the wasm
+//!   runs of `tests/ubb.rs` and `tests/uniform.rs` call it.
+//! * `std::time::Instant` panics on wasm32-unknown-unknown: the core never reads the clock
+//!   (see Invariants); only native-only code (the figure tests, `cargo bench`) uses it.
+//! * rand 0.10 with `default-features = false, features = ["std"]` and seeded ChaCha8 only: no
+//!   getrandom is built on either target (OS entropy would need getrandom 0.4 with `wasm_js` in
+//!   the browser). nalgebra and statrs are built without rand, so there is one rand line
+//!   (`cargo tree -d`). Never `StdRng` or `thread_rng` (not portable across versions);
+//!   `tests/determinism.rs` pins the first draws of a seed.
+//! * plotters' text layout panics inside a Web Worker: the page draws on the main thread (a
+//!   worker may compute, never draw). Static hosts cannot send COOP/COEP, so no wasm threads.
+//! * plotters leaves the device-pixel ratio to the caller: `www/figure.js` sizes each canvas's
+//!   backing store by `devicePixelRatio`; the e2e tests check it at DPR 1 and 2.
+//! * A headless `chromium --screenshot` may fire before the wasm has loaded: the e2e harness
+//!   drives Debian's Chromium through playwright-core (`executablePath: '/usr/bin/chromium'`)
+//!   and waits for `document.body.dataset.ready === "1"`.
+//! * An SVD is accurate to about ε·σ_max in absolute terms, whatever the library: the smallest
+//!   singular values of an ill-conditioned Γ_{s+1} lose relative accuracy. [`glls::Curves`]
+//!   never forms a tall SVD (QR updates of an n×n factor) and reports the floor
+//!   ε·σ₁·√(m(s+1)) below which σ's are not resolved ([`glls::Curves::log10_floor`]).
 
 pub mod error;
 pub mod glls;

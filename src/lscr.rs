@@ -9,7 +9,7 @@
 //! smoothing τ = i < t):
 //! 1. [`Regression`]: the data in the paper's order [y_t, …, y_1] = Φ x_τ + noise, with
 //!    Cov(noise) = σ_v² Q″ + σ_w² I and Q″ known — (11)–(12) for prediction through the backward
-//!    representation (4)–(7) (Q′ = Π′ − F^bΠ′F^bᵀ: the printed (7) is a typo, DESIGN.md), (20)
+//!    representation (4)–(7) (Q′ = Π′ − F^bΠ′F^bᵀ: the printed (7) is a typo; crate docs), (20)
 //!    for filtering, (21) for smoothing (forward model after τ, backward before, Lemma 2.1).
 //!    Q″ is built by the covariance recursion of the noise chain, not as B·diag(Q′)·Bᵀ
 //!    (O(t²n²) instead of O(t³n)).

@@ -424,7 +424,7 @@ pub fn scalar() -> Scenario {
     }
 }
 
-/// Which reading of the robot noise scaling of eq. (3) to use (DESIGN.md).
+/// Which reading of the robot noise scaling of eq. (3) to use (crate docs: errata).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NoiseReading {
     /// v_{A,t} enters with covariance V_A (the preset: regions ≈ 2× KF, the paper's "moderate

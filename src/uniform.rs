@@ -9,7 +9,7 @@
 //!   of (8) (rows per time τ, then K = [−1, 1]ᵀ, then component);
 //! * [`parameter_lp`]: Θ and half-widths given the states, (11)–(12) — with the half-width block
 //!   derived from (4): the printed (12) pairs the wrong half-width with half of the rows when
-//!   its blocks are ordered as written (DESIGN.md);
+//!   its blocks are ordered as written (crate docs: errata);
 //! * [`optimal_face`]: the optimum is not unique in general (always so for the paper's example,
 //!   whose (A, C) is not observable: C·A = 0.5·C) — extra LPs give each state's range over the
 //!   optimal face;

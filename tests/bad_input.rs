@@ -1,5 +1,5 @@
 //! Bad input: every rule gets a test asserting the error names the field and says why
-//! (DESIGN.md: "model.V must be symmetric positive semidefinite"), and no input — however
+//! (e.g. "model.V must be symmetric positive semidefinite …"), and no input — however
 //! garbled — panics.
 
 #[cfg(target_arch = "wasm32")]

@@ -1,4 +1,4 @@
-//! Given explicit `data`, a report is deterministic and platform independent (DESIGN.md:
+//! Given explicit `data`, a report is deterministic, platform independent (crate docs:
 //! native = wasm to 1e-9 relative). The same test bodies run natively and in Chromium and
 //! compare the report with numbers computed here by a textbook Kalman filter (tests/common) and
 //! the SCF formulas x̂ = m + R⁻¹(x̂^KF − m), Π = R⁻¹P, R = I − PΓ⁻¹ — so both platforms are held

@@ -121,7 +121,7 @@ fn cascade_backward_representation_is_the_printed_one() {
         "F^b",
     );
     assert_mat_close(&b.v_b, &mat(&[&[0.49, -0.70], &[-0.70, 1.00]]), 5e-3, "Q′");
-    // And from Π′ = FΠ′Fᵀ + GGᵀ solved here: F^b = Π′FᵀΠ′⁻¹, Q′ = Π′ − F^bΠ′F^bᵀ (DESIGN.md on (7)).
+    // And from Π′ = FΠ′Fᵀ + GGᵀ solved here: F^b = Π′FᵀΠ′⁻¹, Q′ = Π′ − F^bΠ′F^bᵀ (crate docs).
     let f = mat(&[&[0.5, 0.0], &[1.0, 0.7]]);
     let pi = lyapunov_kron(&f, &mat(&[&[1.0, 0.0], &[0.0, 0.0]]));
     let fb = &pi * f.transpose() * pi.clone().try_inverse().unwrap();

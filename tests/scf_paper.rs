@@ -69,7 +69,7 @@ fn scalar_example_gamma_backward_steady_state() {
     assert!(close(a.v_b[0][0], 1.0, 1e-12));
 }
 
-/// ρ of Example 1 (with the integrand exp(−x²/(2p̄)), DESIGN.md erratum): ρ = √(χ²(0.99,1)·3/5)
+/// ρ of Example 1 (with the integrand exp(−x²/(2p̄)), crate docs: errata): ρ = √(χ²(0.99,1)·3/5)
 /// ≈ 1.995, "≈ 2" in the paper. The KF interval at the end of a long run is x̂ ± ρ, the SCF
 /// interval x̂/0.9 ± ρ·√(1/0.9) — both for the recursive filter (last step of 200) and for the
 /// asymptotic filter (every step).
