@@ -6,6 +6,7 @@ use crate::linalg::{self, to_rows};
 use crate::lscr::Construction;
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
+use crate::scenario::lscr::Estimate;
 use crate::scenario::{
     CollisionSpec, Condition, CurveSpec, ExperimentSpec, LscrSpec, Scenario, SimulateSpec,
 };
@@ -303,9 +304,9 @@ fn lscr_scenario(
     }
 }
 
-fn lscr_spec(estimate: &str, index: Option<usize>) -> LscrSpec {
+fn lscr_spec(estimate: Estimate, index: Option<usize>) -> LscrSpec {
     LscrSpec {
-        estimate: estimate.into(),
+        estimate,
         index,
         m: Some(80),
         q: Some(2),
@@ -334,11 +335,11 @@ pub fn lscr_cascade(target: LscrTarget) -> Scenario {
     let (title, spec) = match target {
         LscrTarget::Predict => (
             "Confidence set for x₃₁ (LSCR paper, Fig. 1)",
-            lscr_spec("predict", None),
+            lscr_spec(Estimate::Predict, None),
         ),
         LscrTarget::Smooth => (
             "Confidence set for x₁₅ (LSCR paper, Fig. 2)",
-            lscr_spec("smooth", Some(15)),
+            lscr_spec(Estimate::Smooth, Some(15)),
         ),
     };
     lscr_scenario(
@@ -364,7 +365,7 @@ pub fn lscr_ma1() -> Scenario {
         "MA(1): LSCR vs Kalman prediction of x₂₁ (LSCR paper, Fig. 3)",
         model,
         SimulateSpec { steps: 20, seed: 3, u: vec![], condition: Some(Condition { t: 21, x: vec![1.0, 1.2] }), x0: None },
-        lscr_spec("predict", None),
+        lscr_spec(Estimate::Predict, None),
         "x_t = [[0, 0], [1, 0]] x_{t−1} + [1, 1]ᵀ v_t, y_t = [0 1] x_t, no measurement noise. F^b = [[−1, 1], [−1, 1]] is singular,          so X̂ is invariant along [1, 1]ᵀ: an unbounded band. The first state is white noise (σ_v² = 0.1); the true x₂₁ is placed at          x₁ = 1.0 (3.2 σ): the Kalman ellipse, always centred at x₁ = 0, misses it, while the LSCR band holds it with probability ≥ 0.9          whatever its value. (The paper's caption says x₂₀; the text and the data say x₂₁.)",
     )
 }

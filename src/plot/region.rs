@@ -22,6 +22,7 @@ use super::style::{
 };
 use super::{de, Area, Frame, View, Zoom};
 use crate::error::{Error, Result};
+use crate::scenario::lscr::Estimate;
 use crate::scenario::lscr::{plane_region, LscrReport};
 use crate::scenario::Report;
 use crate::sets::{BoxSet, Ellipsoid, Loop, SignRegion};
@@ -56,11 +57,10 @@ pub fn lscr_of(report: &Report) -> Result<&LscrReport> {
 fn what(l: &LscrReport) -> (String, String) {
     let x = format!("x{}", sub(l.time));
     let ys = format!("y₁ … y{}", sub(l.t));
-    let kind = match l.estimate.as_str() {
-        "predict" => "prediction",
-        "filter" => "filtering",
-        "smooth" => "smoothing",
-        other => other,
+    let kind = match l.estimate {
+        Estimate::Predict => "prediction",
+        Estimate::Filter => "filtering",
+        Estimate::Smooth => "smoothing",
     };
     (kind.to_string(), format!("{kind} of {x} from {ys}"))
 }

@@ -36,13 +36,26 @@ pub struct LscrCoverageSpec {
     pub seed: u64,
 }
 
+/// Which state the region is for (`lscr.estimate`): the regressions (21), (11) and (20).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Estimate {
+    /// x_{t+1} from y_1 … y_t.
+    #[default]
+    Predict,
+    /// x_t.
+    Filter,
+    /// x_i, 1 ≤ i < t (`lscr.index`).
+    Smooth,
+}
+
 /// The `lscr` block.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct LscrSpec {
     /// "predict" (x_{t+1}), "filter" (x_t) or "smooth" (x_index).
-    #[serde(default = "default_estimate")]
-    pub estimate: String,
+    #[serde(default)]
+    pub estimate: Estimate,
     /// Smoothing time i, 1 ≤ i < t.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub index: Option<usize>,
@@ -77,9 +90,6 @@ pub struct LscrSpec {
     pub coverage: Option<LscrCoverageSpec>,
 }
 
-fn default_estimate() -> String {
-    "predict".into()
-}
 fn default_construction() -> Construction {
     Construction::Random
 }
@@ -109,7 +119,7 @@ pub struct CoverageReport {
 /// The LSCR part of a report.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct LscrReport {
-    pub estimate: String,
+    pub estimate: Estimate,
     /// Time of the estimated state.
     pub time: usize,
     /// Number of measurements.
@@ -183,11 +193,11 @@ pub struct LscrPrepared {
 
 impl LscrSpec {
     fn options(&self, n: usize, t: usize) -> Result<Options> {
-        let target = match (self.estimate.as_str(), self.index) {
-            ("predict", None) => Target::Predict,
-            ("filter", None) => Target::Filter,
-            ("smooth", Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
-            ("smooth", Some(i)) => {
+        let target = match (self.estimate, self.index) {
+            (Estimate::Predict, None) => Target::Predict,
+            (Estimate::Filter, None) => Target::Filter,
+            (Estimate::Smooth, Some(i)) if (1..t).contains(&i) => Target::Smooth(i),
+            (Estimate::Smooth, Some(i)) => {
                 return Err(Error::field(
                     "lscr.index",
                     format!(
@@ -195,22 +205,16 @@ impl LscrSpec {
                     ),
                 ))
             }
-            ("smooth", None) => {
+            (Estimate::Smooth, None) => {
                 return Err(Error::field(
                     "lscr.index",
                     "is needed for smoothing: the time i < t of the state",
                 ))
             }
-            ("predict" | "filter", Some(_)) => {
+            (Estimate::Predict | Estimate::Filter, Some(_)) => {
                 return Err(Error::field(
                     "lscr.index",
                     "is only used with \"estimate\": \"smooth\"",
-                ))
-            }
-            (other, _) => {
-                return Err(Error::field(
-                    "lscr.estimate",
-                    format!("must be \"predict\", \"filter\" or \"smooth\", found \"{other}\""),
                 ))
             }
         };
@@ -602,7 +606,7 @@ impl LscrPrepared {
         };
         let b = &est.problem.regression.backward;
         Ok(LscrReport {
-            estimate: target.name().into(),
+            estimate: self.spec.estimate,
             time: target.time(t),
             t,
             m: est.strings.m(),
