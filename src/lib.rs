@@ -18,23 +18,34 @@
 //! | module | what lives there |
 //! |---|---|
 //! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why |
+//! | [`method`] | the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`), parsed once from the scenario; its names and its option block |
+//! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
+//! | [`study`] | the [`Study`] trait every chunked Monte Carlo implements (step, runs, total, finished, result), driven alike by the CLI, the wasm `Study` class and the tests |
 //! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots |
 //! | [`model`] | the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
 //! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q affine functions are > 0 and ≥ q are < 0) with its exact pixel raster [`sets::GridRegion`], line pieces, boundary polygons, 2-D slices and recession directions; in [`sets::support_polygon`] the exact polygon of a planar convex set known only through its support function (one LP per call: each unsettled stretch between two boundary points is closed by a support call normal to it) |
 //! | [`kalman`] | Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state |
-//! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage |
+//! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage; in [`scf::experiment`] the conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo (on domain values: model, inputs, options, the conditioning state) |
 //! | [`lscr`] | LSCR (Weyer & Campi): the data as a regression on x_{t+1}, x_t or x_i ((11), (20), (21)), the block-wise Karhunen–Loève basis (12)–(15), the SVD of A (16), random/group/explicit strings (points 4, 4a), the region (17) as a `SignRegion`, Theorem 3.2 levels, BLUE and Kalman comparisons, the chunked coverage experiment |
 //! | [`glls`] | GLLS moving-horizon estimation (Gubarev & Mishchenko): Γ_{s+1}, Φ_{s+1} (6), the GLLS gain in SVD form (21), fast-forward (41), κ (17), (19), (45), truncated-SVD regularization (29)–(32), (47)–(49), guaranteed ball (35) with √(s+1) and the exact interval hull, the expected bound (39), singular-value curves by scaled QR updates, the state-noise estimator (60)–(64), the chunked Monte Carlo of Section 5 |
 //! | [`uniform`] | linear models with uniform innovations (Pavelková): the state LP (6)–(10) in the Kronecker layout of (8), the parameter LP (11)–(12) with the half-width block derived from (4), the optimal face, the consistent-state polygon from support LPs, the sliding window with swapping (4.1) and expansion (4.2, (13)) joint estimation, automatic extension of infeasible half-width bounds |
 //! | [`ubb`] | unknown-but-bounded noise (Tempo): the feasible set T(h) (3) as weighted l∞/l1/l2 [`ubb::NormBound`]s (l1 either as the paper's 2^{m−1} rows (30)–(34) or lifted with slacks; l2 as second-order cones), its interval hull and central estimate (31) with the local error (5), the exact 2-D polygon, Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear optimal algorithm from the active constraints of (22), by LP duals), Theorems 4 and 5 ((47), (55), (58)), and Section IV's state estimator on a window of j + 1 steps with smoothed bounds (45)–(46) |
 //! | [`solve`] | the one place that talks to the LP/QP solver (clarabel): dense LP/QP/SOCP in, a solution (with duals) or a field-naming error (infeasible, unbounded) out; a [`solve::Family`] keeps one loaded problem for many objectives (support functions) |
-//! | [`experiment`] | conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo |
-//! | [`scenario`] | Scenario and Report JSON, validation of everything user-given, dispatch; [`scenario::lscr`] holds the `lscr` block and the LSCR report (window fitting, boundary, raster, probes, coverage); [`scenario::uniform`] the `uniform` block and report (simulation, on-line run, window at the cursor, KF with r²/3); [`scenario::glls`] the `glls` block and report (simulation with Gaussian, bounded or worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators, Monte Carlo); [`scenario::ubb`] the `ubb` block and report (simulation with noise within or at the bounds, the hull of x(k+1) at every step, the polygon, KF with matched variances, the guarantee counter) |
+//! | [`scenario`] | Scenario and Report JSON, parsing with field paths (serde_path_to_error), the one observations step ([`scenario::Source`]: `data` or `simulate`, one step-count check per method), and the one dispatch `scenario::make_method` from a [`Method`] to its scenario file: [`scenario::scf`] (the top-level SCF/KF options, KF/SCF steps, collision warnings, the Fig. 1 curve, the conditional experiment), [`scenario::lscr`] (the `lscr` block, window fitting, boundary, raster, probes, coverage), [`scenario::glls`] (the `glls` block; simulation with Gaussian, bounded or worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators, Monte Carlo), [`scenario::uniform`] (the `uniform` block, on-line run, window at the cursor, KF with r²/3), [`scenario::ubb`] (the `ubb` block, the hull of x(k+1) at every step, the polygon, KF with matched variances, the guarantee study) |
 //! | [`presets`] | the papers' examples as scenarios (used by page, CLI and tests) |
 //! | [`plot`] | figures on any plotters backend, one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs. 1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with the best horizon, the state plane with the guaranteed ball and box, error box plots against the horizon with the bound), `uniform` / `uniform_params` / `uniform_polygon` (Pavelková Figs. 1–3: states, estimates and errors with the window's optimal-face bars, output prediction, Θ̂ and half-widths over time, the consistent-state polygon), `ubb` / `ubb_width` (Tempo: the exact feasible polygon of x(k+1) with its interval hull, central estimate, truth and Kalman ellipse; the hull widths over k against the Theorem 4 bound, with the truth in its hull bands) |
-//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `Session` (run, draw, svg, LSCR raster, GLLS precision), the chunked `Experiment`, `LscrExperiment`, `GllsStudy` and `UbbGuarantee` |
+//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `Session` (run, draw, svg, LSCR raster, GLLS precision) and one chunked `Study` for every method's Monte Carlo |
 //!
 //! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there).
+//!
+//! ## Layers
+//!
+//! `error` → `linalg`, `stats`, `solve`, `study` → `model`, `sets` → the method files (`kalman`,
+//! `scf`, `lscr`, `glls`, `uniform`, `ubb`; none imports `scenario`) → `scenario` (JSON, one
+//! dispatch) → `presets`, `plot` → the CLI and `web`. Adding a method is one [`Method`] arm
+//! (with its arm in `scenario::make_method`, its block in `Scenario` and `Report`), one method
+//! file, one scenario file, one plot folder with its arm in `plot`, its presets, and one page
+//! module.
 //!
 //! ## Invariants
 //!
@@ -115,7 +126,7 @@
 //!
 //! ## How the robot Monte Carlo is fast
 //!
-//! [`experiment::ConditionalExperiment`] draws, per run, the measurements y_1..y_{t_c} from
+//! [`scf::ConditionalExperiment`] draws, per run, the measurements y_1..y_{t_c} from
 //! their exact law given x_{t_c} = x_c by a Kalman filter run backwards on the backward
 //! representation (innovations form: q normals per step instead of n + q), then runs the KF
 //! forward; SCF regions are affine in the KF estimate with data-independent shapes. The model is

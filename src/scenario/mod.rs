@@ -8,7 +8,7 @@
 //! This module holds only what every method shares: the scenario and report types, JSON
 //! parsing with field paths, the one observations step ([`Source`]: `data` or `simulate`, one
 //! step-count check, one wording), and the one dispatch from [`Method`] to its scenario file
-//! ([`make_method`]). Each method's block, validation and report live in its own file:
+//! (`make_method`). Each method's block, validation and report live in its own file:
 //! [`scf`], [`lscr`], [`glls`], [`uniform`], [`ubb`].
 
 use crate::error::{Error, Result};
@@ -252,7 +252,7 @@ fn plain_serde_message(e: &serde_json::Error) -> String {
 }
 
 /// Where a scenario's measurements come from: the user's `data` or a seeded `simulate` block.
-/// Every method goes through [`Scenario::source`], so the choice, the step-count limits and
+/// Every method goes through `Scenario::source`, so the choice, the step-count limits and
 /// their wording are the same for all five.
 #[derive(Debug, Clone, Copy)]
 pub enum Source<'a> {
