@@ -75,6 +75,7 @@ mod uniform_params;
 mod uniform_polygon;
 
 use crate::error::{Error, Result};
+use crate::method::Method;
 use crate::model::MatrixSpec;
 use crate::scenario::{CollisionSpec, Report, Scenario};
 use crate::scf::ScfStep;
@@ -154,23 +155,12 @@ impl Panel {
             Panel::UbbWidth => "ubbwidth",
         }
     }
-    /// The panels of a GLLS report.
-    pub fn is_glls(&self) -> bool {
-        matches!(
-            self,
-            Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision
-        )
-    }
-    /// The panels of a uniform-innovation report.
-    pub fn is_uniform(&self) -> bool {
-        matches!(
-            self,
-            Panel::UStates | Panel::UOutput | Panel::UParams | Panel::UPolygon
-        )
-    }
-    /// The panels of a set-membership (ubb) report.
-    pub fn is_ubb(&self) -> bool {
-        matches!(self, Panel::UbbSet | Panel::UbbWidth)
+    /// The method whose reports this panel draws.
+    pub fn method(&self) -> Method {
+        Method::ALL
+            .into_iter()
+            .find(|m| method_panels(*m).contains(self))
+            .unwrap_or(Method::Scf)
     }
     /// Parse a lower-case name.
     pub fn from_name(s: &str) -> Result<Panel> {
@@ -359,27 +349,33 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         ));
     }
     let fonts = Fonts::for_backend::<DB>((w, h));
-    // A set-membership report has no KF/SCF steps: only its panels draw it, and only it.
-    match (view.panel.is_ubb(), report.ubb.is_some()) {
-        (true, _) => {
+    // The one dispatch from a report's method to its figures: a panel draws its own method's
+    // reports only.
+    let panels = method_panels(report.method);
+    if !panels.contains(&view.panel) {
+        let owner = view.panel.method();
+        return Err(Error::field(
+            "panel",
+            format!(
+                "\"{}\" draws {} reports, but this is {} report (method \"{}\"), with no {} part: choose {}",
+                view.panel.name(),
+                describe(owner),
+                describe(report.method),
+                report.method,
+                owner.block().unwrap_or("SCF"),
+                choose(panels),
+            ),
+        ));
+    }
+    match view.panel {
+        Panel::UbbSet | Panel::UbbWidth => {
             ubb::check(report, view.panel)?;
             return draw_erased(backend, |root| match view.panel {
                 Panel::UbbSet => ubb::draw_set(root, report, view, fonts),
                 _ => ubb_width::draw(root, report, view, fonts),
             });
         }
-        (false, true) => {
-            return Err(not_drawn_by(
-                view.panel,
-                "a set-membership report (method \"ubb\")",
-                "ubbset or ubbwidth",
-            ))
-        }
-        (false, false) => {}
-    }
-    // A uniform-innovation report has no KF/SCF steps: only its panels draw it, and only it.
-    match (view.panel.is_uniform(), report.uniform.is_some()) {
-        (true, _) => {
+        Panel::UStates | Panel::UOutput | Panel::UParams | Panel::UPolygon => {
             uniform::check(report, view, view.panel)?;
             return draw_erased(backend, |root| match view.panel {
                 Panel::UStates => uniform::draw_states(root, report, view, fonts),
@@ -388,18 +384,7 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
                 _ => uniform_polygon::draw(root, report, view, fonts),
             });
         }
-        (false, true) => {
-            return Err(not_drawn_by(
-                view.panel,
-                "a uniform-innovation report (method \"uniform_lp\")",
-                "ustates, uoutput, uparams or upolygon",
-            ))
-        }
-        (false, false) => {}
-    }
-    // A GLLS report has no time steps either: only the GLLS panels draw it, and only it.
-    match (view.panel.is_glls(), report.glls.is_some()) {
-        (true, _) => {
+        Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision => {
             glls::check(report, view.panel)?;
             return draw_erased(backend, |root| match view.panel {
                 Panel::Singular => glls::draw_singular(root, report, view, fonts),
@@ -408,33 +393,11 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
                 _ => glls_precision::draw(root, report, view, fonts),
             });
         }
-        (false, true) => {
-            return Err(not_drawn_by(
-                view.panel,
-                "a GLLS report (method \"glls\")",
-                "singular, index, plane or precision",
-            ))
-        }
-        (false, false) => {}
-    }
-    // An LSCR report has no time steps: it is drawn by the region panel only, and only it.
-    match (view.panel, report.lscr.is_some()) {
-        (Panel::Region, true) => {
+        Panel::Region => {
+            region::lscr_of(report)?;
             return draw_erased(backend, |root| region::draw(root, report, view, fonts));
         }
-        (Panel::Region, false) => {
-            region::lscr_of(report)?;
-        }
-        (p, true) => {
-            return Err(Error::field(
-                "panel",
-                format!(
-                    "\"{}\" draws KF/SCF time steps, which an LSCR report (method \"lscr\") does not have: choose \"region\"",
-                    p.name()
-                ),
-            ))
-        }
-        (_, false) => {}
+        Panel::State | Panel::Series | Panel::Coverage => {}
     }
     let cx = Ctx::new(report, view, fonts)?;
     if view.panel == Panel::Coverage && report.coverage_curve.is_none() {
@@ -448,26 +411,10 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
     let root = erase::Erased(&mut adapter).into_drawing_area();
     root.fill(&WHITE).map_err(de)?;
     let frame = match view.panel {
-        Panel::State => state::draw(&root, &cx)?,
-        Panel::Series => series::draw(&root, &cx)?,
         Panel::Coverage => coverage::draw(&root, &cx)?,
-        // Handled above (an LSCR report).
-        Panel::Region => region::draw(&root, report, view, cx.fonts)?,
-        // Handled above (a GLLS report).
-        Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision => {
-            return Err(Error::field("panel", "draws GLLS reports only"))
-        }
-        // Handled above (a uniform-innovation report).
-        Panel::UStates | Panel::UOutput | Panel::UParams | Panel::UPolygon => {
-            return Err(Error::field(
-                "panel",
-                "draws uniform-innovation reports only",
-            ))
-        }
-        // Handled above (a set-membership report).
-        Panel::UbbSet | Panel::UbbWidth => {
-            return Err(Error::field("panel", "draws set-membership reports only"))
-        }
+        Panel::Series => series::draw(&root, &cx)?,
+        // The other panels returned above.
+        _ => state::draw(&root, &cx)?,
     };
     root.present().map_err(de)?;
     Ok(frame)
@@ -495,32 +442,58 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
 /// and UPolygon for a uniform-innovation report; UbbSet and UbbWidth for a set-membership report; otherwise State and Series always, Coverage
 /// when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
-    if report.ubb.is_some() {
-        return vec![Panel::UbbSet, Panel::UbbWidth];
-    }
-    if report.uniform.is_some() {
-        return vec![
+    method_panels(report.method)
+        .iter()
+        .copied()
+        .filter(|p| match p {
+            Panel::Precision => report.glls.as_ref().is_some_and(|g| g.precision.is_some()),
+            Panel::Coverage => report.coverage_curve.is_some(),
+            _ => true,
+        })
+        .collect()
+}
+
+/// Every panel a method's reports are drawn with, in the order worth showing: the one map
+/// from a [`Method`] to its figures (with [`Panel::method`], its inverse).
+pub fn method_panels(m: Method) -> &'static [Panel] {
+    match m {
+        Method::Scf | Method::Kf => &[Panel::State, Panel::Series, Panel::Coverage],
+        Method::Lscr => &[Panel::Region],
+        Method::Glls => &[
+            Panel::Singular,
+            Panel::Index,
+            Panel::Plane,
+            Panel::Precision,
+        ],
+        Method::UniformLp => &[
             Panel::UStates,
             Panel::UOutput,
             Panel::UParams,
             Panel::UPolygon,
-        ];
+        ],
+        Method::Ubb => &[Panel::UbbSet, Panel::UbbWidth],
     }
-    if let Some(g) = &report.glls {
-        let mut v = vec![Panel::Singular, Panel::Index, Panel::Plane];
-        if g.precision.is_some() {
-            v.push(Panel::Precision);
-        }
-        return v;
+}
+
+/// "an LSCR", "a set-membership", … (for messages).
+fn describe(m: Method) -> &'static str {
+    match m {
+        Method::Scf | Method::Kf => "a KF/SCF",
+        Method::Lscr => "an LSCR",
+        Method::Glls => "a GLLS",
+        Method::UniformLp => "a uniform-innovation",
+        Method::Ubb => "a set-membership",
     }
-    if report.lscr.is_some() {
-        return vec![Panel::Region];
+}
+
+/// "a, b or c".
+fn choose(panels: &[Panel]) -> String {
+    let names: Vec<&str> = panels.iter().map(|p| p.name()).collect();
+    match names.split_last() {
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
     }
-    let mut v = vec![Panel::State, Panel::Series];
-    if report.coverage_curve.is_some() {
-        v.push(Panel::Coverage);
-    }
-    v
 }
 
 /// The panels of reports without KF/SCF steps draw on the type-erased backend, so each is
@@ -535,18 +508,6 @@ fn draw_erased<DB: DrawingBackend>(
     let frame = draw(&root)?;
     root.present().map_err(de)?;
     Ok(frame)
-}
-
-/// The error for a panel asked to draw a report it does not draw: names the report and the
-/// panels that do.
-fn not_drawn_by(panel: Panel, report: &str, choose: &str) -> Error {
-    Error::field(
-        "panel",
-        format!(
-            "\"{}\" does not draw {report}: choose {choose}",
-            panel.name()
-        ),
-    )
 }
 
 /// A drawing error as a crate error.

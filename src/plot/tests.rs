@@ -213,8 +213,8 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
                 // KF/SCF.
                 let expect = match (r.lscr.is_some(), r.glls.is_some(), panel) {
                     (_, _, Panel::UPolygon) => "true state",
-                    (_, _, p) if p.is_uniform() => "t = ",
-                    (_, _, p) if p.is_ubb() => "k = ",
+                    (_, _, p) if p.method() == crate::method::Method::UniformLp => "t = ",
+                    (_, _, p) if p.method() == crate::method::Method::Ubb => "k = ",
                     (true, _, _) => "X̂ ",
                     (_, true, Panel::Plane) => "true state",
                     (_, true, _) => "in use",

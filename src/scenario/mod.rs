@@ -219,11 +219,16 @@ impl Scenario {
                 Error::field(field, format!("{message} (line {line}, column {column})"))
             }
             None => {
+                // serde_path_to_error writes "?" for a segment it could not name (e.g. at EOF).
                 let path = e.path().to_string();
-                let field = if path == "." {
+                let known: Vec<&str> = path
+                    .split('.')
+                    .filter(|p| !p.is_empty() && *p != "?")
+                    .collect();
+                let field = if known.is_empty() {
                     "scenario".to_string()
                 } else {
-                    path
+                    known.join(".")
                 };
                 Error::field(
                     field,
