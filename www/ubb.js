@@ -237,7 +237,7 @@ export async function mountUbb(root, presets) {
     ui.go.disabled = true;
     ui.cancel.disabled = false;
     setGBusy(+1);
-    const k = g.k();
+    const k = JSON.parse(g.result()).k;
     const show = (c) => {
       const lvl = Math.round(100 * c.kf_level);
       ui['g-result'].innerHTML = `truth outside the set: <b class="${c.outside ? 'warn' : 'good'}">${int(c.outside)} / ${int(c.runs)}</b>; `

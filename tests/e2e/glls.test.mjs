@@ -192,7 +192,7 @@ export default async function glls(env) {
 
       // The in-page wasm timings.
       const timing = await page.evaluate(() => {
-        const { Session, GllsStudy, presets } = window.confset;
+        const { Session, Study, presets } = window.confset;
         const sc = JSON.parse(presets()).find((p) => p.name === 'glls-saturate').scenario;
         const best = (f, n) => {
           const ms = [];
@@ -210,7 +210,7 @@ export default async function glls(env) {
         const withMc = JSON.parse(JSON.stringify(sc));
         withMc.glls.monte_carlo = { ...mc, runs: 2000 };
         const t0 = performance.now();
-        const g = new GllsStudy(JSON.stringify(withMc));
+        const g = new Study(JSON.stringify(withMc), 0);
         let c;
         while (!g.finished()) c = JSON.parse(g.step(500));
         const study = performance.now() - t0;
@@ -221,7 +221,7 @@ export default async function glls(env) {
       const f = (x) => `${x.best.toFixed(2)} ms best, ${x.median.toFixed(2)} ms median`;
       console.log(`  [wasm timing] Session.run glls-saturate without monte_carlo (S = 60): ${f(timing.run60)} of 20`);
       console.log(`  [wasm timing] Session.run glls-saturate without monte_carlo, max_horizon = 500: ${f(timing.run500)} of 10`);
-      console.log(`  [wasm timing] GllsStudy 2000 runs (glls-saturate, ${timing.horizons} horizons, step 500): ${timing.study.toFixed(0)} ms `
+      console.log(`  [wasm timing] Study (GLLS) 2000 runs (glls-saturate, ${timing.horizons} horizons, step 500): ${timing.study.toFixed(0)} ms `
         + `(${(1000 * timing.study / timing.runs).toFixed(0)} µs per run)`);
       assert.equal(timing.runs, 2000);
     }

@@ -194,7 +194,7 @@ export default async function lscr(env) {
 
       // The in-page wasm timings.
       const timing = await page.evaluate(() => {
-        const { Session, LscrExperiment, presets } = window.confset;
+        const { Session, Study, presets } = window.confset;
         const sc = JSON.parse(presets()).find((p) => p.name === 'lscr-predict').scenario;
         const best = (f, n) => {
           const ms = [];
@@ -213,7 +213,7 @@ export default async function lscr(env) {
         cov.simulate.condition = { t: report.lscr.time, x: report.lscr.x_true };
         cov.lscr.coverage = { runs: 2000, seed: 1 };
         const t0 = performance.now();
-        const e = new LscrExperiment(JSON.stringify(cov));
+        const e = new Study(JSON.stringify(cov), 0);
         let c;
         while (!e.finished()) c = JSON.parse(e.step(500));
         const exp = performance.now() - t0;
@@ -225,7 +225,7 @@ export default async function lscr(env) {
       console.log(`  [wasm timing] Session.raster 512×512 (lscr-predict): ${f(timing.raster)} of 20`);
       console.log(`  [wasm timing] Session.run lscr-predict (t = 30): ${f(timing.run30)} of 20`);
       console.log(`  [wasm timing] Session.run lscr-predict with simulate.steps = 200 (t = 200): ${f(timing.run200)} of 5`);
-      console.log(`  [wasm timing] LscrExperiment 2000 runs (lscr-predict, step 500): ${timing.exp.toFixed(0)} ms `
+      console.log(`  [wasm timing] Study (LSCR) 2000 runs (lscr-predict, step 500): ${timing.exp.toFixed(0)} ms `
         + `(${(1000 * timing.exp / timing.runs).toFixed(0)} µs per run; X̂ held x̄ ${timing.inside}/${timing.runs}, KF ${timing.kf}/${timing.runs})`);
       assert.equal(timing.runs, 2000);
     }
