@@ -13,12 +13,7 @@
 //!   interval box in every one of ≥ 10,000 runs — random noise in the ball, noise on the
 //!   sphere, and the worst-case patterns that reach the box's faces.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use confset::glls::{
     self, fast_forward, history_controllability, noise_map, observability, Curves, GllsModel,
     Horizon, StateNoise, Weighting,
@@ -765,7 +760,7 @@ fn bad_input_names_the_field() {
             json!({"model": {"F": [[1e3, 0, 0], [0, 1, 0], [0, 0, 1]]}, "simulate": {"steps": 200}}),
         ),
     ];
-    common::patch::assert_refused(&base, &cases);
+    crate::common::patch::assert_refused(&base, &cases);
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]

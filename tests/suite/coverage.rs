@@ -14,12 +14,7 @@
 //! The seeds are fixed, so each test is deterministic; the 99.9 % intervals say how unlikely a
 //! failure is for a correct implementation and a fresh seed.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use confset::model::{normal_vector, ConditionedSampler, Inputs, LinearModel};
 use confset::presets::{self, NoiseReading};
 use confset::scf::{self, ScfOptions};
@@ -137,7 +132,7 @@ fn scalar_conditional_coverage() {
     }
 }
 
-/// The 3-state model of tests/scf_paper.rs with two outputs; full-state regions (χ²(α, 3)).
+/// The 3-state model of `scf_paper` with two outputs; full-state regions (χ²(α, 3)).
 /// Typical state: Mahalanobis distance 0.5 from the mean; rare state: distance 5 (x̄ = 5·L e,
 /// Γ = LLᵀ, |e| = 1). Expected KF coverage: Monte Carlo of x̂^KF − x̄ ~ N(−PΓ⁻¹x̄, P − PΓ⁻¹P)
 /// with P from the textbook filter and Γ from the Kronecker solve.

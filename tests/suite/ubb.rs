@@ -13,12 +13,7 @@
 //!   ≥ 10,000 fresh runs (random and at the bound, l∞/l1/l2) the true state never leaves the set;
 //! * contradictory data are an infeasible LP named `ubb.eps`; bad input names its field.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::patch::assert_refused;
+use crate::common::patch::assert_refused;
 use confset::presets::{self, UbbKind};
 use confset::ubb::{
     self, hilbert, linear_optimal, FeasibleSet, HilbertCase, L1Form, NoiseMode, Norm, NormBound,

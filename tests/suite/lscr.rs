@@ -17,12 +17,7 @@
 //!   level, and the Kalman ellipse collapses far out.
 //! * Bad input names its field; MA(1) is unbounded along [1, 1]ᵀ.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use confset::lscr::{
     self, choose_m_q, Construction, Estimator, KarhunenLoeve, LscrModel, Options, Problem,
     Regression, Strings, Target,
@@ -1038,7 +1033,7 @@ fn bad_input_names_the_field() {
         ("model.G", json!({"model": {"G": [[1], [0], [0]]}})),
         ("model.sigma_v2", json!({"model": {"sigma_v2": -1.0}})),
     ];
-    common::patch::assert_refused(&base, &cases);
+    crate::common::patch::assert_refused(&base, &cases);
     // The experiment needs a fixed state and a coverage block, at the estimated time.
     let mut sc = base.clone();
     sc["lscr"]["coverage"] = json!({"runs": 10, "seed": 1});

@@ -7,12 +7,7 @@
 //! by an independent route (Kronecker-solved Lyapunov equation, textbook Kalman filter, batch
 //! matrices, Monte Carlo of the definitions).
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use confset::kalman::{self, KalmanGains, Offline};
 use confset::model::{ConditionedSampler, Inputs, LinearModel};
 use confset::presets::{self, NoiseReading};
@@ -313,7 +308,7 @@ fn three_state_gamma_and_backward_representation() {
 
 /// U_tA_t by brute force from the batch form (31)–(32): the KF is linear in the data,
 /// x̂^KF_t = U_t [y]_1^t, so U_t's column for y_k is the filter's response to a unit impulse at
-/// time k (a textbook filter written in tests/common); A_t stacks H(F^b)^{t−k}. Their product
+/// time k (a textbook filter written in `common`); A_t stacks H(F^b)^{t−k}. Their product
 /// must equal the crate's recursion (38) — and the closed form (41) — at every t.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

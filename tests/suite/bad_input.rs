@@ -2,10 +2,7 @@
 //! (e.g. "model.V must be symmetric positive semidefinite …"), and no input — however
 //! garbled — panics.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
+use crate::common;
 
 use confset::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
 use confset::scenario::{Condition, DataSpec, Scenario, SimulateSpec};

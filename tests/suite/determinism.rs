@@ -1,17 +1,12 @@
 //! Given explicit `data`, a report is deterministic, platform independent (crate docs:
 //! native = wasm to 1e-9 relative). The same test bodies run natively and in Chromium and
-//! compare the report with numbers computed here by a textbook Kalman filter (tests/common) and
+//! compare the report with numbers computed here by a textbook Kalman filter (`common`) and
 //! the SCF formulas x̂ = m + R⁻¹(x̂^KF − m), Π = R⁻¹P, R = I − PΓ⁻¹ — so both platforms are held
 //! to the same independent reference. Golden values pin the seeded random stream (ChaCha8 +
 //! StandardNormal) and one seeded simulation: the wasm run of the same test proves the stream is
 //! identical there.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use confset::scenario::{Report, Scenario};
 use nalgebra::{DMatrix, DVector};
 use rand::{Rng, RngExt, SeedableRng};

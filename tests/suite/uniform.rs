@@ -12,10 +12,7 @@
 //! * infeasible half-width bounds are extended, and reported;
 //! * the swapping estimator on the preset stays within the errors observed, with margin.
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
+use crate::common;
 
 use confset::presets;
 use confset::scenario::uniform::point_in_convex;

@@ -2,14 +2,11 @@
 //! Session running and drawing a preset, errors thrown as JS Errors naming the field, a
 //! chunk of the conditional Monte Carlo; LSCR: a preset's level, the membership raster and the
 //! chunked coverage experiment.
-#![cfg(target_arch = "wasm32")]
 
 use confset::web::{presets, Session, Study};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
-
-wasm_bindgen_test_configure!(run_in_browser);
 
 fn preset(name: &str) -> Value {
     let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
@@ -393,7 +390,7 @@ fn lscr_errors_name_the_field() {
 }
 
 /// The LSCR issue's wasm speed figures, printed (not asserted: timings on a shared machine are
-/// no test). `wasm-pack test --headless --chrome --release -- --test web -- --nocapture lscr_wasm`
+/// no test). `wasm-pack test --headless --chrome --release -- --test suite -- --nocapture lscr_wasm`
 /// shows them.
 #[wasm_bindgen_test]
 fn lscr_wasm_timings() {

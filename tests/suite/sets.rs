@@ -2,12 +2,7 @@
 //! volume, support function, projection and slice (2-D, 3-D), the distance between planar
 //! ellipses (dense boundary sampling), and the χ² quantile (closed forms, tables, round trips).
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use confset::sets::{Ellipsoid, PlanarEllipse};
 use confset::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};

@@ -1,0 +1,22 @@
+//! The integration tests, as one test binary (one link instead of one per file; `wasm-pack
+//! test` runs them all in one browser page). Each module is one former `tests/*.rs` file;
+//! `common` holds the independent reference computations they share. `web` tests the wasm
+//! bindings and exists only on wasm32; every other module runs natively (`cargo test`) and in
+//! Chromium (`wasm-pack test`).
+
+#[cfg(target_arch = "wasm32")]
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
+
+mod common;
+
+mod bad_input;
+mod coverage;
+mod determinism;
+mod glls;
+mod lscr;
+mod scf_paper;
+mod sets;
+mod ubb;
+mod uniform;
+#[cfg(target_arch = "wasm32")]
+mod web;
