@@ -128,9 +128,11 @@ impl Session {
         self.report.is_some()
     }
 
-    /// Draw a view (JSON `{"panel": "state"|"series"|"coverage"|"region", "time": t}`) of the kept
-    /// report on `canvas`, whose backing store is `dpr` × its CSS size. Returns the frame (JSON)
-    /// with `plot_area` in CSS pixels.
+    /// Draw a view (JSON `{"panel": "state"|"series"|"coverage"|"region"|…, "time": t, "zoom":
+    /// "auto"|"regions"|"full"}`, every field optional) of the kept report on `canvas`, whose
+    /// backing store is `dpr` × its CSS size. The title and axis names come with the report
+    /// (`Report::figure`), as for `confset figure`. Returns the frame (JSON) with `plot_area` in
+    /// CSS pixels.
     pub fn draw(
         &self,
         canvas: HtmlCanvasElement,

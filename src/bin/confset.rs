@@ -106,9 +106,9 @@ fn size(args: &[String]) -> Result<(u32, u32), Error> {
     Ok((w, h))
 }
 
-/// The view asked for by `--panel`, `--time`, `--zoom`, with the scenario's context;
-/// without `--panel`, the report's first useful panel.
-fn view(args: &[String], s: &Scenario, report: &Report) -> Result<View, Error> {
+/// The view asked for by `--panel`, `--time`, `--zoom` (the scenario's part of the figure
+/// comes with the report); without `--panel`, the report's first useful panel.
+fn view(args: &[String], report: &Report) -> Result<View, Error> {
     let mut v = View::new(match flag(args, "--panel") {
         Some(p) => Panel::from_name(p).map_err(|e| Error::field("--panel", e.message))?,
         None => plot::useful_panels(report)
@@ -130,7 +130,7 @@ fn view(args: &[String], s: &Scenario, report: &Report) -> Result<View, Error> {
             _ => return Err(Error::field("--zoom", "must be auto, regions or full")),
         };
     }
-    Ok(v.with_scenario(s))
+    Ok(v)
 }
 
 fn json<T: serde::Serialize>(v: &T) -> Result<(), Error> {
@@ -171,10 +171,9 @@ fn run(args: &[String]) -> Result<(), Error> {
         Some("figure") => {
             let out = flag(args, "-o")
                 .ok_or_else(|| Error::field("-o", "is needed: the SVG file to write"))?;
-            let s = scenario(args)?;
-            let report = s.run()?;
+            let report = scenario(args)?.run()?;
             let (w, h) = size(args)?;
-            let v = view(args, &s, &report)?;
+            let v = view(args, &report)?;
             // A panel that does not fit the report (e.g. state for LSCR) names the flag.
             let svg = plot::report_svg(&report, &v, w, h).map_err(|e| {
                 if e.field == "panel" && flag(args, "--panel").is_some() {
@@ -205,8 +204,7 @@ fn run(args: &[String]) -> Result<(), Error> {
                 let report = p.scenario.run()?;
                 for panel in plot::useful_panels(&report) {
                     let path = format!("{dir}/{}-{}.svg", p.name, panel.name());
-                    let v = View::new(panel).with_scenario(&p.scenario);
-                    write(&path, &plot::report_svg(&report, &v, w, h)?)?;
+                    write(&path, &plot::report_svg(&report, &View::new(panel), w, h)?)?;
                     eprintln!("wrote {path}");
                 }
             }

@@ -111,7 +111,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         ),
     ];
     let title = cx.title("Conditional coverage (SCF paper, Fig. 1)");
-    let title = if cx.view.title.is_some() {
+    let title = if cx.figure().title.is_some() {
         format!("{title}: conditional coverage")
     } else {
         title

@@ -11,10 +11,10 @@
 
 use super::geom::Win;
 use super::style::{self, sci, sub, Axes, Entry, Fonts, Marker, Swatch, FLOOR, TEXT};
-use super::{de, Area, Frame, Panel, View};
+use super::{de, Area, Frame, Panel};
 use crate::error::{Error, Result};
 use crate::scenario::glls::{GllsEstimator, GllsReport};
-use crate::scenario::Report;
+use crate::scenario::{FigureContext, Report};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
@@ -53,8 +53,8 @@ pub fn check(report: &Report, panel: Panel) -> Result<()> {
 }
 
 /// "Singular values of Γₛ₊₁ — the preset's title", or the default.
-pub(crate) fn title(view: &View, what: &str, default: &str) -> String {
-    match &view.title {
+pub(crate) fn title(fig: &FigureContext, what: &str, default: &str) -> String {
+    match &fig.title {
         Some(t) => format!("{what} — {t}"),
         None => default.to_string(),
     }
@@ -213,7 +213,6 @@ pub(crate) fn horizon_marker<DB: DrawingBackend>(
 pub fn draw_singular<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
-    view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
     let g = glls_of(report, Panel::Singular)?;
@@ -377,7 +376,7 @@ pub fn draw_singular<DB: DrawingBackend>(
         ));
     }
     let t = title(
-        view,
+        &report.figure,
         "Singular values of Γₛ₊₁",
         "Singular values of the observability matrix Γₛ₊₁ (GLLS paper, Fig. 1)",
     );
@@ -426,7 +425,6 @@ pub fn draw_singular<DB: DrawingBackend>(
 pub fn draw_index<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
-    view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
     let g = glls_of(report, Panel::Index)?;
@@ -533,7 +531,7 @@ pub fn draw_index<DB: DrawingBackend>(
         .minor(),
     );
     let t = title(
-        view,
+        &report.figure,
         "Horizon index σₙ/√s",
         "Choosing the horizon: σₙ/√s (GLLS paper, Fig. 2)",
     );

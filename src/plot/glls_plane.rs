@@ -12,7 +12,7 @@ use super::style::{
     self, sci, sig, sub, Entry, Fonts, Marker, Swatch, BALL, GLLS_EST, INTERVAL_BOX, REGULARIZED,
     STATE_NOISE, TRUTH,
 };
-use super::{Area, Frame, Panel, View};
+use super::{Area, Frame, Panel};
 use crate::error::{Error, Result};
 use crate::scenario::Report;
 use plotters::prelude::*;
@@ -41,12 +41,7 @@ fn with_offset(sym: &str, off: f64, span: f64) -> String {
 }
 
 /// Panel::Plane — the two `plane` components of x(k).
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) -> Result<Frame> {
     let g = glls_of(report, Panel::Plane)?;
     let n = g.n;
     let [i, j] = g.plane;
@@ -139,7 +134,7 @@ pub fn draw<DB: DrawingBackend>(
     let sym = |c: usize| format!("x{}({k})", sub(c + 1));
     let axis = |c: usize, off: f64| {
         let s = with_offset(&sym(c), off, span);
-        match view.names.get(c) {
+        match report.figure.names.get(c) {
             Some(name) if !name.is_empty() => format!("{s}: {name}"),
             _ => s,
         }
@@ -275,7 +270,7 @@ pub fn draw<DB: DrawingBackend>(
         }
     }
     let t = title(
-        view,
+        &report.figure,
         &format!("State x({k}) with its guaranteed sets"),
         &format!("GLLS estimate of x({k}) with the guaranteed ball and interval box"),
     );

@@ -11,7 +11,7 @@
 use super::geom::Win;
 use super::glls::{glls_of, horizon_chart, horizon_desc, horizon_marker, title};
 use super::style::{self, sci, Entry, Fonts, Marker, Swatch, GLLS_EST, STATE_NOISE, TEXT};
-use super::{de, Area, Frame, Panel, View};
+use super::{de, Area, Frame, Panel};
 use crate::error::{Error, Result};
 use crate::glls::Spread;
 use crate::scenario::Report;
@@ -95,12 +95,7 @@ fn dash_dot<DB: DrawingBackend>(
 }
 
 /// Draw the precision panel.
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) -> Result<Frame> {
     let g = glls_of(report, Panel::Precision)?;
     let p = g.precision.as_ref().ok_or_else(|| {
         Error::field(
@@ -270,13 +265,13 @@ pub fn draw<DB: DrawingBackend>(
     }
     let t = if paired {
         title(
-            view,
+            &report.figure,
             "State-noise estimator vs LLS",
             "State-noise estimator vs LLS (GLLS paper, Fig. 4)",
         )
     } else {
         title(
-            view,
+            &report.figure,
             "Precision against the horizon",
             "Precision of the estimate against the horizon (GLLS paper, Fig. 3)",
         )

@@ -1,8 +1,11 @@
 //! Figures, drawn with plotters on any backend (SVG natively, canvas in the browser).
 //!
 //! One entry point, [`draw`], generic over plotters' `DrawingBackend`: the CLI hands it an
-//! `SVGBackend` ([`report_svg`], [`scenario_svg`]), the wasm bindings a `CanvasBackend`. The
-//! pictures ([`Panel`]):
+//! `SVGBackend` ([`report_svg`], [`scenario_svg`]), the wasm bindings a `CanvasBackend`. It
+//! takes the report and a [`View`] (panel, time, zoom: what the viewer chooses) and nothing
+//! else: the scenario's part of the figure (title, axis names, measured components, collision
+//! check) is the report's [`FigureContext`] (`Report::figure`, made with the report), so the
+//! page and the CLI draw the same figure from the same scenario. The pictures ([`Panel`]):
 //!
 //! * [`Panel::State`] (`state.rs`) — for two plotted components the state plane at the shown
 //!   time t: true trajectory, measurements (when they measure the plotted components
@@ -76,8 +79,7 @@ mod uniform_polygon;
 
 use crate::error::{Error, Result};
 use crate::method::Method;
-use crate::model::MatrixSpec;
-use crate::scenario::{CollisionSpec, Report, Scenario};
+use crate::scenario::{FigureContext, Report, Scenario};
 use crate::scf::ScfStep;
 use plotters::coord::Shift;
 use plotters::drawing::DrawingAreaErrorKind;
@@ -201,13 +203,13 @@ pub enum Zoom {
     Full,
 }
 
-/// What to draw.
+/// What to draw: only what the viewer chooses.
 ///
-/// Only `panel` and `time` are needed; the other fields are optional context from the
-/// scenario that makes the figure richer (axis names, measurement dots, the second body of a
-/// collision check, the title). [`View::with_scenario`] fills them; a page may send them in
-/// the view JSON too.
+/// Everything the figure takes from the scenario (title, axis names, measured components,
+/// the collision check) comes with the report ([`Report::figure`]), so a view of the same
+/// report draws the same figure from the CLI and from the page. Unknown fields are refused.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
 pub struct View {
     #[serde(default)]
     pub panel: Panel,
@@ -217,20 +219,6 @@ pub struct View {
     /// Window of the state plane and of the series.
     #[serde(default)]
     pub zoom: Zoom,
-    /// Figure title (default: a generic one naming the panel).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub title: Option<String>,
-    /// Axis names of the state components, indexed by component (0-based), e.g.
-    /// "position p_x of robot A \[m\]". Missing entries read "x₁ (state component 0)".
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub names: Vec<String>,
-    /// For each state component, the measurement row that measures it directly (an H row
-    /// equal to a unit vector), so measurements can be drawn in state coordinates.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub measured: Option<Vec<Option<usize>>>,
-    /// The scenario's collision check (the two bodies' components and d_min).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub collision: Option<CollisionSpec>,
 }
 
 impl View {
@@ -241,72 +229,6 @@ impl View {
             ..View::default()
         }
     }
-
-    /// Fill the context fields left empty from the scenario the report came from.
-    pub fn with_scenario(mut self, s: &Scenario) -> View {
-        if self.title.is_none() {
-            self.title = s.title.clone();
-        }
-        if self.collision.is_none() {
-            self.collision = s.collision.clone();
-        }
-        if self.measured.is_none() {
-            self.measured = direct_measurements(s);
-        }
-        if self.names.is_empty() {
-            if let Some(c) = &s.collision {
-                let robot = s
-                    .title
-                    .as_deref()
-                    .is_some_and(|t| t.to_lowercase().contains("robot"));
-                let (who, unit) = if robot {
-                    ("robot", " [m]")
-                } else {
-                    ("body", "")
-                };
-                let n = c.a.iter().chain(&c.b).copied().max().map_or(0, |m| m + 1);
-                let mut names: Vec<String> = (0..n).map(default_name).collect();
-                for (body, idx) in [("A", &c.a), ("B", &c.b)] {
-                    for (k, &i) in idx.iter().enumerate() {
-                        let axis = if k == 0 { "x" } else { "y" };
-                        if let Some(slot) = names.get_mut(i) {
-                            *slot = format!("position p_{axis} of {who} {body}{unit}");
-                        }
-                    }
-                }
-                self.names = names;
-            }
-        }
-        self
-    }
-}
-
-/// For each state component, the row of a constant H that measures it directly.
-fn direct_measurements(s: &Scenario) -> Option<Vec<Option<usize>>> {
-    let rows = match s.model.h.as_ref()? {
-        MatrixSpec::Constant(rows) => rows.clone(),
-        MatrixSpec::Sequence(seq) => {
-            let first = seq.first()?.clone();
-            if seq.iter().all(|m| *m == first) {
-                first
-            } else {
-                return None;
-            }
-        }
-    };
-    let n = rows.first()?.len();
-    Some(
-        (0..n)
-            .map(|i| {
-                rows.iter().position(|r| {
-                    r.len() == n
-                        && r.iter()
-                            .enumerate()
-                            .all(|(j, &v)| if j == i { v == 1.0 } else { v == 0.0 })
-                })
-            })
-            .collect(),
-    )
 }
 
 fn default_name(i: usize) -> String {
@@ -387,10 +309,10 @@ pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Re
         Panel::Singular | Panel::Index | Panel::Plane | Panel::Precision => {
             glls::check(report, view.panel)?;
             return draw_erased(backend, |root| match view.panel {
-                Panel::Singular => glls::draw_singular(root, report, view, fonts),
-                Panel::Index => glls::draw_index(root, report, view, fonts),
-                Panel::Plane => glls_plane::draw(root, report, view, fonts),
-                _ => glls_precision::draw(root, report, view, fonts),
+                Panel::Singular => glls::draw_singular(root, report, fonts),
+                Panel::Index => glls::draw_index(root, report, fonts),
+                Panel::Plane => glls_plane::draw(root, report, fonts),
+                _ => glls_precision::draw(root, report, fonts),
             });
         }
         Panel::Region => {
@@ -434,7 +356,7 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
         .first()
         .copied()
         .unwrap_or(Panel::State);
-    report_svg(&report, &View::new(panel).with_scenario(s), w, h)
+    report_svg(&report, &View::new(panel), w, h)
 }
 
 /// The panels worth drawing for a report: Region alone for an LSCR report; Singular, Index,
@@ -611,12 +533,12 @@ impl<'a> Ctx<'a> {
     }
     /// Measurement of component i at time s, when a row of y measures it directly.
     pub fn measurement(&self, s: usize, i: usize) -> Option<f64> {
-        let row = (*self.view.measured.as_ref()?.get(i)?)?;
+        let row = (*self.figure().measured.as_ref()?.get(i)?)?;
         self.report.y.get(s.checked_sub(1)?)?.get(row).copied()
     }
     /// Axis name of component i.
     pub fn name(&self, i: usize) -> String {
-        match self.view.names.get(i) {
+        match self.figure().names.get(i) {
             Some(s) if !s.is_empty() => s.clone(),
             _ if self.report.n == 1 => "state x_t".to_string(),
             _ => default_name(i),
@@ -632,10 +554,14 @@ impl<'a> Ctx<'a> {
     }
     /// The figure title or a default.
     pub fn title(&self, default: &str) -> String {
-        self.view
+        self.figure()
             .title
             .clone()
             .unwrap_or_else(|| default.to_string())
+    }
+    /// The scenario's part of the figure (made with the report).
+    pub fn figure(&self) -> &'a FigureContext {
+        &self.report.figure
     }
     /// Why there is no SCF region at the shown time.
     pub fn scf_missing_note(&self) -> String {

@@ -428,13 +428,13 @@ pub fn draw<DB: DrawingBackend>(
     let axis = |k: usize| {
         let comp = plot[k] + 1;
         let sym = format!("{xt},{}", sub(comp));
-        match view.names.get(plot[k]) {
+        match report.figure.names.get(plot[k]) {
             Some(name) if !name.is_empty() => format!("{sym}: {name}"),
             _ => format!("{sym}  (component {comp} of {xt})"),
         }
     };
     let (x_desc, y_desc) = (axis(0), axis(1));
-    let title = match &view.title {
+    let title = match &report.figure.title {
         Some(t) if t.to_lowercase().contains(&kind) => t.clone(),
         Some(t) => format!("{t}: {kind}"),
         None => format!("LSCR {}", what),

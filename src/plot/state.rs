@@ -62,7 +62,7 @@ fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> R
         .collision
         .as_ref()
         .and_then(|cs| cs.iter().find(|c| c.time == t));
-    let spec = cx.view.collision.as_ref();
+    let spec = cx.figure().collision.as_ref();
     let target = step.target.as_ref();
     let pred = target.map_or(t, |g| g.time);
     let mut bodies: Vec<Body> = Vec::new();

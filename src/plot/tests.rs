@@ -10,18 +10,18 @@ fn preset(name: &str) -> (Scenario, Report) {
     (s, r)
 }
 
-fn svg(s: &Scenario, r: &Report, panel: Panel, time: Option<usize>) -> String {
+fn svg(r: &Report, panel: Panel, time: Option<usize>) -> String {
     let view = View {
         time,
-        ..View::new(panel).with_scenario(s)
+        ..View::new(panel)
     };
     report_svg(r, &view, 960, 640).unwrap_or_else(|e| panic!("{}: {e}", panel.name()))
 }
 
 #[test]
 fn scalar_preset_panels_carry_their_legends() {
-    let (s, r) = preset("scf-scalar");
-    let state = svg(&s, &r, Panel::State, None);
+    let (_, r) = preset("scf-scalar");
+    let state = svg(&r, Panel::State, None);
     for label in [
         "KF interval",
         "SCF interval",
@@ -31,11 +31,11 @@ fn scalar_preset_panels_carry_their_legends() {
     ] {
         assert!(state.contains(label), "state panel lacks \"{label}\"");
     }
-    let series = svg(&s, &r, Panel::Series, Some(10));
+    let series = svg(&r, Panel::Series, Some(10));
     for label in ["KF center", "SCF center", "SCF interval", "t = 10"] {
         assert!(series.contains(label), "series panel lacks \"{label}\"");
     }
-    let cov = svg(&s, &r, Panel::Coverage, None);
+    let cov = svg(&r, Panel::Coverage, None);
     for label in ["KF region", "SCF region", "level α = 99 %", "closed form"] {
         assert!(cov.contains(label), "coverage panel lacks \"{label}\"");
     }
@@ -44,8 +44,8 @@ fn scalar_preset_panels_carry_their_legends() {
 #[test]
 fn robot_preset_shows_both_bodies_and_the_warnings() {
     for name in ["scf-robots", "scf-robots-literal"] {
-        let (s, r) = preset(name);
-        let state = svg(&s, &r, Panel::State, None);
+        let (_, r) = preset(name);
+        let state = svg(&r, Panel::State, None);
         for label in [
             "KF Z₄₀|₃₆",
             "SCF Z₄₀|₃₆",
@@ -64,7 +64,7 @@ fn robot_preset_shows_both_bodies_and_the_warnings() {
             state.contains("KF no, SCF YES"),
             "{name}: the warnings are not reported"
         );
-        let series = svg(&s, &r, Panel::Series, None);
+        let series = svg(&r, Panel::Series, None);
         assert!(series.contains("KF center") && series.contains("SCF interval"));
     }
 }
@@ -78,27 +78,26 @@ fn early_times_draw_kf_only_and_say_why() {
     s2.tau = 0;
     s2.collision = None;
     let r2 = s2.run().expect("runs");
-    let out = svg(&s2, &r2, Panel::State, Some(3));
+    let out = svg(&r2, Panel::State, Some(3));
     assert!(out.contains("KF X₃"));
     assert!(!out.contains("SCF X₃"));
     assert!(out.contains("no SCF region at t = 3"));
     // The collision view at an early time still draws.
-    let out = svg(&s, &r, Panel::State, Some(2));
+    let out = svg(&r, Panel::State, Some(2));
     assert!(out.contains("KF Z₆|₂"));
 }
 
 #[test]
 fn coverage_without_a_curve_is_an_error_naming_the_field() {
-    let (s, r) = preset("scf-robots");
+    let (_, r) = preset("scf-robots");
     assert!(r.coverage_curve.is_none());
-    let e = report_svg(&r, &View::new(Panel::Coverage).with_scenario(&s), 800, 500)
-        .expect_err("no coverage curve");
+    let e = report_svg(&r, &View::new(Panel::Coverage), 800, 500).expect_err("no coverage curve");
     assert_eq!(e.field, "coverage_curve");
 }
 
 #[test]
 fn bad_views_are_errors_not_panics() {
-    let (s, r) = preset("scf-scalar");
+    let (_, r) = preset("scf-scalar");
     let view = View {
         time: Some(0),
         ..View::new(Panel::State)
@@ -120,7 +119,7 @@ fn bad_views_are_errors_not_panics() {
     // Small but allowed sizes draw every panel.
     for panel in [Panel::State, Panel::Series, Panel::Coverage] {
         for (w, h) in [(240, 180), (320, 240), (480, 300), (2400, 1600)] {
-            let v = View::new(panel).with_scenario(&s);
+            let v = View::new(panel);
             if let Err(e) = report_svg(&r, &v, w, h) {
                 assert_eq!(e.field, "size", "{} at {w}×{h}: {e}", panel.name());
             }
@@ -141,12 +140,12 @@ fn bad_views_are_errors_not_panics() {
 
 #[test]
 fn frame_maps_the_plotting_area() {
-    let (s, r) = preset("scf-scalar");
+    let (_, r) = preset("scf-scalar");
     let mut text = String::new();
     let f = draw(
         SVGBackend::with_string(&mut text, (900, 600)),
         &r,
-        &View::new(Panel::State).with_scenario(&s),
+        &View::new(Panel::State),
     )
     .expect("draws");
     let (l, t, rt, b) = f.plot_area;
@@ -174,29 +173,127 @@ fn frame_maps_the_plotting_area() {
 
 #[test]
 fn svg_text_uses_css_pixel_sizes() {
-    let (s, r) = preset("scf-scalar");
-    let out = svg(&s, &r, Panel::State, None);
+    let (_, r) = preset("scf-scalar");
+    let out = svg(&r, Panel::State, None);
     // Titles are 17 CSS px: plotters writes font-size = size / 1.24.
     assert!(out.contains("font-size=\"17\""), "title size");
     assert!(out.contains("font-family=\"sans-serif\""));
 }
 
 #[test]
-fn view_json_accepts_the_short_form_and_the_context() {
+fn view_json_takes_what_the_viewer_chooses_only() {
     let v: View = serde_json::from_str(r#"{"panel":"series","time":20}"#).expect("parses");
     assert_eq!(
         (v.panel, v.time, v.zoom),
         (Panel::Series, Some(20), Zoom::Auto)
     );
-    let s = presets::get("scf-robots").expect("preset");
-    let v = View::new(Panel::State).with_scenario(&s);
-    assert_eq!(v.measured.as_ref().map(|m| m[0]), Some(Some(0)));
-    assert_eq!(v.measured.as_ref().map(|m| m[2]), Some(None));
-    assert_eq!(v.measured.as_ref().map(|m| m[5]), Some(Some(3)));
-    assert!(v.names[0].contains("robot A"));
+    // What the page's figure.js sends before a time is set.
+    let v: View = serde_json::from_str(r#"{"panel":"region","time":null}"#).expect("parses");
+    assert_eq!((v.panel, v.time), (Panel::Region, None));
     let back: View =
         serde_json::from_str(&serde_json::to_string(&v).expect("json")).expect("parses");
     assert_eq!(back, v);
+    // The scenario's part of the figure comes with the report, never with the view.
+    for field in [r#""names":["a"]"#, r#""title":"t""#, r#""measured":[0]"#] {
+        let e = serde_json::from_str::<View>(&format!(r#"{{"panel":"state",{field}}}"#))
+            .expect_err("context in a view is refused");
+        assert!(e.to_string().contains("unknown field"), "{field}: {e}");
+    }
+}
+
+#[test]
+fn the_report_carries_the_figure_context() {
+    let (s, r) = preset("scf-robots");
+    let f = &r.figure;
+    assert_eq!(f.title, s.title);
+    assert_eq!(f.collision, s.collision);
+    assert_eq!(f.measured.as_ref().map(|m| m[0]), Some(Some(0)));
+    assert_eq!(f.measured.as_ref().map(|m| m[2]), Some(None));
+    assert_eq!(f.measured.as_ref().map(|m| m[5]), Some(Some(3)));
+    assert_eq!(f.names[0], "position p_x of robot A [m]");
+    assert_eq!(f.names[5], "position p_y of robot B [m]");
+    assert_eq!(
+        f.names[2], "",
+        "not a body's position: the panel's default name"
+    );
+    // The report JSON holds it (strings, indices, d_min) and reads back the same.
+    let json = serde_json::to_value(&r).expect("json");
+    assert_eq!(json["figure"]["names"][0], "position p_x of robot A [m]");
+    assert_eq!(json["figure"]["measured"][2], serde_json::Value::Null);
+    let back: Report = serde_json::from_value(json).expect("parses");
+    assert_eq!(back.figure, r.figure);
+    // A scenario without a title or collision check: an empty context, `{}` in JSON.
+    let mut plain = s.clone();
+    plain.title = None;
+    plain.collision = None;
+    plain.model.h = None;
+    let f = FigureContext::of(&plain);
+    assert_eq!(f, FigureContext::default());
+    assert_eq!(serde_json::to_string(&f).expect("json"), "{}");
+}
+
+/// The page path (the preset as the page gets it, JSON → `Scenario::from_json` → `run`, a view
+/// parsed from `{"panel": …}`) and the CLI path (`presets::get` → `run` → `View::new(panel)`,
+/// as `confset figure`/`figures` do) draw byte-identical SVG for every useful panel of every
+/// preset; `scenario_svg` is the first of them.
+#[test]
+fn page_and_cli_draw_the_same_figure_for_every_preset() {
+    for p in presets::all() {
+        let json = serde_json::to_string(&p.scenario).expect("json");
+        let page = Scenario::from_json(&json)
+            .and_then(|s| s.run())
+            .expect("page path runs");
+        let cli = presets::get(&p.name)
+            .and_then(|s| s.run())
+            .expect("CLI path runs");
+        assert_eq!(page.figure, cli.figure, "{}: figure context", p.name);
+        let panels = useful_panels(&cli);
+        for &panel in &panels {
+            let view: View = serde_json::from_str(&format!(r#"{{"panel":"{}"}}"#, panel.name()))
+                .expect("view JSON");
+            let a = report_svg(&page, &view, 960, 640)
+                .unwrap_or_else(|e| panic!("{} {}: {e}", p.name, panel.name()));
+            let b = report_svg(&cli, &View::new(panel), 960, 640).expect("draws");
+            assert!(
+                a == b,
+                "{} {}: page and CLI figures differ",
+                p.name,
+                panel.name()
+            );
+        }
+        let first = scenario_svg(&p.scenario, 960, 640).expect("draws");
+        let b = report_svg(&cli, &View::new(panels[0]), 960, 640).expect("draws");
+        assert!(first == b, "{}: scenario_svg differs", p.name);
+    }
+}
+
+#[test]
+fn robot_state_figure_names_the_robot_position_axes() {
+    let (_, r) = preset("scf-robots");
+    let view: View = serde_json::from_str(r#"{"panel":"state"}"#).expect("view JSON");
+    let out = report_svg(&r, &view, 960, 640).expect("draws");
+    assert!(
+        out.contains("position p_x"),
+        "x axis names robot A's position"
+    );
+    assert!(!out.contains("state component"), "no generic axis names");
+    let mut frame_svg = String::new();
+    let frame = draw(
+        SVGBackend::with_string(&mut frame_svg, (960, 640)),
+        &r,
+        &view,
+    )
+    .expect("draws");
+    assert!(
+        frame.x_label.starts_with("position p_x"),
+        "{}",
+        frame.x_label
+    );
+    assert!(
+        frame.y_label.starts_with("position p_y"),
+        "{}",
+        frame.y_label
+    );
 }
 
 #[test]
@@ -205,7 +302,7 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
         let r = p.scenario.run().expect("preset runs");
         for panel in useful_panels(&r) {
             for (w, h) in [(960, 640), (900, 450), (400, 250)] {
-                let v = View::new(panel).with_scenario(&p.scenario);
+                let v = View::new(panel);
                 let out = report_svg(&r, &v, w, h)
                     .unwrap_or_else(|e| panic!("{} {} {w}×{h}: {e}", p.name, panel.name()));
                 // LSCR reports draw the region (whose legend names X̂, shortly on small figures);
@@ -262,7 +359,7 @@ fn one_plotted_component_of_a_larger_state_draws_over_time() {
     let (mut s, _) = preset("scf-robots");
     s.plot = Some(vec![1]);
     let r = s.run().expect("runs");
-    let out = svg(&s, &r, Panel::State, None);
+    let out = svg(&r, Panel::State, None);
     assert!(out.contains("KF interval") && out.contains("projection of the 8-dimensional regions"));
     std::fs::write(std::env::temp_dir().join("confset-one-component.svg"), &out).ok();
 }
@@ -298,7 +395,7 @@ fn lscr_presets_use_the_region_panel_only() {
 #[test]
 fn region_panel_draws_the_lscr_presets_at_every_size() {
     for name in ["lscr-predict", "lscr-smooth", "lscr-ma1"] {
-        let (s, r) = preset(name);
+        let (_, r) = preset(name);
         let l = r.lscr.as_ref().expect("LSCR report");
         for (w, h) in [
             (240, 180),
@@ -308,7 +405,7 @@ fn region_panel_draws_the_lscr_presets_at_every_size() {
             (960, 640),
             (1600, 1200),
         ] {
-            let view = View::new(Panel::Region).with_scenario(&s);
+            let view = View::new(Panel::Region);
             let mut out = String::new();
             let frame = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &view)
                 .unwrap_or_else(|e| panic!("{name} {w}×{h}: {e}"));
@@ -347,8 +444,8 @@ fn region_panel_draws_the_lscr_presets_at_every_size() {
 #[test]
 fn region_panel_shows_what_each_figure_of_the_paper_shows() {
     // Fig. 1: prediction, both groups exclude areas in view, BLUE and Kalman ellipses.
-    let (s, r) = preset("lscr-predict");
-    let out = report_svg(&r, &View::new(Panel::Region).with_scenario(&s), 800, 600).expect("draws");
+    let (_, r) = preset("lscr-predict");
+    let out = report_svg(&r, &View::new(Panel::Region), 800, 600).expect("draws");
     assert!(
         strokes(&out, &style::hatch_color(1)) > 12,
         "no hatching of X̂₂"
@@ -366,16 +463,16 @@ fn region_panel_shows_what_each_figure_of_the_paper_shows() {
     }
     assert!(!out.contains("unbounded"));
     // Fig. 2: smoothing of x₁₅, BLUE only (no Kalman smoother in the report).
-    let (s, r) = preset("lscr-smooth");
-    let out = report_svg(&r, &View::new(Panel::Region).with_scenario(&s), 800, 600).expect("draws");
+    let (_, r) = preset("lscr-smooth");
+    let out = report_svg(&r, &View::new(Panel::Region), 800, 600).expect("draws");
     for label in ["smoothing", "x₁₅,₁", "BLUE ellipse 90 %"] {
         assert!(out.contains(label), "Fig. 2: no \"{label}\"");
     }
     assert!(!out.contains("KF ellipse"));
     // Fig. 3: the unbounded band along [1, 1] with the Kalman ellipse and no BLUE.
-    let (s, r) = preset("lscr-ma1");
+    let (_, r) = preset("lscr-ma1");
     assert!(!r.lscr.as_ref().expect("LSCR").bounded);
-    let out = report_svg(&r, &View::new(Panel::Region).with_scenario(&s), 800, 600).expect("draws");
+    let out = report_svg(&r, &View::new(Panel::Region), 800, 600).expect("draws");
     for label in [
         "unbounded along ±[0.71, 0.71]",
         "KF ellipse 90 %",
@@ -455,20 +552,19 @@ fn region_hatching_is_exact() {
 
 #[test]
 fn wrong_panel_and_report_pairs_are_errors_naming_the_panel() {
-    let (s, r) = preset("lscr-ma1");
+    let (_, r) = preset("lscr-ma1");
     for panel in [Panel::State, Panel::Series, Panel::Coverage] {
-        let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+        let e = report_svg(&r, &View::new(panel), 800, 600)
             .expect_err("an LSCR report has no time steps");
         assert_eq!(e.field, "panel", "{}: {e}", panel.name());
         assert!(e.message.contains("region"), "{e}");
     }
-    let (s, r) = preset("scf-scalar");
-    let e = report_svg(&r, &View::new(Panel::Region).with_scenario(&s), 800, 600)
-        .expect_err("no LSCR part");
+    let (_, r) = preset("scf-scalar");
+    let e = report_svg(&r, &View::new(Panel::Region), 800, 600).expect_err("no LSCR part");
     assert_eq!(e.field, "panel");
     assert!(e.message.contains("scf"), "{e}");
     // Too small is still a size error, and a broken window a clear one.
-    let (s, mut r) = preset("lscr-predict");
+    let (_, mut r) = preset("lscr-predict");
     assert_eq!(
         report_svg(&r, &View::new(Panel::Region), 200, 100)
             .unwrap_err()
@@ -478,19 +574,19 @@ fn wrong_panel_and_report_pairs_are_errors_naming_the_panel() {
     if let Some(l) = r.lscr.as_mut() {
         l.window.hi[0] = l.window.lo[0];
     }
-    let e = report_svg(&r, &View::new(Panel::Region).with_scenario(&s), 800, 600).unwrap_err();
+    let e = report_svg(&r, &View::new(Panel::Region), 800, 600).unwrap_err();
     assert_eq!(e.field, "report.lscr.window");
 }
 
 #[test]
 fn region_panel_zoom_choices_draw() {
-    let (s, r) = preset("lscr-predict");
+    let (_, r) = preset("lscr-predict");
     let l = r.lscr.as_ref().expect("LSCR");
     let mut widths = Vec::new();
     for zoom in [Zoom::Regions, Zoom::Auto, Zoom::Full] {
         let v = View {
             zoom,
-            ..View::new(Panel::Region).with_scenario(&s)
+            ..View::new(Panel::Region)
         };
         let f = draw(
             SVGBackend::with_string(&mut String::new(), (800, 600)),
@@ -525,7 +621,7 @@ fn region_panel_draws_a_slice_of_a_three_dimensional_state() {
     assert_eq!(l.region.groups.len(), 3);
     assert!(l.slice_at.is_some());
     assert_eq!(useful_panels(&r), vec![Panel::Region]);
-    let out = report_svg(&r, &View::new(Panel::Region).with_scenario(&s), 960, 640)
+    let out = report_svg(&r, &View::new(Panel::Region), 960, 640)
         .unwrap_or_else(|e| panic!("n = 3: {e}"));
     for label in [
         "excluded by X̂₃",
@@ -545,8 +641,8 @@ fn region_panel_draws_a_slice_of_a_three_dimensional_state() {
 fn region_panel_is_fast() {
     // The whole 800 × 600 figure in a few ms (release; generous bound for debug builds).
     for name in ["lscr-predict", "lscr-smooth", "lscr-ma1"] {
-        let (s, r) = preset(name);
-        let v = View::new(Panel::Region).with_scenario(&s);
+        let (_, r) = preset(name);
+        let v = View::new(Panel::Region);
         report_svg(&r, &v, 800, 600).expect("warm-up");
         let runs = 20;
         let t0 = std::time::Instant::now();
@@ -639,7 +735,7 @@ fn glls_reports_use_the_glls_panels() {
 #[test]
 fn glls_panels_draw_every_preset_at_every_size() {
     for name in GLLS_PRESETS {
-        let (s, r) = preset(name);
+        let (_, r) = preset(name);
         for panel in GLLS_PANELS {
             for (w, h) in [
                 (240, 180),
@@ -650,7 +746,7 @@ fn glls_panels_draw_every_preset_at_every_size() {
                 (960, 640),
                 (1600, 1200),
             ] {
-                let v = View::new(panel).with_scenario(&s);
+                let v = View::new(panel);
                 let mut out = String::new();
                 let f = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &v)
                     .unwrap_or_else(|e| panic!("{name} {} {w}×{h}: {e}", panel.name()));
@@ -669,11 +765,10 @@ fn glls_panels_draw_every_preset_at_every_size() {
 #[test]
 fn singular_panel_draws_n_solid_and_n_dashed_curves() {
     for name in GLLS_PRESETS {
-        let (s, r) = preset(name);
+        let (_, r) = preset(name);
         let g = r.glls.as_ref().expect("GLLS");
         assert!(g.curves.log10_sigma_prime.is_some(), "{name}: A invertible");
-        let out =
-            report_svg(&r, &View::new(Panel::Singular).with_scenario(&s), 960, 640).expect("draws");
+        let out = report_svg(&r, &View::new(Panel::Singular), 960, 640).expect("draws");
         for i in 0..g.n {
             let c = style::series_color(i);
             // The solid curve: one long polyline (plus the legend swatch of 2 points).
@@ -706,20 +801,20 @@ fn singular_panel_draws_n_solid_and_n_dashed_curves() {
     }
     // The floor band is drawn where it matters (σ₅ of the unstable system comes within a
     // decade of it) and only noted where it is far below.
-    let (s, r) = preset("glls-unstable5");
-    let out = report_svg(&r, &View::new(Panel::Singular).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-unstable5");
+    let out = report_svg(&r, &View::new(Panel::Singular), 960, 640).unwrap();
     assert!(out.contains("below: not resolved in double precision"));
-    let (s, r) = preset("glls-saturate");
-    let out = report_svg(&r, &View::new(Panel::Singular).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-saturate");
+    let out = report_svg(&r, &View::new(Panel::Singular), 960, 640).unwrap();
     assert!(!out.contains("below: not resolved in double precision"));
     assert!(out.contains("every drawn σ is resolved"));
 }
 
 #[test]
 fn index_panel_marks_the_best_horizons() {
-    let (s, r) = preset("glls-saturate");
+    let (_, r) = preset("glls-saturate");
     let g = r.glls.as_ref().expect("GLLS");
-    let out = report_svg(&r, &View::new(Panel::Index).with_scenario(&s), 960, 640).unwrap();
+    let out = report_svg(&r, &View::new(Panel::Index), 960, 640).unwrap();
     let b = g.best_horizon.expect("a best horizon");
     let bp = g.best_horizon_p.expect("a best regularized horizon");
     assert!(
@@ -729,27 +824,26 @@ fn index_panel_marks_the_best_horizons() {
     assert!(out.contains(&format!("best s = {bp} (p = 2)")));
     assert!(out.contains("σ₃/√s (n = 3)") && out.contains("σ₂/√s (p = 2, regularized)"));
     // Fig. 2b: the index grows over the whole range.
-    let (s, r) = preset("glls-grow");
-    let out = report_svg(&r, &View::new(Panel::Index).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-grow");
+    let out = report_svg(&r, &View::new(Panel::Index), 960, 640).unwrap();
     assert!(out.contains("largest at S = 60") && out.contains("still grows"));
     // A best horizon beyond the data is said so.
-    let (s, r) = preset("glls-mixed");
-    let out = report_svg(&r, &View::new(Panel::Index).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-mixed");
+    let out = report_svg(&r, &View::new(Panel::Index), 960, 640).unwrap();
     assert!(out.contains("best s = 48") && out.contains("the data hold 40"));
 }
 
 #[test]
 fn precision_panel_draws_one_box_per_horizon() {
     for name in GLLS_PRESETS {
-        let (s, r) = preset(name);
+        let (_, r) = preset(name);
         let p = r
             .glls
             .as_ref()
             .and_then(|g| g.precision.as_ref())
             .expect("a study");
         let drawn = p.first.iter().filter(|x| x.is_some()).count();
-        let out = report_svg(&r, &View::new(Panel::Precision).with_scenario(&s), 960, 640)
-            .expect("draws");
+        let out = report_svg(&r, &View::new(Panel::Precision), 960, 640).expect("draws");
         match &p.second {
             None => {
                 // One box per horizon, plus the legend swatch.
@@ -774,8 +868,8 @@ fn precision_panel_draws_one_box_per_horizon() {
 
 #[test]
 fn plane_panel_shows_the_sets_and_says_when_the_truth_is_outside() {
-    let (s, r) = preset("glls-saturate");
-    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-saturate");
+    let out = report_svg(&r, &View::new(Panel::Plane), 960, 640).unwrap();
     for label in [
         "true state x(39)",
         "LLS estimate x̂(39)",
@@ -791,8 +885,8 @@ fn plane_panel_shows_the_sets_and_says_when_the_truth_is_outside() {
     }
     assert!(!out.contains("outside:"));
     // The unstable system has state noise and μ = 0: the truth is outside, the sets are a point.
-    let (s, r) = preset("glls-unstable5");
-    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-unstable5");
+    let out = report_svg(&r, &View::new(Panel::Plane), 960, 640).unwrap();
     for label in [
         "state-noise estimate (63)–(64)",
         "LLS estimate (centre of ball and box)",
@@ -802,30 +896,30 @@ fn plane_panel_shows_the_sets_and_says_when_the_truth_is_outside() {
         assert!(out.contains(label), "unstable5 plane: no \"{label}\"");
     }
     // Noise beyond μ is named as the reason.
-    let (s, mut r) = preset("glls-saturate");
+    let (_, mut r) = preset("glls-saturate");
     if let Some(g) = r.glls.as_mut() {
         g.truth_in_ball = Some(false);
         g.noise_max = Some(0.2);
         g.rounding_dominates = true;
     }
-    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    let out = report_svg(&r, &View::new(Panel::Plane), 960, 640).unwrap();
     assert!(out.contains("outside: the noise exceeded μ"));
     assert!(out.contains("floating point: estimated rounding error"));
     // Huge coordinates get an offset so the ticks stay short.
-    let (s, r) = preset("glls-grow");
-    let out = report_svg(&r, &View::new(Panel::Plane).with_scenario(&s), 960, 640).unwrap();
+    let (_, r) = preset("glls-grow");
+    let out = report_svg(&r, &View::new(Panel::Plane), 960, 640).unwrap();
     assert!(out.contains("x₁(39) − 14715"), "no offset on the x axis");
 }
 
 #[test]
 fn the_horizon_marker_follows_the_horizon_in_use() {
-    let (s, r) = preset("glls-saturate");
+    let (_, r) = preset("glls-saturate");
     let mut r2 = r.clone();
     if let Some(g) = r2.glls.as_mut() {
         g.s = 20;
     }
     for panel in [Panel::Singular, Panel::Index, Panel::Precision] {
-        let v = View::new(panel).with_scenario(&s);
+        let v = View::new(panel);
         let a = report_svg(&r, &v, 800, 600).unwrap();
         let b = report_svg(&r2, &v, 800, 600).unwrap();
         assert_ne!(a, b, "{}", panel.name());
@@ -835,18 +929,17 @@ fn the_horizon_marker_follows_the_horizon_in_use() {
 
 #[test]
 fn glls_and_other_panels_do_not_mix() {
-    let (s, r) = preset("glls-mixed");
+    let (_, r) = preset("glls-mixed");
     for panel in [Panel::State, Panel::Series, Panel::Coverage, Panel::Region] {
-        let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+        let e = report_svg(&r, &View::new(panel), 800, 600)
             .expect_err("a GLLS report draws GLLS panels only");
         assert_eq!(e.field, "panel", "{}: {e}", panel.name());
         assert!(e.message.contains("singular"), "{e}");
     }
     for other in ["scf-scalar", "lscr-predict"] {
-        let (s, r) = preset(other);
+        let (_, r) = preset(other);
         for panel in GLLS_PANELS {
-            let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
-                .expect_err("no GLLS part");
+            let e = report_svg(&r, &View::new(panel), 800, 600).expect_err("no GLLS part");
             assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
         }
     }
@@ -924,9 +1017,9 @@ fn log_ticks_read_as_powers_of_ten() {
 #[test]
 fn glls_panels_are_fast() {
     for name in GLLS_PRESETS {
-        let (s, r) = preset(name);
+        let (_, r) = preset(name);
         for panel in GLLS_PANELS {
-            let v = View::new(panel).with_scenario(&s);
+            let v = View::new(panel);
             report_svg(&r, &v, 800, 600).expect("warm-up");
             let runs = 10;
             let t0 = std::time::Instant::now();
@@ -978,7 +1071,7 @@ fn uniform_reports_use_the_uniform_panels_at_every_size() {
             (960, 640),
             (1600, 1200),
         ] {
-            let v = View::new(p).with_scenario(&s);
+            let v = View::new(p);
             let mut out = String::new();
             let f = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &v)
                 .unwrap_or_else(|e| panic!("{} {w}×{h}: {e}", p.name()));
@@ -995,11 +1088,11 @@ fn uniform_reports_use_the_uniform_panels_at_every_size() {
 
 #[test]
 fn uniform_panels_show_what_the_papers_figures_show() {
-    let (s, r) = preset("uniform-paper");
+    let (_, r) = preset("uniform-paper");
     let u = r.uniform.as_ref().expect("uniform");
     let n = u.n;
     // Fig. 1: per component a truth, an LP and a KF curve in the states row and LP/KF errors.
-    let states = svg(&s, &r, Panel::UStates, None);
+    let states = svg(&r, Panel::UStates, None);
     for label in [
         "true state",
         "LP (MAP) estimate",
@@ -1034,7 +1127,7 @@ fn uniform_panels_show_what_the_papers_figures_show() {
     );
 
     // Fig. 2: output and prediction, and the error.
-    let output = svg(&s, &r, Panel::UOutput, None);
+    let output = svg(&r, Panel::UOutput, None);
     for label in ["measured output", "one-step prediction", "t = 120"] {
         assert!(output.contains(label), "uoutput: no \"{label}\"");
     }
@@ -1050,7 +1143,7 @@ fn uniform_panels_show_what_the_papers_figures_show() {
     );
 
     // Fig. 3: n² entries of Â and n + m half-widths, each with its true value dashed (thin).
-    let params = svg(&s, &r, Panel::UParams, None);
+    let params = svg(&r, Panel::UParams, None);
     for label in ["â₁₁", "â₂₂", "x̂ᵣ,₁", "ŷᵣ", "true value", "Fig. 3"] {
         assert!(params.contains(label), "uparams: no \"{label}\"");
     }
@@ -1066,7 +1159,7 @@ fn uniform_panels_show_what_the_papers_figures_show() {
     }
 
     // The polygon: one filled polygon, the markers and the note on Θ.
-    let poly = svg(&s, &r, Panel::UPolygon, None);
+    let poly = svg(&r, Panel::UPolygon, None);
     assert_eq!(
         polygons(&poly, &style::POLYGON),
         1,
@@ -1091,7 +1184,7 @@ fn uniform_panels_show_what_the_papers_figures_show() {
         u.at.polygon_theta_true = true;
         u.at.truth_in_polygon = Some(false);
     }
-    let poly2 = svg(&s, &r2, Panel::UPolygon, None);
+    let poly2 = svg(&r2, Panel::UPolygon, None);
     assert!(
         poly2.contains("guaranteed to hold the true state") && !poly2.contains("not guaranteed")
     );
@@ -1100,15 +1193,15 @@ fn uniform_panels_show_what_the_papers_figures_show() {
 
 #[test]
 fn the_uniform_cursor_follows_the_window_time() {
-    let (s, r) = preset("uniform-paper");
+    let (_, r) = preset("uniform-paper");
     let mut moved = r.clone();
     if let Some(u) = moved.uniform.as_mut() {
         u.at.time = 60;
         u.at.first = 56;
     }
     for p in [Panel::UStates, Panel::UOutput, Panel::UParams] {
-        let a = svg(&s, &r, p, None);
-        let b = svg(&s, &moved, p, None);
+        let a = svg(&r, p, None);
+        let b = svg(&moved, p, None);
         assert!(
             a.contains("t = 120") && !a.contains("t = 60"),
             "{}",
@@ -1123,7 +1216,7 @@ fn the_uniform_cursor_follows_the_window_time() {
     }
     // A view time other than the window's: the time charts move the cursor, the polygon says why
     // it cannot.
-    let a = svg(&s, &r, Panel::UOutput, Some(30));
+    let a = svg(&r, Panel::UOutput, Some(30));
     assert!(a.contains("t = 30"));
     let e = report_svg(
         &r,
@@ -1151,7 +1244,7 @@ fn the_uniform_cursor_follows_the_window_time() {
 
 #[test]
 fn uniform_and_other_panels_do_not_mix() {
-    let (s, r) = preset("uniform-paper");
+    let (_, r) = preset("uniform-paper");
     for panel in [
         Panel::State,
         Panel::Series,
@@ -1160,16 +1253,15 @@ fn uniform_and_other_panels_do_not_mix() {
         Panel::Singular,
         Panel::Plane,
     ] {
-        let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
+        let e = report_svg(&r, &View::new(panel), 800, 600)
             .expect_err("a uniform report draws uniform panels only");
         assert_eq!(e.field, "panel", "{}: {e}", panel.name());
         assert!(e.message.contains("ustates"), "{e}");
     }
     for other in ["scf-scalar", "lscr-predict", "glls-mixed"] {
-        let (s, r) = preset(other);
+        let (_, r) = preset(other);
         for panel in UNIFORM_PANELS {
-            let e = report_svg(&r, &View::new(panel).with_scenario(&s), 800, 600)
-                .expect_err("no uniform part");
+            let e = report_svg(&r, &View::new(panel), 800, 600).expect_err("no uniform part");
             assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
         }
     }
@@ -1219,9 +1311,9 @@ fn uniform_and_other_panels_do_not_mix() {
 
 #[test]
 fn uniform_panels_are_fast() {
-    let (s, r) = preset("uniform-paper");
+    let (_, r) = preset("uniform-paper");
     for panel in UNIFORM_PANELS {
-        let v = View::new(panel).with_scenario(&s);
+        let v = View::new(panel);
         report_svg(&r, &v, 800, 600).expect("warm-up");
         let runs = 10;
         let t0 = std::time::Instant::now();
@@ -1241,7 +1333,7 @@ const UBB_PRESETS: [&str; 4] = ["ubb-track", "ubb-series", "ubb-leontief", "ubb-
 #[test]
 fn ubb_presets_draw_both_panels_at_every_size() {
     for name in UBB_PRESETS {
-        let (s, r) = preset(name);
+        let (_, r) = preset(name);
         assert_eq!(
             useful_panels(&r),
             vec![Panel::UbbSet, Panel::UbbWidth],
@@ -1251,7 +1343,7 @@ fn ubb_presets_draw_both_panels_at_every_size() {
         for p in [Panel::UbbSet, Panel::UbbWidth] {
             assert_eq!(Panel::from_name(p.name()).expect("parses"), p);
             for (w, h) in [(240, 180), (400, 250), (640, 400), (960, 640), (1600, 1200)] {
-                let v = View::new(p).with_scenario(&s);
+                let v = View::new(p);
                 let mut out = String::new();
                 let f = draw(SVGBackend::with_string(&mut out, (w, h)), &r, &v)
                     .unwrap_or_else(|e| panic!("{name} {} {w}×{h}: {e}", p.name()));
@@ -1279,8 +1371,8 @@ fn ubb_presets_draw_both_panels_at_every_size() {
 
 #[test]
 fn ubb_panels_say_what_they_show() {
-    let (s, r) = preset("ubb-track");
-    let set = svg(&s, &r, Panel::UbbSet, None);
+    let (_, r) = preset("ubb-track");
+    let set = svg(&r, Panel::UbbSet, None);
     for label in [
         "Feasible set at k = 40: x(41)",
         "l∞ bounds",
@@ -1295,7 +1387,7 @@ fn ubb_panels_say_what_they_show() {
     ] {
         assert!(set.contains(label), "ubbset lacks \"{label}\"");
     }
-    let width = svg(&s, &r, Panel::UbbWidth, None);
+    let width = svg(&r, Panel::UbbWidth, None);
     for label in [
         "Width of the interval hull",
         "width of x₁(k+1)",
@@ -1317,13 +1409,13 @@ fn ubb_panels_say_what_they_show() {
     };
     assert_eq!(f.more.len(), 1, "the truth bands below the widths");
     // Without process noise there is no Theorem 4 bound, and the panel says why.
-    let (s, r) = preset("ubb-series");
-    let width = svg(&s, &r, Panel::UbbWidth, None);
+    let (_, r) = preset("ubb-series");
+    let width = svg(&r, Panel::UbbWidth, None);
     assert!(width.contains("no Theorem 4 bound"));
     assert!(!width.contains("Theorem 4 bound (2"));
     // An l1 norm is named; a projection of r = 3 says so; a polygon within a gap says so.
     let (s, r) = preset("ubb-leontief");
-    let set = svg(&s, &r, Panel::UbbSet, None);
+    let set = svg(&r, Panel::UbbSet, None);
     assert!(set.contains("r = 3: the projection on x₁, x₂"));
     assert!(r.ubb.as_ref().expect("ubb").at.polygon.exact && !set.contains("within gap"));
     // With a budget of 16 LPs its 47 vertices cannot all be found: the figure says how close.
@@ -1333,14 +1425,14 @@ fn ubb_panels_say_what_they_show() {
     }
     let few_report = few.run().expect("runs");
     assert!(!few_report.ubb.as_ref().expect("ubb").at.polygon.exact);
-    assert!(svg(&few, &few_report, Panel::UbbSet, None).contains("within gap"));
+    assert!(svg(&few_report, Panel::UbbSet, None).contains("within gap"));
     let mut s1 = s.clone();
     if let Some(u) = s1.ubb.as_mut() {
         u.norm = crate::ubb::Norm::L1;
         u.eps *= 3.0;
     }
     let r1 = s1.run().expect("l1 runs");
-    assert!(svg(&s1, &r1, Panel::UbbSet, None).contains("l₁ bounds"));
+    assert!(svg(&r1, Panel::UbbSet, None).contains("l₁ bounds"));
 }
 
 #[test]

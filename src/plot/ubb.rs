@@ -12,7 +12,7 @@ use super::geom::Win;
 use super::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
 use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
-use crate::scenario::{Report, UbbReport};
+use crate::scenario::{FigureContext, Report, UbbReport};
 use crate::ubb::Norm;
 use plotters::prelude::*;
 
@@ -124,9 +124,9 @@ pub fn percent(p: f64) -> String {
     }
 }
 
-/// "title — view's title" (small figures: the short title) or the default.
-pub(crate) fn title(view: &View, fonts: &Fonts, what: &str) -> String {
-    match &view.title {
+/// "title — the scenario's title" (small figures: the short title) or the default.
+pub(crate) fn title(fig: &FigureContext, fonts: &Fonts, what: &str) -> String {
+    match &fig.title {
         Some(t) if !fonts.compact => format!("{what} — {t}"),
         _ => what.to_string(),
     }
@@ -193,7 +193,7 @@ pub fn draw_set<DB: DrawingBackend>(
     } else {
         format!("x({})", k + 1)
     };
-    let axis = |c: usize| match view.names.get(c) {
+    let axis = |c: usize| match report.figure.names.get(c) {
         Some(name) if !name.is_empty() && !short => format!("{}: {name}", comp(c)),
         _ => comp(c),
     };
@@ -293,7 +293,7 @@ pub fn draw_set<DB: DrawingBackend>(
         },
     ));
     let title = title(
-        view,
+        &report.figure,
         &fonts,
         &format!("Feasible set at k = {k}: {target}, {norm} bounds"),
     );

@@ -103,7 +103,7 @@ pub fn draw<DB: DrawingBackend>(
             },
         ));
     }
-    let title = title(view, &fonts, "Width of the interval hull over k");
+    let title = title(&report.figure, &fonts, "Width of the interval hull over k");
     let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
     let (area, side) = style::legend(&area, &fonts, &entries)?;
 

@@ -15,7 +15,7 @@ use super::style::{
 };
 use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
-use crate::scenario::{Report, UniformReport};
+use crate::scenario::{FigureContext, Report, UniformReport};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
@@ -74,9 +74,9 @@ impl U<'_> {
     pub fn at_window(&self) -> bool {
         self.t == self.u.at.time
     }
-    /// Title: "Fig. k: what — the view's title" (small figures: "Fig. k: what") or the default.
-    pub fn title(view: &View, fonts: &Fonts, what: &str, default: &str) -> String {
-        match &view.title {
+    /// Title: "Fig. k: what — the scenario's title" (small figures: "Fig. k: what") or the default.
+    pub fn title(fig: &FigureContext, fonts: &Fonts, what: &str, default: &str) -> String {
+        match &fig.title {
             Some(t) if !fonts.compact => format!("{what} — {t}"),
             Some(_) => what.to_string(),
             None => default.to_string(),
@@ -207,7 +207,7 @@ impl Layout {
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub(crate) fn grid<DB: DrawingBackend>(
     root: &Area<DB>,
-    view: &View,
+    fig: &FigureContext,
     fonts: &Fonts,
     [what, default]: [&str; 2],
     notes: &[String],
@@ -216,7 +216,7 @@ pub(crate) fn grid<DB: DrawingBackend>(
     cols: usize,
     layout: Layout,
 ) -> Result<(Vec<Vec<Option<Area<DB>>>>, LegendSide)> {
-    let title = U::title(view, fonts, what, default);
+    let title = U::title(fig, fonts, what, default);
     let (area, side) = style::titled_legend(root, fonts, &title, notes, entries)?;
     let (_, h) = area.dim_in_pixel();
     let cols = cols.max(1);
@@ -306,7 +306,7 @@ pub(crate) fn columns<DB: DrawingBackend>(root: &Area<DB>, total: usize) -> (usi
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn values_over_errors<DB: DrawingBackend>(
     root: &Area<DB>,
-    view: &View,
+    fig: &FigureContext,
     fonts: &Fonts,
     title: [&str; 2],
     mut notes: Vec<String>,
@@ -326,7 +326,7 @@ fn values_over_errors<DB: DrawingBackend>(
     }
     let (rows, side) = grid(
         root,
-        view,
+        fig,
         fonts,
         title,
         &notes,
@@ -545,7 +545,7 @@ pub fn draw_states<DB: DrawingBackend>(
     }
     let (rows, side, layout) = values_over_errors(
         root,
-        view,
+        &report.figure,
         &fonts,
         [
             "Fig. 1: states and estimation errors",
@@ -563,7 +563,7 @@ pub fn draw_states<DB: DrawingBackend>(
             continue;
         };
         let sym = xsym(n, i);
-        let name = match view.names.get(i) {
+        let name = match report.figure.names.get(i) {
             Some(s) if !s.is_empty() => format!("{sym}: {s}"),
             _ if n == 1 => "state x".to_string(),
             _ => format!("state component {sym}"),
@@ -771,7 +771,7 @@ pub fn draw_output<DB: DrawingBackend>(
     }
     let (rows, side, layout) = values_over_errors(
         root,
-        view,
+        &report.figure,
         &fonts,
         [
             "Fig. 2: predicted output and prediction error",

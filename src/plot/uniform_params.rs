@@ -104,7 +104,7 @@ pub fn draw<DB: DrawingBackend>(
     let (_, layout) = columns(root, 1);
     let (rows, side) = grid(
         root,
-        view,
+        &report.figure,
         &fonts,
         [
             "Fig. 3: estimates of A and of the noise half-widths",

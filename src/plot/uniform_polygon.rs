@@ -60,7 +60,7 @@ pub fn draw<DB: DrawingBackend>(
 
     let short = fonts.compact;
     let (xs, ys) = (format!("x{}", sub(i + 1)), format!("x{}", sub(j + 1)));
-    let axis = |s: &str, c: usize| match view.names.get(c) {
+    let axis = |s: &str, c: usize| match report.figure.names.get(c) {
         Some(name) if !name.is_empty() => format!("{s}: {name}"),
         _ if short => s.to_string(),
         _ => format!("{s} of the state x{} at t = {t}", sub(t)),
@@ -146,7 +146,7 @@ pub fn draw<DB: DrawingBackend>(
         },
     ));
     let title = U::title(
-        view,
+        &report.figure,
         &fonts,
         &format!("States consistent with the window at t = {t}"),
         &format!(

@@ -674,14 +674,7 @@ impl MethodScenario for Glls {
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let g = s.prepare_glls()?.report()?;
-        let mut r = Report::of(
-            s.method,
-            s.alpha,
-            (g.n, g.m),
-            g.k,
-            g.plane.to_vec(),
-            g.y.clone(),
-        );
+        let mut r = Report::of(s, s.alpha, (g.n, g.m), g.k, g.plane.to_vec(), g.y.clone());
         r.glls = Some(g);
         Ok(r)
     }

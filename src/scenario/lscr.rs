@@ -699,7 +699,7 @@ impl MethodScenario for Lscr {
         }
         let y = p.y.iter().map(|v| vec![*v]).collect();
         let mut r = Report::of(
-            s.method,
+            s,
             l.level,
             (p.estimator.problem.n(), 1),
             l.time,

@@ -14,7 +14,7 @@
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
-use crate::model::ModelSpec;
+use crate::model::{MatrixSpec, ModelSpec};
 use crate::scf::{Asymptotic, ScfStep};
 use crate::study::Study;
 use nalgebra::DVector;
@@ -164,6 +164,103 @@ pub struct Report {
     /// The set-membership result (method "ubb").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ubb: Option<UbbReport>,
+    /// What the figures take from the scenario besides the numbers (title, axis names, …):
+    /// made with the report, so the page and the CLI draw the same figure from it.
+    #[serde(default)]
+    pub figure: FigureContext,
+}
+
+/// The scenario's part of every figure of a report: built with the report
+/// ([`FigureContext::of`]), so [`crate::plot::draw`] needs only the report and what the viewer
+/// chooses ([`crate::plot::View`]: panel, time, zoom). Names and indices only; an empty field
+/// is left out of the JSON.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FigureContext {
+    /// The scenario's title (figures without one get a generic title naming the panel).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub title: Option<String>,
+    /// Axis names of the state components, indexed by component (0-based), e.g.
+    /// "position p_x of robot A \[m\]"; a missing or empty entry gets the panel's default
+    /// ("x₁ (state component 0)").
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub names: Vec<String>,
+    /// For each state component, the measurement row that measures it directly (a row of a
+    /// constant H equal to a unit vector; `null` for none), so the state plane can draw the
+    /// measurements in state coordinates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<Vec<Option<usize>>>,
+    /// The scenario's collision check (the two bodies' components and d_min).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collision: Option<CollisionSpec>,
+}
+
+impl FigureContext {
+    /// The figure context of a scenario: its title and collision check, the directly measured
+    /// components, and for a collision check the bodies' position axes ("position p_x of robot
+    /// A \[m\]" when the title speaks of robots, else "position p_x of body A").
+    pub fn of(s: &Scenario) -> FigureContext {
+        let names = match &s.collision {
+            Some(c) => {
+                let robot = s
+                    .title
+                    .as_deref()
+                    .is_some_and(|t| t.to_lowercase().contains("robot"));
+                let (who, unit) = if robot {
+                    ("robot", " [m]")
+                } else {
+                    ("body", "")
+                };
+                let n = c.a.iter().chain(&c.b).copied().max().map_or(0, |m| m + 1);
+                // Empty entries: the panels' default names.
+                let mut names = vec![String::new(); n];
+                for (body, idx) in [("A", &c.a), ("B", &c.b)] {
+                    for (k, &i) in idx.iter().enumerate() {
+                        let axis = if k == 0 { "x" } else { "y" };
+                        if let Some(slot) = names.get_mut(i) {
+                            *slot = format!("position p_{axis} of {who} {body}{unit}");
+                        }
+                    }
+                }
+                names
+            }
+            None => Vec::new(),
+        };
+        FigureContext {
+            title: s.title.clone(),
+            names,
+            measured: direct_measurements(&s.model),
+            collision: s.collision.clone(),
+        }
+    }
+}
+
+/// For each state component, the row of a constant H that measures it directly.
+fn direct_measurements(model: &ModelSpec) -> Option<Vec<Option<usize>>> {
+    let rows = match model.h.as_ref()? {
+        MatrixSpec::Constant(rows) => rows.clone(),
+        MatrixSpec::Sequence(seq) => {
+            let first = seq.first()?.clone();
+            if seq.iter().all(|m| *m == first) {
+                first
+            } else {
+                return None;
+            }
+        }
+    };
+    let n = rows.first()?.len();
+    Some(
+        (0..n)
+            .map(|i| {
+                rows.iter().position(|r| {
+                    r.len() == n
+                        && r.iter()
+                            .enumerate()
+                            .all(|(j, &v)| if j == i { v == 1.0 } else { v == 0.0 })
+                })
+            })
+            .collect(),
+    )
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists
@@ -474,10 +571,10 @@ impl Scenario {
 }
 
 impl Report {
-    /// The report of a method with its own result block: the SCF fields stay empty; the caller
-    /// sets its block.
+    /// The report of a method with its own result block, with the scenario's method and
+    /// figure context: the SCF fields stay empty; the caller sets its block.
     pub(crate) fn of(
-        method: Method,
+        s: &Scenario,
         alpha: f64,
         (n, q): (usize, usize),
         time: usize,
@@ -485,7 +582,7 @@ impl Report {
         y: Vec<Vec<f64>>,
     ) -> Report {
         Report {
-            method,
+            method: s.method,
             alpha,
             n,
             q,
@@ -502,6 +599,7 @@ impl Report {
             glls: None,
             uniform: None,
             ubb: None,
+            figure: FigureContext::of(s),
         }
     }
 }

@@ -3,7 +3,7 @@
 //! `experiment`), their validation and the report's KF/SCF steps, collision warnings and the
 //! Fig. 1 coverage curve.
 
-use super::{MethodScenario, Report, Scenario, Source};
+use super::{FigureContext, MethodScenario, Report, Scenario, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
@@ -229,6 +229,7 @@ impl ScfPrepared {
             glls: None,
             uniform: None,
             ubb: None,
+            figure: FigureContext::of(s),
         })
     }
 

@@ -830,7 +830,7 @@ impl MethodScenario for Ubb {
     fn run(&self, s: &Scenario) -> Result<Report> {
         let u = s.prepare_ubb()?.report()?;
         let mut r = Report::of(
-            s.method,
+            s,
             s.alpha,
             (u.r, u.q),
             u.at.k,

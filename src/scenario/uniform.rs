@@ -510,7 +510,7 @@ impl MethodScenario for Uniform {
         let u = s.uniform_report()?;
         let q = u.y.first().map_or(0, |y| y.len());
         let mut r = Report::of(
-            s.method,
+            s,
             s.alpha,
             (u.n, q),
             u.at.time,

@@ -69,6 +69,11 @@ export default async function scf(env) {
     const r36 = await pixels(page);
     await slide(page, 'time', 20);
     assert.notEqual(await pixels(page), r36, 'robots: moving t changes the picture');
+    // The axis names come with the report, as in `confset figure`: robot A's position.
+    const rb = await page.$eval('#fig-state canvas', (c) => { const r = c.getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; });
+    await page.mouse.move(rb[0] + rb[2] * 0.5, rb[1] + rb[3] * 0.5);
+    const readout = await text(page, '#fig-state .cursor');
+    assert.match(readout, /^position p_x .* = .*, position p_y .* = /, `robots: cursor names the position axes: "${readout}"`);
 
     // Custom mode: a non-symmetric V is named inline, the last picture stays.
     await choose(page, 'custom');

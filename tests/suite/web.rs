@@ -119,8 +119,20 @@ fn session_draws_on_a_canvas_and_as_svg() {
             area[0] >= 0.0 && area[2] <= 600.0 && area[1] >= 0.0 && area[3] <= 400.0,
             "{panel}: plot area {area:?} is not inside the 600×400 CSS box"
         );
+        // The axis names come with the report: the robot's position, as in `confset figure`.
+        let x_label = frame["x_label"].as_str().expect("x_label");
+        if panel == "state" {
+            assert!(
+                x_label.starts_with("position p_x"),
+                "{panel}: x axis \"{x_label}\""
+            );
+        }
         let svg = s.svg(&view, 600, 400).expect("svg");
         assert!(svg.contains("<svg"), "{panel}: not SVG");
+        assert!(
+            svg.contains("position p_"),
+            "{panel}: no robot position axis in the SVG"
+        );
     }
 }
 
