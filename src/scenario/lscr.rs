@@ -385,16 +385,7 @@ impl Scenario {
             .coverage
             .clone()
             .ok_or_else(|| Error::field("lscr.coverage", "is missing (runs, seed)"))?;
-        let cond = self
-            .simulate
-            .as_ref()
-            .and_then(|s| s.condition.as_ref())
-            .ok_or_else(|| {
-                Error::field(
-                    "simulate.condition",
-                    "is needed by lscr.coverage (the fixed true state)",
-                )
-            })?;
+        let cond = self.condition("lscr.coverage needs the fixed true state")?;
         let tau = p.estimator.problem.regression.target.time(p.y.len());
         if cond.t != tau {
             return Err(Error::field(
@@ -684,15 +675,7 @@ impl MethodScenario for Lscr {
         let mut l = p.report()?;
         if p.spec.coverage.is_some() {
             let x = s
-                .simulate
-                .as_ref()
-                .and_then(|s| s.condition.as_ref())
-                .ok_or_else(|| {
-                    Error::field(
-                        "simulate.condition",
-                        "is needed by lscr.coverage (the fixed true state)",
-                    )
-                })?
+                .condition("lscr.coverage needs the fixed true state")?
                 .x
                 .clone();
             l.coverage = Some(p.coverage(&x)?);

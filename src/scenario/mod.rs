@@ -555,6 +555,14 @@ impl Scenario {
         Ok(())
     }
 
+    /// `simulate.condition` (the fixed state of a study), or a field error saying `why`.
+    pub(crate) fn condition(&self, why: &str) -> Result<&Condition> {
+        self.simulate
+            .as_ref()
+            .and_then(|s| s.condition.as_ref())
+            .ok_or_else(|| Error::field("simulate.condition", format!("is needed: {why}")))
+    }
+
     /// The method's own block, or a field error saying what it needs.
     pub(crate) fn block<'a, T>(&self, block: &'a Option<T>, needs: &str) -> Result<&'a T> {
         block.as_ref().ok_or_else(|| {

@@ -304,16 +304,7 @@ impl ScfPrepared {
             .experiment
             .as_ref()
             .ok_or_else(|| Error::field("experiment", "is missing (runs, seed, components)"))?;
-        let cond = s
-            .simulate
-            .as_ref()
-            .and_then(|s| s.condition.as_ref())
-            .ok_or_else(|| {
-                Error::field(
-                    "simulate.condition",
-                    "is needed: the experiment draws realizations conditioned on a state",
-                )
-            })?;
+        let cond = s.condition("the experiment draws realizations conditioned on a state")?;
         ConditionalExperiment::new(
             &self.model,
             &self.inputs,
