@@ -40,8 +40,9 @@
 //!   below), [`Panel::UOutput`] (`uniform.rs`, Fig. 2: y_t, the one-step prediction and its
 //!   error), [`Panel::UParams`] (`uniform_params.rs`, Fig. 3: the entries of Â and the
 //!   half-widths x̂ᵣ, ŷᵣ with the true values dashed) and [`Panel::UPolygon`]
-//!   (`uniform_polygon.rs`: the consistent-state polygon with truth ◇, LP ⋆, KF × and the
-//!   optimal-face box).
+//!   (`uniform_polygon.rs`: the exact consistent-state polygon with truth ◇, LP ⋆, KF × and
+//!   the optimal-face box; not for a scalar state). On the user's data there is no truth and
+//!   no KF: those marks and curves are left out and the error charts say why.
 //! * Set-membership reports (Tempo, method `ubb`) have two panels: [`Panel::UbbSet`]
 //!   (`ubb.rs`: the exact feasible polygon of x(k+1) at the report's step k, its interval hull
 //!   dashed, the central estimate ⋆, the truth ◇, the Kalman ellipse dashed) and
@@ -492,19 +493,19 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
 
 /// The panels worth drawing for a report: Region alone for an LSCR report; Singular, Index,
 /// Plane and (with a Monte Carlo study) Precision for a GLLS report; UStates, UOutput, UParams
-/// and UPolygon for a uniform-innovation report; UbbSet and UbbWidth for a set-membership report; otherwise State and Series always, Coverage
+/// and UPolygon (when the report has a polygon: not for n = 1) for a uniform-innovation report; UbbSet and UbbWidth for a set-membership report; otherwise State and Series always, Coverage
 /// when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
     if report.ubb.is_some() {
         return vec![Panel::UbbSet, Panel::UbbWidth];
     }
-    if report.uniform.is_some() {
-        return vec![
-            Panel::UStates,
-            Panel::UOutput,
-            Panel::UParams,
-            Panel::UPolygon,
-        ];
+    if let Some(u) = &report.uniform {
+        let mut v = vec![Panel::UStates, Panel::UOutput, Panel::UParams];
+        // A scalar state (n = 1) has no consistent-state polygon.
+        if u.at.polygon.is_some() {
+            v.push(Panel::UPolygon);
+        }
+        return v;
     }
     if let Some(g) = &report.glls {
         let mut v = vec![Panel::Singular, Panel::Index, Panel::Plane];
