@@ -28,7 +28,8 @@
 
 use crate::error::{Error, Result};
 use crate::linalg;
-use crate::model::{normal_vector, MatrixSpec, ModelSpec};
+use crate::method::Method;
+use crate::model::{normal_vector, ModelSpec};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -49,17 +50,6 @@ pub struct GllsModel {
     pub x0: DVector<f64>,
 }
 
-fn constant(field: &str, spec: &Option<MatrixSpec>) -> Result<Option<DMatrix<f64>>> {
-    match spec {
-        None => Ok(None),
-        Some(MatrixSpec::Constant(rows)) => linalg::from_rows(field, rows).map(Some),
-        Some(_) => Err(Error::field(
-            field,
-            "must be one matrix: the GLLS estimator needs a time-invariant model",
-        )),
-    }
-}
-
 impl GllsModel {
     /// From a scenario model: `F` = A, `H` = C, `B`, `W` = Ω (default: identity), `V` = the
     /// covariance of ξ (default 0), `x1_mean` = x(0) (default 0). Errors name the field.
@@ -67,8 +57,8 @@ impl GllsModel {
         if spec.g.is_some() || spec.sigma_v2.is_some() || spec.sigma_w2.is_some() {
             return Err(Error::field("model.G", "is the LSCR noise form: GLLS takes W (Ω, measurement noise) and optionally V (transition noise ξ)"));
         }
-        let a =
-            constant("model.F", &spec.f)?.ok_or_else(|| Error::field("model.F", "is missing"))?;
+        let a = ModelSpec::constant("model.F", &spec.f, Method::Glls)?
+            .ok_or_else(|| Error::field("model.F", "is missing"))?;
         let n = a.nrows();
         if a.ncols() != n || n == 0 {
             return Err(Error::field(
@@ -82,16 +72,19 @@ impl GllsModel {
                 format!("is {n}×{n}: the GLLS panel supports n ≤ 20"),
             ));
         }
-        let c =
-            constant("model.H", &spec.h)?.ok_or_else(|| Error::field("model.H", "is missing"))?;
+        let c = ModelSpec::constant("model.H", &spec.h, Method::Glls)?
+            .ok_or_else(|| Error::field("model.H", "is missing"))?;
         linalg::expect_shape("model.H", &c, c.nrows(), n)?;
         let m = c.nrows();
-        let b = constant("model.B", &spec.b)?.unwrap_or_else(|| DMatrix::zeros(n, 0));
+        let b = ModelSpec::constant("model.B", &spec.b, Method::Glls)?
+            .unwrap_or_else(|| DMatrix::zeros(n, 0));
         linalg::expect_shape("model.B", &b, n, b.ncols())?;
-        let omega = constant("model.W", &spec.w)?.unwrap_or_else(|| DMatrix::identity(m, m));
+        let omega = ModelSpec::constant("model.W", &spec.w, Method::Glls)?
+            .unwrap_or_else(|| DMatrix::identity(m, m));
         linalg::expect_shape("model.W", &omega, m, m)?;
         linalg::check_covariance("model.W", &omega, false)?;
-        let xi = constant("model.V", &spec.v)?.unwrap_or_else(|| DMatrix::zeros(n, n));
+        let xi = ModelSpec::constant("model.V", &spec.v, Method::Glls)?
+            .unwrap_or_else(|| DMatrix::zeros(n, n));
         linalg::expect_shape("model.V", &xi, n, n)?;
         linalg::check_covariance("model.V", &xi, false)?;
         let x0 = match &spec.x1_mean {
@@ -250,17 +243,6 @@ fn full_q(m: &DMatrix<f64>) -> DMatrix<f64> {
     aug.qr().q()
 }
 
-/// Largest singular value (spectral norm).
-pub fn norm2(m: &DMatrix<f64>) -> f64 {
-    if m.is_empty() {
-        return 0.0;
-    }
-    if !m.iter().all(|v| v.is_finite()) {
-        return f64::INFINITY;
-    }
-    m.clone().svd(false, false).singular_values.max()
-}
-
 /// Thin SVD sorted by decreasing singular value: (P₁, σ, R) with M = P₁ diag(σ) Rᵀ (20).
 fn thin_svd(m: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, DMatrix<f64>) {
     debug_assert!(m.iter().all(|v| v.is_finite()), "callers check finiteness");
@@ -309,7 +291,7 @@ fn svd_gain(
         let f = if i < keep { 1.0 / sigma[i] } else { 0.0 };
         right.row_mut(i).scale_mut(f);
     }
-    let kappa = norm2(&right);
+    let kappa = linalg::norm_2(&right);
     Ok((r * right, kappa))
 }
 
@@ -386,7 +368,7 @@ impl Horizon {
         }
         let (gain_past, kappa_past) = svd_gain(&p1, &sigma, &r, &omega_inv, n)?;
         let gain_current = &a_pow * &gain_past;
-        let kappa_current = norm2(&gain_current);
+        let kappa_current = linalg::norm_2(&gain_current);
         let kappa_lls_past = 1.0 / sigma[n - 1];
         let (sigma_prime, kappa_lls_current, prime) = match model.a.clone().try_inverse() {
             Some(ainv) if linalg::rcond(&model.a) > 1e-14 => {
@@ -515,7 +497,8 @@ impl Horizon {
     pub fn rounding_estimate(&self, past: &DVector<f64>, y: &DVector<f64>) -> f64 {
         let n = self.sigma.len();
         let cond = self.sigma[0] / self.sigma[n - 1];
-        f64::EPSILON * (cond * norm2(&self.a_pow) * past.norm() + self.kappa_current * y.norm())
+        f64::EPSILON
+            * (cond * linalg::norm_2(&self.a_pow) * past.norm() + self.kappa_current * y.norm())
     }
 }
 
@@ -767,7 +750,7 @@ impl SvWork {
         let big = if self.singular_values(m, &mut sv) {
             sv.first().copied().unwrap_or(0.0)
         } else {
-            norm2(m)
+            linalg::norm_2(m)
         };
         self.sv = sv;
         big

@@ -175,13 +175,35 @@ pub fn inverse_rcond(m: &DMatrix<f64>) -> Option<(DMatrix<f64>, f64)> {
         .clone()
         .try_inverse()
         .filter(|i| i.iter().all(|v| v.is_finite()))?;
-    let norm1 = |a: &DMatrix<f64>| {
-        a.column_iter()
-            .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
-            .fold(0.0, f64::max)
-    };
-    let rc = 1.0 / (norm1(m) * norm1(&inv));
+    let rc = 1.0 / (norm_1(m) * norm_1(&inv));
     Some((inv, rc))
+}
+
+/// Induced l1 operator norm ‖m‖₁: the largest absolute column sum.
+pub fn norm_1(m: &DMatrix<f64>) -> f64 {
+    m.column_iter()
+        .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// Induced l∞ operator norm ‖m‖∞: the largest absolute row sum (Tempo's Theorems 4 and 5 use
+/// it, consistent with the boxes of an l∞ state norm).
+pub fn norm_inf(m: &DMatrix<f64>) -> f64 {
+    m.row_iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// Induced l2 operator norm ‖m‖₂ (spectral norm, the largest singular value; 0 for an empty
+/// matrix, +∞ when an entry is not finite, where an SVD would not converge).
+pub fn norm_2(m: &DMatrix<f64>) -> f64 {
+    if m.is_empty() {
+        return 0.0;
+    }
+    if !m.iter().all(|v| v.is_finite()) {
+        return f64::INFINITY;
+    }
+    m.clone().svd(false, false).singular_values.max()
 }
 
 /// Spectral radius via the eigenvalues of the (real) Schur form.

@@ -32,6 +32,7 @@
 use crate::error::{Error, Result};
 use crate::kalman::KalmanGains;
 use crate::linalg;
+use crate::method::Method;
 use crate::model::{BackwardStep, ConditionedSampler, Inputs, LinearModel, MatrixSpec, ModelSpec};
 use crate::sets::{AffineGroup, Ellipsoid, SignRegion};
 use nalgebra::{DMatrix, DVector};
@@ -109,12 +110,7 @@ impl LscrModel {
             ("model.V", &spec.v),
             ("model.W", &spec.w),
         ] {
-            if matches!(m, Some(MatrixSpec::Sequence(_))) {
-                return Err(Error::field(
-                    field,
-                    "must be one matrix: LSCR needs a time-invariant model",
-                ));
-            }
+            ModelSpec::constant(field, m, Method::Lscr)?;
         }
         let linear = LinearModel::from_spec(spec).map_err(|e| {
             if e.field == "model.x1_cov" {

@@ -21,6 +21,7 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, check_covariance, expect_shape, psd_sqrt, symmetrize};
+use crate::method::Method;
 use nalgebra::{DMatrix, DVector};
 use rand::{Rng, RngExt};
 use rand_distr::StandardNormal;
@@ -35,6 +36,13 @@ pub enum MatrixSpec {
     Constant(Vec<Vec<f64>>),
     /// `[M_1, M_2, …]`: the matrix at t = 1, 2, …
     Sequence(Vec<Vec<Vec<f64>>>),
+}
+
+impl MatrixSpec {
+    /// A constant matrix as a spec (presets, and the models the methods build for a KF).
+    pub fn of(m: &DMatrix<f64>) -> MatrixSpec {
+        MatrixSpec::Constant(linalg::to_rows(m))
+    }
 }
 
 /// The `model` object of a scenario.
@@ -68,6 +76,26 @@ pub struct ModelSpec {
     /// All zeros means x_1 is known exactly.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x1_cov: Option<Vec<Vec<f64>>>,
+}
+
+impl ModelSpec {
+    /// The one matrix of a model field for a method that needs a time-invariant model (GLLS,
+    /// LSCR, uniform_lp, ubb): `None` when the field is absent, an error naming the field and
+    /// the method when it is a sequence of matrices.
+    pub fn constant(
+        field: &str,
+        spec: &Option<MatrixSpec>,
+        method: Method,
+    ) -> Result<Option<DMatrix<f64>>> {
+        match spec {
+            None => Ok(None),
+            Some(MatrixSpec::Constant(rows)) => linalg::from_rows(field, rows).map(Some),
+            Some(MatrixSpec::Sequence(_)) => Err(Error::field(
+                field,
+                format!("must be one matrix: method \"{method}\" needs a time-invariant model"),
+            )),
+        }
+    }
 }
 
 /// A validated model: dimensions agree, covariances are symmetric PSD (W positive definite),
@@ -255,10 +283,10 @@ impl LinearModel {
         w: DMatrix<f64>,
     ) -> Result<Self> {
         Self::from_spec(&ModelSpec {
-            f: Some(MatrixSpec::Constant(linalg::to_rows(&f))),
-            h: Some(MatrixSpec::Constant(linalg::to_rows(&h))),
-            v: Some(MatrixSpec::Constant(linalg::to_rows(&v))),
-            w: Some(MatrixSpec::Constant(linalg::to_rows(&w))),
+            f: Some(MatrixSpec::of(&f)),
+            h: Some(MatrixSpec::of(&h)),
+            v: Some(MatrixSpec::of(&v)),
+            w: Some(MatrixSpec::of(&w)),
             ..Default::default()
         })
     }

@@ -385,10 +385,6 @@ pub fn get(name: &str) -> Result<Scenario> {
         })
 }
 
-fn constant(m: &DMatrix<f64>) -> Option<MatrixSpec> {
-    Some(MatrixSpec::Constant(to_rows(m)))
-}
-
 /// Example 1 of the SCF paper.
 pub fn scalar() -> Scenario {
     let one = DMatrix::from_element(1, 1, 1.0);
@@ -396,10 +392,10 @@ pub fn scalar() -> Scenario {
         method: Method::Scf,
         title: Some("Scalar example (SCF paper, Example 1)".into()),
         model: ModelSpec {
-            f: constant(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt())),
-            h: constant(&one),
-            v: constant(&one),
-            w: constant(&one),
+            f: Some(MatrixSpec::of(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt()))),
+            h: Some(MatrixSpec::of(&one)),
+            v: Some(MatrixSpec::of(&one)),
+            w: Some(MatrixSpec::of(&one)),
             ..Default::default()
         },
         data: None,
@@ -514,11 +510,11 @@ pub fn robot_model(reading: NoiseReading) -> (ModelSpec, Vec<f64>) {
         KP * base_b[1] * DELTA,
     ];
     let spec = ModelSpec {
-        f: constant(&f),
-        h: constant(&h),
-        v: constant(&v),
-        w: constant(&w),
-        b: constant(&DMatrix::identity(8, 8)),
+        f: Some(MatrixSpec::of(&f)),
+        h: Some(MatrixSpec::of(&h)),
+        v: Some(MatrixSpec::of(&v)),
+        w: Some(MatrixSpec::of(&w)),
+        b: Some(MatrixSpec::of(&DMatrix::identity(8, 8))),
         x1_mean: Some(vec![-1.0, 20.0, 0.0, 0.0, 1.0, 20.0, 0.0, 0.0]),
         x1_cov: Some(to_rows(&DMatrix::zeros(8, 8))),
         ..Default::default()
@@ -638,7 +634,7 @@ pub fn uniform_paper() -> Scenario {
     Scenario {
         method: Method::UniformLp,
         title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
-        model: ModelSpec { f: constant(&theta.a), h: constant(&theta.c), b: constant(&theta.b), ..Default::default() },
+        model: ModelSpec { f: Some(MatrixSpec::of(&theta.a)), h: Some(MatrixSpec::of(&theta.c)), b: Some(MatrixSpec::of(&theta.b)), ..Default::default() },
         data: None,
         simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None }),
         alpha: 0.9,
@@ -654,10 +650,10 @@ pub fn uniform_paper() -> Scenario {
         glls: None,
         uniform: Some(UniformSpec {
             d: Some(to_rows(&theta.d)),
-            xr: xr.iter().copied().collect(),
-            yr: yr.iter().copied().collect(),
+            xr: Some(xr.iter().copied().collect()),
+            yr: Some(yr.iter().copied().collect()),
             u_half: 0.5,
-            estimator: "swapping".into(),
+            estimator: crate::uniform::Joint::Swapping,
             window: 5,
             prior_rel: 0.3,
             prior_overrides: vec![PriorOverride { matrix: "A".into(), row: 1, col: 1, lo: -0.3, hi: 0.3 }],

@@ -555,14 +555,6 @@ pub fn hilbert(
     })
 }
 
-/// Induced l∞ operator norm (largest absolute row sum): the norm of Theorems 4 and 5 here,
-/// consistent with the boxes of an l∞ state norm.
-pub fn norm_inf(m: &DMatrix<f64>) -> f64 {
-    (0..m.nrows())
-        .map(|i| m.row(i).iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
-}
-
 /// Theorems 4 and 5 for given ‖A‖, ‖B‖, τ and α (None: no smoothing, α = ∞).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Smoothing {

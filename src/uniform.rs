@@ -14,7 +14,8 @@
 //!   whose (A, C) is not observable: C·A = 0.5·C) — extra LPs give each state's range over the
 //!   optimal face;
 //! * [`consistent_polygon`]: the set of x_t consistent with the window's constraints at given
-//!   half-widths, as a polygon from its support function in many directions;
+//!   half-widths — a projection of a polytope, so a polygon — exact from support LPs on one
+//!   loaded problem ([`crate::sets::polygon_from_support`]);
 //! * [`Online`]: the sliding window of length ∂ (Section 4) with swapping (4.1) or expansion
 //!   (4.2, the linearization (13)) joint estimation, extending the half-width bounds when the LP
 //!   is infeasible (Section 3.2's note).
@@ -22,6 +23,7 @@
 //! All LPs go through [`crate::solve`].
 
 use crate::error::{Error, Result};
+use crate::sets::{polygon_from_support, SupportPolygon};
 use crate::solve;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -198,6 +200,17 @@ impl Lp {
         extra: Option<(&DVector<f64>, f64)>,
         field: &str,
     ) -> Result<solve::Solution> {
+        solve::quadratic(&self.problem(c, extra, field))
+    }
+
+    /// The LP as the solver's problem with objective `c`: 𝒜X ≤ ℬ, the finite bounds as rows,
+    /// and optionally one more row gᵀX ≤ h.
+    pub fn problem(
+        &self,
+        c: &DVector<f64>,
+        extra: Option<(&DVector<f64>, f64)>,
+        field: &str,
+    ) -> solve::Problem {
         let nv = self.c.len();
         let bound_rows: Vec<(usize, f64, f64)> = (0..nv)
             .flat_map(|j| {
@@ -224,7 +237,14 @@ impl Lp {
             a.row_mut(rows - 1).copy_from(&g.transpose());
             b[rows - 1] = h;
         }
-        solve::linear(c, None, Some((a, b)), field)
+        solve::Problem {
+            p: None,
+            q: c.clone(),
+            eq: None,
+            le: Some((a, b)),
+            soc: Vec::new(),
+            field: field.into(),
+        }
     }
 }
 
@@ -418,41 +438,56 @@ pub fn estimate_states(
 /// The range of the variable `index` over the optimal face {X : 𝒜X ≤ ℬ, bounds,
 /// cᵀX ≤ J* + tol}: two LPs.
 pub fn face_range(lp: &Lp, objective: f64, index: usize) -> Result<(f64, f64)> {
-    let tol = 1e-7 * objective.abs().max(1.0);
-    let mut e = DVector::zeros(lp.c.len());
-    e[index] = 1.0;
-    let lo = lp
-        .solve_with(&e, Some((&lp.c, objective + tol)), "uniform.face")?
-        .objective;
-    let hi = -lp
-        .solve_with(&(-&e), Some((&lp.c, objective + tol)), "uniform.face")?
-        .objective;
-    Ok((lo, hi))
+    Ok(face_ranges(lp, objective, &[index])?[0])
 }
 
-/// Each state entry's range over the optimal face ([`face_range`] per entry), per state newest
-/// first.
+/// The ranges of the variables `indices` over the optimal face: the face (the LP's rows with
+/// cᵀX ≤ J* + tol, tol = 1e-7·max(1, |J*|) for the solver's accuracy) is loaded once in a
+/// [`solve::Family`] and solved for ±e_i, two LPs per index.
+pub fn face_ranges(lp: &Lp, objective: f64, indices: &[usize]) -> Result<Vec<(f64, f64)>> {
+    let tol = 1e-7 * objective.abs().max(1.0);
+    let nv = lp.c.len();
+    let mut face =
+        solve::Family::new(&lp.problem(&lp.c, Some((&lp.c, objective + tol)), "uniform.face"))?;
+    indices
+        .iter()
+        .map(|&index| {
+            let mut e = DVector::zeros(nv);
+            e[index] = 1.0;
+            let lo = face.minimize(Some(&e))?.objective;
+            let hi = -face.minimize(Some(&(-e)))?.objective;
+            Ok((lo, hi))
+        })
+        .collect()
+}
+
+/// Each state entry's range over the optimal face ([`face_ranges`]), per state newest first.
 pub fn optimal_face(
     lp: &Lp,
     objective: f64,
     n: usize,
     states: usize,
 ) -> Result<Vec<(DVector<f64>, DVector<f64>)>> {
-    (0..states)
-        .map(|s| {
-            let (mut lo, mut hi) = (DVector::zeros(n), DVector::zeros(n));
-            for i in 0..n {
-                (lo[i], hi[i]) = face_range(lp, objective, s * n + i)?;
-            }
-            Ok((lo, hi))
+    let ranges = face_ranges(lp, objective, &(0..states * n).collect::<Vec<_>>())?;
+    Ok(ranges
+        .chunks(n)
+        .map(|state| {
+            (
+                DVector::from_iterator(n, state.iter().map(|r| r.0)),
+                DVector::from_iterator(n, state.iter().map(|r| r.1)),
+            )
         })
-        .collect()
+        .collect())
 }
 
-/// The polygon of x_last (components `plane`) consistent with the window's constraints at fixed
-/// half-widths: support values h(d) = max dᵀx in `directions` unit directions, and the vertices
-/// where neighbouring supporting lines meet (an outer polygon that touches the set in every
-/// direction; exact when the set is a polygon whose edge normals are among the directions).
+/// The polygon of x_last (components `plane`) consistent with the window's constraints (4) and
+/// the prior box (10) at fixed half-widths x_r, y_r: the projection of a polytope on a plane,
+/// hence a polygon. With the half-widths fixed they leave the LP — the rows of (8) read
+/// 𝒜_x X ≤ ℬ − 𝒜_r (x_r; y_r) — and the state LP is loaded once in a [`solve::Family`]; the
+/// exact polygon comes from [`polygon_from_support`] with at most `budget` support LPs (every
+/// stretch between two boundary points closed by a support call normal to it), with `exact`
+/// and the remaining `gap` when the budget runs out. Its vertices are points of the set.
+#[allow(clippy::too_many_arguments)]
 pub fn consistent_polygon(
     theta: &Theta,
     u: &[DVector<f64>],
@@ -462,50 +497,46 @@ pub fn consistent_polygon(
     xr: &DVector<f64>,
     yr: &DVector<f64>,
     plane: [usize; 2],
-    directions: usize,
-) -> Result<Vec<[f64; 2]>> {
-    let n = theta.n();
-    let mut lp = state_lp(theta, u, y, w, prior);
+    budget: usize,
+) -> Result<SupportPolygon> {
+    let (n, m) = (theta.n(), theta.m());
+    let lp = state_lp(theta, u, y, w, prior);
     let nx = w.states() * n;
-    // Fix the half-widths.
-    lp.lo.rows_mut(nx, n).copy_from(xr);
-    lp.hi.rows_mut(nx, n).copy_from(xr);
-    lp.lo.rows_mut(nx + n, yr.len()).copy_from(yr);
-    lp.hi.rows_mut(nx + n, yr.len()).copy_from(yr);
-    let nv = lp.c.len();
-    let mut support = Vec::with_capacity(directions);
-    for k in 0..directions {
-        let th = 2.0 * std::f64::consts::PI * k as f64 / directions as f64;
-        let d = [th.cos(), th.sin()];
-        let mut c = DVector::zeros(nv);
+    let mut hw = DVector::zeros(n + m);
+    hw.rows_mut(0, n).copy_from(xr);
+    hw.rows_mut(n, m).copy_from(yr);
+    let states = Lp {
+        c: DVector::zeros(nx),
+        a: lp.a.columns(0, nx).into_owned(),
+        b: &lp.b - lp.a.columns(nx, n + m) * hw,
+        lo: lp.lo.rows(0, nx).into_owned(),
+        hi: lp.hi.rows(0, nx).into_owned(),
+    };
+    let mut family = solve::Family::new(&states.problem(&states.c, None, "uniform.window"))?;
+    // x_last comes first in the layout of (8): its components are X[plane[0]], X[plane[1]].
+    let probe = |d: [f64; 2]| -> Result<(f64, [f64; 2])> {
+        let mut c = DVector::zeros(nx);
         c[plane[0]] = -d[0];
         c[plane[1]] = -d[1];
-        let h = -lp.solve_with(&c, None, "uniform.window")?.objective;
-        support.push((d, h));
-    }
-    // Vertices: intersections of consecutive supporting lines dᵢ·x = hᵢ.
-    let mut poly = Vec::with_capacity(directions);
-    for k in 0..directions {
-        let (d1, h1) = support[k];
-        let (d2, h2) = support[(k + 1) % directions];
-        let det = d1[0] * d2[1] - d1[1] * d2[0];
-        poly.push([
-            (h1 * d2[1] - h2 * d1[1]) / det,
-            (d1[0] * h2 - d2[0] * h1) / det,
-        ]);
-    }
-    Ok(poly)
+        let x = family.minimize(Some(&c))?.x;
+        let p = [x[plane[0]], x[plane[1]]];
+        Ok((d[0] * p[0] + d[1] * p[1], p))
+    };
+    // The interior-point solver is accurate to about 1e-8 relative to the data's scale.
+    polygon_from_support(probe, budget, 1e-7)
 }
 
-/// Joint on-line estimation method (Section 4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+/// Joint on-line estimation method (Section 4). JSON (`uniform.estimator`): `"states"`,
+/// `"parameters"`, `"swapping"` (the default) or `"expansion"`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Joint {
     /// Θ known: states only (Section 3.3 on the window).
     States,
     /// States known (measured): Θ and half-widths only (Section 3.4 on the window).
     Parameters,
     /// 4.1: states given Θ̂, then Θ̂ given the states, per step.
+    #[default]
     Swapping,
     /// 4.2: one LP in states, Θ and half-widths with A x ≈ Â x + A x̂ − Â x̂ (13).
     Expansion,

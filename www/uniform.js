@@ -160,6 +160,8 @@ export async function mountUniform(root, presets) {
     u.xr_max = halfWidths('uniform.xr_max', ui.xrmax.value, n);
     u.yr_max = halfWidths('uniform.yr_max', ui.yrmax.value, m);
     u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
+    // A scalar state has no polygon, hence no plane (the polygon card then says why).
+    if (n === 1) delete u.plane;
     s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
     s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
     u.time = wholeNumber('uniform.time', ui.time.value);
@@ -200,16 +202,25 @@ export async function mountUniform(root, presets) {
     const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
     row(`true x<sub>${t}</sub>`, truth ? vec(truth) : '– (data given)');
     row('LP estimate', vec(step?.x));
-    row('Kalman filter', `${vec(u.kf[t - 1])} <span class="hint">(true Θ, variances r²/3)</span>`);
+    row('Kalman filter', u.kf ? `${vec(u.kf[t - 1])} <span class="hint">(true Θ, variances r²/3)</span>` : '– (data given: no true Θ)');
     const faces = at.face_lo[0].map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(at.face_hi[0][i])}]</span>`);
     row(`optimal face of x<sub>${t}</sub>`, faces.join(' '));
-    const below = at.objective <= at.true_objective * (1 + 1e-9) + 1e-12;
     const guaranteed = at.polygon_theta_true;
-    row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', `${fmt(at.objective)} vs the truth’s ${fmt(at.true_objective)} ${below
-      ? '<b class="good">✓ the optimum is never above the truth’s</b>'
-      : `<b class="warn">✗ above the truth’s</b>${guaranteed ? '' : ' <span class="hint">(Θ̂ ≠ Θ: the truth need not be feasible)</span>'}`}`);
-    row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
-      ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}</span>`);
+    if (at.true_objective != null) {
+      const below = at.objective <= at.true_objective * (1 + 1e-9) + 1e-12;
+      row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', `${fmt(at.objective)} vs the truth’s ${fmt(at.true_objective)} ${below
+        ? '<b class="good">✓ the optimum is never above the truth’s</b>'
+        : `<b class="warn">✗ above the truth’s</b>${guaranteed ? '' : ' <span class="hint">(Θ̂ ≠ Θ: the truth need not be feasible)</span>'}`}`);
+    } else {
+      row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', fmt(at.objective));
+    }
+    if (at.polygon) {
+      const exact = at.polygon.exact ? `exact, ${at.polygon.calls} LPs` : `budget spent: within ${fmt(at.polygon.gap)}`;
+      row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
+        ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}; ${exact}</span>`);
+    } else {
+      row('polygon', `– <span class="hint">(${at.polygon_absent || 'none'})</span>`);
+    }
     ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
 
     // Over the run.
@@ -224,16 +235,16 @@ export async function mountUniform(root, presets) {
         : '<span class="warn">the hard bounds hurt here</span> <span class="hint">(the LP picks a point of a face the data leave open; the KF averages)</span>'}`);
     }
     rrow('RMS prediction error', `${fmt(u.rms_prediction)} <span class="hint">(y<sub>t</sub> − ŷ<sub>t|t−1</sub>)</span>`);
-    const [A, B, C] = u.theta_true;
-    const theta = (name, est, tru) => rrow(`final ${name}̂`, `${mat(est)} <span class="hint">true</span> ${mat(tru)}`);
+    const [A, B, C] = u.theta_true || [];
+    const theta = (name, est, tru) => rrow(`final ${name}̂`, `${mat(est)}${tru ? ` <span class="hint">true</span> ${mat(tru)}` : ''}`);
     theta('A', last.a, A);
     theta('B', last.b, B);
     theta('C', last.c, C);
-    rrow('final x̂<sub>r</sub>, ŷ<sub>r</sub>', `${vec(last.xr)}, ${vec(last.yr)} <span class="hint">true</span> ${vec(u.xr_true)}, ${vec(u.yr_true)}`);
+    rrow('final x̂<sub>r</sub>, ŷ<sub>r</sub>', `${vec(last.xr)}, ${vec(last.yr)}${u.xr_true ? ` <span class="hint">true</span> ${vec(u.xr_true)}, ${vec(u.yr_true)}` : ''}`);
     rrow('half-width bounds extended', `${u.extended} ${u.extended === 1 ? 'time' : 'times'}${u.extended ? ' <span class="hint">(doubled where the LP was infeasible)</span>' : ''}`);
     ui['run-numbers'].innerHTML = `<table class="est"><tbody>${r.join('')}</tbody></table>`
       + (u.estimator === 'states' ? '<p class="hint">Θ known: the final Θ̂ is the true Θ.</p>' : '')
-      + (n === 2 ? '' : `<p class="hint">The polygon shows x${sub(u.plane[0] + 1)}, x${sub(u.plane[1] + 1)} of the ${n} state components.</p>`);
+      + (n === 2 || !u.plane ? '' : `<p class="hint">The polygon shows x${sub(u.plane[0] + 1)}, x${sub(u.plane[1] + 1)} of the ${n} state components.</p>`);
     ui.timing.textContent = `rendered in ${(st.runMs + st.drawMs).toFixed(1)} ms (run ${st.runMs.toFixed(1)} ms + draw ${st.drawMs.toFixed(1)} ms)`;
   }
 

@@ -43,8 +43,9 @@
 //!   below), [`Panel::UOutput`] (`uniform.rs`, Fig. 2: y_t, the one-step prediction and its
 //!   error), [`Panel::UParams`] (`uniform_params.rs`, Fig. 3: the entries of Â and the
 //!   half-widths x̂ᵣ, ŷᵣ with the true values dashed) and [`Panel::UPolygon`]
-//!   (`uniform_polygon.rs`: the consistent-state polygon with truth ◇, LP ⋆, KF × and the
-//!   optimal-face box).
+//!   (`uniform_polygon.rs`: the exact consistent-state polygon with truth ◇, LP ⋆, KF × and
+//!   the optimal-face box; not for a scalar state). On the user's data there is no truth and
+//!   no KF: those marks and curves are left out and the error charts say why.
 //! * Set-membership reports (Tempo, method `ubb`) have two panels: [`Panel::UbbSet`]
 //!   (`ubb.rs`: the exact feasible polygon of x(k+1) at the report's step k, its interval hull
 //!   dashed, the central estimate ⋆, the truth ◇, the Kalman ellipse dashed) and
@@ -361,7 +362,7 @@ pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
 
 /// The panels worth drawing for a report: Region alone for an LSCR report; Singular, Index,
 /// Plane and (with a Monte Carlo study) Precision for a GLLS report; UStates, UOutput, UParams
-/// and UPolygon for a uniform-innovation report; UbbSet and UbbWidth for a set-membership report; otherwise State and Series always, Coverage
+/// and UPolygon (when the report has a polygon: not for n = 1) for a uniform-innovation report; UbbSet and UbbWidth for a set-membership report; otherwise State and Series always, Coverage
 /// when the report has a coverage curve.
 pub fn useful_panels(report: &Report) -> Vec<Panel> {
     method_panels(report.method)
@@ -370,6 +371,11 @@ pub fn useful_panels(report: &Report) -> Vec<Panel> {
         .filter(|p| match p {
             Panel::Precision => report.glls.as_ref().is_some_and(|g| g.precision.is_some()),
             Panel::Coverage => report.coverage_curve.is_some(),
+            // A scalar state (n = 1) has no consistent-state polygon.
+            Panel::UPolygon => report
+                .uniform
+                .as_ref()
+                .is_some_and(|u| u.at.polygon.is_some()),
             _ => true,
         })
         .collect()

@@ -1147,7 +1147,7 @@ fn uniform_panels_show_what_the_papers_figures_show() {
     for label in ["â₁₁", "â₂₂", "x̂ᵣ,₁", "ŷᵣ", "true value", "Fig. 3"] {
         assert!(params.contains(label), "uparams: no \"{label}\"");
     }
-    let m = u.yr_true.len();
+    let m = u.yr_true.as_ref().expect("simulated").len();
     for k in 0..n * n + n + m {
         let c = style::series_color(k);
         assert!(points(&params, &c) >= steps - 10, "curve {k}");
@@ -1268,7 +1268,7 @@ fn uniform_and_other_panels_do_not_mix() {
     // Broken reports are errors, not panics.
     let mut bad = r.clone();
     if let Some(u) = bad.uniform.as_mut() {
-        u.kf.pop();
+        u.kf.as_mut().expect("simulated").pop();
     }
     assert_eq!(
         report_svg(&bad, &View::new(Panel::UStates), 800, 600)
@@ -1293,7 +1293,7 @@ fn uniform_and_other_panels_do_not_mix() {
     assert!(report_svg(&bad, &View::new(Panel::UParams), 800, 600).is_err());
     let mut bad = r.clone();
     if let Some(u) = bad.uniform.as_mut() {
-        u.plane = [0, 0];
+        u.plane = Some([0, 0]);
     }
     assert_eq!(
         report_svg(&bad, &View::new(Panel::UPolygon), 800, 600)
@@ -1307,6 +1307,72 @@ fn uniform_and_other_panels_do_not_mix() {
             .field,
         "size"
     );
+}
+
+/// The uniform-paper scenario on its own y and u as `data` (no truth), and a scalar model.
+fn uniform_without_truth() -> (Scenario, Report, Scenario, Report) {
+    let (s, r) = preset("uniform-paper");
+    let u = r.uniform.as_ref().expect("uniform");
+    let mut d = s.clone();
+    d.simulate = None;
+    d.data = Some(crate::scenario::DataSpec {
+        y: u.y[1..].to_vec(),
+        u: u.u[1..].to_vec(),
+    });
+    let rd = d.run().expect("data run");
+    let mut one = s.clone();
+    one.model.f = Some(crate::model::MatrixSpec::Constant(vec![vec![0.8]]));
+    one.model.h = Some(crate::model::MatrixSpec::Constant(vec![vec![1.0]]));
+    one.model.b = Some(crate::model::MatrixSpec::Constant(vec![vec![1.0]]));
+    if let Some(spec) = one.uniform.as_mut() {
+        spec.xr = Some(vec![0.2]);
+        spec.xr_max = Some(vec![1.0]);
+        spec.plane = None;
+        spec.prior_overrides.clear();
+    }
+    let r1 = one.run().expect("n = 1 runs");
+    (d, rd, one, r1)
+}
+
+#[test]
+fn uniform_panels_draw_data_and_scalar_reports_without_inventing_a_truth() {
+    let (_d, rd, _one, r1) = uniform_without_truth();
+    assert_eq!(useful_panels(&rd), UNIFORM_PANELS.to_vec());
+    // Data: no truth curve, no KF, no true values; the error charts say why.
+    let states = svg(&rd, Panel::UStates, None);
+    assert!(!states.contains("true state xₜ") && !states.contains("KF with"));
+    assert!(
+        states.contains("no true states"),
+        "the error charts explain"
+    );
+    assert!(polylines(&states, &style::TRUTH, 2).is_empty());
+    assert!(polylines(&states, &style::KF, 2).is_empty());
+    assert!(!polylines(&states, &style::UNIFORM_LP, 2).is_empty());
+    let output = svg(&rd, Panel::UOutput, None);
+    assert!(output.contains("measured output") && !output.contains("noise bound"));
+    let params = svg(&rd, Panel::UParams, None);
+    assert!(!params.contains("true value (same colour)") && params.contains("your data"));
+    let poly = svg(&rd, Panel::UPolygon, None);
+    assert_eq!(polygons(&poly, &style::POLYGON), 1);
+    assert!(!poly.contains("true state x") && !poly.contains("KF"));
+    // n = 1: no polygon panel; the others draw a scalar state; asking for it says why.
+    assert_eq!(
+        useful_panels(&r1),
+        vec![Panel::UStates, Panel::UOutput, Panel::UParams]
+    );
+    for p in [Panel::UStates, Panel::UOutput, Panel::UParams] {
+        for (w, h) in [(320, 240), (800, 600)] {
+            let v = View::new(p);
+            let mut out = String::new();
+            draw(SVGBackend::with_string(&mut out, (w, h)), &r1, &v)
+                .unwrap_or_else(|e| panic!("{} {w}×{h}: {e}", p.name()));
+        }
+    }
+    assert!(svg(&r1, Panel::UStates, None).contains("state x"));
+    assert!(svg(&r1, Panel::UParams, None).contains("â"));
+    let e = report_svg(&r1, &View::new(Panel::UPolygon), 800, 600).unwrap_err();
+    assert_eq!(e.field, "report.uniform.at.polygon");
+    assert!(e.message.contains("n = 1"), "{e}");
 }
 
 #[test]

@@ -8,6 +8,9 @@
 //! Every time chart spans t = 0 … T and carries the cursor at the report's window time
 //! (`at.time`, or the view's time); the grey band marks the sliding window x_{first−1} … x_t
 //! whose LP the report solved there.
+//!
+//! A report on the user's data has no truth: no true curves or values, no KF (it needs the
+//! true Θ and half-widths), and the error charts say why they are empty.
 
 use super::geom::Win;
 use super::style::{
@@ -16,6 +19,7 @@ use super::style::{
 use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
 use crate::scenario::{FigureContext, Report, UniformReport};
+use crate::uniform::Joint;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
@@ -59,16 +63,24 @@ pub(crate) struct U<'a> {
     pub t: usize,
     /// x_0 … x_T when simulated.
     pub truth: Option<&'a [Vec<f64>]>,
+    /// KF estimates x_1 … x_T when simulated.
+    pub kf: Option<&'a [Vec<f64>]>,
 }
 
 impl U<'_> {
     /// The estimator's name as the paper calls it.
     pub fn estimator(&self) -> &'static str {
-        match self.u.estimator.as_str() {
-            "states" => "state LP with the true Θ (Section 3.3)",
-            "expansion" => "expansion-based joint estimation (Section 4.2)",
-            _ => "swapping-based joint estimation (Section 4.1)",
+        match self.u.estimator {
+            Joint::States if self.truth.is_none() => "state LP with the model's Θ (Section 3.3)",
+            Joint::States => "state LP with the true Θ (Section 3.3)",
+            Joint::Parameters => "parameter LP with the states known (Section 3.4)",
+            Joint::Expansion => "expansion-based joint estimation (Section 4.2)",
+            Joint::Swapping => "swapping-based joint estimation (Section 4.1)",
         }
+    }
+    /// Whether the report is on the user's data (no truth).
+    pub fn is_data(&self) -> bool {
+        self.truth.is_none()
     }
     /// Whether the window at the cursor is the report's (then its face and polygon apply).
     pub fn at_window(&self) -> bool {
@@ -89,7 +101,7 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
     let u = uniform_of(report, panel)?;
     let n = u.n;
     let steps = u.steps.len();
-    let m = u.yr_true.len();
+    let m = u.steps.first().map_or(0, |s| s.yr.len());
     let bad = |what: &str| Err(Error::field("report.uniform", what.to_string()));
     if n == 0 || steps == 0 || m == 0 {
         return bad("has no states, outputs or time steps to draw");
@@ -113,7 +125,7 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
     if u.y.len() != steps + 1 || !rows_ok(&u.y[1..], steps, m) {
         return bad("must hold y_1 … y_T (index 0 unused) of the outputs' dimension");
     }
-    if !rows_ok(&u.kf, steps, n) {
+    if u.kf.as_ref().is_some_and(|kf| !rows_ok(kf, steps, n)) {
         return bad("must hold one KF estimate x_1 … x_T per step");
     }
     if let Some(x) = &u.x_true {
@@ -121,11 +133,20 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
             return bad("must hold the true states x_0 … x_T");
         }
     }
-    if !rows_ok(&u.theta_true[0], n, n) || u.xr_true.len() != n || !finite(&u.xr_true) {
+    if u.theta_true
+        .as_ref()
+        .is_some_and(|th| !rows_ok(&th[0], n, n))
+        || u.xr_true
+            .as_ref()
+            .is_some_and(|v| v.len() != n || !finite(v))
+    {
         return bad("must hold the true A (n × n) and half-widths x_r (n)");
     }
-    if !finite(&u.yr_true) {
-        return bad("holds non-finite true half-widths y_r");
+    if u.yr_true
+        .as_ref()
+        .is_some_and(|v| v.len() != m || !finite(v))
+    {
+        return bad("must hold the true half-widths y_r (one per output)");
     }
     let at = &u.at;
     if !(1..=steps).contains(&at.time) || at.first == 0 || at.first > at.time {
@@ -141,16 +162,14 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
             "must hold the optimal-face ranges of x_time … x_{first−1}",
         ));
     }
-    if at.polygon.iter().any(|p| !finite(p)) {
+    if at
+        .polygon
+        .as_ref()
+        .is_some_and(|p| p.vertices.iter().any(|v| !finite(v)))
+    {
         return Err(Error::field(
             "report.uniform.at.polygon",
             "holds non-finite vertices",
-        ));
-    }
-    if u.plane[0] >= n || u.plane[1] >= n || u.plane[0] == u.plane[1] {
-        return Err(Error::field(
-            "report.uniform.plane",
-            format!("must name two distinct components below n = {n}"),
         ));
     }
     let t = view.time.unwrap_or(at.time);
@@ -171,6 +190,7 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
         steps,
         t,
         truth: u.x_true.as_deref(),
+        kf: u.kf.as_deref(),
     })
 }
 
@@ -464,7 +484,7 @@ pub fn draw_states<DB: DrawingBackend>(
     let short = short_labels(root, &fonts);
     let at = &u.u.at;
     let lp = |s: usize, i: usize| u.u.steps[s - 1].x[i];
-    let kf = |s: usize, i: usize| u.u.kf[s - 1][i];
+    let kf = |s: usize, i: usize| u.kf.map(|k| k[s - 1][i]);
     let truth = |s: usize, i: usize| u.truth.map(|x| x[s][i]);
 
     let mut entries = Vec::new();
@@ -494,18 +514,20 @@ pub fn draw_states<DB: DrawingBackend>(
             width: 2,
         },
     ));
-    entries.push(Entry::new(
-        if short {
-            "KF (true Θ)"
-        } else {
-            "KF with the true Θ and variances r²/3"
-        },
-        Swatch::Line {
-            color: KF,
-            dashed: true,
-            width: 2,
-        },
-    ));
+    if u.kf.is_some() {
+        entries.push(Entry::new(
+            if short {
+                "KF (true Θ)"
+            } else {
+                "KF with the true Θ and variances r²/3"
+            },
+            Swatch::Line {
+                color: KF,
+                dashed: true,
+                width: 2,
+            },
+        ));
+    }
     if u.at_window() {
         entries.push(Entry::new(
             if short {
@@ -522,6 +544,14 @@ pub fn draw_states<DB: DrawingBackend>(
         entries.push(window_entry(&u, short));
     }
     let mut notes = vec![format!("{}, window ∂ = {}", u.estimator(), u.u.window)];
+    if u.is_data() {
+        notes.push(if short {
+            "your data: no true states, no errors".to_string()
+        } else {
+            "your data: no true states, so no errors and no KF (it needs the true Θ and half-widths)"
+                .to_string()
+        });
+    }
     if let (Some(a), Some(b)) = (u.u.rms_lp, u.u.rms_kf) {
         notes.push(format!(
             "RMS error ‖x̂ₜ − xₜ‖ over t = {} … {steps}: LP {}, KF {}",
@@ -583,7 +613,9 @@ pub fn draw_states<DB: DrawingBackend>(
             .filter_map(|s| Some((s as f64, truth(s, i)?)))
             .collect();
         let lp_pts: Vec<(f64, f64)> = (1..=steps).map(|s| (s as f64, lp(s, i))).collect();
-        let kf_pts: Vec<(f64, f64)> = (1..=steps).map(|s| (s as f64, kf(s, i))).collect();
+        let kf_pts: Vec<(f64, f64)> = (1..=steps)
+            .filter_map(|s| Some((s as f64, kf(s, i)?)))
+            .collect();
         let win = time_win(
             steps,
             truth_pts
@@ -629,7 +661,9 @@ pub fn draw_states<DB: DrawingBackend>(
                 .collect()
         };
         let lp_err = err(&|s| lp(s, i));
-        let kf_err = err(&|s| kf(s, i));
+        let kf_err: Vec<(f64, f64)> = (1..=steps)
+            .filter_map(|s| Some((s as f64, kf(s, i)? - truth(s, i)?)))
+            .collect();
         let win = time_win(
             steps,
             lp_err
@@ -715,7 +749,8 @@ pub fn draw_output<DB: DrawingBackend>(
     let u = check(report, view, Panel::UOutput)?;
     let (m, steps, t) = (u.m, u.steps, u.t);
     let short = short_labels(root, &fonts);
-    let entries = vec![
+    let yr_true = u.u.yr_true.as_deref();
+    let mut entries = vec![
         Entry::new(
             if short {
                 "output yₜ"
@@ -740,23 +775,27 @@ pub fn draw_output<DB: DrawingBackend>(
                 width: 2,
             },
         ),
-        Entry::new(
-            format!(
-                "output noise bound ±yᵣ{}",
-                if m == 1 {
-                    format!(" = ±{}", sig(u.u.yr_true[0]))
-                } else {
-                    String::new()
-                }
-            ),
-            Swatch::Line {
-                color: TRUTH,
-                dashed: true,
-                width: 1,
-            },
-        )
-        .minor(),
     ];
+    if let Some(yr) = yr_true {
+        entries.push(
+            Entry::new(
+                format!(
+                    "output noise bound ±yᵣ{}",
+                    if m == 1 {
+                        format!(" = ±{}", sig(yr[0]))
+                    } else {
+                        String::new()
+                    }
+                ),
+                Swatch::Line {
+                    color: TRUTH,
+                    dashed: true,
+                    width: 1,
+                },
+            )
+            .minor(),
+        );
+    }
     let mut notes = vec![format!("{}, window ∂ = {}", u.estimator(), u.u.window)];
     notes.push(format!(
         "RMS prediction error over t = {} … {steps}: {}",
@@ -821,8 +860,14 @@ pub fn draw_output<DB: DrawingBackend>(
 
         let Some(bottom) = bottom else { continue };
         let e: Vec<(f64, f64)> = y.iter().zip(&p).map(|(a, b)| (a.0, b.1 - a.1)).collect();
-        let yr = u.u.yr_true[j];
-        let win = time_win(steps, e.iter().map(|q| q.1).chain([0.0, yr, -yr]));
+        let yr = yr_true.map(|v| v[j]);
+        let win = time_win(
+            steps,
+            e.iter()
+                .map(|q| q.1)
+                .chain(std::iter::once(0.0))
+                .chain(yr.into_iter().flat_map(|v| [v, -v])),
+        );
         let yd = if short {
             "error".to_string()
         } else {
@@ -842,7 +887,7 @@ pub fn draw_output<DB: DrawingBackend>(
         )?;
         window_band(root, &chart, &u)?;
         level(root, &chart, win, 0.0, &TRUTH, 1, None)?;
-        for v in [yr, -yr] {
+        for v in yr.into_iter().flat_map(|v| [v, -v]) {
             level(root, &chart, win, v, &TRUTH, 1, Some((4, 4)))?;
         }
         style::path(root, &chart, &e, &UNIFORM_LP, 2, None)?;

@@ -1,6 +1,7 @@
 //! Panel::UParams — Fig. 3 of the uniform-innovation paper: the entries of Â over time (one
 //! line per entry âᵢⱼ, the true aᵢⱼ as a thin dashed line of the same colour), and below the
-//! half-width estimates x̂ᵣ,ᵢ and ŷᵣ,ⱼ with the true half-widths dashed.
+//! half-width estimates x̂ᵣ,ᵢ and ŷᵣ,ⱼ with the true half-widths dashed. On the user's data
+//! there are no true values: the curves stand alone.
 
 use super::style::{self, sig, sub, Entry, Fonts, Swatch, TEXT};
 use super::uniform::{
@@ -23,9 +24,10 @@ pub fn draw<DB: DrawingBackend>(
     let u = check(report, view, Panel::UParams)?;
     let (n, steps, t) = (u.n, u.steps, u.t);
     let short = short_labels(root, &fonts);
-    let a_true = &u.u.theta_true[0];
-    // Curves: (label, colour, estimates over t = 1 … T, true value).
-    let mut a_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, f64)> = Vec::new();
+    let a_true = u.u.theta_true.as_ref().map(|th| &th[0]);
+    let m = u.m;
+    // Curves: (label, colour, estimates over t = 1 … T, true value when simulated).
+    let mut a_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, Option<f64>)> = Vec::new();
     for i in 0..n {
         for j in 0..n {
             let k = i * n + j;
@@ -37,21 +39,22 @@ pub fn draw<DB: DrawingBackend>(
             } else {
                 format!("â{}{}", sub(i + 1), sub(j + 1))
             };
-            a_curves.push((label, style::series_color(k), pts, a_true[i][j]));
+            a_curves.push((label, style::series_color(k), pts, a_true.map(|a| a[i][j])));
         }
     }
-    let mut r_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, f64)> = Vec::new();
+    let mut r_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, Option<f64>)> = Vec::new();
     // x̂ᵣ per state, then ŷᵣ per output; colours continue after the n² entries of Â.
-    let half_widths: [(&str, &[f64], fn(&OnlineStep) -> &[f64]); 2] = [
-        ("x̂ᵣ", &u.u.xr_true, |s| &s.xr),
-        ("ŷᵣ", &u.u.yr_true, |s| &s.yr),
+    let half_widths: [(&str, usize, Option<&[f64]>, fn(&OnlineStep) -> &[f64]); 2] = [
+        ("x̂ᵣ", n, u.u.xr_true.as_deref(), |s| &s.xr),
+        ("ŷᵣ", m, u.u.yr_true.as_deref(), |s| &s.yr),
     ];
-    for (name, truths, estimates) in half_widths {
-        for (i, &truth) in truths.iter().enumerate() {
+    for (name, count, truths, estimates) in half_widths {
+        for i in 0..count {
+            let truth = truths.map(|v| v[i]);
             let pts = (1..=steps)
                 .map(|s| (s as f64, estimates(&u.u.steps[s - 1])[i]))
                 .collect();
-            let label = if truths.len() == 1 {
+            let label = if count == 1 {
                 name.to_string()
             } else {
                 format!("{name},{}", sub(i + 1))
@@ -68,38 +71,52 @@ pub fn draw<DB: DrawingBackend>(
     let mut entries: Vec<Entry> = Vec::new();
     for (label, color, _, truth) in a_curves.iter().chain(&r_curves) {
         entries.push(Entry::new(
-            if short {
-                label.clone()
-            } else {
-                format!("{label} (true {})", sig(*truth))
+            match truth {
+                Some(v) if !short => format!("{label} (true {})", sig(*v)),
+                _ => label.clone(),
             },
             line(*color),
         ));
     }
-    entries.push(Entry::new(
-        if short {
-            "true value"
-        } else {
-            "true value (same colour)"
-        },
-        Swatch::Line {
-            color: TEXT,
-            dashed: true,
-            width: 1,
-        },
-    ));
+    if !u.is_data() {
+        entries.push(Entry::new(
+            if short {
+                "true value"
+            } else {
+                "true value (same colour)"
+            },
+            Swatch::Line {
+                color: TEXT,
+                dashed: true,
+                width: 1,
+            },
+        ));
+    }
     let at = &u.u.at;
     let mut notes = vec![format!(
         "Θ̂ and the half-widths after each step of the {}, window ∂ = {}",
         u.estimator(),
         u.u.window
     )];
-    notes.push(format!(
-        "the MAP estimate minimises Σx̂ᵣ + Σŷᵣ: {} at t = {} against {} at the true half-widths",
-        sig(at.objective),
-        at.time,
-        sig(at.true_objective)
-    ));
+    notes.push(match at.true_objective {
+        Some(truth) => format!(
+            "the MAP estimate minimises Σx̂ᵣ + Σŷᵣ: {} at t = {} against {} at the true half-widths",
+            sig(at.objective),
+            at.time,
+            sig(truth)
+        ),
+        None => format!(
+            "the MAP estimate minimises Σx̂ᵣ + Σŷᵣ: {} at t = {}",
+            sig(at.objective),
+            at.time
+        ),
+    });
+    if u.is_data() {
+        notes.insert(
+            0,
+            "your data: no true values (Θ's prior box is around the model's Θ)".to_string(),
+        );
+    }
     notes.push("a finite window forgets: no convergence is to be expected".to_string());
     let (_, layout) = columns(root, 1);
     let (rows, side) = grid(
@@ -118,7 +135,8 @@ pub fn draw<DB: DrawingBackend>(
     )?;
     let mut frames = Vec::new();
     let mut marks = Vec::new();
-    let parts: [(&[(String, RGBColor, Vec<(f64, f64)>, f64)], String, bool); 2] = [
+    type Curves = [(String, RGBColor, Vec<(f64, f64)>, Option<f64>)];
+    let parts: [(&Curves, String, bool); 2] = [
         (
             &a_curves,
             if short {
@@ -144,7 +162,7 @@ pub fn draw<DB: DrawingBackend>(
             steps,
             curves
                 .iter()
-                .flat_map(|c| c.2.iter().map(|p| p.1).chain(std::iter::once(c.3)))
+                .flat_map(|c| c.2.iter().map(|p| p.1).chain(c.3))
                 .chain(if *half { Some(0.0) } else { None }),
         );
         let chart = cell(
@@ -156,7 +174,9 @@ pub fn draw<DB: DrawingBackend>(
         )?;
         window_band(root, &chart, &u)?;
         for (_, color, _, truth) in curves.iter() {
-            level(root, &chart, win, *truth, color, 1, Some((6, 4)))?;
+            if let Some(v) = truth {
+                level(root, &chart, win, *v, color, 1, Some((6, 4)))?;
+            }
         }
         for (_, color, pts, _) in curves.iter() {
             style::path(root, &chart, pts, color, 2, None)?;

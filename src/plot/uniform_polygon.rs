@@ -1,10 +1,12 @@
 //! Panel::UPolygon — the states x_t consistent with the window y_first … y_t at the cursor:
 //! every x_t for which some window x_{first−1} … x_t satisfies the constraints (4) of the LU
 //! model at the half-width bounds x̄ᵣ, ȳᵣ with the Θ in use there (a convex polygon in the
-//! `plane` components, from support LPs). With the true Θ it must hold the true state; with
-//! Θ̂ₜ (joint estimation) it need not, and the note says so. Drawn with the true state ◇, the
-//! LP estimate ⋆, the KF estimate × and the box of ranges over the LP's optimal face (dashed).
-//! Equal scales on both axes.
+//! `plane` components, exact from support LPs). With the true Θ it must hold the true state;
+//! with Θ̂ₜ (joint estimation) it need not, and the note says so; on the user's data with Θ
+//! known it holds every state the model and the bounds allow. Drawn with the true state ◇
+//! (simulation), the LP estimate ⋆, the KF estimate × (simulation) and the box of ranges over
+//! the LP's optimal face (dashed). Equal scales on both axes. A scalar state has no polygon:
+//! the panel says why.
 
 use super::geom::Win;
 use super::style::{
@@ -14,6 +16,7 @@ use super::uniform::{check, U};
 use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
 use crate::scenario::Report;
+use crate::uniform::Joint;
 use plotters::prelude::*;
 
 /// Panel::UPolygon.
@@ -35,12 +38,28 @@ pub fn draw<DB: DrawingBackend>(
         ));
     }
     let t = at.time;
-    let [i, j] = u.u.plane;
+    let (Some(polygon), Some([i, j])) = (&at.polygon, u.u.plane) else {
+        return Err(Error::field(
+            "report.uniform.at.polygon",
+            format!(
+                "is absent: {}",
+                at.polygon_absent
+                    .as_deref()
+                    .unwrap_or("the report has no polygon or no plane")
+            ),
+        ));
+    };
+    if i >= u.n || j >= u.n || i == j {
+        return Err(Error::field(
+            "report.uniform.plane",
+            format!("must name two distinct components below n = {}", u.n),
+        ));
+    }
     let pick = |v: &[f64]| (v[i], v[j]);
-    let poly: Vec<(f64, f64)> = at.polygon.iter().map(|p| (p[0], p[1])).collect();
+    let poly: Vec<(f64, f64)> = polygon.vertices.iter().map(|p| (p[0], p[1])).collect();
     let truth = u.truth.map(|x| pick(&x[t]));
     let lp = pick(&u.u.steps[t - 1].x);
-    let kf = pick(&u.u.kf[t - 1]);
+    let kf = u.kf.map(|k| pick(&k[t - 1]));
     let (flo, fhi) = (pick(&at.face_lo[0]), pick(&at.face_hi[0]));
     let face = [
         (flo.0, flo.1),
@@ -52,7 +71,7 @@ pub fn draw<DB: DrawingBackend>(
     let mut w = Win::empty();
     w.add_points(&poly);
     w.add_points(&face);
-    for p in [Some(lp), Some(kf), truth].into_iter().flatten() {
+    for p in [Some(lp), kf, truth].into_iter().flatten() {
         w.add(p.0, p.1);
     }
     let pad = if fonts.compact { 0.3 } else { 0.1 };
@@ -66,8 +85,13 @@ pub fn draw<DB: DrawingBackend>(
         _ => format!("{s} of the state x{} at t = {t}", sub(t)),
     };
     let (x_desc, y_desc) = (axis(&xs, i), axis(&ys, j));
+    // The Θ of the polygon: the truth (simulation, Θ known), the model's (data, Θ known) or
+    // the estimate Θ̂ₜ (joint estimation).
+    let model_theta = u.is_data() && u.u.estimator == Joint::States;
     let theta = if at.polygon_theta_true {
         "the true Θ"
+    } else if model_theta {
+        "the model's Θ"
     } else {
         "Θ̂ₜ"
     };
@@ -84,6 +108,19 @@ pub fn draw<DB: DrawingBackend>(
         sig(flo.1),
         sig(fhi.1)
     ));
+    if !polygon.exact {
+        notes.push(format!(
+            "the support-LP budget ({} LPs) ran out: the set lies within {} of the polygon",
+            polygon.calls,
+            sig(polygon.gap)
+        ));
+    }
+    if at.extended > 0 {
+        notes.push(format!(
+            "the window's LP doubled the half-width bounds {} times: the polygon uses the extended bounds",
+            at.extended
+        ));
+    }
     if u.n > 2 {
         notes.push(format!(
             "n = {}: the polygon is the projection on {xs}, {ys}",
@@ -113,14 +150,16 @@ pub fn draw<DB: DrawingBackend>(
         },
         marker(Marker::Star, UNIFORM_LP),
     ));
-    entries.push(Entry::new(
-        if short {
-            "KF (true Θ)"
-        } else {
-            "KF estimate (true Θ, variances r²/3)"
-        },
-        marker(Marker::Cross, KF),
-    ));
+    if kf.is_some() {
+        entries.push(Entry::new(
+            if short {
+                "KF (true Θ)"
+            } else {
+                "KF estimate (true Θ, variances r²/3)"
+            },
+            marker(Marker::Cross, KF),
+        ));
+    }
     entries.push(Entry::new(
         if short {
             "consistent states".to_string()
@@ -172,16 +211,19 @@ pub fn draw<DB: DrawingBackend>(
         2,
         Some((4, 3)),
     )?;
-    let mut points = vec![
-        (kf, Marker::Cross, KF, "KF estimate"),
-        (lp, Marker::Star, UNIFORM_LP, "LP estimate"),
-    ];
+    let mut points: Vec<_> = kf
+        .map(|p| (p, Marker::Cross, KF, "KF estimate"))
+        .into_iter()
+        .collect();
+    points.push((lp, Marker::Star, UNIFORM_LP, "LP estimate"));
     points.extend(truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")));
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
     let mut chart_notes = Vec::new();
     chart_notes.push(if at.polygon_theta_true {
         "true Θ: guaranteed to hold the true state".to_string()
+    } else if model_theta {
+        "the model's Θ: holds the state if the model and the bounds hold".to_string()
     } else if short {
         "Θ̂ₜ: not guaranteed to hold the truth".to_string()
     } else {

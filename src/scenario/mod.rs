@@ -264,7 +264,7 @@ fn direct_measurements(model: &ModelSpec) -> Option<Vec<Option<usize>>> {
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists
-/// of numbers), as (field, message): e.g. `model.F`, "is not valid: entry [0][1] is null …".
+/// of numbers, or objects), as (field, message): e.g. `model.F`, "is not valid: entry [0][1] is null …".
 fn non_numeric_entry(v: &serde_json::Value, path: &str) -> Option<(String, String)> {
     use serde_json::Value;
     fn in_list(v: &Value, idx: &str) -> Option<String> {
@@ -288,6 +288,12 @@ fn non_numeric_entry(v: &serde_json::Value, path: &str) -> Option<(String, Strin
             };
             non_numeric_entry(x, &p)
         }),
+        // A list of objects (`uniform.prior_overrides`) holds structures, not numbers: look
+        // inside each.
+        Value::Array(a) if !a.is_empty() && a.iter().all(Value::is_object) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, x)| non_numeric_entry(x, &format!("{path}[{i}]"))),
         Value::Array(_) => in_list(v, "").map(|m| (path.to_string(), m)),
         _ => None,
     }

@@ -16,16 +16,16 @@
 //! chain); `basis` makes H time-varying, H(t) = [g₁(t+1) … g_l(t+1)] (Example 1). Times are
 //! the paper's: y(0 … steps−1), and step k estimates x(k+1).
 
-use super::uniform::constant;
 use super::{MethodScenario, Report, Scenario, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
+use crate::method::Method;
+use crate::model::ModelSpec;
 use crate::sets::{Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Study};
 use crate::ubb::{
-    self, Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem,
-    System,
+    Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem, System,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -310,7 +310,7 @@ impl Scenario {
         let (steps, seed) = (source.steps(), source.seed());
         // A, and the time-varying H of Example 1.
         let basis = spec.basis.clone().unwrap_or_default();
-        let a = match constant("model.F", &ms.f)? {
+        let a = match ModelSpec::constant("model.F", &ms.f, Method::Ubb)? {
             Some(a) => a,
             None if !basis.is_empty() => DMatrix::identity(basis.len(), basis.len()),
             None => return Err(Error::field("model.F", "is missing")),
@@ -318,7 +318,8 @@ impl Scenario {
         let r = a.nrows();
         linalg::expect_shape("model.F", &a, r, r)?;
         let c: Vec<DMatrix<f64>> = if basis.is_empty() {
-            let h = constant("model.H", &ms.h)?.unwrap_or_else(|| DMatrix::zeros(0, r));
+            let h = ModelSpec::constant("model.H", &ms.h, Method::Ubb)?
+                .unwrap_or_else(|| DMatrix::zeros(0, r));
             linalg::expect_shape("model.H", &h, h.nrows(), r)?;
             vec![h]
         } else {
@@ -354,7 +355,7 @@ impl Scenario {
         linalg::expect_shape("model.G", &b, r, b.ncols())?;
         // Known input v(t) = B·simulate.u(t).
         let v = match (
-            constant("model.B", &ms.b)?,
+            ModelSpec::constant("model.B", &ms.b, Method::Ubb)?,
             self.simulate.as_ref().map(|s| &s.u),
         ) {
             (Some(bm), Some(u)) if !u.is_empty() => {
@@ -407,7 +408,12 @@ impl Scenario {
             ));
         }
         // Theorems 4 and 5 in the l∞-induced norm.
-        let sm = Smoothing::new(ubb::norm_inf(&a), ubb::norm_inf(&b), spec.tau, spec.alpha);
+        let sm = Smoothing::new(
+            linalg::norm_inf(&a),
+            linalg::norm_inf(&b),
+            spec.tau,
+            spec.alpha,
+        );
         let (j, mut note) = match sm.truncation(spec.gamma, "ubb.gamma") {
             Ok(j) => (Some(j), None),
             Err(_) if b.ncols() == 0 => (

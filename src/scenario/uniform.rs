@@ -11,12 +11,22 @@
 //! ```
 //!
 //! Times are the paper's: x_0 = `model.x1_mean`, data u_t, y_t for t = 1 … steps.
+//!
+//! With `"data": {"y": [...], "u": [...]}` instead of `simulate`, the method runs on the user's
+//! measurements (and measured inputs when the model has B): the model's F, H, B and
+//! `uniform.D` are then the nominal Θ around which Θ's prior box is built, `xr`, `yr` and
+//! `u_half` (the simulation's truth) are not used, and the report holds nothing that needs the
+//! truth (true states and Θ, the Kalman filter with the true variances, errors, the true
+//! objective, whether the truth lies in the polygon). A scalar state (n = 1) runs too; its
+//! report has no polygon (the reason is in `at.polygon_absent`).
 
 use super::{MethodScenario, Report, Scenario, Source};
 use crate::error::{Error, Result};
 use crate::kalman::KalmanGains;
 use crate::linalg;
+use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
+use crate::sets::SupportPolygon;
 use crate::study::Study;
 use crate::uniform::{self, Joint, Online, OnlineStep, StatePrior, Theta, ThetaPrior, Window};
 use nalgebra::{DMatrix, DVector};
@@ -42,25 +52,30 @@ pub struct UniformSpec {
     /// D of (1) (default 0).
     #[serde(rename = "D", default, skip_serializing_if = "Option::is_none")]
     pub d: Option<Vec<Vec<f64>>>,
-    /// True half-widths of the innovations (simulation) x_r, y_r (2).
-    pub xr: Vec<f64>,
-    pub yr: Vec<f64>,
+    /// True half-widths x_r, y_r (2) of the simulated innovations: needed with `simulate`, not
+    /// used with `data` (the user's data have no known truth).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub xr: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yr: Option<Vec<f64>>,
     /// Inputs uniform on [−u_half, u_half] (simulation).
     #[serde(default = "default_u_half")]
     pub u_half: f64,
-    /// "states" (Θ known), "parameters" (states known: Θ only, 3.4), "swapping" (4.1) or
-    /// "expansion" (4.2).
-    #[serde(default = "default_estimator")]
-    pub estimator: String,
+    /// `"states"` (Θ known), `"parameters"` (states known: Θ only, 3.4; simulation only),
+    /// `"swapping"` (4.1, the default) or `"expansion"` (4.2).
+    #[serde(default)]
+    pub estimator: Joint,
     /// Window length ∂ (Section 4).
     #[serde(default = "default_window")]
     pub window: usize,
-    /// Prior box of Θ: ±prior_rel·|θ| around the true values, then the overrides.
+    /// Prior box of Θ: ±prior_rel·|θ| around the model's Θ (the truth of a simulation, the
+    /// user's nominal Θ with data), then the overrides.
     #[serde(default = "default_rel")]
     pub prior_rel: f64,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub prior_overrides: Vec<PriorOverride>,
-    /// Upper bounds x̄_r, ȳ_r of the half-widths (5) (extended automatically when infeasible).
+    /// Upper bounds x̄_r, ȳ_r of the half-widths (5) (default 1; extended automatically when
+    /// infeasible).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub xr_max: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -71,18 +86,17 @@ pub struct UniformSpec {
     /// The time cursor (default: the last step).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
-    /// State components of the polygon.
+    /// State components of the polygon (default [0, 1]; absent for n = 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane: Option<[usize; 2]>,
-    /// Directions of the consistent-state polygon's support function.
-    #[serde(default = "default_directions")]
+    /// Budget of support LPs of the exact consistent-state polygon (8..=720). The JSON name is
+    /// that of the former fixed fan of directions, kept for old scenarios; `budget` (the name
+    /// of `ubb`) is accepted too.
+    #[serde(default = "default_directions", alias = "budget")]
     pub directions: usize,
 }
 fn default_u_half() -> f64 {
     0.5
-}
-fn default_estimator() -> String {
-    "swapping".into()
 }
 fn default_window() -> usize {
     5
@@ -102,10 +116,16 @@ fn default_directions() -> usize {
 pub struct WindowReport {
     pub time: usize,
     pub first: usize,
-    /// MAP objective Σx_r + Σy_r of the state LP with the Θ in use at that time, and the same
-    /// sum at the true half-widths (the truth is feasible, so the optimum is never above it).
+    /// MAP objective Σx_r + Σy_r of the state LP with the Θ in use at that time, and
+    /// (simulation) the same sum at the true half-widths (the truth is feasible, so the optimum
+    /// is never above it).
     pub objective: f64,
-    pub true_objective: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub true_objective: Option<f64>,
+    /// Doublings of the half-width bounds this window's LP needed (the polygon uses the bounds
+    /// after them).
+    #[serde(default)]
+    pub extended: usize,
     /// Per state x_time … x_{first−1}: the range of each entry over the optimal face.
     pub face_lo: Vec<Vec<f64>>,
     pub face_hi: Vec<Vec<f64>>,
@@ -114,38 +134,53 @@ pub struct WindowReport {
     pub face_xr: Vec<[f64; 2]>,
     pub face_yr: Vec<[f64; 2]>,
     /// The states consistent with the window's constraints at the half-width bounds x̄_r, ȳ_r
-    /// and the Θ in use, in the `plane` components of x_time (counter-clockwise polygon).
-    pub polygon: Vec<[f64; 2]>,
-    /// Whether the polygon's Θ is the true one (then it must hold the true state).
+    /// and the Θ in use, in the `plane` components of x_time: the exact polygon (vertices
+    /// counter-clockwise, `exact`, `gap`, `calls`, `hull`). Absent for n = 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polygon: Option<SupportPolygon>,
+    /// Why there is no polygon.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polygon_absent: Option<String>,
+    /// Whether the polygon's Θ is the true one (a simulation with Θ known: then it must hold the
+    /// true state).
     pub polygon_theta_true: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth_in_polygon: Option<bool>,
 }
 
-/// The report.
+/// The report. Fields that need the truth are present for a simulation only.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct UniformReport {
     pub n: usize,
-    pub estimator: String,
+    pub estimator: Joint,
     pub window: usize,
-    pub plane: [usize; 2],
+    /// The polygon's components (absent for n = 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane: Option<[usize; 2]>,
     pub steps: Vec<OnlineStep>,
-    /// x_0 … x_T (simulation), u_1 … u_T, y_1 … y_T (index 0 unused).
+    /// x_0 … x_T (simulation), u_0 … u_T (without inputs: empty), y_0 … y_T (index 0 unused).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x_true: Option<Vec<Vec<f64>>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub u: Vec<Vec<f64>>,
     pub y: Vec<Vec<f64>>,
     /// The true Θ and half-widths (simulation), beside the final estimates.
-    pub theta_true: [Vec<Vec<f64>>; 4],
-    pub xr_true: Vec<f64>,
-    pub yr_true: Vec<f64>,
-    /// Kalman filter with the uniform variances r²/3 (true Θ): estimates x_1 … x_T.
-    pub kf: Vec<Vec<f64>>,
-    /// RMS state errors over t = window … T: LP estimator and KF; RMS one-step output
-    /// prediction error of the LP estimator.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theta_true: Option<[Vec<Vec<f64>>; 4]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub xr_true: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yr_true: Option<Vec<f64>>,
+    /// Kalman filter with the true Θ and the uniform variances r²/3 (simulation): estimates
+    /// x_1 … x_T.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kf: Option<Vec<Vec<f64>>>,
+    /// RMS state errors over t = window … T (simulation): LP estimator and KF.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rms_lp: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rms_kf: Option<f64>,
+    /// RMS one-step output prediction error of the LP estimator over t = window … T.
     pub rms_prediction: f64,
     /// Total doublings of the half-width bounds over the run.
     pub extended: usize,
@@ -156,17 +191,6 @@ fn matrix(field: &str, rows: &[Vec<f64>]) -> Result<DMatrix<f64>> {
     linalg::from_rows(field, rows)
 }
 
-pub(super) fn constant(field: &str, spec: &Option<MatrixSpec>) -> Result<Option<DMatrix<f64>>> {
-    match spec {
-        None => Ok(None),
-        Some(MatrixSpec::Constant(r)) => matrix(field, r).map(Some),
-        Some(_) => Err(Error::field(
-            field,
-            "must be one matrix (time-invariant LU model)",
-        )),
-    }
-}
-
 fn positive(field: &str, v: &[f64], len: usize) -> Result<DVector<f64>> {
     let d = linalg::vector(field, v, len)?;
     if d.iter().any(|x| !(*x > 0.0)) {
@@ -175,13 +199,27 @@ fn positive(field: &str, v: &[f64], len: usize) -> Result<DVector<f64>> {
     Ok(d)
 }
 
+/// What a simulation knows beside its data.
+struct Truth {
+    xr: DVector<f64>,
+    yr: DVector<f64>,
+    x0: DVector<f64>,
+}
+
+/// The reason a scalar state has no polygon.
+const NO_PLANE: &str = "the state is scalar (n = 1): there is no plane for the consistent-state polygon; the optimal-face range of x_t is the window's answer";
+
 impl Scenario {
     /// Validate a uniform-innovation scenario and run it.
     pub fn uniform_report(&self) -> Result<UniformReport> {
         let spec = self
-            .block(&self.uniform, "xr, yr, estimator, window, …")?
+            .block(
+                &self.uniform,
+                "estimator, window, …; xr and yr for a simulation",
+            )?
             .clone();
         let ms: &ModelSpec = &self.model;
+        let constant = |field: &str, m| ModelSpec::constant(field, m, Method::UniformLp);
         let a = constant("model.F", &ms.f)?.ok_or_else(|| Error::field("model.F", "is missing"))?;
         let n = a.nrows();
         linalg::expect_shape("model.F", &a, n, n)?;
@@ -196,9 +234,8 @@ impl Scenario {
             None => DMatrix::zeros(m, r),
         };
         linalg::expect_shape("uniform.D", &d, m, r)?;
+        // The model's Θ: the truth of a simulation, the nominal Θ with data.
         let theta = Theta { a, b, c, d };
-        let xr = positive("uniform.xr", &spec.xr, n)?;
-        let yr = positive("uniform.yr", &spec.yr, m)?;
         let xr_max = positive(
             "uniform.xr_max",
             spec.xr_max.as_deref().unwrap_or(&vec![1.0; n]),
@@ -228,56 +265,68 @@ impl Scenario {
             ));
         }
         if !(8..=720).contains(&spec.directions) {
-            return Err(Error::field("uniform.directions", "must lie in 8..=720"));
+            return Err(Error::field(
+                "uniform.directions",
+                "must lie in 8..=720 (the budget of support LPs of the polygon)",
+            ));
         }
-        let joint = match spec.estimator.as_str() {
-            "states" => Joint::States,
-            "parameters" => Joint::Parameters,
-            "swapping" => Joint::Swapping,
-            "expansion" => Joint::Expansion,
-            other => {
+        let joint = spec.estimator;
+        let plane = match spec.plane {
+            Some(_) if n == 1 => {
                 return Err(Error::field(
-                    "uniform.estimator",
-                    format!("must be \"states\", \"parameters\", \"swapping\" or \"expansion\", found \"{other}\""),
+                    "uniform.plane",
+                    "must be absent for a scalar state (n = 1): there is no polygon",
                 ))
             }
-        };
-        let plane = match spec.plane {
-            Some(p) if p[0] < n && p[1] < n && p[0] != p[1] => p,
+            Some(p) if p[0] < n && p[1] < n && p[0] != p[1] => Some(p),
             Some(_) => {
                 return Err(Error::field(
                     "uniform.plane",
                     format!("must name two distinct state components below n = {n}"),
                 ))
             }
-            None if n >= 2 => [0, 1],
-            None => {
-                return Err(Error::field(
-                    "model.F",
-                    "is 1×1: the consistent-state polygon needs n ≥ 2",
-                ))
-            }
+            None => (n >= 2).then_some([0, 1]),
         };
         let source = self.source(&Uniform)?;
-        let Source::Simulate(sim) = source else {
-            return Err(Error::field(
-                "data",
-                "is not supported for uniform_lp yet: use simulate",
-            ));
+        let steps = source.steps();
+        let (traj, truth) = match source {
+            Source::Simulate(sim) => {
+                let need = |field: &str, v: &Option<Vec<f64>>| {
+                    v.clone().ok_or_else(|| {
+                        Error::field(
+                            field,
+                            "is missing: a simulation needs the true half-widths of the innovations",
+                        )
+                    })
+                };
+                let xr = positive("uniform.xr", &need("uniform.xr", &spec.xr)?, n)?;
+                let yr = positive("uniform.yr", &need("uniform.yr", &spec.yr)?, m)?;
+                let x0 = match &ms.x1_mean {
+                    Some(v) => linalg::vector("model.x1_mean", v, n)?,
+                    None => DVector::zeros(n),
+                };
+                let traj =
+                    uniform::simulate(&theta, &xr, &yr, &x0, spec.u_half, sim.steps, sim.seed);
+                if !traj
+                    .x
+                    .iter()
+                    .all(|x| x.iter().all(|v| v.is_finite() && v.abs() <= spec.x_bound))
+                {
+                    return Err(Error::field("uniform.x_bound", format!("= {} is violated by the simulated states (|x| reaches {:.3}): the prior box must hold the truth", spec.x_bound, traj.x.iter().map(|x| x.amax()).fold(0.0, f64::max))));
+                }
+                (traj, Some(Truth { xr, yr, x0 }))
+            }
+            Source::Data(_) => {
+                if joint == Joint::Parameters {
+                    return Err(Error::field(
+                        "uniform.estimator",
+                        "\"parameters\" needs the measured states (Section 3.4), which data.y and data.u do not hold: use \"states\", \"swapping\" or \"expansion\" with data",
+                    ));
+                }
+                (data_trajectory(&source, m, r)?, None)
+            }
         };
-        let x0 = match &ms.x1_mean {
-            Some(v) => linalg::vector("model.x1_mean", v, n)?,
-            None => DVector::zeros(n),
-        };
-        let traj = uniform::simulate(&theta, &xr, &yr, &x0, spec.u_half, sim.steps, sim.seed);
-        if !traj
-            .x
-            .iter()
-            .all(|x| x.iter().all(|v| v.is_finite() && v.abs() <= spec.x_bound))
-        {
-            return Err(Error::field("uniform.x_bound", format!("= {} is violated by the simulated states (|x| reaches {:.3}): the prior box must hold the truth", spec.x_bound, traj.x.iter().map(|x| x.amax()).fold(0.0, f64::max))));
-        }
-        // Θ's prior box: ±rel·|θ|, then the overrides.
+        // Θ's prior box: ±rel·|θ| around the model's Θ, then the overrides.
         let tv = theta.to_vec();
         let mut lo = tv.map(|v| v - spec.prior_rel * v.abs());
         let mut hi = tv.map(|v| v + spec.prior_rel * v.abs());
@@ -334,15 +383,15 @@ impl Scenario {
         };
         let mut online = Online::new(joint, spec.window, theta0, theta_prior, state_prior.clone())
             .map_err(|e| Error::field("uniform.window", e.message))?;
-        let time = spec.time.unwrap_or(sim.steps);
-        if !(1..=sim.steps).contains(&time) {
+        let time = spec.time.unwrap_or(steps);
+        if !(1..=steps).contains(&time) {
             return Err(Error::field(
                 "uniform.time",
-                format!("must lie in 1..={}, found {time}", sim.steps),
+                format!("must lie in 1..={steps}, found {time}"),
             ));
         }
         let mut theta_at = theta.clone();
-        for t in 1..=sim.steps {
+        for t in 1..=steps {
             if joint == Joint::Parameters {
                 online.step_parameters(t, &traj.x, &traj.u, &traj.y)?;
             } else {
@@ -360,97 +409,137 @@ impl Scenario {
         let (est, lp) = uniform::estimate_states(&theta_at, &traj.u, &traj.y, w, &state_prior)?;
         let face = uniform::optimal_face(&lp, est.objective, n, w.states())?;
         let nx = w.states() * n;
-        let hw_range =
-            |k: usize| uniform::face_range(&lp, est.objective, nx + k).map(|(a, b)| [a, b]);
-        let face_xr = (0..n).map(&hw_range).collect::<Result<Vec<_>>>()?;
-        let face_yr = (n..n + m).map(&hw_range).collect::<Result<Vec<_>>>()?;
-        let polygon_theta_true = joint == Joint::States;
-        let polygon = uniform::consistent_polygon(
-            &theta_at,
-            &traj.u,
-            &traj.y,
-            w,
-            &state_prior,
-            &xr_max,
-            &yr_max,
-            plane,
-            spec.directions,
-        )?;
-        let truth_in_polygon = Some(point_in_convex(
-            &polygon,
-            [traj.x[time][plane[0]], traj.x[time][plane[1]]],
-            1e-7,
-        ));
+        let hw = uniform::face_ranges(&lp, est.objective, &(nx..nx + n + m).collect::<Vec<_>>())?;
+        let (face_xr, face_yr): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (
+            hw[..n].iter().map(|r| [r.0, r.1]).collect(),
+            hw[n..].iter().map(|r| [r.0, r.1]).collect(),
+        );
+        let polygon_theta_true = joint == Joint::States && truth.is_some();
+        // The polygon at the bounds the window's LP ended with (x̄_r, ȳ_r unless it had to
+        // extend them): the state LP was feasible there, so the set is not empty.
+        let polygon = match plane {
+            Some(plane) => Some(uniform::consistent_polygon(
+                &theta_at,
+                &traj.u,
+                &traj.y,
+                w,
+                &state_prior,
+                &lp.hi.rows(nx, n).into_owned(),
+                &lp.hi.rows(nx + n, m).into_owned(),
+                plane,
+                spec.directions,
+            )?),
+            None => None,
+        };
+        let truth_in_polygon = match (&polygon, plane, &truth) {
+            (Some(poly), Some(p), Some(_)) => {
+                Some(poly.contains([traj.x[time][p[0]], traj.x[time][p[1]]], 1e-7))
+            }
+            _ => None,
+        };
         let at = WindowReport {
             time,
             first: w.first,
             objective: est.objective,
-            true_objective: xr.sum() + yr.sum(),
+            true_objective: truth.as_ref().map(|t| t.xr.sum() + t.yr.sum()),
+            extended: est.extended,
             face_lo: face.iter().map(|f| f.0.iter().copied().collect()).collect(),
             face_hi: face.iter().map(|f| f.1.iter().copied().collect()).collect(),
             face_xr,
             face_yr,
+            polygon_absent: polygon.is_none().then(|| NO_PLANE.to_string()),
             polygon,
             polygon_theta_true,
             truth_in_polygon,
         };
-        // KF with the uniform variances r²/3 and the true Θ (x_{t+1} = A x_t + B u_{t+1}).
-        let kf = kalman_uniform(&theta, &xr, &yr, &x0, &traj)?;
-        let from = spec.window.min(sim.steps);
-        let rms = |est: &dyn Fn(usize) -> DVector<f64>| -> f64 {
-            let e: f64 = (from..=sim.steps)
-                .map(|t| (est(t) - &traj.x[t]).norm_squared())
-                .sum();
-            (e / (sim.steps + 1 - from) as f64).sqrt()
+        let from = spec.window.min(steps);
+        let rms = |e: &dyn Fn(usize) -> f64| -> f64 {
+            let total: f64 = (from..=steps).map(e).sum();
+            (total / (steps + 1 - from) as f64).sqrt()
         };
-        let rms_lp = rms(&|t| DVector::from_vec(online.steps[t - 1].x.clone()));
-        let rms_kf = rms(&|t| kf[t - 1].clone());
-        let pe: f64 = (from..=sim.steps)
-            .map(|t| {
-                (DVector::from_vec(online.steps[t - 1].y_pred.clone()) - &traj.y[t]).norm_squared()
-            })
-            .sum();
+        let rms_prediction = rms(&|t| {
+            (DVector::from_vec(online.steps[t - 1].y_pred.clone()) - &traj.y[t]).norm_squared()
+        });
         let rows = |v: &[DVector<f64>]| {
             v.iter()
                 .map(|x| x.iter().copied().collect())
                 .collect::<Vec<Vec<f64>>>()
         };
+        // What only a simulation knows: the truth, the KF with the uniform variances r²/3 and
+        // the true Θ (x_{t+1} = A x_t + B u_{t+1}), and the errors against the truth.
+        let (mut kf, mut rms_lp, mut rms_kf) = (None, None, None);
+        if let Some(tr) = &truth {
+            let k = kalman_uniform(&theta, &tr.xr, &tr.yr, &tr.x0, &traj)?;
+            let err = |est: &dyn Fn(usize) -> DVector<f64>| {
+                rms(&|t| (est(t) - &traj.x[t]).norm_squared())
+            };
+            rms_lp = Some(err(&|t| DVector::from_vec(online.steps[t - 1].x.clone())));
+            rms_kf = Some(err(&|t| k[t - 1].clone()));
+            kf = Some(rows(&k));
+        }
         Ok(UniformReport {
             n,
-            estimator: spec.estimator.clone(),
+            estimator: joint,
             window: spec.window,
             plane,
             extended: online.steps.iter().map(|s| s.extended).sum(),
-            x_true: Some(rows(&traj.x)),
+            x_true: truth.as_ref().map(|_| rows(&traj.x)),
+            u: if r > 0 { rows(&traj.u) } else { Vec::new() },
             y: rows(&traj.y),
-            theta_true: [
-                linalg::to_rows(&theta.a),
-                linalg::to_rows(&theta.b),
-                linalg::to_rows(&theta.c),
-                linalg::to_rows(&theta.d),
-            ],
-            xr_true: xr.iter().copied().collect(),
-            yr_true: yr.iter().copied().collect(),
-            kf: rows(&kf),
-            rms_lp: Some(rms_lp),
-            rms_kf: Some(rms_kf),
-            rms_prediction: (pe / (sim.steps + 1 - from) as f64).sqrt(),
+            theta_true: truth.as_ref().map(|_| {
+                [
+                    linalg::to_rows(&theta.a),
+                    linalg::to_rows(&theta.b),
+                    linalg::to_rows(&theta.c),
+                    linalg::to_rows(&theta.d),
+                ]
+            }),
+            xr_true: truth.as_ref().map(|t| t.xr.iter().copied().collect()),
+            yr_true: truth.as_ref().map(|t| t.yr.iter().copied().collect()),
+            kf,
+            rms_lp,
+            rms_kf,
+            rms_prediction,
             steps: online.steps,
             at,
         })
     }
 }
 
-/// Whether p lies in a convex counter-clockwise polygon (within `tol`, relative to its size).
-pub fn point_in_convex(poly: &[[f64; 2]], p: [f64; 2], tol: f64) -> bool {
-    let scale = poly
-        .iter()
-        .map(|q| q[0].abs().max(q[1].abs()))
-        .fold(1.0, f64::max);
-    (0..poly.len()).all(|i| {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-        let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-        cross >= -tol * scale * scale
+/// The user's data in the layout of [`uniform::Trajectory`]: u_0 … u_T and y_0 … y_T (index 0
+/// unused), no states. `data.u` holds one row per measurement, or one row held constant.
+fn data_trajectory(source: &Source, m: usize, r: usize) -> Result<uniform::Trajectory> {
+    let y = source.measurements(m)?;
+    let steps = y.len();
+    let u = match source.inputs(r)? {
+        Some(u) if u.len() == 1 || u.len() == steps => u,
+        Some(u) => {
+            return Err(Error::field(
+                "data.u",
+                format!(
+                    "has {} rows for {steps} measurements: give one input row per measurement (or one row, held constant)",
+                    u.len()
+                ),
+            ))
+        }
+        None if r > 0 => {
+            return Err(Error::field(
+                "data.u",
+                "is missing: the model has inputs (model.B), so the measured u_1 … u_T are needed",
+            ))
+        }
+        None => Vec::new(),
+    };
+    let input = |t: usize| match u.len() {
+        0 => DVector::zeros(r),
+        len => u[(t - 1).min(len - 1)].clone(),
+    };
+    Ok(uniform::Trajectory {
+        x: Vec::new(),
+        u: std::iter::once(DVector::zeros(r))
+            .chain((1..=steps).map(input))
+            .collect(),
+        y: std::iter::once(DVector::zeros(m)).chain(y).collect(),
     })
 }
 
@@ -466,11 +555,11 @@ fn kalman_uniform(
     let rr = DMatrix::from_diagonal(&yr.map(|v| v * v / 3.0));
     let steps = traj.y.len() - 1;
     let spec = ModelSpec {
-        f: Some(MatrixSpec::Constant(linalg::to_rows(&theta.a))),
-        h: Some(MatrixSpec::Constant(linalg::to_rows(&theta.c))),
-        v: Some(MatrixSpec::Constant(linalg::to_rows(&q))),
-        w: Some(MatrixSpec::Constant(linalg::to_rows(&rr))),
-        b: (theta.r() > 0).then(|| MatrixSpec::Constant(linalg::to_rows(&theta.b))),
+        f: Some(MatrixSpec::of(&theta.a)),
+        h: Some(MatrixSpec::of(&theta.c)),
+        v: Some(MatrixSpec::of(&q)),
+        w: Some(MatrixSpec::of(&rr)),
+        b: (theta.r() > 0).then(|| MatrixSpec::of(&theta.b)),
         // x_1 = A x_0 + B u_1 + e^x_1: known mean, covariance Q.
         x1_mean: Some(
             (&theta.a * x0 + &theta.b * &traj.u[1])
@@ -514,7 +603,7 @@ impl MethodScenario for Uniform {
             s.alpha,
             (u.n, q),
             u.at.time,
-            u.plane.to_vec(),
+            u.plane.map_or(vec![0], |p| p.to_vec()),
             u.y.clone(),
         );
         r.uniform = Some(u);

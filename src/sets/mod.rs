@@ -3,7 +3,9 @@
 //! [`Ellipsoid`] (KF, SCF, BLUE regions), [`BoxSet`] (interval hulls, plot windows), and in
 //! [`sign_region`] the LSCR set type [`SignRegion`] with its exact raster [`GridRegion`],
 //! boundary polygons [`Loop`] and line pieces [`Span`]. Polytopes join here with the
-//! set-membership methods, so that plots and reports speak one vocabulary of sets.
+//! set-membership methods, so that plots and reports speak one vocabulary of sets: the exact
+//! [`SupportPolygon`] of a planar convex set known through its support function (Tempo's
+//! feasible set, Pavelková's consistent states) and [`point_in_convex`].
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, symmetrize};
@@ -15,6 +17,40 @@ pub mod sign_region;
 pub mod support_polygon;
 pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 pub use support_polygon::{polygon_from_support, SupportPolygon};
+
+/// Whether p lies in the convex counter-clockwise polygon `poly` (the vertices of a
+/// [`SupportPolygon`], or any convex polygon), within the distance `tol`·scale, scale =
+/// max(1, largest |coordinate| of the vertices): for every edge the signed distance of p from
+/// its line is ≥ −tol·scale. A polygon of one or two vertices (a point, a segment) is checked by
+/// the distance to it; an empty one holds nothing.
+pub fn point_in_convex(poly: &[[f64; 2]], p: [f64; 2], tol: f64) -> bool {
+    let scale = poly
+        .iter()
+        .map(|q| q[0].abs().max(q[1].abs()))
+        .fold(1.0, f64::max);
+    let slack = tol * scale;
+    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    match poly {
+        [] => false,
+        [a] => dist(*a, p) <= slack,
+        [a, b] => {
+            let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+            let len2 = ex * ex + ey * ey;
+            let s = if len2 > 0.0 {
+                (((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            dist([a[0] + s * ex, a[1] + s * ey], p) <= slack
+        }
+        _ => (0..poly.len()).all(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let len = dist(a, b);
+            let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+            len == 0.0 || cross >= -slack * len
+        }),
+    }
+}
 
 /// {x : (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2}. JSON: `{"center", "cov", "radius2"}`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

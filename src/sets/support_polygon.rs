@@ -28,6 +28,20 @@ pub struct SupportPolygon {
     pub hull: [f64; 4],
 }
 
+impl SupportPolygon {
+    /// Whether p may lie in the set: within `rel_tol`·scale of the polygon (see
+    /// [`super::point_in_convex`]) plus the `gap` an unfinished budget leaves (the set lies
+    /// within `gap` of the polygon). Exact polygons: an exact test up to the tolerance.
+    pub fn contains(&self, p: [f64; 2], rel_tol: f64) -> bool {
+        let scale = self
+            .vertices
+            .iter()
+            .map(|q| q[0].abs().max(q[1].abs()))
+            .fold(1.0, f64::max);
+        super::point_in_convex(&self.vertices, p, rel_tol + self.gap / scale)
+    }
+}
+
 struct Probe {
     angle: f64,
     dir: [f64; 2],

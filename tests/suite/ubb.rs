@@ -16,7 +16,7 @@
 use crate::common::patch::assert_refused;
 use confset::presets::{self, UbbKind};
 use confset::ubb::{
-    self, hilbert, linear_optimal, FeasibleSet, HilbertCase, L1Form, NoiseMode, Norm, NormBound,
+    hilbert, linear_optimal, FeasibleSet, HilbertCase, L1Form, NoiseMode, Norm, NormBound,
     Smoothing, StateProblem,
 };
 use nalgebra::{DMatrix, DVector};
@@ -474,7 +474,7 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
     for case in 0..10 {
         let r = 2 + case % 3;
         let mut a = rand_mat(&mut rng, r, r);
-        a *= (0.3 + 0.6 * rng.random::<f64>()) / ubb::norm_inf(&a);
+        a *= (0.3 + 0.6 * rng.random::<f64>()) / confset::linalg::norm_inf(&a);
         let b = rand_mat(&mut rng, r, 1 + case % 2);
         let tau = 0.05 + rng.random::<f64>();
         let alpha = if case % 2 == 0 {
@@ -482,7 +482,12 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
         } else {
             Some(20.0 + 80.0 * rng.random::<f64>())
         };
-        let sm = Smoothing::new(ubb::norm_inf(&a), ubb::norm_inf(&b), tau, alpha);
+        let sm = Smoothing::new(
+            confset::linalg::norm_inf(&a),
+            confset::linalg::norm_inf(&b),
+            tau,
+            alpha,
+        );
         if sm.ratio >= 1.0 {
             assert!(sm.limit().is_none() && sm.truncation(0.1, "ubb.gamma").is_err());
             continue;
@@ -495,7 +500,7 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
         let mut pow = DMatrix::identity(r, r);
         let mut terms = Vec::new();
         for i in 0..400 {
-            terms.push(tau * e(i) * ubb::norm_inf(&(&pow * &b)));
+            terms.push(tau * e(i) * confset::linalg::norm_inf(&(&pow * &b)));
             pow = &a * pow;
         }
         let total: f64 = terms.iter().sum();
@@ -621,7 +626,7 @@ fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
                 "k = {k}: {hull:?} vs ±{exact}"
             );
         }
-        let bound = ubb::norm_inf(&ak) * 2.0 + prep.smoothing.limit.unwrap();
+        let bound = confset::linalg::norm_inf(&ak) * 2.0 + prep.smoothing.limit.unwrap();
         assert!(
             hull.radius() <= bound,
             "k = {k}: {} > {bound}",
@@ -697,11 +702,8 @@ fn presets_report_exact_polygons_and_hold_the_truth() {
         let at = &rep.at;
         let truth = at.truth.clone().unwrap();
         assert!(
-            confset::scenario::uniform::point_in_convex(
-                &at.polygon.vertices,
-                [truth[0], truth[1]],
-                1e-6
-            ) || at.polygon.vertices.len() < 3,
+            confset::sets::point_in_convex(&at.polygon.vertices, [truth[0], truth[1]], 1e-6)
+                || at.polygon.vertices.len() < 3,
             "{kind:?}: truth outside the polygon"
         );
         // The polygon's axis extremes are the hull of the plane components.

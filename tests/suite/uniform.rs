@@ -9,14 +9,19 @@
 //! * the parameter LP recovers Θ from exact states, and its rows pair each half-width with its
 //!   own component (the printed (12) does not);
 //! * the true state lies in the consistent-state polygon in every one of 1,000 runs;
+//! * the polygon is exact: its vertices are consistent with the window (a feasibility LP per
+//!   vertex) and its support in 48 random directions is that of an LP solved directly;
 //! * infeasible half-width bounds are extended, and reported;
-//! * the swapping estimator on the preset stays within the errors observed, with margin.
+//! * the swapping estimator on the preset stays within the errors observed, with margin;
+//! * the same data passed as `data` give the same estimates as the simulation, and the report
+//!   has no truth;
+//! * a scalar state (n = 1) runs with every estimator and has no polygon.
 
 use crate::common;
 
 use confset::presets;
-use confset::scenario::uniform::point_in_convex;
 use confset::scenario::Scenario;
+use confset::sets::point_in_convex;
 use confset::solve;
 use confset::uniform::{
     self, consistent_polygon, estimate_states, optimal_face, parameter_lp, simulate, StatePrior,
@@ -323,13 +328,15 @@ fn the_true_state_lies_in_the_consistent_polygon_every_time() {
                 (p.xr_max.clone(), p.yr_max.clone())
             };
             let poly =
-                consistent_polygon(&th, &tr.u, &tr.y, w, &p, &hw.0, &hw.1, [0, 1], 16).unwrap();
+                consistent_polygon(&th, &tr.u, &tr.y, w, &p, &hw.0, &hw.1, [0, 1], 64).unwrap();
             let truth = [tr.x[last][0], tr.x[last][1]];
+            assert!(poly.exact, "seed {seed}, t = {last}: {} calls", poly.calls);
             assert!(
-                point_in_convex(&poly, truth, 1e-7),
-                "seed {seed}, t = {last}: truth {truth:?} outside {poly:?}"
+                point_in_convex(&poly.vertices, truth, 1e-7),
+                "seed {seed}, t = {last}: truth {truth:?} outside {:?}",
+                poly.vertices
             );
-            area_seen |= confset::sets::sign_region::signed_area(&poly) > 1e-3;
+            area_seen |= confset::sets::sign_region::signed_area(&poly.vertices) > 1e-3;
             runs += 1;
         }
     }
@@ -394,7 +401,12 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
             );
         }
     }
-    assert!(u.at.objective <= u.at.true_objective + 1e-6);
+    assert!(u.at.objective <= u.at.true_objective.unwrap() + 1e-6);
+    let poly = u.at.polygon.as_ref().expect("n = 2: a polygon");
+    assert!(
+        poly.exact && poly.gap == 0.0 && poly.calls <= 64,
+        "{poly:?}"
+    );
     // Θ known: the polygon at the half-width bounds must hold the truth.
     let mut s = preset_json();
     s["uniform"]["estimator"] = json!("states");
@@ -462,4 +474,302 @@ fn bad_input_names_the_field() {
     ];
     common::patch::assert_refused(&base, &cases);
     let _ = uniform::Joint::Swapping;
+}
+
+/// The state LP's set at fixed half-widths (lo = hi) as the solver's rows 𝒜X ≤ ℬ with the
+/// bounds as rows: an independent route to the polygon's set (the crate eliminates the
+/// half-widths instead).
+fn fixed_half_width_rows(
+    th: &Theta,
+    u: &[DVector<f64>],
+    y: &[DVector<f64>],
+    w: Window,
+    p: &StatePrior,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let mut lp = uniform::state_lp(th, u, y, w, p);
+    let nx = w.states() * th.n();
+    for k in 0..th.n() + th.m() {
+        let v = if k < th.n() {
+            p.xr_max[k]
+        } else {
+            p.yr_max[k - th.n()]
+        };
+        lp.lo[nx + k] = v;
+        lp.hi[nx + k] = v;
+    }
+    let zero = DVector::zeros(lp.c.len());
+    lp.problem(&zero, None, "test").le.expect("rows")
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn the_polygon_is_exact_its_vertices_feasible_and_its_support_that_of_the_lp() {
+    use rand::{RngExt, SeedableRng};
+    let (pth, xr, yr) = paper();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let mut directions_checked = 0;
+    for (th, seed, last) in [
+        (pth.clone(), 1, 120),
+        (pth.clone(), 7, 30),
+        (observable(), 2, 40),
+    ] {
+        let tr = simulate(&th, &xr, &yr, &DVector::zeros(2), 0.5, last, seed);
+        let p = prior(5.0, 1.0);
+        let w = Window {
+            first: last - 4,
+            last,
+        };
+        let poly =
+            consistent_polygon(&th, &tr.u, &tr.y, w, &p, &p.xr_max, &p.yr_max, [0, 1], 64).unwrap();
+        assert!(poly.exact && poly.gap == 0.0, "{poly:?}");
+        assert!(poly.vertices.len() >= 3, "{poly:?}");
+        let (a, b) = fixed_half_width_rows(&th, &tr.u, &tr.y, w, &p);
+        let nv = a.ncols();
+        let scale = poly
+            .vertices
+            .iter()
+            .fold(1.0f64, |s, v| s.max(v[0].abs()).max(v[1].abs()));
+        // Every vertex is (to 1e-7) the x_last of a window satisfying every row: minimize t
+        // subject to 𝒜X ≤ ℬ and |X_i − v_i| ≤ t for the plane's components.
+        for v in &poly.vertices {
+            let mut rows = DMatrix::zeros(a.nrows() + 4, nv + 1);
+            rows.view_mut((0, 0), (a.nrows(), nv)).copy_from(&a);
+            let mut rhs = DVector::zeros(a.nrows() + 4);
+            rhs.rows_mut(0, a.nrows()).copy_from(&b);
+            for (k, (i, sign)) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0)]
+                .into_iter()
+                .enumerate()
+            {
+                let r = a.nrows() + k;
+                rows[(r, i)] = sign;
+                rows[(r, nv)] = -1.0;
+                rhs[r] = sign * v[i];
+            }
+            let mut c = DVector::zeros(nv + 1);
+            c[nv] = 1.0;
+            let t = solve::linear(&c, None, Some((rows, rhs)), "test")
+                .unwrap()
+                .objective;
+            assert!(t <= 1e-7 * scale, "vertex {v:?} is {t} from the set");
+        }
+        // The support in random directions: the polygon's (its best vertex) is the LP's.
+        for _ in 0..16 {
+            let th_dir = rng.random::<f64>() * std::f64::consts::TAU;
+            let d = [th_dir.cos(), th_dir.sin()];
+            let mut c = DVector::zeros(nv);
+            c[0] = -d[0];
+            c[1] = -d[1];
+            let lp = -solve::linear(&c, None, Some((a.clone(), b.clone())), "test")
+                .unwrap()
+                .objective;
+            let best = poly
+                .vertices
+                .iter()
+                .map(|v| d[0] * v[0] + d[1] * v[1])
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!(
+                (best - lp).abs() <= 1e-6 * scale,
+                "direction {d:?}: polygon {best}, LP {lp}"
+            );
+            directions_checked += 1;
+        }
+    }
+    assert_eq!(directions_checked, 48);
+}
+
+/// The report fields that only a simulation may have.
+fn truth_fields(u: &Value) -> Vec<&'static str> {
+    let at = &u["at"];
+    [
+        ("x_true", &u["x_true"]),
+        ("theta_true", &u["theta_true"]),
+        ("xr_true", &u["xr_true"]),
+        ("yr_true", &u["yr_true"]),
+        ("kf", &u["kf"]),
+        ("rms_lp", &u["rms_lp"]),
+        ("rms_kf", &u["rms_kf"]),
+        ("at.true_objective", &at["true_objective"]),
+        ("at.truth_in_polygon", &at["truth_in_polygon"]),
+    ]
+    .into_iter()
+    .filter(|(_, v)| !v.is_null())
+    .map(|(k, _)| k)
+    .collect()
+}
+
+fn close(a: &[f64], b: &[f64], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}");
+    for (x, y) in a.iter().zip(b) {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "{what}: {a:?} vs {b:?}"
+        );
+    }
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn the_same_data_passed_as_data_give_the_same_estimates_and_no_truth() {
+    for estimator in ["swapping", "states", "expansion"] {
+        let mut s = preset_json();
+        s["uniform"]["estimator"] = json!(estimator);
+        s["simulate"]["steps"] = json!(60);
+        let sim = Scenario::from_json(&s.to_string())
+            .unwrap()
+            .run()
+            .unwrap()
+            .uniform
+            .unwrap();
+        assert!(truth_fields(&serde_json::to_value(&sim).unwrap()).len() >= 8);
+        // The report's y_1 … y_T and u_1 … u_T as the user's data.
+        let mut d = s.clone();
+        d.as_object_mut().unwrap().remove("simulate");
+        d["data"] = json!({"y": sim.y[1..], "u": sim.u[1..]});
+        let data = Scenario::from_json(&d.to_string())
+            .unwrap()
+            .run()
+            .unwrap()
+            .uniform
+            .unwrap();
+        assert_eq!(data.steps.len(), sim.steps.len());
+        for (a, b) in sim.steps.iter().zip(&data.steps) {
+            let what = format!("{estimator}, t = {}", a.t);
+            close(&a.x, &b.x, &format!("{what}: x̂"));
+            close(&a.xr, &b.xr, &format!("{what}: x̂_r"));
+            close(&a.yr, &b.yr, &format!("{what}: ŷ_r"));
+            close(&a.y_pred, &b.y_pred, &format!("{what}: ŷ"));
+            for (ma, mb) in [(&a.a, &b.a), (&a.b, &b.b), (&a.c, &b.c), (&a.d, &b.d)] {
+                close(&ma.concat(), &mb.concat(), &format!("{what}: Θ̂"));
+            }
+        }
+        close(&[sim.at.objective], &[data.at.objective], "objective");
+        close(&sim.at.face_lo.concat(), &data.at.face_lo.concat(), "face");
+        close(&sim.at.face_hi.concat(), &data.at.face_hi.concat(), "face");
+        let (pa, pb) = (
+            sim.at.polygon.as_ref().unwrap(),
+            data.at.polygon.as_ref().unwrap(),
+        );
+        close(&pa.vertices.concat(), &pb.vertices.concat(), "polygon");
+        close(&[sim.rms_prediction], &[data.rms_prediction], "prediction");
+        // No truth: absent, not invented.
+        let json = serde_json::to_value(&data).unwrap();
+        assert_eq!(truth_fields(&json), Vec::<&str>::new(), "{estimator}");
+        assert!(!data.at.polygon_theta_true);
+        assert_eq!(data.u, sim.u);
+    }
+    // The states are not measured in data: "parameters" is refused, naming the field.
+    let mut d = preset_json();
+    d.as_object_mut().unwrap().remove("simulate");
+    d["data"] = json!({"y": [[0.1], [0.2], [0.3]], "u": [[0.0]]});
+    d["uniform"]["estimator"] = json!("parameters");
+    let e = Scenario::from_json(&d.to_string())
+        .unwrap()
+        .run()
+        .unwrap_err();
+    assert_eq!(e.field, "uniform.estimator", "{e}");
+    // Without xr, yr data run; a simulation needs them.
+    d["uniform"]["estimator"] = json!("swapping");
+    d["uniform"].as_object_mut().unwrap().remove("xr");
+    d["uniform"].as_object_mut().unwrap().remove("yr");
+    assert!(Scenario::from_json(&d.to_string()).unwrap().run().is_ok());
+    let mut s = preset_json();
+    s["uniform"].as_object_mut().unwrap().remove("xr");
+    let e = Scenario::from_json(&s.to_string())
+        .unwrap()
+        .run()
+        .unwrap_err();
+    assert_eq!(e.field, "uniform.xr", "{e}");
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn a_scalar_state_runs_without_a_polygon() {
+    let base = json!({
+        "method": "uniform_lp",
+        "model": {"F": [[0.8]], "H": [[1]], "B": [[1]]},
+        "simulate": {"steps": 60, "seed": 3},
+        "uniform": {"xr": [0.2], "yr": [0.2], "xr_max": [1], "yr_max": [1]}
+    });
+    for estimator in ["states", "parameters", "swapping", "expansion"] {
+        let mut s = base.clone();
+        s["uniform"]["estimator"] = json!(estimator);
+        let r = Scenario::from_json(&s.to_string()).unwrap().run().unwrap();
+        assert_eq!(r.plot, vec![0]);
+        let u = r.uniform.unwrap();
+        assert_eq!((u.n, u.steps.len()), (1, 60), "{estimator}");
+        assert!(u.plane.is_none() && u.at.polygon.is_none(), "{estimator}");
+        assert!(
+            u.at.polygon_absent.as_deref().unwrap().contains("n = 1"),
+            "{estimator}: {:?}",
+            u.at.polygon_absent
+        );
+        assert_eq!(u.at.truth_in_polygon, None);
+        assert!(
+            u.rms_lp.unwrap() < 1.0 && u.rms_prediction < 1.0,
+            "{estimator}"
+        );
+        let (lo, hi) = (u.at.face_lo[0][0], u.at.face_hi[0][0]);
+        assert!(lo <= hi + 1e-7, "{estimator}: face [{lo}, {hi}]");
+        if estimator == "states" {
+            // Θ known: the true state lies within the window's bounds, whose face is an interval.
+            let x = u.x_true.as_ref().unwrap()[60][0];
+            assert!(x.abs() < 5.0);
+        }
+    }
+    // The same on data; a plane for a scalar state is refused.
+    let mut d = base.clone();
+    d.as_object_mut().unwrap().remove("simulate");
+    d["data"] = json!({"y": (0..30).map(|t| vec![(t as f64 * 0.3).sin()]).collect::<Vec<_>>(), "u": [[0.1]]});
+    let u = Scenario::from_json(&d.to_string())
+        .unwrap()
+        .run()
+        .unwrap()
+        .uniform
+        .unwrap();
+    assert!(u.at.polygon.is_none() && u.x_true.is_none() && u.kf.is_none());
+    let mut s = base.clone();
+    s["uniform"]["plane"] = json!([0, 1]);
+    let e = Scenario::from_json(&s.to_string())
+        .unwrap()
+        .run()
+        .unwrap_err();
+    assert_eq!(e.field, "uniform.plane", "{e}");
+}
+
+/// Native timing of one uniform report and of the window's polygon (printed with
+/// `--nocapture`; the clock is read here, never in the core).
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn timing_of_the_report_and_the_polygon() {
+    use std::time::Instant;
+    let median_ms = |reps: usize, f: &mut dyn FnMut()| {
+        let mut v: Vec<f64> = (0..reps)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        v.sort_by(|a, b| a.total_cmp(b));
+        v[v.len() / 2]
+    };
+    let s = presets::get("uniform-paper").unwrap();
+    let report = median_ms(5, &mut || {
+        std::hint::black_box(s.run().unwrap());
+    });
+    let (th, xr, yr) = paper();
+    let tr = simulate(&th, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
+    let p = prior(5.0, 1.0);
+    let w = Window {
+        first: 116,
+        last: 120,
+    };
+    let polygon = median_ms(11, &mut || {
+        std::hint::black_box(
+            consistent_polygon(&th, &tr.u, &tr.y, w, &p, &p.xr_max, &p.yr_max, [0, 1], 64).unwrap(),
+        );
+    });
+    eprintln!(
+        "[timing] uniform-paper report {report:.1} ms; window polygon (budget 64) {polygon:.2} ms"
+    );
 }
