@@ -8,6 +8,10 @@ import { mountGlls } from './glls.js';
 import { mountUniform } from './uniform.js';
 import { mountUbb } from './ubb.js';
 
+// No form submits (Enter in a field must not reload the page); a listener, not an inline
+// handler, so the page runs under a strict Content-Security-Policy.
+for (const form of document.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
+
 async function main() {
   const status = document.getElementById('t-run');
   try {
