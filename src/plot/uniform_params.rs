@@ -14,6 +14,9 @@ use crate::scenario::Report;
 use crate::uniform::OnlineStep;
 use plotters::prelude::*;
 
+/// A curve of Fig. 3: label, colour, estimates over t = 1 … T, true value (simulation).
+type Curve = (String, RGBColor, Vec<(f64, f64)>, Option<f64>);
+
 /// Panel::UParams — Fig. 3.
 pub fn draw<DB: DrawingBackend>(
     root: &Area<DB>,
@@ -26,8 +29,7 @@ pub fn draw<DB: DrawingBackend>(
     let short = short_labels(root, &fonts);
     let a_true = u.u.theta_true.as_ref().map(|th| &th[0]);
     let m = u.m;
-    // Curves: (label, colour, estimates over t = 1 … T, true value when simulated).
-    let mut a_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, Option<f64>)> = Vec::new();
+    let mut a_curves: Vec<Curve> = Vec::new();
     for i in 0..n {
         for j in 0..n {
             let k = i * n + j;
@@ -42,7 +44,7 @@ pub fn draw<DB: DrawingBackend>(
             a_curves.push((label, style::series_color(k), pts, a_true.map(|a| a[i][j])));
         }
     }
-    let mut r_curves: Vec<(String, RGBColor, Vec<(f64, f64)>, Option<f64>)> = Vec::new();
+    let mut r_curves: Vec<Curve> = Vec::new();
     // x̂ᵣ per state, then ŷᵣ per output; colours continue after the n² entries of Â.
     let half_widths: [(&str, usize, Option<&[f64]>, fn(&OnlineStep) -> &[f64]); 2] = [
         ("x̂ᵣ", n, u.u.xr_true.as_deref(), |s| &s.xr),
@@ -135,8 +137,7 @@ pub fn draw<DB: DrawingBackend>(
     )?;
     let mut frames = Vec::new();
     let mut marks = Vec::new();
-    type Curves = [(String, RGBColor, Vec<(f64, f64)>, Option<f64>)];
-    let parts: [(&Curves, String, bool); 2] = [
+    let parts: [(&[Curve], String, bool); 2] = [
         (
             &a_curves,
             if short {

@@ -19,15 +19,15 @@ pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 pub use support_polygon::{polygon_from_support, SupportPolygon};
 
 /// Whether p lies in the convex counter-clockwise polygon `poly` (the vertices of a
-/// [`SupportPolygon`], or any convex polygon), within the distance `tol`·scale, scale =
-/// max(1, largest |coordinate| of the vertices): for every edge the signed distance of p from
-/// its line is ≥ −tol·scale. A polygon of one or two vertices (a point, a segment) is checked by
-/// the distance to it; an empty one holds nothing.
+/// [`SupportPolygon`], or any convex polygon) within `tol`, relative to its size (scale =
+/// max(1, largest |coordinate| of the vertices)): for every edge a → b the cross product
+/// (b − a) × (p − a) is ≥ −tol·scale², i.e. p is at most about tol·scale outside an edge of
+/// length ~scale, and edges much shorter than the polygon (near-duplicate vertices of a
+/// sampled outline, whose direction is noise) cannot exclude it. A polygon of one or two
+/// vertices (a point, a segment) is checked by the distance tol·scale to it; an empty one
+/// holds nothing.
 pub fn point_in_convex(poly: &[[f64; 2]], p: [f64; 2], tol: f64) -> bool {
-    let scale = poly
-        .iter()
-        .map(|q| q[0].abs().max(q[1].abs()))
-        .fold(1.0, f64::max);
+    let scale = polygon_scale(poly);
     let slack = tol * scale;
     let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     match poly {
@@ -45,11 +45,17 @@ pub fn point_in_convex(poly: &[[f64; 2]], p: [f64; 2], tol: f64) -> bool {
         }
         _ => (0..poly.len()).all(|i| {
             let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let len = dist(a, b);
             let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-            len == 0.0 || cross >= -slack * len
+            cross >= -slack * scale
         }),
     }
+}
+
+/// max(1, largest |coordinate| of the vertices): the scale of [`point_in_convex`]'s tolerance.
+pub(crate) fn polygon_scale(poly: &[[f64; 2]]) -> f64 {
+    poly.iter()
+        .map(|q| q[0].abs().max(q[1].abs()))
+        .fold(1.0, f64::max)
 }
 
 /// {x : (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2}. JSON: `{"center", "cov", "radius2"}`.

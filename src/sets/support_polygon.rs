@@ -33,11 +33,7 @@ impl SupportPolygon {
     /// [`super::point_in_convex`]) plus the `gap` an unfinished budget leaves (the set lies
     /// within `gap` of the polygon). Exact polygons: an exact test up to the tolerance.
     pub fn contains(&self, p: [f64; 2], rel_tol: f64) -> bool {
-        let scale = self
-            .vertices
-            .iter()
-            .map(|q| q[0].abs().max(q[1].abs()))
-            .fold(1.0, f64::max);
+        let scale = super::polygon_scale(&self.vertices);
         super::point_in_convex(&self.vertices, p, rel_tol + self.gap / scale)
     }
 }

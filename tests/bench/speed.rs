@@ -187,8 +187,6 @@ fn glls_figures() {
     );
 }
 
-/// The uniform-innovation issue's targets: one window LP (∂ = 5, 2 states) and the full
-/// 120-sample on-line run of the paper's example with the swapping method.
 /// Tempo: one state-estimation step of ubb-track (2-D, window 30: 32 unknowns, 124 rows).
 fn ubb_figures() {
     let prep = presets::get("ubb-track")
@@ -220,6 +218,8 @@ fn ubb_figures() {
     println!("ubb: one step, window 30 ({} variables, {} rows): hull + exact polygon ({calls} LPs) {exact:.2} ms; support in 64 directions {fan:.2} ms; ubb-track report (60 steps: 4 hull LPs each + polygon + prediction) {report:.0} ms", size.variables, size.rows);
 }
 
+/// The uniform-innovation issue's targets: one window LP (∂ = 5, 2 states) and the full
+/// 120-sample on-line run of the paper's example with the swapping method.
 fn uniform_figures() {
     use confset::uniform::{estimate_states, simulate, StatePrior, Window};
     use nalgebra::DVector;
@@ -251,5 +251,5 @@ fn uniform_figures() {
     let online = median_ms(5, || {
         std::hint::black_box(s.run().expect("runs"));
     });
-    println!("uniform: one window LP (∂ = 5, 2 states, 15 variables, 30 rows): {window:.3} ms; uniform-paper report (120 samples, swapping, + face LPs, 64-direction polygon, KF): {online:.1} ms");
+    println!("uniform: one window LP (∂ = 5, 2 states, 15 variables, 30 rows): {window:.3} ms; uniform-paper report (120 samples, swapping, + face LPs, exact polygon, KF): {online:.1} ms");
 }

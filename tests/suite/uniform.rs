@@ -15,7 +15,10 @@
 //! * the swapping estimator on the preset stays within the errors observed, with margin;
 //! * the same data passed as `data` give the same estimates as the simulation, and the report
 //!   has no truth;
-//! * a scalar state (n = 1) runs with every estimator and has no polygon.
+//! * a scalar state (n = 1) runs with every estimator and has no polygon;
+//! * (native, printed with `--nocapture`) the time of the preset's report, of the exact polygon
+//!   against the former 64-direction outer polygon (which must contain it) and of the face
+//!   ranges on one loaded problem against a fresh LP each.
 
 use crate::common;
 
@@ -473,7 +476,19 @@ fn bad_input_names_the_field() {
         ("simulate.steps", json!({"simulate": {"steps": 1}})),
     ];
     common::patch::assert_refused(&base, &cases);
-    let _ = uniform::Joint::Swapping;
+    // The typed estimator: the parser names the field and lists the allowed values.
+    let mut s = base.clone();
+    s["uniform"]["estimator"] = json!("kalman");
+    let e = Scenario::from_json(&s.to_string()).unwrap_err();
+    assert_eq!(e.field, "uniform.estimator");
+    assert!(
+        e.message.starts_with("is not valid: unknown variant \"kalman\", expected one of \"states\", \"parameters\", \"swapping\", \"expansion\""),
+        "{e}"
+    );
+    assert_eq!(
+        serde_json::to_value(uniform::Joint::default()).unwrap(),
+        json!("swapping")
+    );
 }
 
 /// The state LP's set at fixed half-widths (lo = hi) as the solver's rows 𝒜X ≤ ℬ with the
@@ -764,12 +779,71 @@ fn timing_of_the_report_and_the_polygon() {
         first: 116,
         last: 120,
     };
+    let mut poly = None;
     let polygon = median_ms(11, &mut || {
-        std::hint::black_box(
+        poly = Some(
             consistent_polygon(&th, &tr.u, &tr.y, w, &p, &p.xr_max, &p.yr_max, [0, 1], 64).unwrap(),
         );
     });
+    let poly = poly.unwrap();
+    // The former construction, for comparison: a fresh LP per fixed direction (64) with the
+    // half-widths fixed by lo = hi, and the outer polygon of the supporting lines.
+    let (a, b) = fixed_half_width_rows(&th, &tr.u, &tr.y, w, &p);
+    let mut outer = Vec::new();
+    let fan = median_ms(11, &mut || {
+        let k = 64;
+        let support: Vec<([f64; 2], f64)> = (0..k)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / k as f64;
+                let d = [t.cos(), t.sin()];
+                let mut c = DVector::zeros(a.ncols());
+                c[0] = -d[0];
+                c[1] = -d[1];
+                let h = -solve::linear(&c, None, Some((a.clone(), b.clone())), "t")
+                    .unwrap()
+                    .objective;
+                (d, h)
+            })
+            .collect();
+        outer = (0..k)
+            .map(|i| {
+                let ((d1, h1), (d2, h2)) = (support[i], support[(i + 1) % k]);
+                let det = d1[0] * d2[1] - d1[1] * d2[0];
+                [
+                    (h1 * d2[1] - h2 * d1[1]) / det,
+                    (d1[0] * h2 - d2[0] * h1) / det,
+                ]
+            })
+            .collect();
+    });
+    // The exact polygon lies inside the outer one.
+    for v in &poly.vertices {
+        assert!(point_in_convex(&outer, *v, 1e-7), "{v:?} outside {outer:?}");
+    }
+    // The optimal-face ranges at the cursor: one loaded problem against a fresh LP each.
+    let (est, lp) = estimate_states(&th, &tr.u, &tr.y, w, &p).unwrap();
+    let all: Vec<usize> = (0..w.states() * 2 + 3).collect();
+    let faces = median_ms(11, &mut || {
+        std::hint::black_box(uniform::face_ranges(&lp, est.objective, &all).unwrap());
+    });
+    let faces_fresh = median_ms(11, &mut || {
+        let tol = 1e-7 * est.objective.abs().max(1.0);
+        for &i in &all {
+            let mut e = DVector::zeros(lp.c.len());
+            e[i] = 1.0;
+            for c in [e.clone(), -e] {
+                std::hint::black_box(
+                    lp.solve_with(&c, Some((&lp.c, est.objective + tol)), "t")
+                        .unwrap(),
+                );
+            }
+        }
+    });
     eprintln!(
-        "[timing] uniform-paper report {report:.1} ms; window polygon (budget 64) {polygon:.2} ms"
+        "[timing] uniform-paper report {report:.1} ms; window polygon: exact {polygon:.2} ms ({} vertices from {} support LPs on one loaded problem, exact {}) vs the former 64-direction outer polygon {fan:.2} ms (64 fresh LPs); {} face ranges {faces:.2} ms on one loaded problem vs {faces_fresh:.2} ms with a fresh LP each",
+        poly.vertices.len(),
+        poly.calls,
+        poly.exact,
+        all.len()
     );
 }
