@@ -907,9 +907,16 @@ impl StateProblem {
         let rank = if rows.is_empty() {
             0
         } else {
-            DMatrix::from_rows(&rows)
-                .svd(false, false)
-                .rank(1e-9 * DMatrix::from_rows(&rows).amax().max(1e-300))
+            let m = DMatrix::from_rows(&rows);
+            // nalgebra's SVD panics on a NaN; overflowing powers of A must be an error.
+            if m.iter().any(|x| !x.is_finite()) {
+                return Err(Error::field(
+                    "model.F",
+                    format!("its powers overflow double precision over the window y({s} … {k})"),
+                ));
+            }
+            let tol = 1e-9 * m.amax().max(1e-300);
+            m.svd(false, false).rank(tol)
         };
         if rank < r {
             return Err(Error::field(
