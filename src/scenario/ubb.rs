@@ -11,7 +11,7 @@
 //!
 //! The system is (35): x(k+1) = F x(k) + G u(k) + B v(k), y(k) = H x(k) + η(k), with the
 //! process noise u bounded by τ (37)/(45), the measurement noise η by ε (46), the known input
-//! v = `simulate.u` through `model.B` (Leontief demand) and x(0) in the box
+//! v = `simulate.u` or `data.u` through `model.B` (Leontief demand) and x(0) in the box
 //! `x0_center ± delta` (δ = null: unbounded). Without `H` there are no measurements (Markov
 //! chain); `basis` makes H time-varying, H(t) = [g₁(t+1) … g_l(t+1)] (Example 1). Times are
 //! the paper's: y(0 … steps−1), and step k estimates x(k+1).
@@ -353,30 +353,28 @@ impl Scenario {
             None => DMatrix::zeros(r, 0),
         };
         linalg::expect_shape("model.G", &b, r, b.ncols())?;
-        // Known input v(t) = B·simulate.u(t).
-        let v = match (
-            ModelSpec::constant("model.B", &ms.b, Method::Ubb)?,
-            self.simulate.as_ref().map(|s| &s.u),
-        ) {
-            (Some(bm), Some(u)) if !u.is_empty() => {
+        // Known input v(t) = B·u(t), u from `simulate.u` or `data.u`.
+        let (u_field, u) = source.input_rows();
+        let v = match ModelSpec::constant("model.B", &ms.b, Method::Ubb)? {
+            Some(bm) if !u.is_empty() => {
                 linalg::expect_shape("model.B", &bm, r, bm.ncols())?;
                 u.iter()
                     .enumerate()
                     .map(|(t, row)| {
-                        Ok(&bm * linalg::vector(&format!("simulate.u[{t}]"), row, bm.ncols())?)
+                        Ok(&bm * linalg::vector(&format!("{u_field}[{t}]"), row, bm.ncols())?)
                     })
                     .collect::<Result<Vec<_>>>()?
             }
-            (Some(_), _) => {
+            Some(_) => {
                 return Err(Error::field(
-                    "simulate.u",
+                    u_field,
                     "is needed with model.B (the known input)",
                 ))
             }
-            (None, Some(u)) if !u.is_empty() => {
-                return Err(Error::field("model.B", "is needed with simulate.u"))
+            None if !u.is_empty() => {
+                return Err(Error::field("model.B", format!("is needed with {u_field}")))
             }
-            _ => Vec::new(),
+            None => Vec::new(),
         };
         let delta = match &spec.delta {
             None => None,
