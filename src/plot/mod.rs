@@ -539,7 +539,7 @@ impl<'a> Ctx<'a> {
     }
     /// Measurement of component i at time s, when a row of y measures it directly.
     pub fn measurement(&self, s: usize, i: usize) -> Option<f64> {
-        let row = (*self.figure().measured.as_ref()?.get(i)?)?;
+        let [_, row] = *self.figure().measured.iter().find(|[c, _]| *c == i)?;
         self.report.y.get(s.checked_sub(1)?)?.get(row).copied()
     }
     /// Axis name of component i.

@@ -207,9 +207,8 @@ fn the_report_carries_the_figure_context() {
     let f = &r.figure;
     assert_eq!(f.title, s.title);
     assert_eq!(f.collision, s.collision);
-    assert_eq!(f.measured.as_ref().map(|m| m[0]), Some(Some(0)));
-    assert_eq!(f.measured.as_ref().map(|m| m[2]), Some(None));
-    assert_eq!(f.measured.as_ref().map(|m| m[5]), Some(Some(3)));
+    // H measures both robots' positions: components 0, 1 and 4, 5 in rows 0 … 3.
+    assert_eq!(f.measured, vec![[0, 0], [1, 1], [4, 2], [5, 3]]);
     assert_eq!(f.names[0], "position p_x of robot A [m]");
     assert_eq!(f.names[5], "position p_y of robot B [m]");
     assert_eq!(
@@ -219,7 +218,7 @@ fn the_report_carries_the_figure_context() {
     // The report JSON holds it (strings, indices, d_min) and reads back the same.
     let json = serde_json::to_value(&r).expect("json");
     assert_eq!(json["figure"]["names"][0], "position p_x of robot A [m]");
-    assert_eq!(json["figure"]["measured"][2], serde_json::Value::Null);
+    assert_eq!(json["figure"]["measured"][2], serde_json::json!([4, 2]));
     let back: Report = serde_json::from_value(json).expect("parses");
     assert_eq!(back.figure, r.figure);
     // A scenario without a title or collision check: an empty context, `{}` in JSON.

@@ -185,11 +185,12 @@ pub struct FigureContext {
     /// ("x₁ (state component 0)").
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub names: Vec<String>,
-    /// For each state component, the measurement row that measures it directly (a row of a
-    /// constant H equal to a unit vector; `null` for none), so the state plane can draw the
-    /// measurements in state coordinates.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub measured: Option<Vec<Option<usize>>>,
+    /// The state components measured directly, as pairs (component, measurement row): a row
+    /// of a constant H equal to a unit vector, so the state plane can draw the measurements in
+    /// state coordinates. Pairs rather than a `null` per unmeasured component, so that the
+    /// report JSON holds no null.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub measured: Vec<[usize; 2]>,
     /// The scenario's collision check (the two bodies' components and d_min).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<CollisionSpec>,
@@ -235,32 +236,31 @@ impl FigureContext {
     }
 }
 
-/// For each state component, the row of a constant H that measures it directly.
-fn direct_measurements(model: &ModelSpec) -> Option<Vec<Option<usize>>> {
-    let rows = match model.h.as_ref()? {
-        MatrixSpec::Constant(rows) => rows.clone(),
-        MatrixSpec::Sequence(seq) => {
-            let first = seq.first()?.clone();
-            if seq.iter().all(|m| *m == first) {
-                first
-            } else {
-                return None;
+/// The pairs (component, row) where a row of a constant H measures a state component directly.
+fn direct_measurements(model: &ModelSpec) -> Vec<[usize; 2]> {
+    let rows = match model.h.as_ref() {
+        Some(MatrixSpec::Constant(rows)) => rows,
+        Some(MatrixSpec::Sequence(seq)) if seq.iter().all(|m| Some(m) == seq.first()) => {
+            match seq.first() {
+                Some(first) => first,
+                None => return Vec::new(),
             }
         }
+        _ => return Vec::new(),
     };
-    let n = rows.first()?.len();
-    Some(
-        (0..n)
-            .map(|i| {
-                rows.iter().position(|r| {
+    let n = rows.first().map_or(0, Vec::len);
+    (0..n)
+        .filter_map(|i| {
+            rows.iter()
+                .position(|r| {
                     r.len() == n
                         && r.iter()
                             .enumerate()
                             .all(|(j, &v)| if j == i { v == 1.0 } else { v == 0.0 })
                 })
-            })
-            .collect(),
-    )
+                .map(|row| [i, row])
+        })
+        .collect()
 }
 
 /// The first list entry that is not a number (every list of a scenario holds numbers or lists

@@ -604,7 +604,9 @@ impl MethodScenario for Uniform {
             (u.n, q),
             u.at.time,
             u.plane.map_or(vec![0], |p| p.to_vec()),
-            u.y.clone(),
+            // The measurements y_1 … y_T, as `data.y` takes them (the block keeps the paper's
+            // index 0).
+            u.y.get(1..).unwrap_or_default().to_vec(),
         );
         r.uniform = Some(u);
         Ok(r)

@@ -13,6 +13,7 @@ mod bad_input;
 mod coverage;
 mod determinism;
 mod glls;
+mod registry;
 mod lscr;
 mod scf_paper;
 mod sets;
