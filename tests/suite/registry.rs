@@ -781,8 +781,14 @@ struct Fuzz {
     non_finite: Vec<String>,
 }
 
+/// The fuzzer's tally, computed once for the tests that read it.
+fn fuzz() -> &'static Fuzz {
+    static TALLY: std::sync::OnceLock<Fuzz> = std::sync::OnceLock::new();
+    TALLY.get_or_init(fuzz_presets)
+}
+
 /// [`MUTATIONS`] seeded mutations of every preset's JSON, each parsed and run.
-fn fuzz() -> Fuzz {
+fn fuzz_presets() -> Fuzz {
     let mut rng = ChaCha8Rng::seed_from_u64(0x5eed_f00d);
     let mut f = Fuzz::default();
     for p in presets::all() {
