@@ -1,19 +1,241 @@
-// Bootstrap: load the wasm module, then hand the presets to the SCF vs KF panel, the LSCR panel,
-// the GLLS panel, the uniform-innovation panel and the set-membership (ubb) panel. The page computes nothing itself: every number and every picture comes from
-// ./pkg/confset.js.
+// The shell: load the wasm module, route the fragment to one view (the landing view or one panel
+// of the registry), mount a panel on its first visit only, and keep its share link, scenario
+// import and reset. The page computes nothing itself: every number and every picture comes from
+// ./pkg/confset.js through the panels.
 import init, * as confset from './pkg/confset.js';
-import { mountScf } from './scf.js';
-import { mountLscr } from './lscr.js';
-import { mountGlls } from './glls.js';
-import { mountUniform } from './uniform.js';
-import { mountUbb } from './ubb.js';
+import { PANELS, panelById, panelOf } from './registry.js';
+import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
 
 // No form submits (Enter in a field must not reload the page); a listener, not an inline
 // handler, so the page runs under a strict Content-Security-Policy.
 for (const form of document.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
 
+const status = document.getElementById('t-run');
+const views = [document.getElementById('home'), ...PANELS.map((d) => d.section())];
+const mounted = new Map(); // id → Promise of the panel's API
+let presets = [];
+let current = null; // the descriptor shown, or null for the landing view
+let navigating = 0; // > 0 while the shell itself sets the fragment or restores a panel
+
+// ----- the toolbar every panel view gets: link, scenario file, reset, undo -----
+
+function toolbar(d) {
+  const bar = document.createElement('div');
+  bar.className = 'toolbar';
+  bar.innerHTML = `
+    <button type="button" data-act="link">Copy link</button>
+    <label class="file-btn"><input type="file" accept=".json,application/json" data-act="file"><span>Load scenario file…</span></label>
+    <button type="button" data-act="reset">Reset to preset</button>
+    <button type="button" data-act="undo" hidden>Undo load</button>
+    <span class="share-status" role="status" aria-live="polite"></span>
+    <p class="banner" role="alert" hidden></p>`;
+  const head = d.section().querySelector('.section-head');
+  head.after(bar);
+  const q = (a) => bar.querySelector(`[data-act=${a}]`);
+  const say = (msg) => { bar.querySelector('.share-status').textContent = msg; };
+  d.say = say;
+  d.banner = (msg) => { const b = bar.querySelector('.banner'); b.textContent = msg || ''; b.hidden = !msg; };
+  q('link').addEventListener('click', async () => {
+    const link = await linkOf(d);
+    if (!link) return;
+    try {
+      await navigator.clipboard.writeText(link);
+      say(`link copied (${link.length.toLocaleString('en-US')} characters)`);
+    } catch {
+      say(`copy this link: ${link}`);
+    }
+  });
+  q('file').addEventListener('change', async (e) => {
+    const file = e.target.files[0];
+    e.target.value = '';
+    if (file) await loadScenarioFile(file);
+  });
+  q('reset').addEventListener('click', async () => {
+    const api = await mounted.get(d.id);
+    d.banner('');
+    api.presetSelect.dispatchEvent(new Event('change', { bubbles: true }));
+    say('reset to the preset');
+  });
+  q('undo').addEventListener('click', async () => {
+    if (!d.beforeLoad) return;
+    await restore(d, d.beforeLoad);
+    d.beforeLoad = null;
+    q('undo').hidden = true;
+    say('the scenario before the load is back');
+  });
+  d.showUndo = () => { q('undo').hidden = false; };
+  // Drop a scenario file anywhere on the view.
+  const section = d.section();
+  section.addEventListener('dragover', (e) => { e.preventDefault(); section.classList.add('drop'); });
+  section.addEventListener('dragleave', () => section.classList.remove('drop'));
+  section.addEventListener('drop', async (e) => {
+    e.preventDefault();
+    section.classList.remove('drop');
+    const file = e.dataTransfer.files[0];
+    if (file) await loadScenarioFile(file);
+  });
+}
+
+// ----- share links -----
+
+async function stateOf(d) {
+  const api = await mounted.get(d.id);
+  const name = api.presetSelect.value;
+  const state = { preset: name, fields: captureFields(d.root(), api.presetSelect.id) };
+  if (d.loaded && d.loaded.name === name) state.scenario = d.loaded.scenario;
+  return state;
+}
+
+// The panel's link, or null (said in the toolbar) when it would be too long.
+async function linkOf(d) {
+  const hash = `#${d.id}/${LINK_VERSION}/${await encodeState(await stateOf(d))}`;
+  const link = `${location.origin}${location.pathname}${hash}`;
+  if (hash.length > MAX_LINK_CHARS) {
+    d.say(`This configuration needs a link of ${hash.length.toLocaleString('en-US')} characters (at most `
+      + `${MAX_LINK_CHARS.toLocaleString('en-US')}): download the scenario file and share that instead.`);
+    return null;
+  }
+  return link;
+}
+
+// The URL follows the controls, debounced, so a slider's redraw never waits for it.
+function syncUrl(d) {
+  let timer = 0;
+  const update = async () => {
+    if (current !== d || navigating) return;
+    const link = await linkOf(d);
+    if (link && current === d) history.replaceState(null, '', link.slice(link.indexOf('#')));
+  };
+  for (const ev of ['input', 'change']) {
+    d.root().addEventListener(ev, () => { clearTimeout(timer); timer = setTimeout(update, 400); });
+  }
+}
+
+// Put a decoded state into a mounted panel.
+async function restore(d, state) {
+  const api = await mounted.get(d.id);
+  navigating++;
+  try {
+    if (state.scenario) addLoaded(d, api, state.preset, state.scenario);
+    if (![...api.presetSelect.options].some((o) => o.value === state.preset)) {
+      throw new Error(`the preset “${String(state.preset).slice(0, 40)}” does not exist (any more)`);
+    }
+    api.presetSelect.value = state.preset;
+    api.presetSelect.dispatchEvent(new Event('change', { bubbles: true }));
+    await idle(d.busy);
+    const unknown = await restoreFields(d.root(), state.fields || {}, d.busy);
+    if (unknown.length) d.say(`restored; ${unknown.length} setting(s) of the link are not on this page: ${unknown.slice(0, 3).join(', ')}`);
+  } finally {
+    navigating--;
+  }
+}
+
+// ----- scenario files -----
+
+function addLoaded(d, api, name, scenario) {
+  const p = { name, label: `loaded: ${scenario.title || name}`.slice(0, 60), description: scenario.notes || 'a scenario loaded from a file', scenario };
+  api.addPreset(p);
+  d.loaded = p;
+}
+
+async function loadScenarioFile(file) {
+  const fail = (msg) => (current ? current.say(msg) : homeNote(msg));
+  if (file.size > 20e6) return fail(`${file.name} is ${(file.size / 1e6).toFixed(0)} MB: a scenario file has at most 20 MB`);
+  let scenario;
+  try {
+    scenario = JSON.parse(await file.text());
+  } catch (e) {
+    return fail(`${file.name} is not a scenario file: ${e.message}`);
+  }
+  const d = scenario && typeof scenario === 'object' ? panelOf(scenario.method || 'scf') : null;
+  if (!d) return fail(`${file.name}: "method" must be one of ${PANELS.flatMap((p) => p.methods).join(', ')}`);
+  await show(d);
+  const api = await mounted.get(d.id);
+  d.beforeLoad = await stateOf(d);
+  navigating++;
+  try {
+    addLoaded(d, api, `file:${file.name}`.slice(0, 80), scenario);
+    api.presetSelect.value = d.loaded.name;
+    api.presetSelect.dispatchEvent(new Event('change', { bubbles: true }));
+    await idle(d.busy);
+  } finally {
+    navigating--;
+  }
+  d.showUndo();
+  d.say(`loaded ${file.name}`);
+  history.replaceState(null, '', (await linkOf(d) || `#${d.id}`).replace(/^[^#]*/, ''));
+}
+
+// ----- routing -----
+
+function mount(d) {
+  if (!mounted.has(d.id)) {
+    toolbar(d);
+    const list = presets.filter((p) => d.methods.includes(p.scenario.method));
+    mounted.set(d.id, import(d.module).then((m) => m[d.mount](d.root(), list)).then((api) => { syncUrl(d); return api; }));
+  }
+  return mounted.get(d.id);
+}
+
+async function show(d) {
+  current = d;
+  for (const v of views) v.hidden = v !== (d ? d.section() : views[0]);
+  for (const a of document.querySelectorAll('nav.routes a')) a.toggleAttribute('aria-current', !!d && a.dataset.route === d.id);
+  document.title = d ? `${d.title} — confset explorer` : 'confset explorer — guaranteed sets for state estimation';
+  if (!d) return;
+  await mount(d);
+  await idle(d.busy);
+}
+
+async function route() {
+  if (navigating) return;
+  delete document.body.dataset.ready;
+  const r = await parseFragment(location.hash);
+  const d = panelById(r.id) || null;
+  if (r.id && !d) {
+    await show(null);
+    homeNote(`There is no view “${r.id.slice(0, 24)}”: here are the five.`);
+  } else {
+    homeNote('');
+    await show(d);
+  }
+  if (d) {
+    d.banner('');
+    if (r.error) {
+      d.banner(`${r.error[0].toUpperCase()}${r.error.slice(1)}. The panel shows its default scenario instead.`);
+    } else if (r.state || r.preset) {
+      try {
+        await restore(d, r.state || { preset: r.preset, fields: {} });
+      } catch (e) {
+        d.banner(`This link could not be restored: ${e.message}. The panel shows its default scenario instead.`);
+      }
+    }
+  }
+  document.body.dataset.route = d ? d.id : '';
+  document.body.dataset.ready = '1';
+}
+
+function homeNote(msg) {
+  const p = document.getElementById('home-note');
+  p.textContent = msg;
+  p.hidden = !msg;
+}
+
+function landing() {
+  const box = document.getElementById('landing');
+  box.replaceChildren(...PANELS.map((d) => {
+    const a = document.createElement('a');
+    a.className = 'card promise';
+    a.href = `#${d.id}`;
+    a.innerHTML = `<h2></h2><p></p><span class="go">open →</span>`;
+    a.querySelector('h2').textContent = d.title;
+    a.querySelector('p').textContent = d.promise;
+    return a;
+  }));
+}
+
 async function main() {
-  const status = document.getElementById('t-run');
+  landing();
   try {
     await init();
   } catch (e) {
@@ -23,14 +245,14 @@ async function main() {
   }
   // The module's exports, for the browser tests' timings (page.evaluate) and the console.
   window.confset = confset;
-  const list = JSON.parse(confset.presets());
-  const method = (p) => p.scenario.method;
-  await mountScf(document.getElementById('scf'), list.filter((p) => !['lscr', 'glls', 'uniform_lp', 'ubb'].includes(method(p))));
-  await mountLscr(document.getElementById('lscr'), list.filter((p) => method(p) === 'lscr'));
-  await mountGlls(document.getElementById('glls'), list.filter((p) => method(p) === 'glls'));
-  await mountUniform(document.getElementById('uniform'), list.filter((p) => method(p) === 'uniform_lp'));
-  await mountUbb(document.getElementById('ubb'), list.filter((p) => method(p) === 'ubb'));
-  document.body.dataset.ready = '1';
+  status.textContent = '';
+  presets = JSON.parse(confset.presets());
+  window.addEventListener('hashchange', route);
+  // Drop a scenario file on the landing view too.
+  const home = views[0];
+  home.addEventListener('dragover', (e) => e.preventDefault());
+  home.addEventListener('drop', async (e) => { e.preventDefault(); if (e.dataTransfer.files[0]) await loadScenarioFile(e.dataTransfer.files[0]); });
+  await route();
 }
 
 main();

@@ -5,6 +5,7 @@
 // "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
 // and shows what the core reports.
 import { Session, Study } from './pkg/confset.js';
+import { presetMenu, panelApi } from './panel.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -76,7 +77,8 @@ export async function mountGlls(root, presets) {
     'num-title', 'timing', 'notes', 'prec-note', 'mc-n', 'mc-go', 'mc-cancel', 'mc-progress', 'mc-status', 'mc-err',
     'mc-verdict', 'mc-kind', 'mc-hint']
     .map((id) => [id, $(`g-${id}`)]));
-  const all = [...presets, CUSTOM_PRESET];
+  const menu = presetMenu(ui.preset, presets, CUSTOM_PRESET);
+  const all = menu.all;
   const st = {
     preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0,
     // The last study (possibly partial) and the scenario key it belongs to.
@@ -85,7 +87,6 @@ export async function mountGlls(root, presets) {
   const stem = () => `${st.preset.name}-s${st.report ? st.report.glls.s : ui.s.value}`;
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new GllsFigure(c, session, stem));
   const precisionFigure = figures.find((f) => f.panel === 'precision');
-  for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
   for (const k of ['F', 'H', 'B', 'W']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
   ui.x0.value = CUSTOM_PRESET.scenario.model.x1_mean.join(' ');
 
@@ -471,4 +472,5 @@ export async function mountGlls(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
+  return panelApi(ui.preset, menu);
 }

@@ -3,6 +3,7 @@
 // experiment (wasm Study) at a true state placed with a click. No estimation happens
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Session, Study } from './pkg/confset.js';
+import { presetMenu, panelApi } from './panel.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -47,11 +48,11 @@ export async function mountLscr(root, presets) {
     'seed', 'fix', 'fix-opts', 'xbar', 'stale', 'numbers', 'num-title', 'timing', 'notes',
     'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth', 'cov-verdict']
     .map((id) => [id, $(`l-${id}`)]));
-  const all = [...presets, CUSTOM_PRESET];
+  const menu = presetMenu(ui.preset, presets, CUSTOM_PRESET);
+  const all = menu.all;
   const st = { preset: all[0], report: null, reportJson: '', scenario: null, scenarioJson: '', runMs: 0, drawMs: 0 };
   const stem = () => `${st.preset.name}-t${ui.t.value}`;
   const figure = new RegionFigure($('fig-region'), session, stem);
-  for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
   for (const k of ['F', 'H', 'G']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
 
   // ----- controls ⇄ scenario -----
@@ -364,5 +365,5 @@ export async function mountLscr(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
-  emptyCoverage();
+  return panelApi(ui.preset, menu);
 }

@@ -2,6 +2,7 @@
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
 import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { Session } from './pkg/confset.js';
+import { presetMenu, panelApi } from './panel.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
 import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
@@ -36,12 +37,12 @@ export async function mountScf(root, presets) {
     'asym', 'xbar', 'cov-range', 'custom', 'm-F', 'm-H', 'm-V', 'm-W', 'stale', 'notes', 'numbers', 'num-t',
     'preset-desc', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw']
     .map((id) => [id, $(id)]));
-  const all = [...presets, CUSTOM_PRESET];
+  const menu = presetMenu(ui.preset, presets, CUSTOM_PRESET);
+  const all = menu.all;
   const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0 };
   const stem = () => `${st.preset.name}-t${ui.time.value}`;
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new Figure(c, session, stem));
   const coverageCard = $('fig-coverage');
-  for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
   for (const k of ['F', 'H', 'V', 'W']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
 
   // ----- controls ⇄ scenario -----
@@ -223,5 +224,5 @@ export async function mountScf(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
-  showOutputs();
+  return panelApi(ui.preset, menu);
 }

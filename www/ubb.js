@@ -5,6 +5,7 @@
 // (wasm Study) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Session, Study } from './pkg/confset.js';
+import { presetMenu, panelApi } from './panel.js';
 import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
@@ -54,13 +55,13 @@ export async function mountUbb(root, presets) {
     return `${st.preset.name}-${u ? `${u.norm}-k${u.at.k}` : 'ubb'}`;
   };
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new UbbFigure(c, session, stem));
-  for (const p of presets) ui.preset.append(new Option(p.name, p.name));
+  const menu = presetMenu(ui.preset, presets, null);
 
   // ----- controls ⇄ scenario -----
   const text = (v) => (v == null ? '' : Array.isArray(v) ? (v.every((x) => x === v[0]) ? String(v[0]) : v.join(' ')) : String(v));
 
   function loadPreset(name) {
-    st.preset = presets.find((p) => p.name === name) || presets[0];
+    st.preset = menu.all.find((p) => p.name === name) || menu.all[0];
     const s = st.preset.scenario;
     const u = s.ubb;
     ui['preset-desc'].innerHTML = richText(st.preset.description);
@@ -286,8 +287,9 @@ export async function mountUbb(root, presets) {
     if (st.scenario) download(`${stem()}-scenario.json`, new Blob([JSON.stringify(st.scenario, null, 2)], { type: 'application/json' }));
   });
 
-  if (!presets.length) return;
+  if (!presets.length) return panelApi(ui.preset, menu);
   ui.preset.value = presets[0].name;
   loadPreset(presets[0].name);
   compute();
+  return panelApi(ui.preset, menu);
 }

@@ -5,6 +5,7 @@
 // figure marks it. No estimation happens here: the page edits the preset's scenario and shows
 // what the core reports.
 import { Session } from './pkg/confset.js';
+import { presetMenu, panelApi } from './panel.js';
 import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
 import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -69,14 +70,14 @@ export async function mountUniform(root, presets) {
     'time-max', 'time-window', 'estimator', 'window', 'window-range', 'window-out', 'xr', 'yr', 'uhalf', 'prior', 'xrmax', 'yrmax',
     'xbound', 'seed', 'steps', 'stale', 'numbers', 'run-numbers', 'num-title', 'timing', 'notes']
     .map((id) => [id, $(`u-${id}`)]));
-  const all = [...presets, CUSTOM_PRESET];
+  const menu = presetMenu(ui.preset, presets, CUSTOM_PRESET);
+  const all = menu.all;
   const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
   const stem = () => {
     const u = st.report?.uniform;
     return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${u.at.time}` : 'uniform'}`;
   };
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new UniformFigure(c, session, stem));
-  for (const p of all) ui.preset.append(new Option(p.name === CUSTOM ? 'custom model' : p.name, p.name));
   for (const k of ['F', 'H', 'B']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
   ui['m-D'].value = matrixText(CUSTOM_PRESET.scenario.uniform.D);
 
@@ -276,4 +277,5 @@ export async function mountUniform(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
+  return panelApi(ui.preset, menu);
 }

@@ -37,7 +37,7 @@ const shoot = (page, screenshotDir, name) => shootSection(page, 'glls-section', 
 export default async function glls(env) {
   const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await openApp(env, dpr, idle);
+    const page = await openApp(env, dpr, idle, 'glls');
 
     // glls-saturate: four figures at the pixel ratio, the Monte Carlo started with the scenario.
     assert.equal(await page.$eval('#g-preset', (e) => e.value), 'glls-saturate');

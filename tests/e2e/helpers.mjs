@@ -32,10 +32,11 @@ export async function choosePreset(page, selectId, name, idle) {
   await idle(page);
 }
 
-// A fresh 1366 × 900 page at device pixel ratio `dpr` on the app, loaded and with the panel idle.
-export async function openApp({ newPage, baseUrl, waitReady }, dpr, idle) {
+// A fresh 1366 × 900 page at device pixel ratio `dpr` on one route of the app (`#scf`, `#lscr/v1/…`),
+// loaded and with the panel idle.
+export async function openApp({ newPage, baseUrl, waitReady }, dpr, idle, route) {
   const page = await newPage({ viewport: { width: 1366, height: 900 }, deviceScaleFactor: dpr });
-  await page.goto(baseUrl);
+  await page.goto(`${baseUrl}#${route}`);
   await waitReady(page);
   await idle(page);
   return page;

@@ -31,7 +31,7 @@ const shoot = (page, screenshotDir, name) => shootSection(page, 'lscr-section', 
 export default async function lscr(env) {
   const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await openApp(env, dpr, idle);
+    const page = await openApp(env, dpr, idle, 'lscr');
 
     // Fig. 1's preset: drawn at the pixel ratio, numbers at the paper's 90 %.
     assert.equal(await page.$eval('#l-preset', (e) => e.value), 'lscr-predict');

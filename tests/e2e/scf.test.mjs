@@ -26,7 +26,7 @@ async function choose(page, name) {
 export default async function scf(env) {
   const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await openApp(env, dpr, idle);
+    const page = await openApp(env, dpr, idle, 'scf');
 
     // Hi-DPI: the backing store is the CSS size times the pixel ratio, and a figure was drawn.
     const size = await page.$eval('#fig-state canvas', (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);

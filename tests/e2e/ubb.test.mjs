@@ -31,7 +31,7 @@ async function drawnWell(page, assert, what) {
 export default async function ubb(env) {
   const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await openApp(env, dpr, idle);
+    const page = await openApp(env, dpr, idle, 'ubb');
 
     // The ubb presets live in this panel's menu only.
     const menu = (id) => page.$$eval(`#${id} option`, (os) => os.map((o) => o.value));

@@ -28,7 +28,7 @@ const shoot = (page, screenshotDir, name) => shootSection(page, 'uniform-section
 export default async function uniform(env) {
   const { assert, screenshotDir } = env;
   for (const dpr of [1, 2]) {
-    const page = await openApp(env, dpr, idle);
+    const page = await openApp(env, dpr, idle, 'uniform');
 
     // The uniform presets live in this panel's menu only.
     const menu = (id) => page.$$eval(`#${id} option`, (os) => os.map((o) => o.value));

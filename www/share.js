@@ -1,0 +1,117 @@
+// Share links. A panel's state is its preset and the values of its controls (and, for a scenario
+// loaded from a file, that scenario): everything the panel's own code turns into the Scenario it
+// runs, so restoring the controls reproduces the same scenario, numbers and picture (same seed).
+//
+//   #<panel>                      the panel with its first preset
+//   #<panel>/preset/<name>        the panel with that preset
+//   #<panel>/v1/<token>           token = base64url(deflate-raw(JSON {preset, fields, scenario?}))
+//
+// The fragment, never the query string: static hosts answer long queries with 414. Every version
+// ever emitted keeps a decoder in DECODERS; a renamed preset keeps an alias in PRESET_ALIASES.
+
+export const MAX_LINK_CHARS = 32_000;
+export const LINK_VERSION = 'v1';
+export const PRESET_ALIASES = {};
+
+const toBase64Url = (bytes) => {
+  let s = '';
+  for (let i = 0; i < bytes.length; i += 0x8000) s += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return btoa(s).replace(/\+/g, '-').replace(/\//g, '_').replace(/=+$/, '');
+};
+const fromBase64Url = (text) => {
+  if (!/^[A-Za-z0-9_-]*$/.test(text)) throw new Error('it holds characters a link token never has');
+  const b = atob(text.replace(/-/g, '+').replace(/_/g, '/') + '==='.slice((text.length + 3) % 4));
+  return Uint8Array.from(b, (c) => c.charCodeAt(0));
+};
+
+async function pipe(bytes, stream) {
+  const out = new Blob([bytes]).stream().pipeThrough(stream);
+  return new Uint8Array(await new Response(out).arrayBuffer());
+}
+
+export async function encodeState(state) {
+  const json = new TextEncoder().encode(JSON.stringify(state));
+  return toBase64Url(await pipe(json, new CompressionStream('deflate-raw')));
+}
+
+const DECODERS = {
+  async v1(token) {
+    let bytes;
+    try {
+      bytes = await pipe(fromBase64Url(token), new DecompressionStream('deflate-raw'));
+    } catch (e) {
+      throw new Error(`its data are damaged (${e.message || 'not a compressed token'})`);
+    }
+    const state = JSON.parse(new TextDecoder().decode(bytes));
+    if (!state || typeof state !== 'object' || typeof state.preset !== 'string' || typeof state.fields !== 'object') {
+      throw new Error('it does not describe a panel');
+    }
+    return state;
+  },
+};
+
+// The route of a fragment: { id, state?, preset?, error? }. `id` is '' for the landing view.
+export async function parseFragment(hash) {
+  const parts = hash.replace(/^#/, '').split('/');
+  const id = parts[0].replace(/-(head|section)$/, ''); // old in-page anchors
+  if (parts.length === 1) return { id };
+  if (parts[1] === 'preset' && parts.length === 3) {
+    const name = decodeURIComponent(parts[2]);
+    return { id, preset: PRESET_ALIASES[name] || name };
+  }
+  const decode = DECODERS[parts[1]];
+  if (!decode || parts.length !== 3) {
+    return { id, error: `this link has a format this page does not know (“${parts.slice(1).join('/').slice(0, 24)}”)` };
+  }
+  if (hash.length > MAX_LINK_CHARS) return { id, error: `this link is longer than ${MAX_LINK_CHARS.toLocaleString('en-US')} characters` };
+  try {
+    const state = await decode(parts[2]);
+    state.preset = PRESET_ALIASES[state.preset] || state.preset;
+    return { id, state };
+  } catch (e) {
+    return { id, error: `this link could not be read: ${e.message}` };
+  }
+}
+
+// ----- the controls of a panel -----
+
+// The panel's controls with an id, in document order (file pickers and buttons excluded).
+const controls = (root) => [...root.querySelectorAll('form input[id], form select[id], form textarea[id]')]
+  .filter((el) => el.type !== 'file' && el.type !== 'button' && el.type !== 'submit');
+const valueOf = (el) => (el.type === 'checkbox' ? String(el.checked) : el.value);
+
+export function captureFields(root, presetId) {
+  const fields = {};
+  for (const el of controls(root)) if (el.id !== presetId) fields[el.id] = valueOf(el);
+  return fields;
+}
+
+function setControl(el, value) {
+  if (valueOf(el) === value) return false;
+  if (el.type === 'checkbox') el.checked = value === 'true'; else el.value = value;
+  el.dispatchEvent(new Event('input', { bubbles: true }));
+  el.dispatchEvent(new Event('change', { bubbles: true }));
+  return true;
+}
+
+// Resolves once the panel holds no compute (its busy flag clear) after the next frame.
+export function idle(busyKey) {
+  return new Promise((resolve) => {
+    const check = () => (document.body.dataset[busyKey] ? requestAnimationFrame(check) : resolve());
+    requestAnimationFrame(check);
+  });
+}
+
+// Put `fields` into the panel's controls: first every control but the sliders (they can change
+// what the sliders range over), then, once the panel has computed, the sliders. A control is only
+// touched when its value differs, so one that follows another (an "automatic" horizon) is kept.
+export async function restoreFields(root, fields, busyKey) {
+  const els = controls(root).filter((el) => el.id in fields);
+  for (const el of els.filter((e) => e.type !== 'range')) setControl(el, String(fields[el.id]));
+  await idle(busyKey);
+  let moved = false;
+  for (const el of els.filter((e) => e.type === 'range')) moved = setControl(el, String(fields[el.id])) || moved;
+  if (moved) await idle(busyKey);
+  // Fields that no control of this panel has (a link from a later page version) are reported.
+  return Object.keys(fields).filter((k) => !els.some((el) => el.id === k));
+}
