@@ -1,0 +1,162 @@
+// The shell, for every panel of the registry: share links restore the same controls, numbers and
+// pixels in a fresh page; a fixture link of every emitted version decodes; a corrupt link says so
+// and shows the default; the landing view computes nothing; a scenario file loads into its panel.
+import { join } from 'node:path';
+import { writeFileSync, mkdtempSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { PANELS } from '../../www/registry.js';
+
+const ready = (page) => page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
+const idle = (page, key) => page.waitForFunction((k) => !document.body.dataset[k], key, { timeout: 60_000 });
+
+// What a user sees of a panel: every control's value, the numbers' text, and a digest of every
+// visible canvas's pixels.
+const snapshot = (page, id) => page.evaluate((id) => {
+  const root = document.getElementById(id);
+  const controls = [...root.querySelectorAll('form input[id], form select[id], form textarea[id]')]
+    .filter((e) => e.type !== 'file').map((e) => `${e.id}=${e.type === 'checkbox' ? e.checked : e.value}`);
+  const numbers = [...root.querySelectorAll('.numbers')].map((e) => e.textContent.replace(/\s+/g, ' ')
+    .replace(/[\d.]+ ?(ms|µs|s)\b/g, '')).join('|');
+  const pixels = [...root.querySelectorAll('canvas')].filter((c) => c.offsetParent && c.width > 1).map((c) => {
+    const copy = Object.assign(document.createElement('canvas'), { width: c.width, height: c.height });
+    const g = copy.getContext('2d', { willReadFrequently: true });
+    g.drawImage(c, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let h = 0;
+    for (let i = 0; i < d.length; i += 7) h = (h * 31 + d[i]) >>> 0;
+    return `${c.width}x${c.height}:${h}`;
+  });
+  return { controls, numbers, pixels };
+}, id);
+
+// Move a panel's controls as a user would: the first three visible sliders to 30 % of their
+// range and the seed one up, then wait for the panel to compute.
+async function moveControls(page, d) {
+  const moved = await page.evaluate((id) => {
+    const root = document.getElementById(id);
+    const visible = (e) => e.offsetParent !== null && !e.disabled;
+    const out = [];
+    for (const r of [...root.querySelectorAll('form input[type=range]')].filter(visible).slice(0, 3)) {
+      const [lo, hi, step] = [Number(r.min), Number(r.max), Number(r.step) || 1];
+      const v = lo + Math.round((0.3 * (hi - lo)) / step) * step;
+      if (String(v) === r.value) continue;
+      r.value = String(v);
+      r.dispatchEvent(new Event('input', { bubbles: true }));
+      out.push(`${r.id}=${r.value}`);
+    }
+    for (const n of [...root.querySelectorAll('form input[type=number][id$=seed]')].filter(visible).slice(0, 1)) {
+      n.value = String(Number(n.value) + 1);
+      n.dispatchEvent(new Event('input', { bubbles: true }));
+      out.push(`${n.id}=${n.value}`);
+    }
+    return out;
+  }, d.id);
+  await idle(page, d.busy);
+  return moved;
+}
+
+export default async function explorer({ newPage, baseUrl, assert, screenshotDir }) {
+  // The landing view: five cards, no panel mounted, so nothing computed.
+  {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(baseUrl);
+    await ready(page);
+    assert.equal(await page.$$eval('#landing a.promise', (a) => a.length), PANELS.length);
+    const drawn = await page.$$eval('canvas', (cs) => cs.filter((c) => c.width !== 300).length);
+    assert.equal(drawn, 0, 'the landing view draws no figure');
+    await page.screenshot({ path: join(screenshotDir, 'explorer-landing.png') });
+    // A click on a card opens that panel, and only that one computes.
+    await page.click('#landing a[href="#lscr"]');
+    await page.waitForFunction(() => document.body.dataset.route === 'lscr' && document.body.dataset.ready === '1');
+    assert.equal(await page.$eval('#scf-section', (e) => e.hidden), true);
+    const others = await page.$$eval('#scf canvas, #glls canvas, #ubb canvas, #uniform canvas', (cs) => cs.filter((c) => c.width !== 300).length);
+    assert.equal(others, 0, 'panels not shown compute nothing');
+    await page.close();
+  }
+
+  for (const d of PANELS) {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(`${baseUrl}#${d.id}`);
+    await ready(page);
+    await idle(page, d.busy);
+    const before = await snapshot(page, d.id);
+    const moved = await moveControls(page, d);
+    assert.ok(moved.length > 0, `${d.id}: some slider moved`);
+    const after = await snapshot(page, d.id);
+    assert.notDeepEqual(after.pixels, before.pixels, `${d.id}: moving ${moved.join(', ')} changes the picture`);
+    // The URL follows (debounced), and a fresh page on it is the same panel.
+    await page.waitForFunction((id) => location.hash.startsWith(`#${id}/v1/`), d.id, { timeout: 10_000 });
+    await page.waitForTimeout(600); // the last debounced update
+    const link = await page.evaluate(() => location.href);
+    assert.ok(link.length < 32_000, `${d.id}: link of ${link.length} characters`);
+    const copy = await newPage({ viewport: { width: 1366, height: 900 } });
+    await copy.goto(link);
+    await ready(copy);
+    await idle(copy, d.busy);
+    const restored = await snapshot(copy, d.id);
+    assert.deepEqual(restored.controls, after.controls, `${d.id}: the link restores the controls`);
+    assert.equal(restored.numbers, after.numbers, `${d.id}: the link restores the numbers`);
+    assert.deepEqual(restored.pixels, after.pixels, `${d.id}: the link restores the picture`);
+    console.log(`    ${d.id}: moved ${moved.join(', ')}; link ${link.length} characters restores controls, numbers and ${restored.pixels.length} canvases`);
+    await copy.close();
+
+    // A preset link.
+    const presetName = await page.$eval(`#${d.id} form select[data-field=preset]`, (s) => s.options[1] ? s.options[1].value : s.options[0].value);
+    const byPreset = await newPage({ viewport: { width: 1366, height: 900 } });
+    await byPreset.goto(`${baseUrl}#${d.id}/preset/${presetName}`);
+    await ready(byPreset);
+    assert.equal(await byPreset.$eval(`#${d.id} form select[data-field=preset]`, (s) => s.value), presetName);
+    await byPreset.close();
+
+    // A corrupt link: a message in words, and the default scenario.
+    const broken = await newPage({ viewport: { width: 1366, height: 900 } });
+    await broken.goto(`${baseUrl}#${d.id}/v1/AAAA-not-a-token`);
+    await ready(broken);
+    await idle(broken, d.busy);
+    const banner = await broken.$eval(`#${d.id}-section .banner`, (b) => (b.hidden ? '' : b.textContent));
+    assert.match(banner, /could not be read.*default scenario/, `${d.id}: corrupt link message: ${banner}`);
+    assert.deepEqual((await snapshot(broken, d.id)).controls, before.controls, `${d.id}: a corrupt link shows the default`);
+    await broken.close();
+    await page.close();
+  }
+
+  // A fixture link of every emitted version (v1: lscr-smooth, seed 7) decodes to those controls.
+  {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(baseUrl);
+    await ready(page);
+    // A v1 token as this page emitted it for {preset: 'lscr-smooth', fields: {'l-seed': '7'}}:
+    // pinned, so that a later change of the format cannot break old links unnoticed.
+    const FIXTURE_V1 = 'q1YqKEotTi1RslLKKU4u0i3Ozc8vyVDSUUrLTM1JKVayqlbK0S1OTU0BKjBXqq0FAA';
+    await page.goto(`${baseUrl}#lscr/v1/${FIXTURE_V1}`);
+    await page.reload();
+    await ready(page);
+    await idle(page, 'lscrBusy');
+    assert.equal(await page.$eval('#l-preset', (s) => s.value), 'lscr-smooth');
+    assert.equal(await page.$eval('#l-seed', (s) => s.value), '7');
+    await page.close();
+  }
+
+  // A scenario file (the panel's own download) loads by the file picker into its panel, from
+  // another panel; undo brings the previous scenario back.
+  {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(`${baseUrl}#scf`);
+    await ready(page);
+    await idle(page, 'busy');
+    const dir = mkdtempSync(join(tmpdir(), 'confset-scenario-'));
+    const file = join(dir, 'my-ubb.json');
+    const scenario = await page.evaluate(() => JSON.parse(window.confset.presets()).find((p) => p.name === 'ubb-series').scenario);
+    scenario.title = 'my series';
+    writeFileSync(file, JSON.stringify(scenario));
+    await page.setInputFiles('#scf-section input[type=file]', file);
+    await page.waitForFunction(() => document.body.dataset.route !== 'scf' || !document.getElementById('ubb-section').hidden, null, { timeout: 30_000 });
+    await page.waitForFunction(() => !document.getElementById('ubb-section').hidden && /loaded/.test(document.querySelector('#ubb-section .share-status').textContent), null, { timeout: 30_000 });
+    await idle(page, 'ubbBusy');
+    assert.match(await page.$eval('#b-preset', (s) => s.selectedOptions[0].textContent), /loaded: my series/);
+    await page.click('#ubb-section [data-act=undo]');
+    await idle(page, 'ubbBusy');
+    assert.equal(await page.$eval('#b-preset', (s) => s.value), 'ubb-track');
+    await page.close();
+  }
+}
