@@ -118,6 +118,15 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     assert.deepEqual((await snapshot(broken, d.id)).controls, before.controls, `${d.id}: a corrupt link shows the default`);
     await broken.close();
     await page.close();
+
+    // A phone: no horizontal scrolling.
+    const phone = await newPage({ viewport: { width: 390, height: 844 }, deviceScaleFactor: 2 });
+    await phone.goto(`${baseUrl}#${d.id}`);
+    await ready(phone);
+    await idle(phone, d.busy);
+    assert.equal(await phone.evaluate(() => document.documentElement.scrollWidth), 390, `${d.id}: document width at 390 px`);
+    await phone.screenshot({ path: join(screenshotDir, `explorer-${d.id}-phone.png`) });
+    await phone.close();
   }
 
   // A fixture link of every emitted version (v1: lscr-smooth, seed 7) decodes to those controls.
