@@ -25,10 +25,21 @@ function toolbar(d) {
   bar.innerHTML = `
     <button type="button" data-act="link">Copy link</button>
     <label class="file-btn"><input type="file" accept=".json,application/json" data-act="file"><span>Load scenario file…</span></label>
+    <label class="file-btn"><input type="file" accept=".csv,.tsv,.txt,text/csv,text/plain" data-act="csv"><span>Load data (CSV)…</span></label>
+    <button type="button" data-act="paste" aria-expanded="false">Paste data…</button>
     <button type="button" data-act="reset">Reset to preset</button>
     <button type="button" data-act="undo" hidden>Undo load</button>
     <span class="share-status" role="status" aria-live="polite"></span>
-    <p class="banner" role="alert" hidden></p>`;
+    <p class="banner" role="alert" hidden></p>
+    <div class="data-box card" hidden>
+      <label class="row">Measured data <span class="hint">one row per time: columns y1 … yq, then u1 … ur;
+        a header row is optional; comma, semicolon, tab or spaces</span>
+        <textarea rows="6" spellcheck="false" data-act="csv-text"></textarea></label>
+      <p class="hint data-shape"></p>
+      <p class="err data-err" role="alert"></p>
+      <div class="data-preview"></div>
+      <p><button type="button" class="go" data-act="use-data">Run on these data</button></p>
+    </div>`;
   const head = d.section().querySelector('.section-head');
   head.after(bar);
   const q = (a) => bar.querySelector(`[data-act=${a}]`);
@@ -50,6 +61,29 @@ function toolbar(d) {
     e.target.value = '';
     if (file) await loadScenarioFile(file);
   });
+  q('csv').addEventListener('change', async (e) => {
+    const file = e.target.files[0];
+    e.target.value = '';
+    if (file) await loadDataFile(d, file);
+  });
+  const box = bar.querySelector('.data-box');
+  q('paste').addEventListener('click', async () => {
+    box.hidden = !box.hidden;
+    q('paste').setAttribute('aria-expanded', String(!box.hidden));
+    if (!box.hidden) {
+      await dataHint(d);
+      q('csv-text').focus();
+    }
+  });
+  q('use-data').addEventListener('click', () => useData(d, q('csv-text').value, 'pasted'));
+  d.dataBox = {
+    show(msg, preview) {
+      box.hidden = false;
+      box.querySelector('.data-err').textContent = msg || '';
+      box.querySelector('.data-preview').replaceChildren(...(preview ? [preview] : []));
+    },
+    hint(text) { box.querySelector('.data-shape').textContent = text; },
+  };
   q('reset').addEventListener('click', async () => {
     const api = await mounted.get(d.id);
     d.banner('');
@@ -72,8 +106,78 @@ function toolbar(d) {
     e.preventDefault();
     section.classList.remove('drop');
     const file = e.dataTransfer.files[0];
-    if (file) await loadScenarioFile(file);
+    if (file && /\.(csv|tsv|txt)$/i.test(file.name)) await loadDataFile(d, file);
+    else if (file) await loadScenarioFile(file);
   });
+}
+
+// ----- the user's measured data (CSV), parsed by the core -----
+
+const MAX_DATA_BYTES = 20e6;
+
+async function dataHint(d) {
+  const api = await mounted.get(d.id);
+  try {
+    const { outputs, inputs } = JSON.parse(confset.dataShape(JSON.stringify(api.scenario())));
+    d.dataBox.hint(`This model: q = ${outputs} output${outputs === 1 ? '' : 's'} (y1 … y${outputs})`
+      + `${inputs ? ` and r = ${inputs} input${inputs === 1 ? '' : 's'} (u1 … u${inputs})` : ', no inputs'}.`);
+  } catch {
+    d.dataBox.hint('');
+  }
+}
+
+async function loadDataFile(d, file) {
+  if (file.size > MAX_DATA_BYTES) {
+    d.dataBox.show(`${file.name} is ${(file.size / 1e6).toFixed(1)} MB: data files have at most ${MAX_DATA_BYTES / 1e6} MB`);
+    return;
+  }
+  const text = await file.text();
+  d.section().querySelector('[data-act=csv-text]').value = text.length > 200_000 ? '' : text;
+  await useData(d, text, file.name);
+}
+
+// The first rows of the data the core read, and their shape.
+function dataPreview(data) {
+  const y = data.y, u = data.u || [];
+  const q = y[0]?.length ?? 0, r = u[0]?.length ?? 0;
+  const t = document.createElement('table');
+  t.className = 'preview';
+  const head = [...Array(q)].map((_, i) => `y${i + 1}`).concat([...Array(r)].map((_, i) => `u${i + 1}`));
+  t.innerHTML = `<caption>${y.length} row${y.length === 1 ? '' : 's'} · ${q} output${q === 1 ? '' : 's'}${r ? ` · ${r} input${r === 1 ? '' : 's'}` : ''}</caption>`
+    + `<thead><tr><th>row</th>${head.map((h) => `<th>${h}</th>`).join('')}</tr></thead><tbody>${
+      y.slice(0, 5).map((row, i) => `<tr><th>${i + 1}</th>${row.concat(u[i] || []).map((v) => `<td>${+v.toPrecision(6)}</td>`).join('')}</tr>`).join('')
+    }${y.length > 5 ? `<tr><td colspan="${head.length + 1}">…</td></tr>` : ''}</tbody>`;
+  return t;
+}
+
+async function useData(d, text, name) {
+  const api = await mounted.get(d.id);
+  await dataHint(d);
+  if (text.length > MAX_DATA_BYTES) return d.dataBox.show(`the data have ${(text.length / 1e6).toFixed(1)} MB of text: at most ${MAX_DATA_BYTES / 1e6} MB`);
+  const base = api.scenario();
+  if (!base) return d.dataBox.show('the panel has no valid scenario to run the data with: fix its controls first');
+  let scenario;
+  try {
+    scenario = JSON.parse(confset.withCsvData(JSON.stringify(base), text));
+  } catch (e) {
+    return d.dataBox.show(e.message || String(e));
+  }
+  scenario.title = `${base.title || d.title} on ${name}`;
+  d.beforeLoad = await stateOf(d);
+  navigating++;
+  try {
+    addLoaded(d, api, `data:${name}`.slice(0, 80), scenario);
+    api.presetSelect.value = d.loaded.name;
+    api.presetSelect.dispatchEvent(new Event('change', { bubbles: true }));
+    await idle(d.busy);
+  } finally {
+    navigating--;
+  }
+  d.dataBox.show('', dataPreview(scenario.data));
+  d.showUndo();
+  d.say(`running on ${name}: ${scenario.data.y.length} rows`);
+  const link = await linkOf(d);
+  history.replaceState(null, '', link ? link.slice(link.indexOf('#')) : `#${d.id}`);
 }
 
 // ----- share links -----

@@ -5,7 +5,7 @@
 // "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
 // and shows what the core reports.
 import { Session, Study } from './pkg/confset.js';
-import { presetMenu, panelApi } from './panel.js';
+import { presetMenu, panelApi, dataMode } from './panel.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -123,8 +123,9 @@ export async function mountGlls(root, presets) {
     planeOptions(g.plane || [0, 1]);
     ui.p.value = g.p ?? (dim() || s.model.F.length);
     ui.mu.value = g.mu ?? '';
-    ui.steps.value = s.simulate.steps;
-    ui.seed.value = s.simulate.seed;
+    ui.steps.value = s.simulate ? s.simulate.steps : s.data.y.length;
+    ui.seed.value = s.simulate?.seed ?? 0;
+    dataMode(root, s);
     ui.max.value = g.max_horizon ?? 60;
     ui.notes.innerHTML = richText(s.notes || '');
     horizonRange();
@@ -157,7 +158,7 @@ export async function mountGlls(root, presets) {
   // The Monte Carlo block the page would send (the study type follows the estimator).
   function monteCarlo(s) {
     const pre = st.preset.scenario.glls.monte_carlo || {};
-    const cap = Math.min(pre.max_horizon ?? 30, s.glls.max_horizon, s.simulate.steps - 1);
+    const cap = Math.min(pre.max_horizon ?? 30, s.glls.max_horizon, (s.simulate ? s.simulate.steps : s.data.y.length) - 1);
     return {
       runs: 500, seed: pre.seed ?? 1,
       study: s.glls.estimator === 'state_noise' ? 'state_noise' : 'precision',
@@ -179,8 +180,10 @@ export async function mountGlls(root, presets) {
       }
       s.model.x1_mean = parseVector('model.x1_mean', ui.x0.value);
     }
-    s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
-    s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
+    if (s.simulate) {
+      s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
+      s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
+    }
     const g = s.glls;
     g.max_horizon = wholeNumber('glls.max_horizon', ui.max.value);
     if (ui.auto.checked) delete g.horizon; else g.horizon = wholeNumber('glls.horizon', ui.s.value);
@@ -196,7 +199,7 @@ export async function mountGlls(root, presets) {
   }
 
   // What the study depends on: the model, the data length and inputs, the weighting, its block.
-  const studyKey = (s, mc) => JSON.stringify([s.model, s.simulate.steps, s.simulate.u || [], s.glls.estimator, mc]);
+  const studyKey = (s, mc) => JSON.stringify([s.model, s.simulate?.steps, s.simulate?.u || [], s.data || null, s.glls.estimator, mc]);
 
   // ----- errors next to the field they name -----
   const errors = fieldErrors(root, ui.stale, 'form ');
@@ -472,5 +475,5 @@ export async function mountGlls(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
-  return panelApi(ui.preset, menu);
+  return panelApi(ui.preset, menu, () => st.scenario);
 }

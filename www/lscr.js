@@ -3,7 +3,7 @@
 // experiment (wasm Study) at a true state placed with a click. No estimation happens
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Session, Study } from './pkg/confset.js';
-import { presetMenu, panelApi } from './panel.js';
+import { presetMenu, panelApi, dataMode } from './panel.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -66,8 +66,8 @@ export async function mountLscr(root, presets) {
     ui['preset-desc'].textContent = st.preset.description;
     ui.sv.value = s.model.sigma_v2;
     ui.sw.value = s.model.sigma_w2;
-    ui.t.value = s.simulate.steps;
-    ui.dseed.value = s.simulate.seed;
+    ui.t.value = s.simulate ? s.simulate.steps : s.data.y.length;
+    ui.dseed.value = s.simulate?.seed ?? 0;
     ui.estimate.value = l.estimate || 'predict';
     ui.index.value = l.index ?? '';
     ui.mode.value = l.level != null && l.M == null ? 'level' : 'mq';
@@ -76,9 +76,10 @@ export async function mountLscr(root, presets) {
     ui.level.value = l.level ?? 0.9;
     ui.construction.value = l.construction || 'random';
     ui.seed.value = l.seed ?? 0;
-    ui.fix.checked = !!s.simulate.condition;
-    ui.xbar.value = s.simulate.condition ? s.simulate.condition.x.join(' ') : '';
+    ui.fix.checked = !!s.simulate?.condition;
+    ui.xbar.value = s.simulate?.condition ? s.simulate.condition.x.join(' ') : '';
     ui.notes.textContent = (s.notes || '').replace(/\s{2,}/g, ' ');
+    dataMode(root, s);
     updateVisibility();
   }
 
@@ -95,7 +96,7 @@ export async function mountLscr(root, presets) {
   // The estimated time by the scenario contract (prediction t + 1, filtering t, smoothing i);
   // checked against the report's lscr.time after the run.
   function estimatedTime(s) {
-    const t = s.simulate.steps;
+    const t = s.simulate ? s.simulate.steps : s.data.y.length;
     return s.lscr.estimate === 'predict' ? t + 1 : s.lscr.estimate === 'filter' ? t : s.lscr.index;
   }
 
@@ -109,8 +110,10 @@ export async function mountLscr(root, presets) {
     }
     s.model.sigma_v2 = parseNumber('model.sigma_v2', ui.sv.value);
     s.model.sigma_w2 = parseNumber('model.sigma_w2', ui.sw.value);
-    s.simulate.steps = wholeNumber('simulate.steps', ui.t.value);
-    s.simulate.seed = wholeNumber('simulate.seed', ui.dseed.value);
+    if (s.simulate) {
+      s.simulate.steps = wholeNumber('simulate.steps', ui.t.value);
+      s.simulate.seed = wholeNumber('simulate.seed', ui.dseed.value);
+    }
     const l = s.lscr;
     l.estimate = ui.estimate.value;
     if (l.estimate === 'smooth') l.index = wholeNumber('lscr.index', ui.index.value);
@@ -125,7 +128,9 @@ export async function mountLscr(root, presets) {
     l.construction = ui.construction.value;
     l.seed = wholeNumber('lscr.seed', ui.seed.value);
     delete l.coverage;
-    if (ui.fix.checked) {
+    if (!s.simulate) {
+      // the user's data: no truth to place
+    } else if (ui.fix.checked) {
       s.simulate.condition = { t: estimatedTime(s), x: parseVector('simulate.condition.x', ui.xbar.value) };
     } else {
       delete s.simulate.condition;
@@ -142,7 +147,7 @@ export async function mountLscr(root, presets) {
 
   function runReport(scenario) {
     let json = session.run(JSON.stringify(scenario));
-    const c = scenario.simulate.condition;
+    const c = scenario.simulate?.condition;
     if (c) {
       const time = JSON.parse(json).lscr.time;
       if (time !== c.t) { // the truth belongs at the estimated time
@@ -301,6 +306,7 @@ export async function mountLscr(root, presets) {
       if (!st.report) throw new Error('no valid scenario to run');
       total = wholeNumber('lscr.coverage.runs', ui['cov-n'].value);
       const s = clone(st.scenario);
+      if (!s.simulate) throw { field: 'data', message: 'the coverage experiment simulates new data many times: it needs a simulated scenario, not your data' };
       const x = s.simulate.condition ? s.simulate.condition.x : st.report.lscr.x_true;
       if (!x) throw { field: 'simulate.condition.x', message: 'the coverage experiment needs a true state: click the figure to place one' };
       s.simulate.condition = { t: st.report.lscr.time, x };
@@ -365,5 +371,5 @@ export async function mountLscr(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
-  return panelApi(ui.preset, menu);
+  return panelApi(ui.preset, menu, () => st.scenario);
 }

@@ -19,5 +19,24 @@ export function presetMenu(select, presets, custom) {
   };
 }
 
-// The shell's handle on a mounted panel: its preset menu, and how to add a loaded scenario.
-export const panelApi = (select, menu) => ({ presetSelect: select, addPreset: menu.add });
+// The shell's handle on a mounted panel: its preset menu, how to add a loaded scenario, and the
+// scenario it last ran.
+export const panelApi = (select, menu, scenario) => ({ presetSelect: select, addPreset: menu.add, scenario });
+
+// On the user's data (`data` instead of `simulate`) the simulation's controls have nothing to
+// set: they are disabled, and the panel's note says that the run has no truth.
+export function dataMode(root, scenario) {
+  const onData = !scenario.simulate && !!scenario.data;
+  for (const el of root.querySelectorAll('form [data-field^="simulate."]')) el.disabled = onData;
+  let note = root.querySelector('.data-note');
+  if (!note) {
+    note = Object.assign(document.createElement('p'), { className: 'data-note' });
+    root.querySelector('form').prepend(note);
+  }
+  const y = scenario.data?.y || [];
+  note.textContent = onData
+    ? `Your data: ${y.length} measurement${y.length === 1 ? '' : 's'} of ${y[0]?.length ?? 0} output${y[0]?.length === 1 ? '' : 's'}`
+      + `${scenario.data.u?.length ? ` with inputs u (${scenario.data.u[0].length} per row)` : ''}. No simulation, so no true state and no verdict against one.`
+    : '';
+  note.hidden = !onData;
+}

@@ -2,7 +2,7 @@
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
 import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { Session } from './pkg/confset.js';
-import { presetMenu, panelApi } from './panel.js';
+import { presetMenu, panelApi, dataMode } from './panel.js';
 import { Figure, download, redrawOnResize } from './figure.js';
 import { mountMonteCarlo } from './montecarlo.js';
 import { parseMatrix, parseVector, matrixText, wholeNumber } from './parse.js';
@@ -70,8 +70,8 @@ export async function mountScf(root, presets) {
     ui.alpha.value = s.alpha;
     ui.sv.value = ui.sw.value = 0;
     ui.tau.value = s.tau;
-    ui.seed.value = s.simulate.seed;
-    ui.rare.checked = !!s.simulate.condition;
+    ui.seed.value = s.simulate?.seed ?? 0;
+    ui.rare.checked = !!s.simulate?.condition;
     ui.asym.checked = !!s.asymptotic;
     ui.xbar.value = isCustom() ? '5 0' : '12.25';
     ui['cov-range'].value = s.coverage_curve ? s.coverage_curve.to : '';
@@ -79,6 +79,7 @@ export async function mountScf(root, presets) {
     ui.components.value = s.components ? s.components.join(',') : 'all';
     ui.time.dataset.preset = s.time ?? '';
     ui.notes.textContent = s.notes || '';
+    dataMode(root, s);
     updateVisibility();
   }
 
@@ -103,10 +104,11 @@ export async function mountScf(root, presets) {
     s.model.V = scale(s.model.V, 10 ** Number(ui.sv.value));
     s.model.W = scale(s.model.W, 10 ** Number(ui.sw.value));
     s.tau = wholeNumber('tau', ui.tau.value);
-    s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
+    if (s.simulate) s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
     if (ui.components.value === 'all') delete s.components;
     else s.components = ui.components.value.split(',').map(Number);
-    if (!ui.rare.checked) delete s.simulate.condition;
+    if (!s.simulate) { /* the user's data: nothing to simulate or condition */ }
+    else if (!ui.rare.checked) delete s.simulate.condition;
     else if (!isRobots()) s.simulate.condition = { t: s.simulate.steps, x: parseVector('simulate.condition.x', ui.xbar.value) };
     s.asymptotic = ui.asym.checked && !isRobots();
     if (s.coverage_curve) {
@@ -191,7 +193,7 @@ export async function mountScf(root, presets) {
     const a = st.report && st.report.asymptotic;
     const x = Number(ui.xbar.value);
     ui['rare-hint'].textContent = isRobots()
-      ? `Measurements drawn backwards from a colliding state at t = ${st.preset.scenario.simulate.condition?.t} (robot centres 0.1 apart). `
+      ? `Measurements drawn backwards from a colliding state at t = ${st.preset.scenario.simulate?.condition?.t} (robot centres 0.1 apart). `
         + 'The whole state is fixed: the SCF guarantee is for the components ζ when only ζ is fixed.'
       : a && a.gamma.length === 1 && Number.isFinite(x)
         ? `x̄ = ${fmt(x)} is ${(x / Math.sqrt(a.gamma[0][0])).toFixed(1)} σ of the prior (Γ = ${fmt(a.gamma[0][0])}); fixed at t = ${st.report.steps.length}.`
@@ -217,6 +219,7 @@ export async function mountScf(root, presets) {
 
   const resetMonteCarlo = mountMonteCarlo($('mc'), () => {
     const s = buildScenario();
+    if (!s.simulate) throw { field: 'data', message: 'the Monte Carlo over rare realizations simulates: it needs a simulated scenario, not data' };
     s.simulate.condition = clone(st.preset.scenario.simulate.condition);
     return { scenario: s, preset: st.preset.scenario };
   }, setBusy);
@@ -224,5 +227,5 @@ export async function mountScf(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
-  return panelApi(ui.preset, menu);
+  return panelApi(ui.preset, menu, () => st.scenario);
 }

@@ -5,10 +5,10 @@
 // (wasm Study) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Session, Study } from './pkg/confset.js';
-import { presetMenu, panelApi } from './panel.js';
+import { presetMenu, panelApi, dataMode } from './panel.js';
 import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
 import { runChunked, runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
-import { parseNumber, parseVector, wholeNumber } from './parse.js';
+import { parseMatrix, parseNumber, parseVector, matrixText, wholeNumber } from './parse.js';
 import { bracedScripts, verdict } from './richtext.js';
 
 const clone = (v) => JSON.parse(JSON.stringify(v));
@@ -21,6 +21,21 @@ const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
 const CHUNK = 10; // runs per Study.step
 const ANIMATE_MS = 350; // per step of the animation (at least one LP solve per frame)
+
+// The custom mode is one more "preset" whose model comes from the text boxes.
+const CUSTOM_PRESET = {
+  name: 'custom',
+  description: 'Your own A, B, C: x(k+1) = A x(k) + B u(k), y(k) = C x(k) + η(k) with |u| ≤ τ, |η| ≤ ε; every change is validated and run at once.',
+  scenario: {
+    method: 'ubb', title: 'Custom model',
+    model: { F: [[0.9, 0.2], [-0.1, 0.8]], G: [[1], [0.5]], H: [[1, 0]] },
+    simulate: { steps: 50, seed: 1 },
+    ubb: { eps: 0.2, tau: 0.1, delta: [2], alpha: 50, beta: 50, gamma: 0.1, time: 40 },
+    notes: 'A stable 2-state system with one bounded noise input and one measured output. The set of states consistent '
+      + 'with the data and the bounds is a polygon drawn by support LPs; it holds the true state at every step '
+      + 'as long as the simulated noise stays within ε and τ.',
+  },
+};
 
 const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
 
@@ -47,7 +62,7 @@ export async function mountUbb(root, presets) {
   const $ = (id) => root.querySelector(`#${id}`);
   const ui = Object.fromEntries(['preset', 'preset-desc', 'time', 'time-out', 'time-min', 'time-max', 'time-window', 'animate',
     'eps', 'tau', 'delta', 'sim-out', 'alpha', 'beta', 'gamma', 'window-out', 'norm', 'seed', 'noise', 'stale', 'numbers', 'num-title',
-    'timing', 'notes', 'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err']
+    'timing', 'notes', 'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err', 'custom', 'm-F', 'm-G', 'm-H']
     .map((id) => [id, $(`b-${id}`)]));
   const st = { preset: presets[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
   const stem = () => {
@@ -55,7 +70,9 @@ export async function mountUbb(root, presets) {
     return `${st.preset.name}-${u ? `${u.norm}-k${u.at.k}` : 'ubb'}`;
   };
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new UbbFigure(c, session, stem));
-  const menu = presetMenu(ui.preset, presets, null);
+  const menu = presetMenu(ui.preset, presets, CUSTOM_PRESET);
+  for (const k of ['F', 'G', 'H']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
+  const isCustom = () => st.preset === CUSTOM_PRESET;
 
   // ----- controls ⇄ scenario -----
   const text = (v) => (v == null ? '' : Array.isArray(v) ? (v.every((x) => x === v[0]) ? String(v[0]) : v.join(' ')) : String(v));
@@ -65,6 +82,7 @@ export async function mountUbb(root, presets) {
     const s = st.preset.scenario;
     const u = s.ubb;
     ui['preset-desc'].innerHTML = richText(st.preset.description);
+    ui.custom.hidden = !isCustom();
     ui.eps.value = u.eps;
     ui.tau.value = u.tau ?? 0;
     ui.delta.value = text(u.delta);
@@ -77,6 +95,7 @@ export async function mountUbb(root, presets) {
     ui.notes.innerHTML = richText(s.notes || '');
     ui['sim-out'].textContent = `simulated noise: |η| ≤ ${u.sim_eps ?? u.eps}, |u| ≤ ${u.sim_tau ?? u.tau ?? 0} (the preset’s; ε, τ are the bounds the estimator assumes)`;
     const steps = s.simulate?.steps ?? s.data?.y?.length ?? 1;
+    dataMode(root, s);
     ui.time.min = '0';
     ui.time.max = String(steps - 1);
     ui['time-max'].textContent = String(steps - 1);
@@ -100,6 +119,7 @@ export async function mountUbb(root, presets) {
 
   function buildScenario() {
     const s = clone(st.preset.scenario);
+    if (isCustom()) for (const k of ['F', 'G', 'H']) s.model[k] = parseMatrix(`model.${k}`, ui[`m-${k}`].value);
     const u = s.ubb;
     u.eps = parseNumber('ubb.eps', ui.eps.value);
     u.tau = parseNumber('ubb.tau', ui.tau.value);
@@ -116,8 +136,10 @@ export async function mountUbb(root, presets) {
     // The simulated noise stays the preset's: ε and τ are the bounds the estimator assumes, so a
     // bound below the noise makes the data contradict it (or lose the truth).
     const p0 = st.preset.scenario.ubb;
-    u.sim_eps = p0.sim_eps ?? p0.eps;
-    u.sim_tau = p0.sim_tau ?? (p0.tau ?? 0);
+    if (s.simulate) {
+      u.sim_eps = p0.sim_eps ?? p0.eps;
+      u.sim_tau = p0.sim_tau ?? (p0.tau ?? 0);
+    }
     if (s.simulate) s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
     delete s.notes;
     return s;
@@ -269,7 +291,7 @@ export async function mountUbb(root, presets) {
 
   // ----- wiring -----
   ui.preset.addEventListener('change', () => { stopAnimation(); loadPreset(ui.preset.value); schedule('compute'); });
-  for (const id of ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'norm', 'seed', 'noise']) {
+  for (const id of ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H']) {
     ui[id].addEventListener('input', () => schedule('compute'));
   }
   ui.time.addEventListener('input', () => { showTime(); schedule('compute'); });
@@ -291,5 +313,5 @@ export async function mountUbb(root, presets) {
   ui.preset.value = presets[0].name;
   loadPreset(presets[0].name);
   compute();
-  return panelApi(ui.preset, menu);
+  return panelApi(ui.preset, menu, () => st.scenario);
 }

@@ -5,7 +5,7 @@
 // figure marks it. No estimation happens here: the page edits the preset's scenario and shows
 // what the core reports.
 import { Session } from './pkg/confset.js';
-import { presetMenu, panelApi } from './panel.js';
+import { presetMenu, panelApi, dataMode } from './panel.js';
 import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
 import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -106,8 +106,9 @@ export async function mountUniform(root, presets) {
     ui.xrmax.value = half(u.xr_max || [1]);
     ui.yrmax.value = half(u.yr_max || [1]);
     ui.xbound.value = u.x_bound ?? 5;
-    ui.seed.value = s.simulate.seed;
-    ui.steps.value = s.simulate.steps;
+    ui.seed.value = s.simulate?.seed ?? 0;
+    ui.steps.value = s.simulate ? s.simulate.steps : s.data.y.length;
+    dataMode(root, s);
     ui.notes.innerHTML = richText(s.notes || '');
     timeRange(true);
   }
@@ -163,8 +164,10 @@ export async function mountUniform(root, presets) {
     u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
     // A scalar state has no polygon, hence no plane (the polygon card then says why).
     if (n === 1) delete u.plane;
-    s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
-    s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
+    if (s.simulate) {
+      s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
+      s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
+    }
     u.time = wholeNumber('uniform.time', ui.time.value);
     delete s.notes;
     return s;
@@ -277,5 +280,5 @@ export async function mountUniform(root, presets) {
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   compute();
-  return panelApi(ui.preset, menu);
+  return panelApi(ui.preset, menu, () => st.scenario);
 }

@@ -119,6 +119,34 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     await broken.close();
     await page.close();
 
+    // The panel's custom model: one good and three bad F, each message next to the model's
+    // fields, the last good picture kept, and the message gone once F is good again.
+    {
+      const custom = await newPage({ viewport: { width: 1366, height: 900 } });
+      await custom.goto(`${baseUrl}#${d.id}`);
+      await ready(custom);
+      await custom.selectOption(`#${d.id} form select[data-field=preset]`, 'custom');
+      await idle(custom, d.busy);
+      const f = `#${d.id} textarea[data-field="model.F"]`;
+      const good = await custom.$eval(f, (t) => t.value);
+      const n = good.trim().split('\n').length;
+      const pixels = (await snapshot(custom, d.id)).pixels;
+      assert.ok(pixels.length > 0, `${d.id}: the custom model draws`);
+      const modelError = () => custom.$$eval(`#${d.id} .err[data-for^="model"]`, (ps) => ps.map((p) => p.textContent).join(' ').trim());
+      for (const [bad, what] of [['1 2\n3', /model\.F/], ['0.5 abc', /model\.F/], [Array(n + 1).fill(Array(n + 1).fill('0.1').join(' ')).join('\n'), /model|F|H|column|row|dimension|size|n ?×|shape/i]]) {
+        await custom.fill(f, bad);
+        await idle(custom, d.busy);
+        const msg = await modelError();
+        assert.match(msg, what, `${d.id}: F = ${JSON.stringify(bad)} gives a message next to the model: "${msg}"`);
+        assert.equal(await custom.$eval(`#${d.id} .stale`, (e) => e.hidden), false, `${d.id}: the stale note shows`);
+        assert.deepEqual((await snapshot(custom, d.id)).pixels, pixels, `${d.id}: the last good picture stays`);
+      }
+      await custom.fill(f, good);
+      await idle(custom, d.busy);
+      assert.equal(await modelError(), '', `${d.id}: the message goes once F is good again`);
+      await custom.close();
+    }
+
     // A phone: no horizontal scrolling.
     const phone = await newPage({ viewport: { width: 390, height: 844 }, deviceScaleFactor: 2 });
     await phone.goto(`${baseUrl}#${d.id}`);
