@@ -12,6 +12,9 @@
 //! Times are the paper's: x(0) = `model.x1_mean`, data y(0) … y(k) with k = steps − 1; the
 //! horizon s uses y(k−s) … y(k). `model.W` is Ω (default I), `model.V` the covariance of the
 //! transition noise ξ of (54) (default 0), `model.B` with `simulate.u` / `data.u` the inputs.
+//!
+//! The file ends with the method's presets (`// Presets`: the menu entries and their
+//! builders), re-exported by [`crate::presets`].
 
 use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
@@ -19,7 +22,9 @@ use crate::glls::{
     self, Curves, GllsModel, Horizon, Precision, PrecisionReport, StateNoise, Study, Weighting,
 };
 use crate::linalg;
-use crate::model::normal_vector;
+use crate::method::Method;
+use crate::model::{normal_vector, MatrixSpec, ModelSpec};
+use crate::presets::Preset;
 use crate::sets::{BoxSet, Ellipsoid};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -690,5 +695,136 @@ impl MethodScenario for Glls {
             mc.runs = r;
         }
         Ok(Box::new(p.precision(&mc)?))
+    }
+    fn presets(&self) -> Vec<Preset> {
+        presets()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Presets
+
+/// The GLLS paper's presets, in menu order (the trait's `presets`, gathered by
+/// [`crate::presets::all`]).
+fn presets() -> Vec<Preset> {
+    vec![
+        Preset {
+            name: "glls-saturate".into(),
+            description: "GLLS paper, Fig. 1a/2a kind: a stable mode and a rotation — σ₃(Γ) saturates, so σ_n/√s has a best horizon".into(),
+            scenario: glls_preset(GllsKind::Saturate),
+        },
+        Preset {
+            name: "glls-grow".into(),
+            description: "GLLS paper, Fig. 1b/2b/3b kind: two unstable modes — every σ grows without bound, ‖x(39)‖ ≈ 10⁷ costs digits".into(),
+            scenario: glls_preset(GllsKind::Grow),
+        },
+        Preset {
+            name: "glls-mixed".into(),
+            description: "GLLS paper, Fig. 1c kind: stable, neutral and unstable modes (eigenvalues 0.7, 1, 1.05)".into(),
+            scenario: glls_preset(GllsKind::Mixed),
+        },
+        Preset {
+            name: "glls-unstable5".into(),
+            description: "GLLS paper, Section 5.2: the 5-state unstable system (eigenvalues 3.057, −0.374 ± 1.130i, −0.600, 1.095) with noisy transitions: state-noise estimator vs LLS".into(),
+            scenario: glls_preset(GllsKind::Unstable5),
+        },
+    ]
+}
+
+/// The GLLS presets (the paper prints no matrices: these are built to show each behaviour).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GllsKind {
+    Saturate,
+    Grow,
+    Mixed,
+    Unstable5,
+}
+
+fn rows(r: &[&[f64]]) -> Option<MatrixSpec> {
+    Some(MatrixSpec::Constant(r.iter().map(|x| x.to_vec()).collect()))
+}
+
+pub fn glls_preset(kind: GllsKind) -> Scenario {
+    let (t, s) = (0.5f64.cos(), 0.5f64.sin());
+    let (title, model, steps, spec, notes) = match kind {
+        GllsKind::Saturate => (
+            "GLLS: a saturating singular value (Figs. 1a, 2a, 3a kind)",
+            ModelSpec { f: rows(&[&[0.6, 0.0, 0.0], &[0.0, t, -s], &[0.0, s, t]]), h: rows(&[&[1.0, 1.0, 0.0]]), w: rows(&[&[0.01]]), x1_mean: Some(vec![1.0, 1.0, 0.0]), ..Default::default() },
+            40,
+            GllsSpec { horizon: None, max_horizon: 60, estimator: GllsEstimator::Lls, p: Some(2), mu: Some(0.1), noise: GllsNoise::Bounded, plane: Some([1, 2]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::Precision, steps: None, max_horizon: Some(30) }) },
+            "A = diag(0.6, rotation by 0.5 rad), C = [1 1 0]: the stable mode's contribution to Γ_{s+1}ᵀΓ_{s+1} converges, so σ₃ saturates while σ₁, σ₂ grow like √s; σ₃/√s peaks at the best horizon. \
+             Noise bounded by μ = 0.1 (uniform in the ball): the guaranteed ball and box of x(k) must hold the truth. \
+             The paper prints no matrices for its three systems; these are built to show each behaviour.",
+        ),
+        GllsKind::Grow => (
+            "GLLS: every singular value grows (Figs. 1b, 2b, 3b kind)",
+            ModelSpec { f: rows(&[&[1.5, 0.2], &[0.0, 1.3]]), h: rows(&[&[1.0, 0.0]]), w: rows(&[&[0.01]]), x1_mean: Some(vec![1.0, 1.0]), ..Default::default() },
+            40,
+            GllsSpec { horizon: Some(8), max_horizon: 60, estimator: GllsEstimator::Lls, p: None, mu: Some(0.3), noise: GllsNoise::Gaussian, plane: Some([0, 1]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::Precision, steps: None, max_horizon: Some(30) }) },
+            "A = [[1.5, 0.2], [0, 1.3]], C = [1 0]: both modes unstable, every σ_i(Γ_{s+1}) and σ_n/√s grow without bound (Fig. 2b). \
+             ‖x(39)‖ ≈ 10⁷, as in the paper's Fig. 3b (1.47·10⁷): the estimates of longer horizons lose to rounding what the condition number promises — the page marks where the estimated rounding error exceeds the bound.",
+        ),
+        GllsKind::Mixed => (
+            "GLLS: stable, neutral and unstable modes (Figs. 1c, 2c, 3c kind)",
+            ModelSpec {
+                f: rows(&[&[0.697, 0.1515, 0.01], &[-0.006, 1.003, 0.02], &[-0.105, 0.0525, 1.05]]),
+                h: rows(&[&[1.0, 0.0, 0.0]]),
+                w: rows(&[&[0.01]]),
+                x1_mean: Some(vec![1.0, -1.0, 0.5]),
+                ..Default::default()
+            },
+            40,
+            GllsSpec { horizon: None, max_horizon: 60, estimator: GllsEstimator::Glls, p: Some(2), mu: Some(0.1), noise: GllsNoise::Gaussian, plane: Some([0, 1]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::Precision, steps: None, max_horizon: Some(30) }) },
+            "A = T diag(0.7, 1, 1.05) T⁻¹ with T = [[1, 0.5, 0.2], [0, 1, 0.4], [0.3, 0, 1]] (rounded to 4 digits), C = [1 0 0]: one σ saturates, one grows like √s, one exponentially. \
+             The bound κ·√E‖δ(k,s)‖² becomes conservative for long horizons, as in the paper's Fig. 3c.",
+        ),
+        GllsKind::Unstable5 => (
+            "GLLS: state-noise estimator vs LLS on an unstable 5-state system (Section 5.2, Fig. 4)",
+            ModelSpec {
+                f: rows(&[
+                    &[0.5477, 1.9865, 0.7628, 0.993, 1.007],
+                    &[-0.4814, 0.4988, -1.2108, 0.036, -0.4028],
+                    &[-1.226, -0.5629, -0.8029, 0.6084, -1.6617],
+                    &[0.4885, -0.3119, 0.6064, 3.0772, -0.4143],
+                    &[0.4, -0.667, 0.5436, 1.3299, -0.5168],
+                ]),
+                h: rows(&[&[1.0, 0.0, 0.0, 0.0, 0.0]]),
+                w: rows(&[&[0.0]]),
+                v: rows(&[&[0.01, 0.0, 0.0, 0.0, 0.0], &[0.0, 0.01, 0.0, 0.0, 0.0], &[0.0, 0.0, 0.01, 0.0, 0.0], &[0.0, 0.0, 0.0, 0.01, 0.0], &[0.0, 0.0, 0.0, 0.0, 0.01]]),
+                x1_mean: Some(vec![1.0, 1.0, 1.0, 1.0, 1.0]),
+                ..Default::default()
+            },
+            16,
+            GllsSpec { horizon: Some(8), max_horizon: 30, estimator: GllsEstimator::StateNoise, p: None, mu: Some(0.0), noise: GllsNoise::Gaussian, plane: Some([0, 3]), monte_carlo: Some(GllsMonteCarloSpec { runs: 2000, seed: 1, study: GllsStudyKind::StateNoise, steps: None, max_horizon: Some(15) }) },
+            "x(k+1) = A x(k) + ξ(k), y = C x exactly (54)–(55), ξ ~ N(0, 0.01·I), 16 steps. A is built (real Schur form, fitted off-diagonal entries, a fixed rotation) to have the paper's eigenvalues 3.057, −0.374 ± 1.130i, −0.600, 1.095 and its singular values 3.735, 3.166, 1.828, 0.636, 0.206 (to 3 digits); the paper prints neither A nor C (C = [1 0 0 0 0] here). \
+             The state-noise estimator (63)–(64) is solved in closed form and checked against clarabel's QP.",
+        ),
+    };
+    Scenario {
+        method: Method::Glls,
+        title: Some(title.into()),
+        model,
+        data: None,
+        simulate: Some(SimulateSpec {
+            steps,
+            seed: 3,
+            u: vec![],
+            condition: None,
+            x0: None,
+        }),
+        alpha: 0.9,
+        components: None,
+        tau: 0,
+        asymptotic: false,
+        time: None,
+        plot: None,
+        collision: None,
+        coverage_curve: None,
+        experiment: None,
+        lscr: None,
+        glls: Some(spec),
+        uniform: None,
+        ubb: None,
+        notes: Some(notes.into()),
     }
 }

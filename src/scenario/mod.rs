@@ -8,13 +8,14 @@
 //! This module holds only what every method shares: the scenario and report types, JSON
 //! parsing with field paths, the one observations step ([`Source`]: `data` or `simulate`, one
 //! step-count check, one wording), and the one dispatch from [`Method`] to its scenario file
-//! (`make_method`). Each method's block, validation and report live in its own file:
+//! (`make_method`). Each method's block, validation, report and presets live in its own file:
 //! [`scf`], [`lscr`], [`glls`], [`uniform`], [`ubb`].
 
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{MatrixSpec, ModelSpec};
+use crate::presets::Preset;
 use crate::scf::{Asymptotic, ScfStep};
 use crate::study::Study;
 use nalgebra::DVector;
@@ -450,6 +451,10 @@ pub(crate) trait MethodScenario: Sync {
     fn run(&self, s: &Scenario) -> Result<Report>;
     /// The method's Monte Carlo study, not yet run (`runs` overrides the scenario's count).
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>>;
+    /// The file's presets (the papers' examples), in menu order: built at the bottom of the
+    /// scenario file, gathered by [`crate::presets::all`] under the method each one runs (a
+    /// file shared by several methods, SCF's with KF, lists its presets once).
+    fn presets(&self) -> Vec<Preset>;
 }
 
 /// The one dispatch from a method to its scenario file.

@@ -2,18 +2,25 @@
 //! `components`, `tau`, `asymptotic`, `time`, `plot`, `collision`, `coverage_curve`,
 //! `experiment`), their validation and the report's KF/SCF steps, collision warnings and the
 //! Fig. 1 coverage curve.
+//!
+//! The file ends with the method's presets (`// Presets`: the menu entries and their
+//! builders), re-exported by [`crate::presets`].
 
-use super::{FigureContext, MethodScenario, Report, Scenario, Source};
+use super::{
+    Condition, ExperimentSpec, FigureContext, MethodScenario, Report, Scenario, SimulateSpec,
+    Source,
+};
 use crate::error::{Error, Result};
-use crate::linalg;
+use crate::linalg::{self, to_rows};
 use crate::method::Method;
-use crate::model::{Inputs, LinearModel, Trajectory};
+use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec, Trajectory};
+use crate::presets::Preset;
 use crate::scf::{
     self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ScfOptions, ScfStep,
 };
 use crate::sets::{Ellipsoid, PlanarEllipse};
 use crate::study::Study;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -332,5 +339,257 @@ impl MethodScenario for Scf {
             e.runs = r;
         }
         Ok(Box::new(s.prepare_scf()?.conditional_experiment()?))
+    }
+    fn presets(&self) -> Vec<Preset> {
+        presets()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Presets
+
+/// The SCF paper's presets, in menu order (the trait's `presets`, gathered by
+/// [`crate::presets::all`]).
+fn presets() -> Vec<Preset> {
+    vec![
+        Preset {
+            name: "scf-scalar".into(),
+            description: "SCF paper, Example 1: F = √(5/6), H = 1, V = W = 1 (p̄ = 3/5, ratio 0.9, Fig. 1)".into(),
+            scenario: scalar(),
+        },
+        Preset {
+            name: "scf-robots".into(),
+            description: "SCF paper, Section II: two robots returning to base, a rare realization colliding at t = 40 (V = V_A reading)".into(),
+            scenario: robots(NoiseReading::Unscaled),
+        },
+        Preset {
+            name: "scf-robots-literal".into(),
+            description: "The same robots with eq. (3) read literally: process noise covariance Δ²·V_A".into(),
+            scenario: robots(NoiseReading::Literal),
+        },
+    ]
+}
+
+/// Example 1 of the SCF paper.
+pub fn scalar() -> Scenario {
+    let one = DMatrix::from_element(1, 1, 1.0);
+    Scenario {
+        method: Method::Scf,
+        title: Some("Scalar example (SCF paper, Example 1)".into()),
+        model: ModelSpec {
+            f: Some(MatrixSpec::of(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt()))),
+            h: Some(MatrixSpec::of(&one)),
+            v: Some(MatrixSpec::of(&one)),
+            w: Some(MatrixSpec::of(&one)),
+            ..Default::default()
+        },
+        data: None,
+        simulate: Some(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None, x0: None }),
+        alpha: 0.99,
+        components: None,
+        tau: 0,
+        asymptotic: false,
+        time: None,
+        plot: None,
+        collision: None,
+        coverage_curve: Some(CurveSpec { component: 0, from: -50.0, to: 50.0, points: 201 }),
+        experiment: None,
+        lscr: None,
+        glls: None,
+        uniform: None,
+        ubb: None,
+        notes: Some(
+            "Γ = 6, p̄ = 3/5, ratio U_tA_t → 0.9: the SCF interval is the KF center / 0.9 with half-width ρ·√(1/0.9). \
+             The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed."
+                .into(),
+        ),
+    }
+}
+
+/// Which reading of the robot noise scaling of eq. (3) to use (crate docs: errata).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoiseReading {
+    /// v_{A,t} enters with covariance V_A (the preset: regions ≈ 2× KF, the paper's "moderate
+    /// enlargement").
+    Unscaled,
+    /// v_{A,t}·Δ as printed: covariance Δ²V_A (SCF prediction region ≈ 84× the KF one).
+    Literal,
+}
+
+/// Robot constants of Section II.
+pub const DELTA: f64 = 1.0 / 20.0;
+pub const KP: f64 = 5.0;
+pub const KU: f64 = 5.0;
+pub const D_MIN: f64 = 0.2;
+/// The collision time of the Monte Carlo experiment.
+pub const COLLISION_T: usize = 40;
+
+/// One robot's transition matrix, eq. (3) with the erratum fixed: row 4 is (0, −K_pΔ, 0,
+/// 1 − K_uΔ) like row 3, since the two axes are identical and decoupled.
+pub fn robot_f() -> DMatrix<f64> {
+    DMatrix::from_row_slice(
+        4,
+        4,
+        &[
+            1.0,
+            0.0,
+            DELTA,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            DELTA,
+            -KP * DELTA,
+            0.0,
+            1.0 - KU * DELTA,
+            0.0,
+            0.0,
+            -KP * DELTA,
+            0.0,
+            1.0 - KU * DELTA,
+        ],
+    )
+}
+
+fn block_diag(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let mut m = DMatrix::zeros(a.nrows() + b.nrows(), a.ncols() + b.ncols());
+    m.view_mut((0, 0), a.shape()).copy_from(a);
+    m.view_mut(a.shape(), b.shape()).copy_from(b);
+    m
+}
+
+/// Joint model of robots A and B: state (p_xA, p_yA, u_xA, u_yA, p_xB, p_yB, u_xB, u_yB).
+/// Returns the model spec and the constant input u = K_p·p̄·Δ on the velocity rows (B = I).
+pub fn robot_model(reading: NoiseReading) -> (ModelSpec, Vec<f64>) {
+    let f = block_diag(&robot_f(), &robot_f());
+    let s = match reading {
+        NoiseReading::Unscaled => 1.0,
+        NoiseReading::Literal => DELTA * DELTA,
+    };
+    let va = DMatrix::from_diagonal(&DVector::from_vec(vec![
+        0.01f64.powi(2),
+        0.01f64.powi(2),
+        0.04f64.powi(2),
+        0.04f64.powi(2),
+    ]));
+    let vb = DMatrix::from_diagonal(&DVector::from_vec(vec![
+        0.01f64.powi(2),
+        0.01f64.powi(2),
+        0.1f64.powi(2),
+        0.04f64.powi(2),
+    ]));
+    let v = block_diag(&va, &vb) * s;
+    let h1 = DMatrix::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    let h = block_diag(&h1, &h1);
+    let w = DMatrix::identity(4, 4) * 0.05f64.powi(2);
+    let base_a = [-1.0, 0.0];
+    let base_b = [1.0, 0.0];
+    let u = vec![
+        0.0,
+        0.0,
+        KP * base_a[0] * DELTA,
+        KP * base_a[1] * DELTA,
+        0.0,
+        0.0,
+        KP * base_b[0] * DELTA,
+        KP * base_b[1] * DELTA,
+    ];
+    let spec = ModelSpec {
+        f: Some(MatrixSpec::of(&f)),
+        h: Some(MatrixSpec::of(&h)),
+        v: Some(MatrixSpec::of(&v)),
+        w: Some(MatrixSpec::of(&w)),
+        b: Some(MatrixSpec::of(&DMatrix::identity(8, 8))),
+        x1_mean: Some(vec![-1.0, 20.0, 0.0, 0.0, 1.0, 20.0, 0.0, 0.0]),
+        x1_cov: Some(to_rows(&DMatrix::zeros(8, 8))),
+        ..Default::default()
+    };
+    (spec, u)
+}
+
+/// The most probable state at time `t` among those where the two bodies' positions (components
+/// `a`, `b`) are exactly `distance` apart: minimise the prior Mahalanobis distance of the
+/// relative position δ = p_a − p_b on the circle ‖δ‖ = distance, then take the conditional
+/// mean of the whole state given δ. This is how the robot presets pick their colliding state.
+pub fn most_probable_collision_state(
+    model: &LinearModel,
+    u: &Inputs,
+    t: usize,
+    a: &[usize],
+    b: &[usize],
+    distance: f64,
+) -> Result<DVector<f64>> {
+    let n = model.n();
+    let mo = model.moments(t, u);
+    let (m, g) = (&mo.mean[t - 1], &mo.cov[t - 1]);
+    let mut c = DMatrix::zeros(2, n);
+    for k in 0..2 {
+        c[(k, a[k])] += 1.0;
+        c[(k, b[k])] -= 1.0;
+    }
+    let mu = &c * m;
+    let sigma = &c * g * c.transpose();
+    let s_inv = linalg::inverse("covariance of the relative position", &sigma)?;
+    let cost = |th: f64| {
+        let d = DVector::from_vec(vec![distance * th.cos(), distance * th.sin()]) - &mu;
+        d.dot(&(&s_inv * &d))
+    };
+    let grid = 3600;
+    let best = (0..grid)
+        .map(|i| std::f64::consts::TAU * i as f64 / grid as f64)
+        .fold((f64::INFINITY, 0.0), |acc, th| {
+            let v = cost(th);
+            if v < acc.0 {
+                (v, th)
+            } else {
+                acc
+            }
+        });
+    let delta = DVector::from_vec(vec![distance * best.1.cos(), distance * best.1.sin()]);
+    Ok(m + g * c.transpose() * s_inv * (delta - mu))
+}
+
+/// Section II of the SCF paper: two robots, a realization drawn backwards from a collision.
+pub fn robots(reading: NoiseReading) -> Scenario {
+    let (spec, u) = robot_model(reading);
+    let model = LinearModel::from_spec(&spec).expect("robot model is valid");
+    let inputs = Inputs(vec![DVector::from_vec(u.clone())]);
+    let xc =
+        most_probable_collision_state(&model, &inputs, COLLISION_T, &[0, 1], &[4, 5], D_MIN / 2.0)
+            .expect("robot prior is non-singular at t = 40");
+    let literal = reading == NoiseReading::Literal;
+    Scenario {
+        method: Method::Scf,
+        title: Some(format!("Two robots returning to base (SCF paper, Section II{})", if literal { ", Δ²V_A" } else { "" })),
+        model: spec,
+        data: None,
+        simulate: Some(SimulateSpec {
+            steps: 60,
+            seed: 7,
+            u: vec![u],
+            condition: Some(Condition { t: COLLISION_T, x: xc.iter().copied().collect() }),
+            x0: None,
+        }),
+        alpha: 0.95,
+        components: Some(vec![0, 1]),
+        tau: 4,
+        asymptotic: false,
+        time: Some(36),
+        plot: Some(vec![0, 1]),
+        collision: Some(CollisionSpec { a: vec![0, 1], b: vec![4, 5], d_min: D_MIN }),
+        coverage_curve: None,
+        experiment: Some(ExperimentSpec { runs: 10_000, seed: 2021, components: vec![0, 1, 2, 3], warning_t: Some(36) }),
+        lscr: None,
+        glls: None,
+        uniform: None,
+        ubb: None,
+        notes: Some(format!(
+            "Robots start at rest at (∓1, 20) and return to bases (∓1, 0); Δ = 1/20, K_p = K_u = 5, W = 0.05²I, \
+             d_min = 0.2. Row 4 of eq. (3) is read as 1 − K_uΔ (erratum). Process-noise covariance: {}. \
+             The realization is drawn backwards from the most probable state at t = 40 with the robots' centers \
+             0.1 apart (half of d_min), velocities at their conditional mean (eq. (45), footnote 2). \
+             Regions: robot A's position at t + τ given y_1..y_t (V-C).",
+            if literal { "Δ²·V_A as printed (SCF regions far larger than KF)" } else { "V_A (the reading that matches the paper's \"moderate enlargement\")" }
+        )),
     }
 }

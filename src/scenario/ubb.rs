@@ -15,12 +15,16 @@
 //! `x0_center ± delta` (δ = null: unbounded). Without `H` there are no measurements (Markov
 //! chain); `basis` makes H time-varying, H(t) = [g₁(t+1) … g_l(t+1)] (Example 1). Times are
 //! the paper's: y(0 … steps−1), and step k estimates x(k+1).
+//!
+//! The file ends with the method's presets (`// Presets`: the menu entries and their
+//! builders), re-exported by [`crate::presets`].
 
 use super::{MethodScenario, Report, Scenario, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::ModelSpec;
+use crate::presets::Preset;
 use crate::sets::{Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Study};
@@ -851,4 +855,99 @@ impl MethodScenario for Ubb {
             .unwrap_or_else(default_guarantee_runs);
         Ok(Box::new(Guarantee::new(p, total)?))
     }
+    fn presets(&self) -> Vec<Preset> {
+        presets()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Presets
+
+/// Tempo's presets, in menu order (the trait's `presets`, gathered by
+/// [`crate::presets::all`]).
+fn presets() -> Vec<Preset> {
+    vec![
+        Preset {
+            name: "ubb-track".into(),
+            description: "Tempo, Section IV: a stable 2-state system tracked with unknown-but-bounded noise (|u| ≤ 0.1, |η| ≤ 0.2), exponentially smoothed bounds α = β = 50, window j + 1 = 30 from Theorem 5 (γ = 0.1)".into(),
+            scenario: ubb_preset(UbbKind::Track),
+        },
+        Preset {
+            name: "ubb-series".into(),
+            description: "Tempo, Example 1: time-series prediction with basis functions 1 and k — the set of coefficients consistent with |u(k)| ≤ 0.5 and the prediction interval of f(m+1)".into(),
+            scenario: ubb_preset(UbbKind::Series),
+        },
+        Preset {
+            name: "ubb-leontief".into(),
+            description: "Tempo, Example 3: dynamic Leontief model of 3 industries (nonnegative A, column sums 0.6), known demand, uncertain demand |u| ≤ 0.1, production measured within ±0.3".into(),
+            scenario: ubb_preset(UbbKind::Leontief),
+        },
+        Preset {
+            name: "ubb-markov".into(),
+            description: "Tempo, Example 4: absorbing Markov chain with an uncertain initial distribution 0 ≤ x_i(0) ≤ δ_i — the set of distributions after k + 1 steps".into(),
+            scenario: ubb_preset(UbbKind::Markov),
+        },
+    ]
+}
+
+/// The set-membership presets (Tempo's paper prints no numbers: these are chosen to show each
+/// example).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UbbKind {
+    Track,
+    Series,
+    Leontief,
+    Markov,
+}
+
+/// A set-membership preset.
+pub fn ubb_preset(kind: UbbKind) -> Scenario {
+    let v = match kind {
+        UbbKind::Track => serde_json::json!({
+            "method": "ubb",
+            "title": "Set-membership state estimation with smoothed bounds (Tempo, Section IV)",
+            "model": {"F": [[0.7, 0.2], [-0.2, 0.7]], "G": [[0.5], [1.0]], "H": [[1.0, 0.0]]},
+            "simulate": {"steps": 60, "seed": 1},
+            "ubb": {"eps": 0.2, "tau": 0.1, "delta": [2.0], "alpha": 50.0, "beta": 50.0, "gamma": 0.1, "time": 40},
+            "notes": "x(k+1) = A x(k) + B u(k), y(k) = C x(k) + η(k) with |u(k)| ≤ τ = 0.1, |η(k)| ≤ ε = 0.2 and |x_i(0)| ≤ δ = 2. \
+                      ‖A‖∞ = 0.9 and α = 50 give ‖A‖e^{1/α} = 0.918 < 1, so Theorem 4 bounds the state and Theorem 5 with γ = 0.1 gives j = 29: \
+                      each step solves LPs in x(k−29 … k+1) and u(k−29 … k) with the dynamics as equalities, a constant 92 unknowns. The window's initial state is bounded by the Theorem 4 series, \
+                      so the set is guaranteed exactly (not only up to γ)."
+        }),
+        UbbKind::Series => serde_json::json!({
+            "method": "ubb",
+            "title": "Time-series prediction with basis functions (Tempo, Example 1)",
+            "model": {"F": [[1.0, 0.0], [0.0, 1.0]]},
+            "simulate": {"steps": 30, "seed": 2, "x0": [1.0, 0.15]},
+            "ubb": {"eps": 0.5, "basis": ["1", "k"], "time": 9},
+            "notes": "f(k) = a₁ + a₂k + u(k), |u(k)| ≤ 0.5, k = 1 … m: the problem element is (a, u), the information f(1 … m) is exact and partial. \
+                      The polygon is the set of coefficients a consistent with the data (the strips |f(k) − a₁ − a₂k| ≤ 0.5 intersected); \
+                      the optimal error predictor of f(m+1) is the midpoint of its prediction interval. True a = (1, 0.15)."
+        }),
+        UbbKind::Leontief => serde_json::json!({
+            "method": "ubb",
+            "title": "Dynamic Leontief model, 3 industries (Tempo, Example 3)",
+            "model": {"F": [[0.2, 0.3, 0.1], [0.1, 0.1, 0.3], [0.3, 0.2, 0.2]],
+                      "G": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                      "H": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                      "B": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]},
+            "simulate": {"steps": 40, "seed": 3, "u": [[1.0, 0.8, 1.2]]},
+            "ubb": {"eps": 0.3, "tau": 0.1, "delta": [1.0], "x0_center": [2.42, 2.14, 2.94], "alpha": 50.0, "beta": 50.0, "gamma": 0.05, "time": 25},
+            "notes": "x(k+1) = A x(k) + v(k) + u(k): production x, known demand v = (1, 0.8, 1.2), uncertain demand |u_i| ≤ 0.1, production measured as y = x + η, |η_i| ≤ 0.3. \
+                      A is nonnegative with column sums 0.6 < 1 (a feasible Leontief model, σ(A) = 0.6); x(0) within ±1 of the steady state (I − A)⁻¹v. \
+                      The polygon shows industries 1 and 2 (a projection of the 3-D set)."
+        }),
+        UbbKind::Markov => serde_json::json!({
+            "method": "ubb",
+            "title": "Absorbing Markov chain with uncertain initial distribution (Tempo, Example 4)",
+            "model": {"F": [[1.0, 0.2, 0.1], [0.0, 0.5, 0.3], [0.0, 0.3, 0.6]]},
+            "simulate": {"steps": 15, "seed": 4, "x0": [0.1, 0.5, 0.4]},
+            "ubb": {"eps": 1.0, "delta": [0.15, 0.4, 0.4], "x0_center": [0.15, 0.4, 0.4], "x0_sum": 1.0, "plane": [1, 2], "time": 2},
+            "notes": "Transition probabilities (row-stochastic, the paper's form [[I, O], [D, G]]) P = [[1, 0, 0], [0.2, 0.5, 0.3], [0.1, 0.3, 0.6]]; \
+                      the distribution evolves as x(k+1) = Pᵀx(k), so model.F = Pᵀ (the paper's x(k+1) = Ax(k) with rows summing to 1 mixes the two conventions). \
+                      0 ≤ x_i(0) ≤ δ = (0.3, 0.8, 0.8) and Σx_i(0) = 1; no measurements. The transient probabilities x₂, x₃ shrink to 0 as G^k → 0; \
+                      Theorem 4 does not apply (ρ(A) = 1, so ‖A‖ ≥ 1 in every norm) but A^k stays bounded."
+        }),
+    };
+    serde_json::from_value(v).expect("ubb presets are valid scenarios")
 }

@@ -19,13 +19,17 @@
 //! truth (true states and Θ, the Kalman filter with the true variances, errors, the true
 //! objective, whether the truth lies in the polygon). A scalar state (n = 1) runs too; its
 //! report has no polygon (the reason is in `at.polygon_absent`).
+//!
+//! The file ends with the method's presets (`// Presets`: the menu entries and their
+//! builders), re-exported by [`crate::presets`].
 
-use super::{MethodScenario, Report, Scenario, Source};
+use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::kalman::KalmanGains;
-use crate::linalg;
+use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
+use crate::presets::Preset;
 use crate::sets::SupportPolygon;
 use crate::study::Study;
 use crate::uniform::{self, Joint, Online, OnlineStep, StatePrior, Theta, ThetaPrior, Window};
@@ -616,5 +620,88 @@ impl MethodScenario for Uniform {
             "method",
             "\"uniform_lp\" has no Monte Carlo study: its LP gives MAP estimates and a consistent set, with no probability to count",
         ))
+    }
+    fn presets(&self) -> Vec<Preset> {
+        presets()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Presets
+
+/// Pavelková's example as the method's one preset (the trait's `presets`, gathered by
+/// [`crate::presets::all`]).
+fn presets() -> Vec<Preset> {
+    vec![
+        Preset {
+            name: "uniform-paper".into(),
+            description: "Pavelková, Section 5: LU model (14)–(15), 120 samples, window ∂ = 5, swapping-based joint estimation of states, Θ and half-widths".into(),
+            scenario: uniform_paper(),
+        },
+    ]
+}
+
+/// Pavelková's example (14)–(15): A = [[1, 0.5], [−0.5, 0]], B = [1, 3]ᵀ, C = [1 1], D = 0,
+/// x_r = 0.3·1, y_r = 0.3, inputs uniform with half-width 0.5, 120 samples, ∂ = 5, Θ's prior ±30 %
+/// (A₂₂ ∈ [−0.3, 0.3]), x̄_r = ȳ_r = 1, ±5 on the window's states.
+/// Θ, x_r and y_r of Pavelková's example (14)–(15), for code that works on the core directly
+/// (tests, benchmarks); [`uniform_paper`] is the same model as a scenario.
+pub fn uniform_paper_model() -> (crate::uniform::Theta, DVector<f64>, DVector<f64>) {
+    let theta = crate::uniform::Theta {
+        a: DMatrix::from_row_slice(2, 2, &[1.0, 0.5, -0.5, 0.0]),
+        b: DMatrix::from_row_slice(2, 1, &[1.0, 3.0]),
+        c: DMatrix::from_row_slice(1, 2, &[1.0, 1.0]),
+        d: DMatrix::zeros(1, 1),
+    };
+    (
+        theta,
+        DVector::from_element(2, 0.3),
+        DVector::from_element(1, 0.3),
+    )
+}
+
+pub fn uniform_paper() -> Scenario {
+    let (theta, xr, yr) = uniform_paper_model();
+    Scenario {
+        method: Method::UniformLp,
+        title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
+        model: ModelSpec { f: Some(MatrixSpec::of(&theta.a)), h: Some(MatrixSpec::of(&theta.c)), b: Some(MatrixSpec::of(&theta.b)), ..Default::default() },
+        data: None,
+        simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None }),
+        alpha: 0.9,
+        components: None,
+        tau: 0,
+        asymptotic: false,
+        time: None,
+        plot: None,
+        collision: None,
+        coverage_curve: None,
+        experiment: None,
+        lscr: None,
+        glls: None,
+        uniform: Some(UniformSpec {
+            d: Some(to_rows(&theta.d)),
+            xr: Some(xr.iter().copied().collect()),
+            yr: Some(yr.iter().copied().collect()),
+            u_half: 0.5,
+            estimator: crate::uniform::Joint::Swapping,
+            window: 5,
+            prior_rel: 0.3,
+            prior_overrides: vec![PriorOverride { matrix: "A".into(), row: 1, col: 1, lo: -0.3, hi: 0.3 }],
+            xr_max: Some(vec![1.0, 1.0]),
+            yr_max: Some(vec![1.0]),
+            x_bound: 5.0,
+            time: None,
+            plane: Some([0, 1]),
+            directions: 64,
+        }),
+        ubb: None,
+        notes: Some(
+            "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \
+             along x₁ − x₂ the LP optimum is a whole face bounded by the prior box (±5). The report gives each state's range over the optimal face; \
+             the estimate drawn is the LP solver's optimal point (an interior-point method returns a point near the face's centre). \
+             The polygon is the set of x_t consistent with the window at the half-width bounds x̄_r = ȳ_r = 1 and the Θ in use."
+                .into(),
+        ),
     }
 }
