@@ -23,7 +23,11 @@ pub use crate::scenario::uniform::{uniform_paper, uniform_paper_model};
 /// A named scenario with a one-line description.
 #[derive(Debug, Clone, Serialize)]
 pub struct Preset {
+    /// The id, in links and on the command line (`confset run --preset NAME`).
     pub name: String,
+    /// What the preset is, for people: the paper's figure or section and what it shows (the
+    /// page's menu).
+    pub label: String,
     pub description: String,
     pub scenario: Scenario,
 }
@@ -65,13 +69,20 @@ mod tests {
 
     #[cfg_attr(not(target_arch = "wasm32"), test)]
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    fn names_are_unique_and_every_method_but_kf_has_a_preset() {
+    fn names_and_labels_are_unique_and_every_method_but_kf_has_a_preset() {
         let all = all();
         for (i, p) in all.iter().enumerate() {
             assert!(
                 all[..i].iter().all(|q| q.name != p.name),
                 "preset name {} is used twice",
                 p.name
+            );
+            // The menu's label names the paper's figure or section and what it shows.
+            assert!(
+                p.label.contains(" — ") && all[..i].iter().all(|q| q.label != p.label),
+                "preset {}: label {:?} is not a unique \"source — what\" label",
+                p.name,
+                p.label
             );
         }
         for m in Method::ALL {

@@ -147,7 +147,7 @@ fn run(args: &[String]) -> Result<(), Error> {
     match args.first().map(|s| s.as_str()) {
         Some("presets") => {
             for p in presets::all() {
-                println!("{:<22} {}", p.name, p.description);
+                println!("{:<22} {}\n{:<22} {}", p.name, p.label, "", p.description);
             }
             Ok(())
         }
