@@ -380,7 +380,7 @@ pub fn draw_singular<DB: DrawingBackend>(
         "Singular values of Γₛ₊₁",
         "Singular values of the observability matrix Γₛ₊₁ (GLLS paper, Fig. 1)",
     );
-    let (xd, yd) = (horizon_desc(short), "singular value σᵢ (log scale)");
+    let (xd, yd) = (horizon_desc(short), "σᵢ (log scale)");
     let (chart, side) = horizon_chart(root, &fonts, &t, &notes, &entries, win, short, yd)?;
     let mut marks: Vec<(i32, i32)> = Vec::new();
     if floor_shown {

@@ -261,9 +261,19 @@ pub fn title_block<DB: DrawingBackend>(
     let max_w = (w as i32 - 2 * pad).max(40) as u32;
     let mut y = y0 + pad;
     let ts = fonts.title();
-    let title = shorten(root, title, &ts, max_w)?;
-    text(root, &title, (x0 + pad, y), &ts, (HPos::Left, VPos::Top))?;
-    y += text_size(root, &title, &ts)?.1 as i32 + 4;
+    // Up to two lines of title before anything is cut: the page's 2 × 2 grids give a panel
+    // about 480 px at 1366 px, narrower than most titles.
+    let lines = wrap(root, title, &ts, max_w)?;
+    for (i, line) in lines.iter().take(2).enumerate() {
+        let line = if i == 1 && lines.len() > 2 {
+            shorten(root, &lines[1..].join(" "), &ts, max_w)?
+        } else {
+            line.clone()
+        };
+        text(root, &line, (x0 + pad, y), &ts, (HPos::Left, VPos::Top))?;
+        y += text_size(root, &line, &ts)?.1 as i32 + 2;
+    }
+    y += 2;
     let max_lines = if h < 300 {
         1
     } else if h < 450 || fonts.compact {

@@ -783,7 +783,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
              The bound κ·√E‖δ(k,s)‖² becomes conservative for long horizons, as in the paper's Fig. 3c.",
         ),
         GllsKind::Unstable5 => (
-            "GLLS: state-noise estimator vs LLS on an unstable 5-state system (Section 5.2, Fig. 4)",
+            "GLLS: state noise on 5 unstable states (Section 5.2, Fig. 4)",
             ModelSpec {
                 f: rows(&[
                     &[0.5477, 1.9865, 0.7628, 0.993, 1.007],

@@ -878,17 +878,26 @@ fn mutated_presets_give_finite_reports() {
 #[cfg(not(target_arch = "wasm32"))]
 const PAGE_SIZES: [(u32, u32); 3] = [(360, 260), (640, 420), (960, 640)];
 
+/// One panel of the page's 2 × 2 grid at 1366 px (methods with four panels: GLLS, uniform).
+#[cfg(not(target_arch = "wasm32"))]
+const GRID_PANEL: (u32, u32) = (428, 321);
+
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
     use confset::plot::{report_svg, useful_panels, View};
     let mut drawn = 0;
+    // Texts cut with "…" in the 2 × 2 grid's panel at 1366 px ("word…"; a range such as
+    // "y(0) … y(k)" has spaces around its ellipsis): none may be.
+    let mut cuts = Vec::new();
     for p in presets::all() {
         let r = run(&p.name, &p.scenario);
         let panels = useful_panels(&r);
         assert!(!panels.is_empty(), "{}: no useful panel", p.name);
+        let grid = panels.len() >= 4;
         for panel in panels {
-            for (w, h) in PAGE_SIZES {
+            let sizes = PAGE_SIZES.iter().copied().chain(grid.then_some(GRID_PANEL));
+            for (w, h) in sizes {
                 let what = format!("{} {} {w}×{h}", p.name, panel.name());
                 let view = View::new(panel);
                 let svg = report_svg(&r, &view, w, h).unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -905,10 +914,28 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
                     curves >= 1 && texts >= 3,
                     "{what}: {curves} paths/polylines/polygons, {texts} texts"
                 );
+                // In the 2 × 2 grid's panel at 1366 px no text is cut ("word…"; a range such as
+                // "y(0) … y(k)" has spaces around its ellipsis).
+                if (w, h) == GRID_PANEL {
+                    cuts.extend(
+                        svg.match_indices('…')
+                            .filter(|(i, _)| {
+                                svg[..*i]
+                                    .chars()
+                                    .next_back()
+                                    .is_some_and(|c| !c.is_whitespace() && c != '>')
+                            })
+                            .map(|(i, _)| {
+                                let from = svg[..i].rfind('>').map_or(0, |j| j + 1);
+                                format!("{what}: {}…", &svg[from..i])
+                            }),
+                    );
+                }
                 drawn += 1;
             }
         }
     }
+    assert!(cuts.is_empty(), "{} cut text(s):\n{}", cuts.len(), cuts.join("\n"));
     eprintln!("drew {drawn} SVG figures");
 }
 
