@@ -105,3 +105,84 @@ export function busyFlag(key) {
     if (busy > 0) document.body.dataset[key] = '1'; else delete document.body.dataset[key];
   };
 }
+
+const int = (v) => v.toLocaleString('en-US');
+
+// A panel's chunked study (its Start and Cancel buttons, progress bar, status line and error),
+// written once:
+//   start(...args)        the run's wasm Study: { study, total (runs asked), at?, note? } — `at`
+//                         follows "N runs" in every status line (" at k = 40"), `note` only while
+//                         it runs; nothing to run: null; a throw shows in `err`
+//   show(c, done, final)  the counts on the page after every slice; `final`: the last one, `done`:
+//                         it finished without a cancel
+//   runs(c)               the runs done in the counts (c.runs)
+//   perRun(ms, runs), extra(c), cancelWall   the wording of the closing status line
+// A new run or reset() makes the one running stale: it stops at its next slice and shows nothing
+// more. The buttons come back only when the run that disabled them ends; `busy` is held meanwhile.
+export function studyRunner({ go, cancel, bar, status, err, chunk, busy, start, show, runs = (c) => c.runs,
+  perRun = (ms, k) => `${(1000 * ms / k).toFixed(0)} µs`, extra = () => '', cancelWall = true }) {
+  let running = null; // { cancelled, stale, total }
+  const makeStale = () => { if (running) Object.assign(running, { cancelled: true, stale: true }); };
+
+  async function run(...args) {
+    err.textContent = '';
+    let job;
+    try {
+      job = start(...args);
+    } catch (e) {
+      err.textContent = e.message;
+      return;
+    }
+    if (!job) return;
+    makeStale();
+    const me = { cancelled: false, stale: false, total: job.total };
+    const at = job.at || '';
+    const counted = (c, done, final) => {
+      if (bar) {
+        bar.max = Math.max(1, me.total);
+        bar.value = runs(c);
+      }
+      show(c, done, final);
+    };
+    running = me;
+    go.disabled = true;
+    cancel.disabled = false;
+    busy(+1);
+    try {
+      const { counts: c, wall, compute: ms } = await runChunked(job.study, chunk, me, (c) => {
+        if (me.stale) return;
+        counted(c, false, false);
+        status.textContent = `${int(runs(c))} / ${int(me.total)} runs${at}${job.note || ''}`;
+      });
+      if (me.stale) return; // the scenario changed: these counts belong to the old one
+      counted(c, !me.cancelled, true);
+      const k = runs(c);
+      status.textContent = me.cancelled
+        ? `cancelled after ${int(k)} runs${cancelWall ? ` (${wall.toFixed(0)} ms)` : ''}`
+        : `${int(k)} runs${at} in ${wall.toFixed(0)} ms (computing ${ms.toFixed(0)} ms, ${perRun(ms, k)} per run${extra(c)})`;
+    } catch (e) {
+      err.textContent = e.message;
+    } finally {
+      job.study.free();
+      if (running === me) {
+        running = null;
+        go.disabled = false;
+        cancel.disabled = true;
+      }
+      busy(-1);
+    }
+  }
+
+  go.addEventListener('click', () => run());
+  cancel.addEventListener('click', () => { if (running) running.cancelled = true; });
+  return {
+    run,
+    // A new scenario: stop the run and clear what belongs to the old one.
+    reset() {
+      makeStale();
+      status.textContent = '';
+      err.textContent = '';
+      if (bar) bar.value = 0;
+    },
+  };
+}

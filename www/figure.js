@@ -21,10 +21,10 @@ export function redrawOnResize(figures, redraw) {
   watchDpr();
 }
 
-// Draw every figure; the time it took (ms).
-export function drawFigures(figures) {
+// Draw every figure (at `time`, for the panels whose figures have one); the time it took (ms).
+export function drawFigures(figures, time) {
   const t0 = performance.now();
-  for (const f of figures) f.draw();
+  for (const f of figures) f.draw(time);
   return performance.now() - t0;
 }
 
@@ -75,15 +75,29 @@ export class Figure {
     }
   }
 
-  // Linear map of the plotting box (CSS pixels, as offsetX/Y) to the axis ranges.
-  showCursor(px, py) {
+  // The chart under (px, py) (CSS pixels, as offsetX/Y) and the point there in its axis units, by
+  // a linear map of its plotting box to its ranges; null off the charts. A figure that stacks
+  // charts (`stacked`) finds the others in frame.more.
+  locate(px, py) {
     const f = this.frame;
-    if (!f) return;
-    const [l, t, r, b] = f.plot_area;
-    if (px < l || px > r || py < t || py > b || r <= l || b <= t) { this.cursor.textContent = ''; return; }
-    const x = f.x_range[0] + ((px - l) / (r - l)) * (f.x_range[1] - f.x_range[0]);
-    const y = f.y_range[1] - ((py - t) / (b - t)) * (f.y_range[1] - f.y_range[0]);
-    this.cursor.textContent = `${f.x_label || 'x'} = ${fmt(x)}, ${f.y_label || 'y'} = ${fmt(y)}`;
+    const chart = (this.stacked ? [f, ...(f.more || [])] : [f])
+      .find(({ plot_area: [l, t, r, b] }) => px >= l && px <= r && py >= t && py <= b && r > l && b > t);
+    if (!chart) return null;
+    const [l, t, r, b] = chart.plot_area;
+    const x = chart.x_range[0] + ((px - l) / (r - l)) * (chart.x_range[1] - chart.x_range[0]);
+    const y = chart.y_range[1] - ((py - t) / (b - t)) * (chart.y_range[1] - chart.y_range[0]);
+    return { chart, x, y };
+  }
+
+  showCursor(px, py) {
+    if (!this.frame) return;
+    const at = this.locate(px, py);
+    this.cursor.textContent = at ? this.cursorText(at) : '';
+  }
+
+  // The read-out of a point (a panel's figure names its axes or rounds its values its own way).
+  cursorText({ chart, x, y }) {
+    return `${chart.x_label || 'x'} = ${fmt(x)}, ${chart.y_label || 'y'} = ${fmt(y)}`;
   }
 
   downloadSvg() {

@@ -1,5 +1,11 @@
-// What every panel module shares with the shell: its preset menu and the small API the shell
-// (router, share links, scenario import) drives it through.
+// What every panel module shares: the skeleton of a panel (mountPanel), its preset menu and the
+// small API the shell (router, share links, scenario import) drives it through.
+import { Session } from './pkg/confset.js';
+import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
+import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { parseMatrix, matrixText } from './parse.js';
+
+export const clone = (v) => JSON.parse(JSON.stringify(v));
 
 // The preset menu: the core's presets, named for people (the core's label, the id in links and
 // the CLI), then the panel's custom model if it has one. `add(p)` puts a scenario loaded from a
@@ -39,4 +45,116 @@ export function dataMode(root, scenario) {
       + `${scenario.data.u?.length ? ` with inputs u (${scenario.data.u[0].length} per row)` : ''}. No simulation, so no true state and no verdict against one.`
     : '';
   note.hidden = !onData;
+}
+
+// The skeleton of a panel: a wasm Session, the controls ⇄ scenario ⇄ report loop, its figures,
+// preset menu, inline errors, busy flag, downloads (#<prefix>dl-report, #<prefix>dl-scenario) and
+// timing line. A panel module describes itself in `spec`; the hooks get the panel `p` = { root,
+// session, ui, st, figures, errors, setBusy, schedule, build(), compute(), redraw(), isCustom(),
+// model(), stem() } with st = { preset, report, reportJson, scenario, runMs, drawMs } (a hook may
+// keep its own fields in p and st).
+//   presets, custom  the core's presets for the panel and its custom model (one more preset)
+//   prefix           of the panel's element ids ('l-' → #l-preset); ui[id] is #<prefix><id>
+//   ids              the elements the hooks use besides preset, preset-desc, custom, stale, notes,
+//                    numbers, timing, the model's text boxes and the inputs below
+//   busy             the document.body.dataset key held while it computes (the registry's)
+//   Figure           the class of its figure cards (figure.card under root)
+//   model            the custom model's matrices (text boxes m-F …); p.model() parses them
+//   prose(text)      the description and notes as HTML (default: plain text)
+//   errorsWithin     what the inline errors clear ('form ' by default)
+//   compute, redraw  the inputs that change the scenario, and those that change only the view;
+//   input(p, id)     what a control shows at once (before the run, next frame)
+//   stem(p)          the stem of the file names
+//   init(p)          the panel's own wiring, once, before the first preset loads
+//   leave(p)         another preset is chosen: stop what runs on this one
+//   load(p, s)       controls ← the preset's scenario s (the skeleton has shown its description,
+//                    notes, custom box and data mode)
+//   build(p, s)      controls → scenario: sets the fields of s, a copy of the preset's scenario
+//   run(session, scenario)  the report's JSON (default: one session.run)
+//   after(p)         after a run succeeded, before the redraw
+//   time(p)          the time the figures are drawn at (default: none)
+//   draw(p, time)    the numbers of the report, after the figures
+//   timing(p)        the timing line (default: run + draw in #<prefix>timing)
+//   reportFile(p), scenarioFile(p)  what the downloads hold (default: the report, the scenario)
+// Returns the panel's API for the shell.
+export function mountPanel(root, spec) {
+  const session = new Session();
+  const prefix = spec.prefix || '';
+  const ids = new Set(['preset', 'preset-desc', 'custom', 'stale', 'notes', 'numbers', ...(spec.timing ? [] : ['timing']),
+    ...(spec.model || []).map((k) => `m-${k}`), ...(spec.compute || []), ...(spec.redraw || []), ...(spec.ids || [])]);
+  const ui = Object.fromEntries([...ids].map((id) => [id, document.getElementById(`${prefix}${id}`)]));
+  const menu = presetMenu(ui.preset, spec.presets, spec.custom);
+  const all = menu.all;
+  const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
+  const stem = () => spec.stem(p);
+  const FigureClass = spec.Figure || Figure;
+  const figures = [...root.querySelectorAll('figure.card')].map((c) => new FigureClass(c, session, stem));
+  const errors = fieldErrors(root, ui.stale, spec.errorsWithin ?? 'form ');
+  const setBusy = busyFlag(spec.busy);
+  const isCustom = () => st.preset === spec.custom;
+  const model = () => Object.fromEntries(spec.model.map((k) => [k, parseMatrix(`model.${k}`, ui[`m-${k}`].value)]));
+  for (const k of spec.model || []) ui[`m-${k}`].value = matrixText(spec.custom.scenario.model[k]);
+  const prose = (el, text) => { if (spec.prose) el.innerHTML = spec.prose(text); else el.textContent = text; };
+
+  function loadPreset(name) {
+    st.preset = all.find((x) => x.name === name) || all[0];
+    const s = st.preset.scenario;
+    ui.custom.hidden = !isCustom();
+    prose(ui['preset-desc'], st.preset.description);
+    prose(ui.notes, s.notes || '');
+    dataMode(root, s);
+    spec.load(p, s);
+  }
+
+  // The scenario the controls describe: the preset's, with the fields the controls set (the
+  // notes are the preset's, not part of what runs).
+  function build() {
+    const s = clone(st.preset.scenario);
+    spec.build(p, s);
+    delete s.notes;
+    return s;
+  }
+
+  // One run of the scenario the controls describe; whether it succeeded.
+  function compute() {
+    const run = spec.run ? (s) => spec.run(session, s) : (s) => session.run(JSON.stringify(s));
+    if (!runScenario(st, errors, build, run)) return false;
+    spec.after?.(p);
+    redraw();
+    return true;
+  }
+
+  function redraw() {
+    if (!st.report) return;
+    const time = spec.time?.(p);
+    st.drawMs = drawFigures(figures, time);
+    spec.draw(p, time);
+    if (spec.timing) spec.timing(p);
+    else ui.timing.textContent = `rendered in ${(st.runMs + st.drawMs).toFixed(1)} ms (run ${st.runMs.toFixed(1)} ms + draw ${st.drawMs.toFixed(1)} ms)`;
+  }
+
+  // Bursts of input events coalesce into one run (or redraw) per frame.
+  const schedule = frameScheduler(setBusy, compute, redraw);
+  const p = { root, session, ui, st, figures, errors, setBusy, schedule, build, compute, redraw, isCustom, model, stem };
+
+  ui.preset.addEventListener('change', () => { spec.leave?.(p); loadPreset(ui.preset.value); schedule('compute'); });
+  for (const [list, what] of [[spec.compute, 'compute'], [spec.redraw, 'redraw']]) {
+    for (const id of list || []) ui[id].addEventListener('input', () => { spec.input?.(p, id); schedule(what); });
+  }
+  // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
+  redrawOnResize(figures, () => schedule('redraw'));
+
+  const save = (kind, json) => download(`${stem()}-${kind}.json`, new Blob([json], { type: 'application/json' }));
+  document.getElementById(`${prefix}dl-report`).addEventListener('click', () => {
+    if (st.reportJson) save('report', spec.reportFile ? spec.reportFile(p) : st.reportJson);
+  });
+  document.getElementById(`${prefix}dl-scenario`).addEventListener('click', () => {
+    if (st.scenario) save('scenario', JSON.stringify(spec.scenarioFile ? spec.scenarioFile(p) : st.scenario, null, 2));
+  });
+
+  spec.init?.(p);
+  ui.preset.value = all[0].name;
+  loadPreset(all[0].name);
+  compute();
+  return panelApi(ui.preset, menu, () => st.scenario);
 }

@@ -10,3 +10,7 @@ const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt
 // panel adds its own unbraced subscripts (their symbols differ).
 export const bracedScripts = (t) => escapeHtml(t.replace(/\s{2,}/g, ' '))
   .replace(/_\{([^{}]*)\}/g, '<sub>$1</sub>').replace(/\^\{([^{}]*)\}/g, '<sup>$1</sup>');
+
+// 12 → ₁₂ (state components and times in plain text).
+const SUB = '₀₁₂₃₄₅₆₇₈₉';
+export const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);

@@ -4,28 +4,22 @@
 // the core computes the window, the optimal face and the consistent-state polygon there, and every
 // figure marks it. No estimation happens here: the page edits the preset's scenario and shows
 // what the core reports.
-import { Session } from './pkg/confset.js';
-import { presetMenu, panelApi, dataMode } from './panel.js';
-import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
-import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { mountPanel } from './panel.js';
+import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
-import { bracedScripts, verdict } from './richtext.js';
+import { bracedScripts, verdict, sub } from './richtext.js';
 
-const clone = (v) => JSON.parse(JSON.stringify(v));
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
 const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
 const mat = (m) => (Array.isArray(m) && m.length && m[0].length
   ? `[${m.map((r) => r.map(fmt).join(' ')).join('; ')}]` : '–');
-const SUB = '₀₁₂₃₄₅₆₇₈₉';
-const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);
-const CUSTOM = 'custom';
 const METHOD = { states: 'Θ known', parameters: 'states known (3.4)', swapping: 'swapping (4.1)', expansion: 'expansion (4.2)' };
 
 // The custom mode is one more "preset" whose model comes from the text boxes: an observable
 // model (C·A is not parallel to C), so the optimal face collapses where the paper's is long.
 const CUSTOM_PRESET = {
-  name: CUSTOM,
+  name: 'custom',
   description: 'Your own LU model: x_t = A x_{t−1} + B u_t + e^x_t, y_t = C x_t + D u_t + e^y_t with uniform innovations; every change is validated and run at once.',
   scenario: {
     method: 'uniform_lp', title: 'Uniform innovations: custom LU model',
@@ -48,237 +42,191 @@ const richText = (t) => bracedScripts(t)
 // The core draws every picture; the cursor read-out finds the chart (a figure may stack several)
 // under the pointer. Time axes read whole samples.
 class UniformFigure extends Figure {
+  stacked = true;
+
   view() { return JSON.stringify({ panel: this.panel }); }
 
-  showCursor(px, py) {
-    const f = this.frame;
-    if (!f) return;
-    const hit = [f, ...(f.more || [])].find(({ plot_area: [l, t, r, b] }) => px >= l && px <= r && py >= t && py <= b && r > l && b > t);
-    if (!hit) { this.cursor.textContent = ''; return; }
-    const [l, t, r, b] = hit.plot_area;
-    const x = hit.x_range[0] + ((px - l) / (r - l)) * (hit.x_range[1] - hit.x_range[0]);
-    const y = hit.y_range[1] - ((py - t) / (b - t)) * (hit.y_range[1] - hit.y_range[0]);
+  cursorText({ chart, x, y }) {
     const xs = this.panel === 'upolygon' ? fmt(x) : String(Math.round(x));
-    this.cursor.textContent = `${hit.x_label || 'x'} = ${xs}, ${hit.y_label || 'y'} = ${fmt(y)}`;
+    return `${chart.x_label || 'x'} = ${xs}, ${chart.y_label || 'y'} = ${fmt(y)}`;
   }
 }
 
-export async function mountUniform(root, presets) {
-  const session = new Session();
-  const $ = (id) => root.querySelector(`#${id}`);
-  const ui = Object.fromEntries(['preset', 'preset-desc', 'custom', 'm-F', 'm-H', 'm-B', 'm-D', 'time', 'time-out',
-    'time-max', 'time-window', 'estimator', 'window', 'window-range', 'window-out', 'xr', 'yr', 'uhalf', 'prior', 'xrmax', 'yrmax',
-    'xbound', 'seed', 'steps', 'stale', 'numbers', 'run-numbers', 'num-title', 'timing', 'notes']
-    .map((id) => [id, $(`u-${id}`)]));
-  const menu = presetMenu(ui.preset, presets, CUSTOM_PRESET);
-  const all = menu.all;
-  const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
-  const stem = () => {
+// ----- controls ⇄ scenario -----
+// State dimension n and output dimension m the controls describe (0 while they do not parse).
+function dims({ ui, st, isCustom }) {
+  if (!isCustom()) return [st.preset.scenario.model.F.length, st.preset.scenario.model.H.length];
+  const rows = (k) => { try { return parseMatrix(`model.${k}`, ui[`m-${k}`].value).length; } catch { return 0; } };
+  return [rows('F'), rows('H')];
+}
+const half = (v) => (Array.isArray(v) ? (v.every((x) => x === v[0]) ? String(v[0]) : v.join(' ')) : '');
+
+function load(p, s) {
+  const { ui } = p;
+  const u = s.uniform;
+  ui.estimator.value = u.estimator || 'swapping';
+  setWindow(p, u.window ?? 5);
+  ui.xr.value = half(u.xr);
+  ui.yr.value = half(u.yr);
+  ui.uhalf.value = u.u_half ?? 0.5;
+  ui.prior.value = +(100 * (u.prior_rel ?? 0.3)).toPrecision(6);
+  ui.xrmax.value = half(u.xr_max || [1]);
+  ui.yrmax.value = half(u.yr_max || [1]);
+  ui.xbound.value = u.x_bound ?? 5;
+  ui.seed.value = s.simulate?.seed ?? 0;
+  ui.steps.value = s.simulate ? s.simulate.steps : s.data.y.length;
+  timeRange(p, true);
+}
+
+function setWindow({ ui }, v) {
+  ui.window.value = String(v);
+  ui['window-range'].value = String(v);
+  ui['window-out'].textContent = `= ${v}`;
+}
+
+// The cursor spans 1..T (what the steps field says; the core checks). `toEnd`: put it at T.
+// A cursor at the end stays at the end when T changes.
+function timeRange(p, toEnd = false) {
+  const { ui } = p;
+  const steps = Number(ui.steps.value);
+  const atEnd = toEnd || Number(ui.time.value) === Number(ui.time.max);
+  if (Number.isSafeInteger(steps) && steps >= 2) {
+    ui.time.max = String(steps);
+    ui['time-max'].textContent = String(steps);
+    if (atEnd) ui.time.value = String(steps);
+  }
+  showTime(p);
+}
+
+function showTime({ ui, st }) {
+  const u = st.report?.uniform;
+  const t = Number(ui.time.value);
+  ui['time-out'].textContent = `= ${t}`;
+  ui['time-window'].textContent = u && u.at.time === t ? `window ${u.at.first} … ${t}: polygon, face ranges` : '';
+}
+
+// Half-widths: one number stands for every component.
+function halfWidths(field, text, len) {
+  const v = parseVector(field, text);
+  return v.length === 1 && len > 1 ? Array(len).fill(v[0]) : v;
+}
+
+// The scenario the controls describe: the preset's, with fields changed.
+function build(p, s) {
+  const { ui } = p;
+  const u = s.uniform;
+  if (p.isCustom()) {
+    Object.assign(s.model, p.model());
+    u.D = parseMatrix('uniform.D', ui['m-D'].value);
+  }
+  const [n, m] = dims(p);
+  u.estimator = ui.estimator.value;
+  u.window = wholeNumber('uniform.window', ui.window.value);
+  u.xr = halfWidths('uniform.xr', ui.xr.value, n);
+  u.yr = halfWidths('uniform.yr', ui.yr.value, m);
+  u.u_half = parseNumber('uniform.u_half', ui.uhalf.value);
+  u.prior_rel = parseNumber('uniform.prior_rel', ui.prior.value) / 100;
+  u.xr_max = halfWidths('uniform.xr_max', ui.xrmax.value, n);
+  u.yr_max = halfWidths('uniform.yr_max', ui.yrmax.value, m);
+  u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
+  // A scalar state has no polygon, hence no plane (the polygon card then says why).
+  if (n === 1) delete u.plane;
+  if (s.simulate) {
+    s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
+    s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
+  }
+  u.time = wholeNumber('uniform.time', ui.time.value);
+}
+
+// ----- numbers from the report -----
+function showNumbers({ ui, st }) {
+  const u = st.report.uniform;
+  const at = u.at;
+  const t = at.time;
+  const n = u.n;
+  const step = u.steps[t - 1];
+  const truth = u.x_true ? u.x_true[t] : null;
+  ui['num-title'].textContent = `At the time cursor t = ${t}: window ${at.first} … ${t} (∂ = ${u.window}), ${METHOD[u.estimator] || u.estimator}`;
+  const rows = [];
+  const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
+  row(`true x<sub>${t}</sub>`, truth ? vec(truth) : '– (data given)');
+  row('LP estimate', vec(step?.x));
+  row('Kalman filter', u.kf ? `${vec(u.kf[t - 1])} <span class="hint">(true Θ, variances r²/3)</span>` : '– (data given: no true Θ)');
+  const faces = at.face_lo[0].map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(at.face_hi[0][i])}]</span>`);
+  row(`optimal face of x<sub>${t}</sub>`, faces.join(' '));
+  const guaranteed = at.polygon_theta_true;
+  if (at.true_objective != null) {
+    const below = at.objective <= at.true_objective * (1 + 1e-9) + 1e-12;
+    row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', `${fmt(at.objective)} vs the truth’s ${fmt(at.true_objective)} ${below
+      ? '<b class="good">✓ the optimum is never above the truth’s</b>'
+      : `<b class="warn">✗ above the truth’s</b>${guaranteed ? '' : ' <span class="hint">(Θ̂ ≠ Θ: the truth need not be feasible)</span>'}`}`);
+  } else {
+    row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', fmt(at.objective));
+  }
+  if (at.polygon) {
+    const exact = at.polygon.exact ? `exact, ${at.polygon.calls} LPs` : `budget spent: within ${fmt(at.polygon.gap)}`;
+    row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
+      ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}; ${exact}</span>`);
+  } else {
+    row('polygon', `– <span class="hint">(${at.polygon_absent || 'none'})</span>`);
+  }
+  ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
+
+  // Over the run.
+  const last = u.steps[u.steps.length - 1];
+  const r = [];
+  const rrow = (a, b) => r.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
+  const from = Math.min(u.window, u.steps.length);
+  if (u.rms_lp != null && u.rms_kf != null) {
+    const lpWins = u.rms_lp < u.rms_kf;
+    rrow(`RMS state error <span class="hint">t = ${from} … ${u.steps.length}</span>`, `LP ${fmt(u.rms_lp)} vs KF ${fmt(u.rms_kf)} — ${lpWins
+      ? '<span class="good">the hard bounds help here</span>'
+      : '<span class="warn">the hard bounds hurt here</span> <span class="hint">(the LP picks a point of a face the data leave open; the KF averages)</span>'}`);
+  }
+  rrow('RMS prediction error', `${fmt(u.rms_prediction)} <span class="hint">(y<sub>t</sub> − ŷ<sub>t|t−1</sub>)</span>`);
+  const [A, B, C] = u.theta_true || [];
+  const theta = (name, est, tru) => rrow(`final ${name}̂`, `${mat(est)}${tru ? ` <span class="hint">true</span> ${mat(tru)}` : ''}`);
+  theta('A', last.a, A);
+  theta('B', last.b, B);
+  theta('C', last.c, C);
+  rrow('final x̂<sub>r</sub>, ŷ<sub>r</sub>', `${vec(last.xr)}, ${vec(last.yr)}${u.xr_true ? ` <span class="hint">true</span> ${vec(u.xr_true)}, ${vec(u.yr_true)}` : ''}`);
+  rrow('half-width bounds extended', `${u.extended} ${u.extended === 1 ? 'time' : 'times'}${u.extended ? ' <span class="hint">(doubled where the LP was infeasible)</span>' : ''}`);
+  ui['run-numbers'].innerHTML = `<table class="est"><tbody>${r.join('')}</tbody></table>`
+    + (u.estimator === 'states' ? '<p class="hint">Θ known: the final Θ̂ is the true Θ.</p>' : '')
+    + (n === 2 || !u.plane ? '' : `<p class="hint">The polygon shows x${sub(u.plane[0] + 1)}, x${sub(u.plane[1] + 1)} of the ${n} state components.</p>`);
+}
+
+export const mountUniform = async (root, presets) => mountPanel(root, {
+  presets,
+  custom: CUSTOM_PRESET,
+  prefix: 'u-',
+  busy: 'uniformBusy',
+  Figure: UniformFigure,
+  model: ['F', 'H', 'B'],
+  prose: richText,
+  ids: ['time-out', 'time-max', 'time-window', 'window-out', 'run-numbers', 'num-title'],
+  compute: ['m-F', 'm-H', 'm-B', 'm-D', 'estimator', 'xr', 'yr', 'uhalf', 'prior', 'xrmax', 'yrmax', 'xbound', 'seed',
+    'steps', 'time', 'window-range', 'window'],
+  input(p, id) {
+    const { ui } = p;
+    if (id === 'steps') timeRange(p);
+    if (id === 'time') showTime(p);
+    if (id === 'window-range') setWindow(p, ui['window-range'].value);
+    if (id === 'window') {
+      const v = Number(ui.window.value);
+      if (Number.isSafeInteger(v) && v >= 1 && v <= 20) ui['window-range'].value = String(v);
+      ui['window-out'].textContent = `= ${ui.window.value}`;
+    }
+  },
+  stem({ st }) {
     const u = st.report?.uniform;
     return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${u.at.time}` : 'uniform'}`;
-  };
-  const figures = [...root.querySelectorAll('figure.card')].map((c) => new UniformFigure(c, session, stem));
-  for (const k of ['F', 'H', 'B']) ui[`m-${k}`].value = matrixText(CUSTOM_PRESET.scenario.model[k]);
-  ui['m-D'].value = matrixText(CUSTOM_PRESET.scenario.uniform.D);
-
-  // ----- controls ⇄ scenario -----
-  const isCustom = () => st.preset === CUSTOM_PRESET;
-  // State dimension n and output dimension m the controls describe (0 while they do not parse).
-  function dims() {
-    if (!isCustom()) return [st.preset.scenario.model.F.length, st.preset.scenario.model.H.length];
-    const rows = (k) => { try { return parseMatrix(`model.${k}`, ui[`m-${k}`].value).length; } catch { return 0; } };
-    return [rows('F'), rows('H')];
-  }
-  const half = (v) => (Array.isArray(v) ? (v.every((x) => x === v[0]) ? String(v[0]) : v.join(' ')) : '');
-
-  function loadPreset(name) {
-    st.preset = all.find((p) => p.name === name) || all[0];
-    const s = st.preset.scenario;
-    const u = s.uniform;
-    ui.custom.hidden = !isCustom();
-    ui['preset-desc'].innerHTML = richText(st.preset.description);
-    ui.estimator.value = u.estimator || 'swapping';
-    setWindow(u.window ?? 5);
-    ui.xr.value = half(u.xr);
-    ui.yr.value = half(u.yr);
-    ui.uhalf.value = u.u_half ?? 0.5;
-    ui.prior.value = +(100 * (u.prior_rel ?? 0.3)).toPrecision(6);
-    ui.xrmax.value = half(u.xr_max || [1]);
-    ui.yrmax.value = half(u.yr_max || [1]);
-    ui.xbound.value = u.x_bound ?? 5;
-    ui.seed.value = s.simulate?.seed ?? 0;
-    ui.steps.value = s.simulate ? s.simulate.steps : s.data.y.length;
-    dataMode(root, s);
-    ui.notes.innerHTML = richText(s.notes || '');
-    timeRange(true);
-  }
-
-  function setWindow(v) {
-    ui.window.value = String(v);
-    ui['window-range'].value = String(v);
-    ui['window-out'].textContent = `= ${v}`;
-  }
-
-  // The cursor spans 1..T (what the steps field says; the core checks). `toEnd`: put it at T.
-  // A cursor at the end stays at the end when T changes.
-  function timeRange(toEnd = false) {
-    const steps = Number(ui.steps.value);
-    const atEnd = toEnd || Number(ui.time.value) === Number(ui.time.max);
-    if (Number.isSafeInteger(steps) && steps >= 2) {
-      ui.time.max = String(steps);
-      ui['time-max'].textContent = String(steps);
-      if (atEnd) ui.time.value = String(steps);
-    }
-    showTime();
-  }
-  function showTime() {
-    const u = st.report?.uniform;
-    const t = Number(ui.time.value);
-    ui['time-out'].textContent = `= ${t}`;
-    ui['time-window'].textContent = u && u.at.time === t ? `window ${u.at.first} … ${t}: polygon, face ranges` : '';
-  }
-
-  // Half-widths: one number stands for every component.
-  function halfWidths(field, text, len) {
-    const v = parseVector(field, text);
-    return v.length === 1 && len > 1 ? Array(len).fill(v[0]) : v;
-  }
-
-  // The scenario the controls describe: the preset's, with fields changed.
-  function buildScenario() {
-    const s = clone(st.preset.scenario);
-    const u = s.uniform;
-    if (isCustom()) {
-      for (const k of ['F', 'H', 'B']) s.model[k] = parseMatrix(`model.${k}`, ui[`m-${k}`].value);
-      u.D = parseMatrix('uniform.D', ui['m-D'].value);
-    }
-    const [n, m] = dims();
-    u.estimator = ui.estimator.value;
-    u.window = wholeNumber('uniform.window', ui.window.value);
-    u.xr = halfWidths('uniform.xr', ui.xr.value, n);
-    u.yr = halfWidths('uniform.yr', ui.yr.value, m);
-    u.u_half = parseNumber('uniform.u_half', ui.uhalf.value);
-    u.prior_rel = parseNumber('uniform.prior_rel', ui.prior.value) / 100;
-    u.xr_max = halfWidths('uniform.xr_max', ui.xrmax.value, n);
-    u.yr_max = halfWidths('uniform.yr_max', ui.yrmax.value, m);
-    u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
-    // A scalar state has no polygon, hence no plane (the polygon card then says why).
-    if (n === 1) delete u.plane;
-    if (s.simulate) {
-      s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
-      s.simulate.steps = wholeNumber('simulate.steps', ui.steps.value);
-    }
-    u.time = wholeNumber('uniform.time', ui.time.value);
-    delete s.notes;
-    return s;
-  }
-
-  // ----- errors next to the field they name -----
-  const errors = fieldErrors(root, ui.stale, 'form ');
-
-  // ----- compute and draw -----
-  const setBusy = busyFlag('uniformBusy');
-
-  function compute() {
-    if (runScenario(st, errors, buildScenario, (s) => session.run(JSON.stringify(s)))) redraw();
-  }
-
-  function redraw() {
-    if (!st.report) return;
-    st.drawMs = drawFigures(figures);
-    showTime();
-    showNumbers();
-  }
-
-  // Bursts of input events coalesce into one run (or redraw) per frame.
-  const schedule = frameScheduler(setBusy, () => compute(), () => redraw());
-
-  // ----- numbers from the report -----
-  function showNumbers() {
-    const u = st.report.uniform;
-    const at = u.at;
-    const t = at.time;
-    const n = u.n;
-    const step = u.steps[t - 1];
-    const truth = u.x_true ? u.x_true[t] : null;
-    ui['num-title'].textContent = `At the time cursor t = ${t}: window ${at.first} … ${t} (∂ = ${u.window}), ${METHOD[u.estimator] || u.estimator}`;
-    const rows = [];
-    const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
-    row(`true x<sub>${t}</sub>`, truth ? vec(truth) : '– (data given)');
-    row('LP estimate', vec(step?.x));
-    row('Kalman filter', u.kf ? `${vec(u.kf[t - 1])} <span class="hint">(true Θ, variances r²/3)</span>` : '– (data given: no true Θ)');
-    const faces = at.face_lo[0].map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(at.face_hi[0][i])}]</span>`);
-    row(`optimal face of x<sub>${t}</sub>`, faces.join(' '));
-    const guaranteed = at.polygon_theta_true;
-    if (at.true_objective != null) {
-      const below = at.objective <= at.true_objective * (1 + 1e-9) + 1e-12;
-      row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', `${fmt(at.objective)} vs the truth’s ${fmt(at.true_objective)} ${below
-        ? '<b class="good">✓ the optimum is never above the truth’s</b>'
-        : `<b class="warn">✗ above the truth’s</b>${guaranteed ? '' : ' <span class="hint">(Θ̂ ≠ Θ: the truth need not be feasible)</span>'}`}`);
-    } else {
-      row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', fmt(at.objective));
-    }
-    if (at.polygon) {
-      const exact = at.polygon.exact ? `exact, ${at.polygon.calls} LPs` : `budget spent: within ${fmt(at.polygon.gap)}`;
-      row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
-        ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}; ${exact}</span>`);
-    } else {
-      row('polygon', `– <span class="hint">(${at.polygon_absent || 'none'})</span>`);
-    }
-    ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
-
-    // Over the run.
-    const last = u.steps[u.steps.length - 1];
-    const r = [];
-    const rrow = (a, b) => r.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
-    const from = Math.min(u.window, u.steps.length);
-    if (u.rms_lp != null && u.rms_kf != null) {
-      const lpWins = u.rms_lp < u.rms_kf;
-      rrow(`RMS state error <span class="hint">t = ${from} … ${u.steps.length}</span>`, `LP ${fmt(u.rms_lp)} vs KF ${fmt(u.rms_kf)} — ${lpWins
-        ? '<span class="good">the hard bounds help here</span>'
-        : '<span class="warn">the hard bounds hurt here</span> <span class="hint">(the LP picks a point of a face the data leave open; the KF averages)</span>'}`);
-    }
-    rrow('RMS prediction error', `${fmt(u.rms_prediction)} <span class="hint">(y<sub>t</sub> − ŷ<sub>t|t−1</sub>)</span>`);
-    const [A, B, C] = u.theta_true || [];
-    const theta = (name, est, tru) => rrow(`final ${name}̂`, `${mat(est)}${tru ? ` <span class="hint">true</span> ${mat(tru)}` : ''}`);
-    theta('A', last.a, A);
-    theta('B', last.b, B);
-    theta('C', last.c, C);
-    rrow('final x̂<sub>r</sub>, ŷ<sub>r</sub>', `${vec(last.xr)}, ${vec(last.yr)}${u.xr_true ? ` <span class="hint">true</span> ${vec(u.xr_true)}, ${vec(u.yr_true)}` : ''}`);
-    rrow('half-width bounds extended', `${u.extended} ${u.extended === 1 ? 'time' : 'times'}${u.extended ? ' <span class="hint">(doubled where the LP was infeasible)</span>' : ''}`);
-    ui['run-numbers'].innerHTML = `<table class="est"><tbody>${r.join('')}</tbody></table>`
-      + (u.estimator === 'states' ? '<p class="hint">Θ known: the final Θ̂ is the true Θ.</p>' : '')
-      + (n === 2 || !u.plane ? '' : `<p class="hint">The polygon shows x${sub(u.plane[0] + 1)}, x${sub(u.plane[1] + 1)} of the ${n} state components.</p>`);
-    ui.timing.textContent = `rendered in ${(st.runMs + st.drawMs).toFixed(1)} ms (run ${st.runMs.toFixed(1)} ms + draw ${st.drawMs.toFixed(1)} ms)`;
-  }
-
-  // ----- wiring -----
-  ui.preset.addEventListener('change', () => { loadPreset(ui.preset.value); schedule('compute'); });
-  for (const id of ['m-F', 'm-H', 'm-B', 'm-D', 'estimator', 'xr', 'yr', 'uhalf', 'prior', 'xrmax', 'yrmax', 'xbound', 'seed']) {
-    ui[id].addEventListener('input', () => schedule('compute'));
-  }
-  ui.steps.addEventListener('input', () => { timeRange(); schedule('compute'); });
-  ui.time.addEventListener('input', () => { showTime(); schedule('compute'); });
-  ui['window-range'].addEventListener('input', () => { setWindow(ui['window-range'].value); schedule('compute'); });
-  ui.window.addEventListener('input', () => {
-    const v = Number(ui.window.value);
-    if (Number.isSafeInteger(v) && v >= 1 && v <= 20) ui['window-range'].value = String(v);
-    ui['window-out'].textContent = `= ${ui.window.value}`;
-    schedule('compute');
-  });
-
-  // Hi-DPI: refit the backing stores when the layout or the pixel ratio changes (no recompute).
-  redrawOnResize(figures, () => schedule('redraw'));
-
-  $('u-dl-report').addEventListener('click', () => {
-    if (st.reportJson) download(`${stem()}-report.json`, new Blob([st.reportJson], { type: 'application/json' }));
-  });
-  $('u-dl-scenario').addEventListener('click', () => {
-    if (st.scenario) download(`${stem()}-scenario.json`, new Blob([JSON.stringify(st.scenario, null, 2)], { type: 'application/json' }));
-  });
-
-  ui.preset.value = all[0].name;
-  loadPreset(all[0].name);
-  compute();
-  return panelApi(ui.preset, menu, () => st.scenario);
-}
+  },
+  init: ({ ui }) => { ui['m-D'].value = matrixText(CUSTOM_PRESET.scenario.uniform.D); },
+  load,
+  build,
+  draw(p) {
+    showTime(p);
+    showNumbers(p);
+  },
+});

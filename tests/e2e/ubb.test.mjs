@@ -35,7 +35,7 @@ export default async function ubb(env) {
 
     // The ubb presets live in this panel's menu only.
     const menu = (id) => page.$$eval(`#${id} option`, (os) => os.map((o) => o.value));
-    assert.deepEqual(await menu('b-preset'), PRESETS);
+    assert.deepEqual(await menu('b-preset'), [...PRESETS, 'custom']); // then the custom model, as in every panel
     for (const id of ['preset', 'l-preset', 'g-preset', 'u-preset']) {
       assert.ok(!(await menu(id)).some((v) => v.startsWith('ubb')), `#${id} has no ubb preset`);
     }
