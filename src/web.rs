@@ -1,9 +1,11 @@
 //! WebAssembly bindings of the explorer page (`www/`): JSON in, JSON out, nothing computed here.
 //!
 //! ```js
-//! import init, { presets, Session, Study } from './pkg/confset.js';
+//! import init, { presets, dataShape, withCsvData, Session, Study } from './pkg/confset.js';
 //! await init();
 //! const list = JSON.parse(presets());            // [{name, description, scenario}, …]
+//! const shape = JSON.parse(dataShape(json));     // {outputs: q, inputs: r}: the CSV columns
+//! const withData = withCsvData(json, csvText);   // the scenario JSON with data from CSV
 //! const s = new Session();
 //! const report = JSON.parse(s.run(JSON.stringify(list[0].scenario)));
 //! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
@@ -95,6 +97,30 @@ pub fn start() {
 #[wasm_bindgen]
 pub fn presets() -> Result<String, JsValue> {
     to_json("the preset list", &presets::all())
+}
+
+/// The scenario (JSON) with `data` read from CSV text and no `simulate` block (the core's
+/// `Scenario::with_csv_data`: the same parser as `confset run --data`). Errors name `data`,
+/// `data.y` or `data.u` (or the model field the data's shape cannot be read from).
+#[wasm_bindgen(js_name = withCsvData)]
+pub fn with_csv_data(scenario_json: &str, csv: &str) -> Result<String, JsValue> {
+    let s = Scenario::from_json(scenario_json)
+        .and_then(|s| s.with_csv_data(csv))
+        .map_err(|e| js_error(&e))?;
+    to_json("the scenario", &s)
+}
+
+/// The shape of the scenario's `data` (JSON `{"outputs": q, "inputs": r}`): the columns a CSV
+/// file needs (y1 … yq, then optionally u1 … ur), for the page's hint.
+#[wasm_bindgen(js_name = dataShape)]
+pub fn data_shape(scenario_json: &str) -> Result<String, JsValue> {
+    let (outputs, inputs) = Scenario::from_json(scenario_json)
+        .and_then(|s| s.data_shape())
+        .map_err(|e| js_error(&e))?;
+    to_json(
+        "the data shape",
+        &serde_json::json!({"outputs": outputs, "inputs": inputs}),
+    )
 }
 
 /// Runs scenarios and draws the last good report.

@@ -4,6 +4,10 @@
 //! confset presets                          list the paper presets
 //! confset run SCENARIO.json                report JSON on stdout
 //! confset run --preset NAME                the same for a preset
+//! confset run (SCENARIO.json | --preset NAME) --data FILE.csv
+//!                                          the scenario on measured data from CSV (its
+//!                                          `data` replaced, its `simulate` dropped): columns
+//!                                          y1 … yq, then optionally u1 … ur, header optional
 //! confset experiment SCENARIO.json|--preset NAME [--runs N]
 //!                                          the method's Monte Carlo study (result JSON):
 //!                                          SCF conditional coverage, LSCR coverage, GLLS
@@ -11,7 +15,7 @@
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
 //!         [--panel state|series|coverage|region|singular|index|plane|precision
 //!                 |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
-//!         [--time T] [--zoom auto|regions|full]
+//!         [--time T] [--zoom auto|regions|full] [--data FILE.csv]
 //!         [--size WxH]                     default panel: the report's first useful one
 //!                                          (region for LSCR, singular for GLLS, ustates for
 //!                                          uniform_lp, ubbset for ubb, state otherwise)
@@ -29,19 +33,19 @@ use std::process::ExitCode;
 
 const USAGE: &str = "usage:
   confset presets
-  confset run (SCENARIO.json | --preset NAME)
+  confset run (SCENARIO.json | --preset NAME) [--data FILE.csv]
   confset experiment (SCENARIO.json | --preset NAME) [--runs N]
   confset figure (SCENARIO.json | --preset NAME) -o FILE.svg
           [--panel state|series|coverage|region|singular|index|plane|precision
                   |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
-          [--time T] [--zoom auto|regions|full]
+          [--time T] [--zoom auto|regions|full] [--data FILE.csv]
           [--size WxH]   (default panel: region for LSCR scenarios, singular for GLLS,
                           ustates for uniform_lp, ubbset for ubb, state otherwise)
   confset figures [-o] DIR [--size WxH]";
 
 /// Flags that take a value (so the value is not mistaken for the scenario file).
-const VALUED: [&str; 7] = [
-    "-o", "--runs", "--preset", "--panel", "--time", "--zoom", "--size",
+const VALUED: [&str; 8] = [
+    "-o", "--runs", "--preset", "--panel", "--time", "--zoom", "--size", "--data",
 ];
 
 fn main() -> ExitCode {
@@ -82,6 +86,27 @@ fn scenario(args: &[String]) -> Result<Scenario, Error> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::field("", format!("cannot read {path}: {e}")))?;
     Scenario::from_json(&text)
+}
+
+/// The scenario with `--data FILE.csv` applied (`Scenario::with_csv_data`: its `data` read
+/// from the file, its `simulate` dropped), or as it is without the flag.
+fn scenario_with_data(args: &[String]) -> Result<Scenario, Error> {
+    let s = scenario(args)?;
+    if !args.iter().any(|a| a == "--data") {
+        return Ok(s);
+    }
+    let path = flag(args, "--data")
+        .ok_or_else(|| Error::field("--data", "needs a file: --data FILE.csv"))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::field("--data", format!("cannot read {path}: {e}")))?;
+    s.with_csv_data(&text).map_err(|e| {
+        // Name the file, so "data.y row 7, …" points into it (a model error is the scenario's).
+        if e.field.starts_with("data") {
+            Error::field(e.field, format!("{} (in {path})", e.message))
+        } else {
+            e
+        }
+    })
 }
 
 /// `--size WxH` (default 960x640).
@@ -151,7 +176,7 @@ fn run(args: &[String]) -> Result<(), Error> {
             }
             Ok(())
         }
-        Some("run") => json(&scenario(args)?.run()?),
+        Some("run") => json(&scenario_with_data(args)?.run()?),
         Some("experiment") => {
             let s = scenario(args)?;
             let runs = match flag(args, "--runs") {
@@ -171,7 +196,7 @@ fn run(args: &[String]) -> Result<(), Error> {
         Some("figure") => {
             let out = flag(args, "-o")
                 .ok_or_else(|| Error::field("-o", "is needed: the SVG file to write"))?;
-            let report = scenario(args)?.run()?;
+            let report = scenario_with_data(args)?.run()?;
             let (w, h) = size(args)?;
             let v = view(args, &report)?;
             // A panel that does not fit the report (e.g. state for LSCR) names the flag.

@@ -677,6 +677,10 @@ impl MethodScenario for Glls {
     fn steps(&self) -> RangeInclusive<usize> {
         1..=5000
     }
+    fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
+        // m = rows of C (model.H), r = columns of B, as `prepare_glls` reads the data.
+        GllsModel::from_spec(&s.model).map(|m| (m.m(), m.r()))
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let g = s.prepare_glls()?.report()?;
         let mut r = Report::of(s, s.alpha, (g.n, g.m), g.k, g.plane.to_vec(), g.y.clone());

@@ -675,6 +675,10 @@ impl MethodScenario for Lscr {
     fn steps(&self) -> RangeInclusive<usize> {
         1..=2000
     }
+    fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
+        // A scalar output y_t and no inputs (`prepare_lscr` refuses `data.u`).
+        LscrModel::from_spec(&s.model).map(|_| (1, 0))
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let p = s.prepare_lscr()?;
         let mut l = p.report()?;

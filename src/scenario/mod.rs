@@ -22,12 +22,14 @@ use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
 use std::ops::RangeInclusive;
 
+pub mod csv;
 pub mod glls;
 pub mod lscr;
 pub mod scf;
 pub mod ubb;
 pub mod uniform;
 pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
+pub use csv::data_from_csv;
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
 pub use scf::{CollisionReport, ScfPrepared};
@@ -447,6 +449,10 @@ pub(crate) trait MethodScenario: Sync {
     /// The time steps (data rows or simulated steps) the method accepts: checked by
     /// [`Scenario::source`] before any work.
     fn steps(&self) -> RangeInclusive<usize>;
+    /// The shape of the method's `data`: (q, r), the entries of each `data.y` row (outputs)
+    /// and of each `data.u` row (inputs, 0 when the method takes none), read from the model
+    /// fields as the run reads them (so a CSV file can be split into columns before a run).
+    fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)>;
     /// Validate and run: the report.
     fn run(&self, s: &Scenario) -> Result<Report>;
     /// The method's Monte Carlo study, not yet run (`runs` overrides the scenario's count).

@@ -330,6 +330,11 @@ impl MethodScenario for Scf {
     fn steps(&self) -> RangeInclusive<usize> {
         1..=100_000
     }
+    fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
+        // The rows of H and the columns of B, as `prepare_scf` checks `data.y` and `data.u`.
+        let model = LinearModel::from_spec(&s.model)?;
+        Ok((model.q(), model.m()))
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         s.prepare_scf()?.report()
     }

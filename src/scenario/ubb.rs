@@ -835,6 +835,22 @@ impl MethodScenario for Ubb {
     fn steps(&self) -> RangeInclusive<usize> {
         1..=2000
     }
+    fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
+        // One output when `ubb.basis` gives the outputs (Example 1), else the rows of H; the
+        // known input v = B·u has the columns of B (model.G is the unknown noise's matrix).
+        let basis = s
+            .ubb
+            .as_ref()
+            .and_then(|u| u.basis.as_ref())
+            .is_some_and(|b| !b.is_empty());
+        let q = if basis {
+            1
+        } else {
+            ModelSpec::constant("model.H", &s.model.h, Method::Ubb)?.map_or(0, |h| h.nrows())
+        };
+        let r = ModelSpec::constant("model.B", &s.model.b, Method::Ubb)?.map_or(0, |b| b.ncols());
+        Ok((q, r))
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let u = s.prepare_ubb()?.report()?;
         let mut r = Report::of(

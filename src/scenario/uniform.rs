@@ -599,6 +599,14 @@ impl MethodScenario for Uniform {
     fn steps(&self) -> RangeInclusive<usize> {
         2..=2000
     }
+    fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
+        // m = rows of C (model.H), r = columns of B, as `uniform_report` reads the data.
+        let constant = |field: &str, m| ModelSpec::constant(field, m, Method::UniformLp);
+        let c = constant("model.H", &s.model.h)?
+            .ok_or_else(|| Error::field("model.H", "is missing"))?;
+        let r = constant("model.B", &s.model.b)?.map_or(0, |b| b.ncols());
+        Ok((c.nrows(), r))
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let u = s.uniform_report()?;
         let q = u.y.first().map_or(0, |y| y.len());

@@ -11,6 +11,7 @@ mod common;
 
 mod bad_input;
 mod coverage;
+mod csv;
 mod determinism;
 mod glls;
 mod registry;

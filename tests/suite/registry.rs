@@ -34,7 +34,7 @@ fn run(name: &str, s: &Scenario) -> Report {
 }
 
 /// The first place where two JSON values differ (path and both values), if any.
-fn first_difference(a: &Value, b: &Value, path: &str) -> Option<String> {
+pub(crate) fn first_difference(a: &Value, b: &Value, path: &str) -> Option<String> {
     match (a, b) {
         (Value::Object(x), Value::Object(y)) => x
             .iter()
@@ -1042,7 +1042,7 @@ fn the_wasm_study_class_returns_the_core_result() {
 // ---------------------------------------------------------------------------------------------
 
 #[cfg(not(target_arch = "wasm32"))]
-fn cli(args: &[&str]) -> Value {
+pub(crate) fn cli(args: &[&str]) -> Value {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_confset"))
         .args(args)
         .output()
@@ -1209,7 +1209,7 @@ fn compare_data_report(sim: &Value, data: &Value, path: &str, diffs: &mut Vec<St
 
 /// The inputs a simulated scenario used: `simulate.u`, or (a method that draws its own
 /// inputs) the `u` its result block reports.
-fn inputs_used(s: &Scenario, report: &Value) -> Vec<Vec<f64>> {
+pub(crate) fn inputs_used(s: &Scenario, report: &Value) -> Vec<Vec<f64>> {
     let given = s
         .simulate
         .as_ref()

@@ -1,9 +1,9 @@
 //! The wasm bindings in a real browser (`wasm-pack test --headless --chrome`): presets, a
 //! Session running and drawing a preset, errors thrown as JS Errors naming the field, a
 //! chunk of the conditional Monte Carlo; LSCR: a preset's level, the membership raster and the
-//! chunked coverage experiment.
+//! chunked coverage experiment; CSV data (`withCsvData`, `dataShape`) as the core reads it.
 
-use confset::web::{presets, Session, Study};
+use confset::web::{data_shape, presets, with_csv_data, Session, Study};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -592,4 +592,25 @@ fn ubb_guarantee_steps_to_completion() {
     let (message, field) = thrown(bad.step(10).expect_err("infeasible"));
     assert_eq!(field, "ubb.eps", "{message}");
     assert!(message.contains("infeasible"), "{message}");
+}
+
+#[wasm_bindgen_test]
+fn csv_data_is_read_as_the_core_reads_it() {
+    let scenario = preset("scf-scalar").to_string();
+    let shape: Value = serde_json::from_str(&data_shape(&scenario).expect("shape")).expect("JSON");
+    assert_eq!(shape, serde_json::json!({"outputs": 1, "inputs": 0}));
+    let text = "y1\r\n0.5\r\n-1.25\r\n";
+    let got: Value =
+        serde_json::from_str(&with_csv_data(&scenario, text).expect("CSV read")).expect("JSON");
+    let core = confset::scenario::Scenario::from_json(&scenario)
+        .and_then(|s| s.with_csv_data(text))
+        .expect("core");
+    assert_eq!(got, serde_json::to_value(&core).expect("JSON"));
+    assert_eq!(got["data"]["y"], serde_json::json!([[0.5], [-1.25]]));
+    assert!(got.get("simulate").is_none(), "simulate is dropped");
+    let (message, field) = thrown(with_csv_data(&scenario, "y1\n1\nx\n").expect_err("bad cell"));
+    assert_eq!(field, "data.y");
+    assert_eq!(message, "data.y row 3, column y1: 'x' is not a number");
+    let (_, field) = thrown(data_shape("{}").expect_err("no scenario"));
+    assert!(!field.is_empty(), "the error names a field");
 }
