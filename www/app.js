@@ -162,7 +162,6 @@ async function useData(d, text, name) {
   } catch (e) {
     return d.dataBox.show(e.message || String(e));
   }
-  scenario.title = `${base.title || d.title} on ${name}`;
   d.beforeLoad = await stateOf(d);
   navigating++;
   try {
@@ -237,7 +236,10 @@ async function restore(d, state) {
 // ----- scenario files -----
 
 function addLoaded(d, api, name, scenario) {
-  const p = { name, label: `loaded: ${scenario.title || name}`.slice(0, 60), description: scenario.notes || 'a scenario loaded from a file', scenario };
+  const file = name.replace(/^(file|data):/, '');
+  const p = name.startsWith('data:')
+    ? { name, label: `your data: ${file}`.slice(0, 60), description: `${scenario.title || d.title}: measured data from ${file}`, scenario }
+    : { name, label: `loaded: ${scenario.title || file}`.slice(0, 60), description: scenario.notes || `a scenario loaded from ${file}`, scenario };
   api.addPreset(p);
   d.loaded = p;
 }

@@ -2,7 +2,7 @@
 // pixels in a fresh page; a fixture link of every emitted version decodes; a corrupt link says so
 // and shows the default; the landing view computes nothing; a scenario file loads into its panel.
 import { join } from 'node:path';
-import { writeFileSync, mkdtempSync } from 'node:fs';
+import { writeFileSync, mkdtempSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { PANELS } from '../../www/registry.js';
 
@@ -194,6 +194,58 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     await page.click('#ubb-section [data-act=undo]');
     await idle(page, 'ubbBusy');
     assert.equal(await page.$eval('#b-preset', (s) => s.value), 'ubb-track');
+    await page.close();
+  }
+
+  // Measured data as CSV (the LSCR panel, q = 1): the page runs on them with no truth, and its
+  // report equals the scenario with the same data given directly; a bad cell on row 7 names the
+  // row and keeps the picture; a wrong number of columns names both counts.
+  {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(`${baseUrl}#lscr`);
+    await ready(page);
+    await idle(page, 'lscrBusy');
+    const download = async (id) => {
+      const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`#${id}`)]);
+      return JSON.parse(readFileSync(await dl.path(), 'utf8'));
+    };
+    const simulated = await download('l-dl-scenario');
+    const y = (await download('l-dl-report')).y;
+    const dir = mkdtempSync(join(tmpdir(), 'confset-csv-'));
+    const good = join(dir, 'measured.csv');
+    writeFileSync(good, `y1\n${y.map((r) => r.join(',')).join('\n')}\n`);
+    await page.setInputFiles('#lscr-section input[data-act=csv]', good);
+    await page.waitForFunction(() => /running on measured\.csv/.test(document.querySelector('#lscr-section .share-status').textContent));
+    await idle(page, 'lscrBusy');
+    const onData = await download('l-dl-scenario');
+    assert.equal(onData.simulate, undefined, 'no simulation on data');
+    assert.deepEqual(onData.data.y, y, 'the CSV rows are the data');
+    const report = await download('l-dl-report');
+    assert.equal(report.x_true, undefined, 'a report on data has no truth');
+    const direct = await page.evaluate((s) => JSON.parse(new window.confset.Session().run(JSON.stringify(s))), {
+      ...Object.fromEntries(Object.entries(simulated).filter(([k]) => k !== 'simulate')), data: { y }, title: onData.title,
+    });
+    assert.deepEqual(report.lscr, direct.lscr, 'the page on the CSV = the scenario with the same data');
+    assert.match(await page.$eval('#lscr-section .data-preview', (e) => e.textContent), new RegExp(`${y.length} rows · 1 output`));
+    await page.$eval('#lscr-section .toolbar', (e) => e.scrollIntoView());
+    await page.screenshot({ path: join(screenshotDir, 'explorer-data-preview.png') });
+    const pixels = (await snapshot(page, 'lscr')).pixels;
+
+    const bad = y.map((r) => r.join(','));
+    bad[5] = 'abc'; // the file's row 7: the header is row 1
+    writeFileSync(join(dir, 'bad.csv'), `y1\n${bad.join('\n')}\n`);
+    await page.setInputFiles('#lscr-section input[data-act=csv]', join(dir, 'bad.csv'));
+    await page.waitForFunction(() => document.querySelector('#lscr-section .data-err').textContent !== '');
+    const err = await page.$eval('#lscr-section .data-err', (e) => e.textContent);
+    assert.match(err, /row 7, column y1: 'abc' is not a number/, err);
+    assert.deepEqual((await snapshot(page, 'lscr')).pixels, pixels, 'a bad file keeps the last picture');
+    await page.$eval('#lscr-section .toolbar', (e) => e.scrollIntoView());
+    await page.screenshot({ path: join(screenshotDir, 'explorer-data-error.png') });
+
+    writeFileSync(join(dir, 'wide.csv'), y.map((r) => `${r[0]},1,2`).join('\n'));
+    await page.setInputFiles('#lscr-section input[data-act=csv]', join(dir, 'wide.csv'));
+    await page.waitForFunction(() => /3 columns/.test(document.querySelector('#lscr-section .data-err').textContent));
+    assert.match(await page.$eval('#lscr-section .data-err', (e) => e.textContent), /3 columns.*q = 1 output/);
     await page.close();
   }
 }
