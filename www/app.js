@@ -225,7 +225,7 @@ async function restore(d, state) {
     }
     api.presetSelect.value = state.preset;
     api.presetSelect.dispatchEvent(new Event('change', { bubbles: true }));
-    await idle(d.busy);
+    // The preset's compute is scheduled for the next frame: the fields set now join it.
     const unknown = await restoreFields(d.root(), state.fields || {}, d.busy);
     if (unknown.length) d.say(`restored; ${unknown.length} setting(s) of the link are not on this page: ${unknown.slice(0, 3).join(', ')}`);
   } finally {
@@ -272,13 +272,27 @@ async function loadScenarioFile(file) {
   history.replaceState(null, '', (await linkOf(d) || `#${d.id}`).replace(/^[^#]*/, ''));
 }
 
+// ----- keyboard and screen readers -----
+
+// A slider announces what its label shows ("= 40", "0.950"), not its raw value: the text of its
+// <output>, updated after the panel has drawn.
+function announceSliders(root) {
+  const outputOf = (r) => root.querySelector(`label[for="${r.id}"] output`) || r.closest('label')?.querySelector('output')
+    || root.querySelector(`#${r.id}-out`);
+  const update = (r) => r.setAttribute('aria-valuetext', (outputOf(r)?.textContent || r.value).replace(/^=\s*/, '').trim() || r.value);
+  for (const r of root.querySelectorAll('input[type=range]')) {
+    r.addEventListener('input', () => requestAnimationFrame(() => update(r)));
+    update(r);
+  }
+}
+
 // ----- routing -----
 
 function mount(d) {
   if (!mounted.has(d.id)) {
     toolbar(d);
     const list = presets.filter((p) => d.methods.includes(p.scenario.method));
-    mounted.set(d.id, import(d.module).then((m) => m[d.mount](d.root(), list)).then((api) => { syncUrl(d); return api; }));
+    mounted.set(d.id, import(d.module).then((m) => m[d.mount](d.root(), list)).then((api) => { syncUrl(d); announceSliders(d.root()); return api; }));
   }
   return mounted.get(d.id);
 }

@@ -59,7 +59,10 @@ export function fieldErrors(root, staleNote, within = '') {
     const field = e && typeof e.field === 'string' ? e.field : '';
     const message = (e && e.message) || String(e);
     let best = null;
+    // Only a place the user can see: an error of a field whose box is hidden (a custom model's,
+    // while a preset is shown) goes to the nearest visible place, at worst the panel's banner.
     for (const p of root.querySelectorAll('.err[data-for]')) {
+      if (p.closest('[hidden]')) continue;
       const f = p.dataset.for;
       const hit = f === '' || field === f || field.startsWith(`${f}.`) || field.startsWith(`${f}[`);
       if (hit && (!best || f.length > best.dataset.for.length)) best = p;

@@ -155,6 +155,8 @@ export function mountPanel(root, spec) {
   spec.init?.(p);
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
-  compute();
+  // On the next frame, like every compute: a share link restored right after the mount joins
+  // this first compute instead of following it.
+  schedule('compute');
   return panelApi(ui.preset, menu, () => st.scenario);
 }

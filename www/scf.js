@@ -62,6 +62,9 @@ function updateVisibility(p) {
   ui['xbar-row'].hidden = isRobots(p);
   ui['rare-opts'].hidden = !ui.rare.checked;
   ui.mc.hidden = !isRobots(p);
+  // τ moves the collision check's prediction (t + τ); without a collision check no figure or
+  // number shows the predicted region, so the control is not offered.
+  ui.tau.closest('label').hidden = !isRobots(p);
 }
 
 // The scenario the controls describe: the preset's, with fields changed.

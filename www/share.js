@@ -94,20 +94,21 @@ function setControl(el, value) {
   return true;
 }
 
-// Resolves once the panel holds no compute (its busy flag clear) after the next frame.
+// Resolves once the panel holds no compute (its busy flag clear; a scheduled compute sets it at once).
 export function idle(busyKey) {
   return new Promise((resolve) => {
     const check = () => (document.body.dataset[busyKey] ? requestAnimationFrame(check) : resolve());
-    requestAnimationFrame(check);
+    check();
   });
 }
 
-// Put `fields` into the panel's controls: first every control but the sliders (they can change
-// what the sliders range over), then, once the panel has computed, the sliders. A control is only
-// touched when its value differs, so one that follows another (an "automatic" horizon) is kept.
+// Put `fields` into the panel's controls, all at once (one compute); then, once the panel has
+// computed, the sliders again where their range only now admits the value (the report sets it).
+// A control is only touched when its value differs, so one that follows another (an
+// "automatic" horizon) is kept.
 export async function restoreFields(root, fields, busyKey) {
   const els = controls(root).filter((el) => el.id in fields);
-  for (const el of els.filter((e) => e.type !== 'range')) setControl(el, String(fields[el.id]));
+  for (const el of els) setControl(el, String(fields[el.id]));
   await idle(busyKey);
   let moved = false;
   for (const el of els.filter((e) => e.type === 'range')) moved = setControl(el, String(fields[el.id])) || moved;

@@ -248,4 +248,68 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     assert.match(await page.$eval('#lscr-section .data-err', (e) => e.textContent), /3 columns.*q = 1 output/);
     await page.close();
   }
+
+  // Speed (printed, not asserted): switching back to a visited panel, restoring a link against a
+  // first visit, and slider → painted frame with the URL following the slider.
+  {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    const since = () => page.evaluate(() => performance.now());
+    await page.goto(`${baseUrl}#scf`);
+    await ready(page);
+    const firstScf = await since();
+    const toRoute = (id) => page.evaluate((id) => new Promise((resolve) => {
+      const t0 = performance.now();
+      location.hash = `#${id}`;
+      const check = () => (document.body.dataset.ready === '1' && document.body.dataset.route === id
+        ? requestAnimationFrame(() => resolve(performance.now() - t0)) : requestAnimationFrame(check));
+      requestAnimationFrame(check);
+    }), id);
+    const firstLscr = await toRoute('lscr');
+    const back = [];
+    for (let i = 0; i < 5; i++) { back.push(await toRoute('scf')); back.push(await toRoute('lscr')); }
+    back.sort((a, b) => a - b);
+    console.log(`    [page timing] first visit: scf ready ${firstScf.toFixed(0)} ms after navigation start, lscr ${firstLscr.toFixed(0)} ms after the click; `
+      + `switching to a visited panel ${back[5].toFixed(1)} ms median, ${back[9].toFixed(1)} ms max of 10 (hash change → painted frame)`);
+    for (const d of PANELS) {
+      await toRoute(d.id);
+      await idle(page, d.busy);
+      const moves = await page.evaluate(async (id) => {
+        const r = [...document.getElementById(id).querySelectorAll('form input[type=range]')].find((e) => e.offsetParent);
+        if (!r) return null;
+        const out = [];
+        for (let i = 0; i < 8; i++) {
+          const [lo, hi, step] = [Number(r.min), Number(r.max), Number(r.step) || 1];
+          const v = lo + Math.round((((i % 4) + 1) / 5) * (hi - lo) / step) * step;
+          const t0 = performance.now();
+          r.value = String(v);
+          r.dispatchEvent(new Event('input', { bubbles: true }));
+          await new Promise((res) => requestAnimationFrame(() => requestAnimationFrame(res)));
+          out.push(performance.now() - t0);
+          await new Promise((res) => setTimeout(res, 450)); // the URL update (debounced 400 ms) runs between moves
+        }
+        return { id: r.id, ms: out.sort((a, b) => a - b) };
+      }, d.id);
+      const link = await page.evaluate(() => location.hash.length);
+      if (!moves) continue; // no slider (LSCR: number fields and a click on the figure)
+      console.log(`    [page timing] ${d.id}: slider #${moves.id} → painted frame ${moves.ms[4].toFixed(0)} ms median, ${moves.ms[7].toFixed(0)} ms max of 8, with the URL following (${link} characters)`);
+    }
+    await page.close();
+    for (const d of PANELS) {
+      const plain = await newPage({ viewport: { width: 1366, height: 900 } });
+      await plain.goto(`${baseUrl}#${d.id}`);
+      await ready(plain);
+      const first = await plain.evaluate(() => performance.now());
+      await moveControls(plain, d);
+      await plain.waitForFunction((id) => location.hash.startsWith(`#${id}/v1/`), d.id);
+      await plain.waitForTimeout(500);
+      const link = await plain.evaluate(() => location.href);
+      const restored = await newPage({ viewport: { width: 1366, height: 900 } });
+      await restored.goto(link);
+      await ready(restored);
+      const again = await restored.evaluate(() => performance.now());
+      console.log(`    [page timing] ${d.id}: ready ${first.toFixed(0)} ms after navigation start on the preset, ${again.toFixed(0)} ms on a link`);
+      await restored.close();
+      await plain.close();
+    }
+  }
 }
