@@ -542,6 +542,9 @@ pub enum Joint {
     Expansion,
 }
 
+/// The longest window ∂ the on-line estimator takes (its LP grows with ∂ · n).
+pub const MAX_WINDOW: usize = 200;
+
 /// One step of the on-line estimation.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OnlineStep {
@@ -584,10 +587,10 @@ impl Online {
         theta_prior: ThetaPrior,
         state_prior: StatePrior,
     ) -> Result<Self> {
-        if window == 0 || window > 200 {
+        if window == 0 || window > MAX_WINDOW {
             return Err(Error::field(
                 "uniform.window",
-                format!("must lie in 1..=200, found {window}"),
+                format!("must lie in 1..={MAX_WINDOW}, found {window}"),
             ));
         }
         Ok(Online {

@@ -99,6 +99,13 @@ pub fn presets() -> Result<String, JsValue> {
     to_json("the preset list", &presets::all())
 }
 
+/// The core's limits on the page's fields (`scenario::limits`): `{"simulate.steps": {method:
+/// [min, max]}, "runs": [1, max], "uniform.window": [1, max]}`.
+#[wasm_bindgen]
+pub fn limits() -> String {
+    crate::scenario::limits().to_string()
+}
+
 /// The scenario (JSON) with `data` read from CSV text and no `simulate` block (the core's
 /// `Scenario::with_csv_data`: the same parser as `confset run --data`). Errors name `data`,
 /// `data.y` or `data.u` (or the model field the data's shape cannot be read from).

@@ -272,6 +272,20 @@ async function loadScenarioFile(file) {
   history.replaceState(null, '', (await linkOf(d) || `#${d.id}`).replace(/^[^#]*/, ''));
 }
 
+// ----- the core's limits on the controls -----
+
+// Number boxes take their range from the core (`limits()`): the same numbers as its messages.
+// A slider keeps its own, narrower range where the core's would freeze the page.
+function applyLimits(d) {
+  const limits = JSON.parse(confset.limits());
+  for (const el of d.section().querySelectorAll('input[type=number][data-field], input[type=number][data-limit]')) {
+    const key = el.dataset.limit || (/(^|\.)runs$/.test(el.dataset.field) ? 'runs' : el.dataset.field);
+    let range = limits[key];
+    if (range && !Array.isArray(range)) range = range[d.methods[0]];
+    if (Array.isArray(range)) [el.min, el.max] = range.map(String);
+  }
+}
+
 // ----- keyboard and screen readers -----
 
 // A slider announces what its label shows ("= 40", "0.950"), not its raw value: the text of its
@@ -292,7 +306,7 @@ function mount(d) {
   if (!mounted.has(d.id)) {
     toolbar(d);
     const list = presets.filter((p) => d.methods.includes(p.scenario.method));
-    mounted.set(d.id, import(d.module).then((m) => m[d.mount](d.root(), list)).then((api) => { syncUrl(d); announceSliders(d.root()); return api; }));
+    mounted.set(d.id, import(d.module).then((m) => m[d.mount](d.root(), list)).then((api) => { syncUrl(d); announceSliders(d.root()); applyLimits(d); return api; }));
   }
   return mounted.get(d.id);
 }

@@ -477,6 +477,25 @@ pub(crate) fn make_method(m: Method) -> &'static dyn MethodScenario {
 /// Most runs any study may ask for.
 pub const MAX_STUDY_RUNS: usize = 10_000_000;
 
+/// The core's limits on the fields a page offers as sliders and number boxes, keyed by field
+/// path, as `[min, max]` or, where the method decides, `{method: [min, max]}`: one source for
+/// the controls' ranges and the messages (`"simulate.steps"`, `"runs"` for any study's run
+/// count, `"uniform.window"`).
+pub fn limits() -> serde_json::Value {
+    let steps: serde_json::Map<String, serde_json::Value> = Method::ALL
+        .iter()
+        .map(|&m| {
+            let r = make_method(m).steps();
+            (m.name().to_string(), serde_json::json!([r.start(), r.end()]))
+        })
+        .collect();
+    serde_json::json!({
+        "simulate.steps": steps,
+        "runs": [1, MAX_STUDY_RUNS],
+        "uniform.window": [1, crate::uniform::MAX_WINDOW],
+    })
+}
+
 impl Scenario {
     /// Validate and run: the report of this scenario.
     pub fn run(&self) -> Result<Report> {

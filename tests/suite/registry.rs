@@ -18,7 +18,7 @@
 
 use crate::common::rel_close;
 use confset::presets;
-use confset::scenario::{DataSpec, Report, Scenario};
+use confset::scenario::{DataSpec, Report, Scenario, SimulateSpec};
 use confset::study::run_to_end;
 use confset::Method;
 use rand::{RngExt, SeedableRng};
@@ -1273,4 +1273,52 @@ fn every_method_on_data_gives_the_simulated_estimates() {
     for m in Method::ALL {
         data_gives_the_simulated_estimates(m);
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 9. The limits the page's controls take from the core are the ones its checks apply.
+// ---------------------------------------------------------------------------------------------
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn exported_limits_are_the_checked_ones() {
+    let limits = confset::scenario::limits();
+    let mut checked = 0;
+    for p in presets::all() {
+        let Some(sim) = p.scenario.simulate.as_ref() else {
+            continue;
+        };
+        let [lo, hi] = [0, 1].map(|i| {
+            limits["simulate.steps"][p.scenario.method.name()][i]
+                .as_u64()
+                .unwrap_or_else(|| panic!("{}: no steps limit", p.name)) as usize
+        });
+        for outside in [hi + 1, lo - 1] {
+            let mut s = p.scenario.clone();
+            s.simulate = Some(SimulateSpec {
+                steps: outside,
+                ..sim.clone()
+            });
+            let e = s
+                .run()
+                .err()
+                .unwrap_or_else(|| panic!("{}: steps = {outside} accepted", p.name));
+            assert_eq!(e.field, "simulate.steps", "{}: {e}", p.name);
+            assert!(
+                e.message.contains(&hi.to_string()),
+                "{}: the message names the limit {hi}: {e}",
+                p.name
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 0);
+    let runs = limits["runs"][1].as_u64().expect("runs") as usize;
+    assert_eq!(runs, confset::scenario::MAX_STUDY_RUNS);
+    let window = limits["uniform.window"][1].as_u64().expect("window");
+    let mut s = presets::get("uniform-paper").expect("preset");
+    s.uniform.as_mut().expect("uniform block").window = window as usize + 1;
+    let e = s.run().expect_err("a window over the limit");
+    assert_eq!(e.field, "uniform.window");
+    assert!(e.message.contains(&window.to_string()), "{e}");
 }
