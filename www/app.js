@@ -119,8 +119,9 @@ async function dataHint(d) {
   const api = await mounted.get(d.id);
   try {
     const { outputs, inputs } = JSON.parse(confset.dataShape(JSON.stringify(api.scenario())));
-    d.dataBox.hint(`This model: q = ${outputs} output${outputs === 1 ? '' : 's'} (y1 … y${outputs})`
-      + `${inputs ? ` and r = ${inputs} input${inputs === 1 ? '' : 's'} (u1 … u${inputs})` : ', no inputs'}.`);
+    const names = (c, k) => (k === 1 ? `${c}1` : `${c}1 … ${c}${k}`);
+    d.dataBox.hint(`This model: q = ${outputs} output${outputs === 1 ? '' : 's'} (${names('y', outputs)})`
+      + `${inputs ? ` and r = ${inputs} input${inputs === 1 ? '' : 's'} (${names('u', inputs)})` : ', no inputs'}.`);
   } catch {
     d.dataBox.hint('');
   }
