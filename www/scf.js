@@ -2,7 +2,7 @@
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
 import { mountPanel, clone } from './panel.js';
 import { mountMonteCarlo } from './montecarlo.js';
-import { parseVector, wholeNumber } from './parse.js';
+import { parseMatrix, parseVector, wholeNumber } from './parse.js';
 
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toFixed(3));
@@ -72,6 +72,8 @@ function build(p, s) {
   const { ui } = p;
   if (p.isCustom()) {
     s.model = p.model();
+    // The prior of x₁: the stationary one unless given (an unstable F has none).
+    if (ui['m-P1'].value.trim() !== '') s.model.x1_cov = parseMatrix('model.x1_cov', ui['m-P1'].value);
     // Fig. 1 is a closed form for n = 1 and a Monte Carlo (2000 draws per point) otherwise:
     // keep it quick enough for a slider.
     if (s.model.F.length > 2) delete s.coverage_curve;
@@ -166,8 +168,8 @@ export const mountScf = async (root, presets) => mountPanel(root, {
   model: ['F', 'H', 'V', 'W'],
   errorsWithin: '', // the coverage card holds the error of coverage_curve
   ids: ['num-t', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw', 'mc',
-    'fig-coverage', 'alpha-out', 'sv-out', 'sw-out', 'time-out'],
-  compute: ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'rare'],
+    'fig-coverage', 'alpha-out', 'sv-out', 'sw-out', 'time-out', 'm-P1'],
+  compute: ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'm-P1', 'rare'],
   redraw: ['time'],
   input(p, id) {
     if (id === 'rare') updateVisibility(p); else showOutputs(p);

@@ -144,6 +144,18 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await custom.fill(f, good);
       await idle(custom, d.busy);
       assert.equal(await modelError(), '', `${d.id}: the message goes once F is good again`);
+      if (d.id === 'scf') {
+        // An unstable F has no stationary prior: the message asks for the prior's box, which is there.
+        await custom.fill(f, '1.1 0.1\n0 0.9');
+        await idle(custom, d.busy);
+        assert.match(await custom.$eval('#scf .err[data-for="model.x1_cov"]', (e) => e.textContent), /is needed: no stationary prior/);
+        await custom.fill('#m-P1', '1 0\n0 1');
+        await idle(custom, d.busy);
+        assert.equal(await modelError(), '', 'scf: an unstable F runs with a given prior');
+        await custom.fill('#m-P1', '');
+        await custom.fill(f, good);
+        await idle(custom, d.busy);
+      }
       await custom.close();
     }
 
