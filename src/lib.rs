@@ -37,7 +37,14 @@
 //! | [`plot`] | figures on any plotters backend from the report and a [`plot::View`] (panel, time, zoom) alone, so page and CLI draw the same figure; one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs. 1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with the best horizon, the state plane with the guaranteed ball and box, error box plots against the horizon with the bound), `uniform` / `uniform_params` / `uniform_polygon` (Pavelková Figs. 1–3: states, estimates and errors with the window's optimal-face bars, output prediction, Θ̂ and half-widths over time, the consistent-state polygon), `ubb` / `ubb_width` (Tempo: the exact feasible polygon of x(k+1) with its interval hull, central estimate, truth and Kalman ellipse; the hull widths over k against the Theorem 4 bound, with the truth in its hull bands) |
 //! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `presets`, `withCsvData` and `dataShape` (CSV data for a scenario); `Session` (run, draw, svg, LSCR raster, GLLS precision) and one chunked `Study` for every method's Monte Carlo |
 //!
-//! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there).
+//! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there):
+//! `app.js` is the shell (routes `#scf` … `#ubb` and the landing view, share links
+//! `#panel/v1/<deflate-raw base64url of {preset, fields, scenario?}>` in `share.js`, scenario
+//! files and CSV data through the core's `withCsvData`), `registry.js` the one list of panels,
+//! `panel.js` the one skeleton (`mountPanel`: session, figure cards, inline errors, frame
+//! scheduling, downloads) that each panel module (`scf.js`, `lscr.js`, `glls.js`, `uniform.js`,
+//! `ubb.js`) fills with its controls ⇄ scenario mapping and its numbers; the number boxes take
+//! their ranges from [`scenario::limits`].
 //!
 //! ## Layers
 //!
