@@ -299,6 +299,9 @@ function announceSliders(root) {
     r.addEventListener('input', () => requestAnimationFrame(() => update(r)));
     update(r);
   }
+  // A figure's text alternative is the numbers table beside it.
+  const numbers = root.querySelector('.numbers [id$="numbers"]');
+  if (numbers) for (const c of root.querySelectorAll('canvas')) c.setAttribute('aria-describedby', numbers.id);
 }
 
 // ----- routing -----
