@@ -41,6 +41,8 @@
 //! `app.js` is the shell (routes `#scf` … `#ubb` and the landing view, share links
 //! `#panel/v1/<deflate-raw base64url of {preset, fields, scenario?}>` in `share.js`, scenario
 //! files and CSV data through the core's `withCsvData`), `registry.js` the one list of panels,
+//! `index.html` only the shell's markup, each panel's markup in `views/<id>.html` (fetched on the
+//! first visit; ids are looked up under the panel's root, so a view can be mounted twice),
 //! `panel.js` the one skeleton (`mountPanel`: session, figure cards, inline errors, frame
 //! scheduling, downloads) that each panel module (`scf.js`, `lscr.js`, `glls.js`, `uniform.js`,
 //! `ubb.js`) fills with its controls ⇄ scenario mapping and its numbers; the number boxes take

@@ -10,7 +10,7 @@ import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LIN
 // handler, so the page runs under a strict Content-Security-Policy.
 for (const form of document.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
 
-const status = document.getElementById('t-run');
+const status = document.getElementById('status');
 const views = [document.getElementById('home'), ...PANELS.map((d) => d.section())];
 const mounted = new Map(); // id → Promise of the panel's API
 let presets = [];
@@ -308,9 +308,17 @@ function announceSliders(root) {
 
 function mount(d) {
   if (!mounted.has(d.id)) {
-    toolbar(d);
+    if (!d.say) toolbar(d);
     const list = presets.filter((p) => d.methods.includes(p.scenario.method));
-    mounted.set(d.id, import(d.module).then((m) => m[d.mount](d.root(), list)).then((api) => { syncUrl(d); announceSliders(d.root()); applyLimits(d); return api; }));
+    mounted.set(d.id, Promise.all([import(d.module), fetch(d.view).then((r) => {
+      if (!r.ok) throw new Error(`${d.view}: HTTP ${r.status}`);
+      return r.text();
+    })]).then(([m, markup]) => {
+      const root = d.root();
+      root.innerHTML = markup;
+      for (const form of root.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
+      return m[d.mount](root, list);
+    }).then((api) => { syncUrl(d); announceSliders(d.root()); applyLimits(d); return api; }));
   }
   return mounted.get(d.id);
 }
@@ -321,7 +329,13 @@ async function show(d) {
   for (const a of document.querySelectorAll('nav.routes a')) a.toggleAttribute('aria-current', !!d && a.dataset.route === d.id);
   document.title = d ? `${d.title} — confset explorer` : 'confset explorer — guaranteed sets for state estimation';
   if (!d) return;
-  await mount(d);
+  try {
+    await mount(d);
+  } catch (e) {
+    mounted.delete(d.id); // the next visit tries again
+    d.banner(`This view could not be loaded (${e.message}): reload the page to try again.`);
+    return;
+  }
   await idle(d.busy);
 }
 

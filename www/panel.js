@@ -82,7 +82,9 @@ export function mountPanel(root, spec) {
   const prefix = spec.prefix || '';
   const ids = new Set(['preset', 'preset-desc', 'custom', 'stale', 'notes', 'numbers', ...(spec.timing ? [] : ['timing']),
     ...(spec.model || []).map((k) => `m-${k}`), ...(spec.compute || []), ...(spec.redraw || []), ...(spec.ids || [])]);
-  const ui = Object.fromEntries([...ids].map((id) => [id, document.getElementById(`${prefix}${id}`)]));
+  // Ids are looked up under the panel's root only, so the same view can be mounted twice.
+  const byId = (id) => root.querySelector(`#${CSS.escape(id)}`);
+  const ui = Object.fromEntries([...ids].map((id) => [id, byId(`${prefix}${id}`)]));
   const menu = presetMenu(ui.preset, spec.presets, spec.custom);
   const all = menu.all;
   const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
@@ -145,10 +147,10 @@ export function mountPanel(root, spec) {
   redrawOnResize(figures, () => schedule('redraw'));
 
   const save = (kind, json) => download(`${stem()}-${kind}.json`, new Blob([json], { type: 'application/json' }));
-  document.getElementById(`${prefix}dl-report`).addEventListener('click', () => {
+  byId(`${prefix}dl-report`).addEventListener('click', () => {
     if (st.reportJson) save('report', spec.reportFile ? spec.reportFile(p) : st.reportJson);
   });
-  document.getElementById(`${prefix}dl-scenario`).addEventListener('click', () => {
+  byId(`${prefix}dl-scenario`).addEventListener('click', () => {
     if (st.scenario) save('scenario', JSON.stringify(spec.scenarioFile ? spec.scenarioFile(p) : st.scenario, null, 2));
   });
 

@@ -5,6 +5,7 @@
 //   methods   the scenario methods the panel shows (a scenario file of one of them opens here)
 //   promise   what the method guarantees, in two lines, for the landing view
 //   module    the panel's module, loaded on the first visit, and its `mount(root, presets)`
+//   view      the panel's markup (views/<id>.html), put into its root before the mount
 //   section   the view's element; root: the panel inside it
 //   busy      the document.body.dataset key the panel holds while it computes
 export const PANELS = [
@@ -15,6 +16,7 @@ export const PANELS = [
     promise: 'The State Conditional Filter region holds the state with probability α whatever value the state takes; '
       + 'the Kalman region holds it with probability α only on average over the states.',
     module: './scf.js',
+    view: './views/scf.html',
     mount: 'mountScf',
     busy: 'busy',
   },
@@ -25,6 +27,7 @@ export const PANELS = [
     promise: 'A region for a past, present or future state that holds it with probability at least 1 − 2qn/M '
       + 'for every value of the state, without knowing the noise variances.',
     module: './lscr.js',
+    view: './views/lscr.html',
     mount: 'mountLscr',
     busy: 'lscrBusy',
   },
@@ -35,6 +38,7 @@ export const PANELS = [
     promise: 'A least-squares estimate over a horizon of s outputs whose error is bounded through the singular values '
       + 'of the observability matrix: a guaranteed ball and box for bounded noise, and a best horizon.',
     module: './glls.js',
+    view: './views/glls.html',
     mount: 'mountGlls',
     busy: 'gllsBusy',
   },
@@ -45,6 +49,7 @@ export const PANELS = [
     promise: 'With innovations uniform on boxes, the MAP estimate of a window of states, the parameters Θ and the '
       + 'half-widths is a linear program; every state consistent with the data lies in an exact polygon.',
     module: './uniform.js',
+    view: './views/uniform.html',
     mount: 'mountUniform',
     busy: 'uniformBusy',
   },
@@ -55,6 +60,7 @@ export const PANELS = [
     promise: 'When the noise is only known to be bounded, the states consistent with the data form a polytope: '
       + 'it holds the true state every time, and its interval hull gives a guaranteed error bound.',
     module: './ubb.js',
+    view: './views/ubb.html',
     mount: 'mountUbb',
     busy: 'ubbBusy',
   },

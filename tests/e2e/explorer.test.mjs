@@ -324,4 +324,32 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await plain.close();
     }
   }
+
+  // One view mounted twice (the compare view and the gallery will): ids are looked up under each
+  // root, so the second copy computes and draws on its own and leaves the first alone.
+  {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(`${baseUrl}#lscr`);
+    await ready(page);
+    await idle(page, 'lscrBusy');
+    const first = (await snapshot(page, 'lscr')).pixels;
+    await page.evaluate(async () => {
+      const { panelById } = await import('./registry.js');
+      const d = panelById('lscr');
+      const root = Object.assign(document.createElement('div'), { id: 'lscr-copy', className: 'panel' });
+      d.section().append(root);
+      root.innerHTML = await (await fetch(d.view)).text();
+      const list = JSON.parse(window.confset.presets()).filter((p) => d.methods.includes(p.scenario.method));
+      await (await import(d.module))[d.mount](root, list);
+    });
+    await idle(page, 'lscrBusy');
+    const copy = await snapshot(page, 'lscr-copy');
+    assert.deepEqual(copy.pixels, first, 'the second mount of the same preset draws the same picture');
+    await page.$eval('#lscr-copy #l-dseed', (e) => { e.value = '9'; e.dispatchEvent(new Event('input', { bubbles: true })); });
+    await idle(page, 'lscrBusy');
+    assert.notDeepEqual((await snapshot(page, 'lscr-copy')).pixels, first, 'the copy follows its own controls');
+    assert.deepEqual((await snapshot(page, 'lscr')).pixels, first, 'the first mount is left alone');
+    assert.notEqual(await page.$eval('#lscr #l-dseed', (e) => e.value), '9');
+    await page.close();
+  }
 }
