@@ -233,7 +233,8 @@ impl View {
 }
 
 fn default_name(i: usize) -> String {
-    format!("x{} (state component {i})", sub(i + 1))
+    // 1-based, as everywhere the page and the figures number components.
+    format!("state x{}", sub(i + 1))
 }
 
 /// Where the plotting area landed, so a page can map the cursor to chart units.

@@ -185,7 +185,7 @@ pub struct FigureContext {
     pub title: Option<String>,
     /// Axis names of the state components, indexed by component (0-based), e.g.
     /// "position p_x of robot A \[m\]"; a missing or empty entry gets the panel's default
-    /// ("x₁ (state component 0)").
+    /// ("state x₁").
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub names: Vec<String>,
     /// The state components measured directly, as pairs (component, measurement row): a row
