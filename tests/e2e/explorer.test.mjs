@@ -4,7 +4,30 @@
 import { join } from 'node:path';
 import { writeFileSync, mkdtempSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
+import { execFileSync } from 'node:child_process';
+import { existsSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
 import { PANELS } from '../../www/registry.js';
+
+// The native CLI that `cargo test --release` (the first test layer) builds.
+const CLI = fileURLToPath(new URL('../../target/release/confset', import.meta.url));
+
+// The first place two reports differ beyond 1e-9 relative (numbers) or at all (the rest).
+function difference(a, b, path = '') {
+  if (typeof a === 'number' && typeof b === 'number') {
+    return Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(a), Math.abs(b)) ? null : `${path}: ${a} vs ${b}`;
+  }
+  if (Array.isArray(a) && Array.isArray(b)) {
+    if (a.length !== b.length) return `${path}: ${a.length} vs ${b.length} entries`;
+    for (let i = 0; i < a.length; i++) { const d = difference(a[i], b[i], `${path}[${i}]`); if (d) return d; }
+    return null;
+  }
+  if (a && b && typeof a === 'object' && typeof b === 'object') {
+    for (const k of new Set([...Object.keys(a), ...Object.keys(b)])) { const d = difference(a[k], b[k], `${path}.${k}`); if (d) return d; }
+    return null;
+  }
+  return a === b ? null : `${path}: ${JSON.stringify(a)?.slice(0, 40)} vs ${JSON.stringify(b)?.slice(0, 40)}`;
+}
 
 const ready = (page) => page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
 const idle = (page, key) => page.waitForFunction((k) => !document.body.dataset[k], key, { timeout: 60_000 });
@@ -351,5 +374,35 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     assert.deepEqual((await snapshot(page, 'lscr')).pixels, first, 'the first mount is left alone');
     assert.notEqual(await page.$eval('#lscr #l-dseed', (e) => e.value), '9');
     await page.close();
+  }
+
+  // Scenario export → `confset run` (native) → the page's report, to 1e-9, for every panel with
+  // its controls moved.
+  {
+    assert.ok(existsSync(CLI), `${CLI} is built by the native test layer`);
+    const dir = mkdtempSync(join(tmpdir(), 'confset-export-'));
+    for (const d of PANELS) {
+      const page = await newPage({ viewport: { width: 1366, height: 900 } });
+      await page.goto(`${baseUrl}#${d.id}`);
+      await ready(page);
+      await idle(page, d.busy);
+      await moveControls(page, d);
+      const download = async (kind) => {
+        const [dl] = await Promise.all([page.waitForEvent('download'),
+          page.click(`#${d.id} button[id$="dl-${kind}"]`)]);
+        return readFileSync(await dl.path(), 'utf8');
+      };
+      const file = join(dir, `${d.id}.json`);
+      writeFileSync(file, await download('scenario'));
+      const page_report = JSON.parse(await download('report'));
+      const cli = JSON.parse(execFileSync(CLI, ['run', file], { encoding: 'utf8', maxBuffer: 1 << 28 }));
+      // GLLS's download carries the panel's study beside the report; the CLI runs no study.
+      if (page_report.glls) delete page_report.glls.precision;
+      if (cli.glls) delete cli.glls.precision;
+      const diff = difference(page_report, cli);
+      assert.equal(diff, null, `${d.id}: the page's report and confset run on its scenario differ at ${diff}`);
+      await page.close();
+    }
+    console.log(`    scenario export → confset run = the page's report (1e-9) in all ${PANELS.length} panels`);
   }
 }
