@@ -57,7 +57,8 @@
 //! its arm in `scenario::make_method`, its block in `Scenario` and `Report`), one method file,
 //! one scenario file (with its presets at the bottom: `presets.rs` is not touched), its plot
 //! files with their [`plot::Panel`] variants and one arm of `plot::method_panels`, and on the page
-//! one panel module with its descriptor in `www/registry.js` and its view in `www/index.html`.
+//! one panel module and its markup `www/views/<id>.html`, with its descriptor in `www/registry.js`
+//! and its view's section (heading, empty root) in `www/index.html`.
 //! The shared places a new method touches: `method.rs`, `scenario/mod.rs`, `plot/mod.rs` in the
 //! core; `registry.js` and `index.html` on the page.
 //!
