@@ -486,7 +486,10 @@ pub fn limits() -> serde_json::Value {
         .iter()
         .map(|&m| {
             let r = make_method(m).steps();
-            (m.name().to_string(), serde_json::json!([r.start(), r.end()]))
+            (
+                m.name().to_string(),
+                serde_json::json!([r.start(), r.end()]),
+            )
         })
         .collect();
     serde_json::json!({

@@ -2,7 +2,6 @@
 //! (e.g. "model.V must be symmetric positive semidefinite …"), and no input — however
 //! garbled — panics.
 
-
 use confset::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
 use confset::scenario::{Condition, Scenario, SimulateSpec};
 use confset::scf::{self, ScfOptions};
@@ -503,4 +502,3 @@ fn components_and_method() {
 fn run_guarded(s: &Scenario) -> Option<Result<confset::scenario::Report, Error>> {
     Some(s.run())
 }
-

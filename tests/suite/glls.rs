@@ -15,8 +15,8 @@
 
 use crate::common::*;
 use confset::glls::{
-    fast_forward, history_controllability, noise_map, observability, Curves, GllsModel,
-    Horizon, StateNoise, Weighting,
+    fast_forward, history_controllability, noise_map, observability, Curves, GllsModel, Horizon,
+    StateNoise, Weighting,
 };
 use confset::model::{normal_vector, MatrixSpec, ModelSpec};
 use confset::presets;

@@ -1065,4 +1065,3 @@ fn bad_input_names_the_field() {
         "lscr.coverage.runs"
     );
 }
-

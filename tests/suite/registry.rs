@@ -935,7 +935,12 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
             }
         }
     }
-    assert!(cuts.is_empty(), "{} cut text(s):\n{}", cuts.len(), cuts.join("\n"));
+    assert!(
+        cuts.is_empty(),
+        "{} cut text(s):\n{}",
+        cuts.len(),
+        cuts.join("\n")
+    );
     eprintln!("drew {drawn} SVG figures");
 }
 
@@ -1132,11 +1137,26 @@ const TRUTH: [(&str, &str); 23] = [
     ("theta_true", "uniform: the true Θ"),
     ("xr_true", "uniform: the true state-noise half-widths"),
     ("yr_true", "uniform: the true output-noise half-widths"),
-    ("true_objective", "uniform: the LP objective at the true half-widths"),
-    ("truth_in_polygon", "uniform: whether the consistent polygon holds the truth"),
-    (".uniform.kf", "uniform: the Kalman filter tuned with the true half-widths"),
-    ("rms_kf", "uniform: the Kalman filter's error against the truth"),
-    ("rms_lp", "uniform: the LP estimate's error against the truth"),
+    (
+        "true_objective",
+        "uniform: the LP objective at the true half-widths",
+    ),
+    (
+        "truth_in_polygon",
+        "uniform: whether the consistent polygon holds the truth",
+    ),
+    (
+        ".uniform.kf",
+        "uniform: the Kalman filter tuned with the true half-widths",
+    ),
+    (
+        "rms_kf",
+        "uniform: the Kalman filter's error against the truth",
+    ),
+    (
+        "rms_lp",
+        "uniform: the LP estimate's error against the truth",
+    ),
 ];
 
 /// A key of [`TRUTH`], or its whole path there (an entry starting with '.').

@@ -852,4 +852,3 @@ fn l2_and_l1_state_sets_are_consistent_with_linf() {
         );
     }
 }
-
