@@ -106,6 +106,20 @@ pub fn limits() -> String {
     crate::scenario::limits().to_string()
 }
 
+/// Every figure of a method's reports, in the order worth showing (`plot::method_panels`):
+/// JSON `[{"panel": "state", "alt": "state plane at …"}, …]`; the page builds its figure cards
+/// from it. An unknown method is a `method` error.
+#[wasm_bindgen(js_name = methodPanels)]
+pub fn method_panels(method: &str) -> Result<String, JsValue> {
+    let m: crate::method::Method = serde_json::from_value(serde_json::Value::from(method))
+        .map_err(|e| js_error(&Error::field("method", e.to_string())))?;
+    let list: Vec<_> = plot::method_panels(m)
+        .iter()
+        .map(|p| serde_json::json!({"panel": p.name(), "alt": p.alt_text()}))
+        .collect();
+    to_json("the panel list", &list)
+}
+
 /// The scenario (JSON) with `data` read from CSV text and no `simulate` block (the core's
 /// `Scenario::with_csv_data`: the same parser as `confset run --data`). Errors name `data`,
 /// `data.y` or `data.u` (or the model field the data's shape cannot be read from).
@@ -153,6 +167,18 @@ impl Session {
         let json = to_json("the report", &report)?;
         self.report = Some(report);
         Ok(json)
+    }
+
+    /// The panels worth drawing for the kept report (`plot::useful_panels`), JSON `["state",
+    /// "series", …]`: `[]` before the first good run.
+    #[wasm_bindgen(js_name = usefulPanels)]
+    pub fn useful_panels(&self) -> String {
+        let names: Vec<&str> = self
+            .report
+            .as_ref()
+            .map(|r| plot::useful_panels(r).iter().map(|p| p.name()).collect())
+            .unwrap_or_default();
+        serde_json::Value::from(names).to_string()
     }
 
     /// Whether a report is kept (a `run` has succeeded).

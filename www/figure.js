@@ -1,3 +1,5 @@
+import { methodPanels } from './pkg/confset.js';
+
 // One figure card: a canvas whose backing store is CSS size × devicePixelRatio, drawn by the wasm
 // Session; the cursor's position in chart units (from the returned Frame); SVG/PNG downloads.
 
@@ -9,6 +11,43 @@ export function download(name, blob) {
   a.click();
   a.remove();
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+const el = (tag, props = {}) => Object.assign(document.createElement(tag), props);
+
+// A panel's figure cards, made from the core's list of its methods' figures (methodPanels): each
+// <figure class="card" data-panel="…"> of the view is filled with its caption (cursor read-out,
+// SVG/PNG downloads), a canvas whose text alternative is the core's (plus the card's data-hint)
+// and an error line. What the view put into a card is kept: [data-caption] children go into the
+// caption, the others below the canvas. A figure of the method the view has no place for is
+// added to its figure grid; a card naming no figure of the method is a mistake in the view.
+export function figureCards(root, methods) {
+  const panels = new Map(methods.flatMap((m) => JSON.parse(methodPanels(m))).map((f) => [f.panel, f.alt]));
+  for (const card of root.querySelectorAll('figure.card[data-panel]')) {
+    if (!panels.has(card.dataset.panel)) throw new Error(`figure "${card.dataset.panel}" is not a figure of ${methods.join('/')}`);
+  }
+  for (const [panel, alt] of panels) {
+    let card = root.querySelector(`figure.card[data-panel="${panel}"]`);
+    if (!card) {
+      card = el('figure', { className: 'card', id: `fig-${panel}` });
+      card.dataset.panel = panel;
+      (root.querySelector('.figures .grid4') || root.querySelector('.figures')).append(card);
+    }
+    const kept = [...card.children];
+    const dl = el('span', { className: 'dl' });
+    for (const kind of ['svg', 'png']) {
+      const b = el('button', { type: 'button', textContent: kind.toUpperCase() });
+      b.dataset.dl = kind;
+      dl.append(b);
+    }
+    const caption = el('figcaption');
+    caption.append(el('span', { className: 'cursor' }), ...kept.filter((k) => k.hasAttribute('data-caption')), dl);
+    const canvas = el('canvas');
+    canvas.dataset.panel = panel;
+    canvas.setAttribute('role', 'img');
+    canvas.setAttribute('aria-label', card.dataset.hint ? `${alt}; ${card.dataset.hint}` : alt);
+    card.replaceChildren(caption, canvas, ...kept.filter((k) => !k.hasAttribute('data-caption')), el('p', { className: 'err fig-err' }));
+  }
 }
 
 // Hi-DPI: `redraw()` (a refit of the backing stores, no recompute) when the layout of a figure's
@@ -49,6 +88,9 @@ export class Figure {
 
   get visible() { return !this.card.hidden; }
 
+  // Whether the card shows for a report whose useful figures (the core's) are `useful`.
+  shownFor(useful) { return useful.includes(this.panel); }
+
   view() { return JSON.stringify({ panel: this.panel, time: this.time }); }
 
   // Size the backing store to the CSS box times the pixel ratio; true if it changed.
@@ -68,6 +110,11 @@ export class Figure {
     this.fit();
     try {
       this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), window.devicePixelRatio || 1));
+      // Where the charts and the legends landed (CSS pixels), for the page's layout checks.
+      this.canvas.dataset.layout = JSON.stringify({
+        plots: [this.frame, ...(this.frame.more || [])].map((f) => f.plot_area),
+        legends: this.frame.legends || [],
+      });
       this.err.textContent = '';
     } catch (e) {
       this.frame = null;

@@ -61,6 +61,9 @@ class GllsFigure extends Figure {
     this.err.textContent = '';
   }
 
+  // The precision card stays, with its note, until the Monte Carlo fills it.
+  shownFor(useful) { return this.panel === 'precision' || super.shownFor(useful); }
+
   // Log axes are drawn in log10 units (the frame's y range): read the value itself out.
   cursorText({ chart: f, x, y }) {
     const log = /\(log scale\)/.test(f.y_label || '');

@@ -1,7 +1,7 @@
 // What every panel module shares: the skeleton of a panel (mountPanel), its preset menu and the
 // small API the shell (router, share links, scenario import) drives it through.
 import { Session } from './pkg/confset.js';
-import { Figure, download, drawFigures, redrawOnResize } from './figure.js';
+import { Figure, figureCards, download, drawFigures, redrawOnResize } from './figure.js';
 import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { parseMatrix, matrixText } from './parse.js';
 
@@ -90,6 +90,8 @@ export function mountPanel(root, spec) {
   const st = { preset: all[0], report: null, reportJson: '', scenario: null, runMs: 0, drawMs: 0 };
   const stem = () => spec.stem(p);
   const FigureClass = spec.Figure || Figure;
+  // The figure cards: the core's figures for the methods of the panel's presets.
+  figureCards(root, [...new Set([...spec.presets, spec.custom].filter(Boolean).map((x) => x.scenario.method))]);
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new FigureClass(c, session, stem));
   const errors = fieldErrors(root, ui.stale, spec.errorsWithin ?? 'form ');
   const setBusy = busyFlag(spec.busy);
@@ -121,6 +123,9 @@ export function mountPanel(root, spec) {
   function compute() {
     const run = spec.run ? (s) => spec.run(session, s) : (s) => session.run(JSON.stringify(s));
     if (!runScenario(st, errors, build, run)) return false;
+    // The cards of the figures the core finds worth drawing for this report.
+    const useful = JSON.parse(session.usefulPanels());
+    for (const f of figures) f.card.hidden = !f.shownFor(useful);
     spec.after?.(p);
     redraw();
     return true;

@@ -106,7 +106,6 @@ function after({ ui, st }) {
     ui.time.value = ui.time.dataset.preset || st.report.time;
     delete ui.time.dataset.preset;
   }
-  ui['fig-coverage'].hidden = !st.report.coverage_curve;
 }
 
 function time({ ui, st }) {
@@ -170,7 +169,7 @@ export const mountScf = async (root, presets) => mountPanel(root, {
   model: ['F', 'H', 'V', 'W'],
   errorsWithin: '', // the coverage card holds the error of coverage_curve
   ids: ['num-t', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw', 'mc',
-    'fig-coverage', 'alpha-out', 'sv-out', 'sw-out', 'time-out', 'm-P1'],
+    'alpha-out', 'sv-out', 'sw-out', 'time-out', 'm-P1'],
   compute: ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'm-P1', 'rare'],
   redraw: ['time'],
   input(p, id) {

@@ -106,7 +106,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         format!("t = {}", cc.time),
         cc.how.clone(),
         format!(
-            "SCF keeps P = α for every state value; KF has P = α only on average over x_t (min {} here)",
+            "SCF keeps P = α for every state value; KF has P = α only on average over xₜ (min {} here)",
             sci(min_kf)
         ),
     ];
@@ -123,7 +123,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
     } else {
         format!("x̄: the value at which {name} is fixed (t = {})", cc.time)
     };
-    let yd = "P{ x_t ∈ X_t | x_t = x̄ }";
+    let yd = "P{ xₜ ∈ Xₜ | xₜ = x̄ }";
     let chart = style::chart(
         &area,
         &fonts,

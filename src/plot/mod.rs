@@ -158,6 +158,26 @@ impl Panel {
             Panel::UbbWidth => "ubbwidth",
         }
     }
+    /// The figure in words: the text alternative of its canvas on the page (the numbers
+    /// table beside it carries the values).
+    pub fn alt_text(&self) -> &'static str {
+        match self {
+            Panel::State => "state plane at the shown time: trajectory, true state, Kalman and SCF regions",
+            Panel::Series => "state components over time with the Kalman and SCF intervals",
+            Panel::Coverage => "conditional coverage of the Kalman and SCF regions against the state value (SCF Fig. 1)",
+            Panel::Region => "LSCR confidence region with the excluded areas hatched, the truth, the BLUE and Kalman ellipses",
+            Panel::Singular => "singular values of the observability matrix against the horizon (GLLS Fig. 1)",
+            Panel::Index => "horizon index σₙ/√s with the best horizon (GLLS Fig. 2)",
+            Panel::Plane => "state plane at time k: truth, estimate, guaranteed ball and interval box",
+            Panel::Precision => "Monte Carlo errors per horizon as box plots with the bound κ·√E‖δ‖² (GLLS Figs. 3–4)",
+            Panel::UStates => "states, LP and Kalman estimates and their errors over time (uniform Fig. 1)",
+            Panel::UOutput => "output, its one-step prediction and the prediction error (uniform Fig. 2)",
+            Panel::UParams => "entries of Â and the estimated half-widths over time (uniform Fig. 3)",
+            Panel::UPolygon => "consistent-state polygon at the time cursor with the truth, LP and Kalman estimates and the optimal-face box",
+            Panel::UbbSet => "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse",
+            Panel::UbbWidth => "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands",
+        }
+    }
     /// The method whose reports this panel draws.
     pub fn method(&self) -> Method {
         Method::ALL
@@ -254,6 +274,11 @@ pub struct Frame {
     /// component: this frame is the top one, `more` the ones below, top to bottom).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub more: Vec<Frame>,
+    /// Pixel boxes (left, top, right, bottom) of the figure's legends, in backend pixels (on
+    /// the top frame only). A legend is laid out beside or below the charts, so no box meets a
+    /// `plot_area`, except on figures too small for that (see `style::legend`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub legends: Vec<(i32, i32, i32, i32)>,
 }
 
 /// Smallest figure drawn (backend pixels).
@@ -261,6 +286,15 @@ pub const MIN_SIZE: (u32, u32) = (240, 180);
 
 /// Draw `view` of `report` on any plotters backend.
 pub fn draw<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Result<Frame> {
+    // The legends are laid out deep in `style`'s helpers while each panel assembles its own
+    // frame: they note their boxes on the side, collected here.
+    style::legend_boxes_clear();
+    let mut frame = draw_panel(backend, report, view)?;
+    frame.legends = style::legend_boxes_take();
+    Ok(frame)
+}
+
+fn draw_panel<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> Result<Frame> {
     ensure_fonts()?;
     let (w, h) = backend.get_size();
     if w < MIN_SIZE.0 || h < MIN_SIZE.1 {
@@ -547,7 +581,7 @@ impl<'a> Ctx<'a> {
     pub fn name(&self, i: usize) -> String {
         match self.figure().names.get(i) {
             Some(s) if !s.is_empty() => s.clone(),
-            _ if self.report.n == 1 => "state x_t".to_string(),
+            _ if self.report.n == 1 => "state xₜ".to_string(),
             _ => default_name(i),
         }
     }
@@ -583,10 +617,10 @@ impl<'a> Ctx<'a> {
                 .map(|s| s.t);
             match first {
                 Some(f) => format!(
-                    "no SCF region at t = {} yet (U_tA_t is invertible from t = {f}; n = {})",
+                    "no SCF region at t = {} yet (UₜAₜ is invertible from t = {f}; n = {})",
                     self.t, self.report.n
                 ),
-                None => "no SCF region in this report (U_tA_t never invertible)".to_string(),
+                None => "no SCF region in this report (UₜAₜ never invertible)".to_string(),
             }
         }
     }

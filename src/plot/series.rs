@@ -186,7 +186,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
     }
     if r.n > 1 {
         notes.push(format!(
-            "intervals: the {}-dimensional regions X_t projected on each component",
+            "intervals: the {}-dimensional regions Xₜ projected on each component",
             r.n
         ));
     }

@@ -621,7 +621,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     if truth.iter().any(|v| v.is_some()) {
         entries.push(Entry::new(
             if r.n == 1 {
-                "true state x_t".to_string()
+                "true state xₜ".to_string()
             } else {
                 format!("true value of {}", cx.symbol(k))
             },
@@ -646,7 +646,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
         );
     }
     entries.push(Entry::new(
-        format!("KF interval X_t ({})", pct(r.alpha)),
+        format!("KF interval Xₜ ({})", pct(r.alpha)),
         Swatch::Line {
             color: KF,
             dashed: true,
@@ -655,7 +655,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     ));
     if has_scf {
         entries.push(Entry::new(
-            format!("SCF interval X_t ({})", pct(r.alpha)),
+            format!("SCF interval Xₜ ({})", pct(r.alpha)),
             Swatch::Region {
                 color: SCF,
                 dashed: false,

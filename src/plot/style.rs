@@ -266,7 +266,7 @@ pub fn title_block<DB: DrawingBackend>(
     let lines = wrap(root, title, &ts, max_w)?;
     for (i, line) in lines.iter().take(2).enumerate() {
         let line = if i == 1 && lines.len() > 2 {
-            shorten(root, &lines[1..].join(" "), &ts, max_w)?
+            shorten(root, rest_after(title, &lines[..1]), &ts, max_w)?
         } else {
             line.clone()
         };
@@ -274,23 +274,41 @@ pub fn title_block<DB: DrawingBackend>(
         y += text_size(root, &line, &ts)?.1 as i32 + 2;
     }
     y += 2;
+    // A figure taller than wide (a phone's) has height to spare for the notes.
     let max_lines = if h < 300 {
         1
+    } else if h > w {
+        4
     } else if h < 450 || fonts.compact {
         2
     } else {
         4
     };
     let ss = fonts.subtitle();
-    for line in wrap(root, subtitle, &ss, max_w)?
-        .into_iter()
-        .take(max_lines)
-    {
+    let lines = wrap(root, subtitle, &ss, max_w)?;
+    for (i, line) in lines.iter().take(max_lines).enumerate() {
+        // The last line that fits says, with "…", that the notes go on (in the report).
+        let line = if i + 1 == max_lines && lines.len() > max_lines {
+            shorten(root, rest_after(subtitle, &lines[..i]), &ss, max_w)?
+        } else {
+            line.clone()
+        };
         text(root, &line, (x0 + pad, y), &ss, (HPos::Left, VPos::Top))?;
         y += text_size(root, &line, &ss)?.1 as i32 + 3;
     }
     let used = (y - y0 + 2).max(0);
     Ok(root.split_vertically(used).1)
+}
+
+/// What of `s` follows its first wrapped `lines` (as [`wrap`] made them), with its separators
+/// (" · ", spaces) kept, so a shortened last line reads as the text does.
+fn rest_after<'a>(s: &'a str, lines: &[String]) -> &'a str {
+    let mut rest = s;
+    for line in lines {
+        rest = rest.trim_start_matches([' ', '·', '\n']);
+        rest = rest.strip_prefix(line.as_str()).unwrap_or(rest);
+    }
+    rest.trim_start_matches([' ', '·', '\n'])
 }
 
 /// `s`, cut with "…" to fit `max_w`.
@@ -670,6 +688,23 @@ pub fn hatch_lines(b: &Win, group: usize, spacing: f64) -> Vec<((f64, f64), (f64
     out
 }
 
+thread_local! {
+    /// The legend boxes drawn since [`legend_boxes_clear`] (absolute backend pixels).
+    static LEGEND_BOXES: std::cell::RefCell<Vec<(i32, i32, i32, i32)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+fn note_legend_box(b: (i32, i32, i32, i32)) {
+    LEGEND_BOXES.with(|v| v.borrow_mut().push(b));
+}
+
+pub(crate) fn legend_boxes_clear() {
+    LEGEND_BOXES.with(|v| v.borrow_mut().clear());
+}
+
+pub(crate) fn legend_boxes_take() -> Vec<(i32, i32, i32, i32)> {
+    LEGEND_BOXES.with(|v| std::mem::take(&mut *v.borrow_mut()))
+}
+
 /// Where the legend went.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LegendSide {
@@ -733,6 +768,7 @@ fn legend_box<DB: DrawingBackend>(
     background: bool,
 ) -> Result<()> {
     let box_h = m.line_h * entries.len() as i32 + 2 * LEGEND_PAD - 6;
+    note_legend_box((lx, ly, lx + m.col_w, ly + box_h));
     if background {
         let (bx, by) = area.get_base_pixel();
         area.draw(&Rectangle::new(
@@ -825,11 +861,29 @@ pub fn legend<DB: DrawingBackend>(
         }
     }
     let leg_h = m.line_h * rows.len() as i32 + 8;
-    if fonts.compact && (leg_h as f64) > 0.25 * h as f64 {
+    // Over the chart only when below it would leave the chart too little height (under 60 %,
+    // or under 150 px for its axes and ticks): a phone's figure (taller than wide) keeps its
+    // legend below, a thumbnail overlays it.
+    if fonts.compact && ((leg_h as f64) > 0.4 * h as f64 || (h as i32) - leg_h < 150) {
         return Ok((area.clone(), LegendSide::Overlay));
     }
     let split = (h as i32 - leg_h - PAD / 2).max(0);
     let (chart, _) = area.split_vertically(split);
+    let widest = rows
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|&i| item_w(entries, &m.sizes, i) + 18)
+                .sum::<i32>()
+        })
+        .max()
+        .unwrap_or(0);
+    note_legend_box((
+        x0 + PAD,
+        y0 + split + 4,
+        x0 + PAD + widest - 18,
+        y0 + split + 4 + m.line_h * rows.len() as i32,
+    ));
     let (style, note) = (fonts.legend(), fonts.note());
     for (r, row) in rows.iter().enumerate() {
         let yc = y0 + split + 4 + m.line_h * r as i32 + m.line_h / 2;
@@ -1386,6 +1440,7 @@ pub fn frame_of<DB: DrawingBackend>(chart: &Chart<DB>, x_label: &str, y_label: &
         x_label: x_label.to_string(),
         y_label: y_label.to_string(),
         more: vec![],
+        legends: vec![],
     }
 }
 
@@ -1583,4 +1638,22 @@ pub fn note_box<DB: DrawingBackend>(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rest_after;
+
+    #[test]
+    fn the_rest_of_a_wrapped_text_keeps_its_separators() {
+        let s = "in ball: yes, in box: yes · n = 3: projection on x₂, x₃ · more";
+        // Broken at words inside the first piece, then at a " · ".
+        let lines = ["in ball: yes,".to_string(), "in box: yes".to_string()];
+        assert_eq!(
+            rest_after(s, &lines[..1]),
+            "in box: yes · n = 3: projection on x₂, x₃ · more"
+        );
+        assert_eq!(rest_after(s, &lines), "n = 3: projection on x₂, x₃ · more");
+        assert_eq!(rest_after(s, &[]), s);
+    }
 }

@@ -1457,7 +1457,7 @@ fn ubb_panels_say_what_they_show() {
         "Width of the interval hull",
         "width of x₁(k+1)",
         "width of x₂(k+1)",
-        "Theorem 4 bound (2·τ‖B‖/(1−‖A‖e^(1/α)))",
+        "Theorem 4 bound (2·τ‖B‖/(1−‖A‖·exp(1/α)))",
         "k = 40",
         "truth in its hull band",
     ] {

@@ -50,14 +50,14 @@ pub fn draw<DB: DrawingBackend>(
     )];
     match (bound, &u.smoothing.note) {
         (Some(b), _) => notes.push(format!(
-            "Theorem 4: width ≤ 2·τ‖B‖/(1−‖A‖e^(1/α)) = {} (‖A‖e^(1/α) = {})",
+            "Theorem 4: width ≤ 2·τ‖B‖/(1−‖A‖·exp(1/α)) = {} (‖A‖·exp(1/α) = {})",
             num(b, 3),
             num(u.smoothing.ratio, 3)
         )),
         (None, _) if u.smoothing.b_norm == 0.0 || u.p == 0 => notes
             .push("no Theorem 4 bound: no process noise, the unknowns are x(0) alone".to_string()),
         (None, _) => notes.push(format!(
-            "no Theorem 4 bound (‖A‖e^(1/α) = {} ≥ 1)",
+            "no Theorem 4 bound (‖A‖·exp(1/α) = {} ≥ 1)",
             num(u.smoothing.ratio, 3)
         )),
     }
@@ -84,7 +84,7 @@ pub fn draw<DB: DrawingBackend>(
             if short {
                 "Theorem 4 bound".to_string()
             } else {
-                "Theorem 4 bound (2·τ‖B‖/(1−‖A‖e^(1/α)))".to_string()
+                "Theorem 4 bound (2·τ‖B‖/(1−‖A‖·exp(1/α)))".to_string()
             },
             line(HULL, true, 2),
         ));

@@ -196,5 +196,6 @@ pub fn draw<DB: DrawingBackend>(
         x_label: String::new(),
         y_label: String::new(),
         more: vec![],
+        legends: vec![],
     }))
 }

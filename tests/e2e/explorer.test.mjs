@@ -188,6 +188,18 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     await ready(phone);
     await idle(phone, d.busy);
     assert.equal(await phone.evaluate(() => document.documentElement.scrollWidth), 390, `${d.id}: document width at 390 px`);
+    // No legend box over a chart: the core's frames give both rectangles.
+    const layouts = await phone.$$eval(`#${d.id} figure.card:not([hidden]) canvas`, (cs) => cs.map((c) => [c.dataset.panel, c.dataset.layout]));
+    assert.ok(layouts.length >= 1, `${d.id}: no figure shown on a phone`);
+    for (const [panel, layout] of layouts) {
+      assert.ok(layout, `${d.id} ${panel}: not drawn on a phone`);
+      const { plots, legends } = JSON.parse(layout);
+      for (const [l, t, r, b] of legends) {
+        for (const [pl, pt, pr, pb] of plots) {
+          assert.ok(!(l < pr && r > pl && t < pb && b > pt), `${d.id} ${panel}: legend [${l}, ${t}, ${r}, ${b}] over the plot area [${pl}, ${pt}, ${pr}, ${pb}] at 390 px`);
+        }
+      }
+    }
     await phone.screenshot({ path: join(screenshotDir, `explorer-${d.id}-phone.png`) });
     await phone.close();
   }

@@ -874,9 +874,9 @@ fn mutated_presets_give_finite_reports() {
 // 5. Every useful panel of every preset draws at the page's sizes.
 // ---------------------------------------------------------------------------------------------
 
-/// Phone, narrow desktop column, full width (CSS pixels).
+/// Phone (a figure 4:5 at 390 px), narrow desktop column, full width (CSS pixels).
 #[cfg(not(target_arch = "wasm32"))]
-const PAGE_SIZES: [(u32, u32); 3] = [(360, 260), (640, 420), (960, 640)];
+const PAGE_SIZES: [(u32, u32); 3] = [(350, 438), (640, 420), (960, 640)];
 
 /// One panel of the page's 2 × 2 grid at 1366 px (methods with four panels: GLLS, uniform).
 #[cfg(not(target_arch = "wasm32"))]
@@ -885,8 +885,11 @@ const GRID_PANEL: (u32, u32) = (428, 321);
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
-    use confset::plot::{report_svg, useful_panels, View};
+    use confset::plot::{draw, useful_panels, View};
+    use plotters::prelude::SVGBackend;
     let mut drawn = 0;
+    // Legend boxes over a plotting area (the frames give both rectangles): none may be.
+    let mut overlaps = Vec::new();
     // Texts cut with "…" in the 2 × 2 grid's panel at 1366 px ("word…"; a range such as
     // "y(0) … y(k)" has spaces around its ellipsis): none may be.
     let mut cuts = Vec::new();
@@ -900,7 +903,22 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
             for (w, h) in sizes {
                 let what = format!("{} {} {w}×{h}", p.name, panel.name());
                 let view = View::new(panel);
-                let svg = report_svg(&r, &view, w, h).unwrap_or_else(|e| panic!("{what}: {e}"));
+                let mut svg = String::new();
+                let frame = draw(SVGBackend::with_string(&mut svg, (w, h)), &r, &view)
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                let areas: Vec<_> = std::iter::once(&frame)
+                    .chain(&frame.more)
+                    .map(|f| f.plot_area)
+                    .collect();
+                for &(l, t, rr, b) in &frame.legends {
+                    for &(al, at, ar, ab) in &areas {
+                        if l < ar && rr > al && t < ab && b > at {
+                            overlaps.push(format!(
+                                "{what}: legend ({l}, {t}, {rr}, {b}) over plot area ({al}, {at}, {ar}, {ab})"
+                            ));
+                        }
+                    }
+                }
                 assert!(
                     svg.contains(&format!("<svg width=\"{w}\" height=\"{h}\"")),
                     "{what}: not an SVG of that size: {}",
@@ -915,7 +933,18 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
                     "{what}: {curves} paths/polylines/polygons, {texts} texts"
                 );
                 // In the 2 × 2 grid's panel at 1366 px no text is cut ("word…"; a range such as
-                // "y(0) … y(k)" has spaces around its ellipsis).
+                // "y(0) … y(k)" has spaces around its ellipsis), except the notes under the
+                // title (plain text above the charts): they end in "…" where the figure has no
+                // room for them all (the report and the page's notes have them whole).
+                let is_note = |i: usize| {
+                    let tag = &svg[svg[..i].rfind("<text").unwrap_or(0)..i];
+                    let y = tag
+                        .split("y=\"")
+                        .nth(1)
+                        .and_then(|v| v.split('"').next())
+                        .and_then(|v| v.parse::<f64>().ok());
+                    !tag.contains("bold") && y.is_some_and(|y| y < frame.plot_area.1 as f64)
+                };
                 if (w, h) == GRID_PANEL {
                     cuts.extend(
                         svg.match_indices('…')
@@ -924,6 +953,7 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
                                     .chars()
                                     .next_back()
                                     .is_some_and(|c| !c.is_whitespace() && c != '>')
+                                    && !is_note(*i)
                             })
                             .map(|(i, _)| {
                                 let from = svg[..i].rfind('>').map_or(0, |j| j + 1);
@@ -935,6 +965,12 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
             }
         }
     }
+    assert!(
+        overlaps.is_empty(),
+        "{} legend(s) over a chart:\n{}",
+        overlaps.len(),
+        overlaps.join("\n")
+    );
     assert!(
         cuts.is_empty(),
         "{} cut text(s):\n{}",
