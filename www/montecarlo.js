@@ -1,5 +1,5 @@
-// Monte Carlo over rare realizations (SCF paper, Section II-B), run by the wasm Study in
-// chunks: about 12 ms of work per task, so the page keeps painting and can cancel.
+// Monte Carlo over rare realizations (SCF paper, Section II-B: the robots' collision, or any
+// state fixed at x̄), run by the wasm Study in chunks: about 12 ms of work per task, so the page keeps painting and can cancel.
 import { Study } from './pkg/confset.js';
 import { wholeNumber } from './parse.js';
 import { studyRunner } from './chunked.js';
@@ -26,12 +26,22 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
   function start() {
     q('mc-range').textContent = '';
     const runs = wholeNumber('experiment.runs', q('mc-n').value);
-    const { scenario, preset } = getScenario();
-    scenario.experiment = { ...preset.experiment, runs };
-    for (const el of root.querySelectorAll('.mc-tc')) el.textContent = scenario.simulate.condition.t;
-    for (const el of root.querySelectorAll('.mc-tw')) el.textContent = `${scenario.experiment.warning_t} (τ = ${scenario.tau})`;
+    const scenario = getScenario();
+    scenario.experiment.runs = runs;
+    show.labels(scenario);
     return { study: new Study(JSON.stringify(scenario), 0), total: runs };
   }
+
+  // The card's words for the scenario: the robots' collision study (with the paper's counts) or
+  // a state fixed at x̄.
+  show.labels = (scenario) => {
+    const robots = !!scenario.experiment.warning_t;
+    for (const el of root.querySelectorAll('.robots')) el.hidden = !robots;
+    for (const el of root.querySelectorAll('.fixed')) el.hidden = robots;
+    for (const el of root.querySelectorAll('.mc-tc')) el.textContent = scenario.simulate.condition.t;
+    for (const el of root.querySelectorAll('.mc-x')) el.textContent = scenario.simulate.condition.x.join(', ');
+    if (robots) for (const el of root.querySelectorAll('.mc-tw')) el.textContent = `${scenario.experiment.warning_t} (τ = ${scenario.tau})`;
+  };
 
   const runner = studyRunner({
     go: q('mc-go'), cancel: q('mc-cancel'), bar: q('mc-progress'), status: q('mc-status'), err: q('mc-err'),
@@ -40,8 +50,9 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
   });
 
   // A new scenario: stop a run and clear counts that belong to the old one.
-  return function reset() {
+  return function reset(scenario) {
     runner.reset();
+    if (scenario) show.labels(scenario);
     for (const id of ['mc-kf-in', 'mc-scf-in', 'mc-kf-w', 'mc-scf-w']) q(id).textContent = '–';
     q('mc-range').textContent = '';
   };

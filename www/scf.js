@@ -56,6 +56,7 @@ function load(p, s) {
   ui.components.value = s.components ? s.components.join(',') : 'all';
   ui.time.dataset.preset = s.time ?? '';
   updateVisibility(p);
+  try { p.resetMonteCarlo(studyScenario(p)); } catch { /* no study on data: the card is hidden */ }
 }
 
 function updateVisibility(p) {
@@ -63,10 +64,27 @@ function updateVisibility(p) {
   ui['asym-row'].hidden = isRobots(p);
   ui['xbar-row'].hidden = isRobots(p);
   ui['rare-opts'].hidden = !ui.rare.checked;
-  ui.mc.hidden = !isRobots(p);
+  // The study is one click away wherever the run simulates.
+  ui.mc.hidden = !p.st.preset.scenario.simulate;
   // τ moves the collision check's prediction (t + τ); without a collision check no figure or
   // number shows the predicted region, so the control is not offered.
   ui.tau.closest('label').hidden = !isRobots(p);
+}
+
+// The scenario of the Monte Carlo: the robots' collision as the preset conditions it, or the
+// state fixed at x̄ (the rare realization's value) at the last step, every component counted.
+function studyScenario(p) {
+  const s = p.build();
+  if (!s.simulate) throw { field: 'data', message: 'the Monte Carlo over rare realizations simulates: it needs a simulated scenario, not data' };
+  const preset = p.st.preset.scenario;
+  if (isRobots(p)) {
+    s.simulate.condition = clone(preset.simulate.condition);
+    s.experiment = clone(preset.experiment);
+  } else {
+    s.simulate.condition = { t: s.simulate.steps, x: parseVector('simulate.condition.x', p.ui.xbar.value) };
+    s.experiment = { seed: s.simulate.seed, components: s.simulate.condition.x.map((_, i) => i) };
+  }
+  return s;
 }
 
 // The scenario the controls describe: the preset's, with fields changed.
@@ -178,12 +196,7 @@ export const mountScf = async (root, presets) => mountPanel(root, {
   },
   stem: ({ st, ui }) => `${st.preset.name}-t${ui.time.value}`,
   init(p) {
-    p.resetMonteCarlo = mountMonteCarlo(p.ui.mc, () => {
-      const s = p.build();
-      if (!s.simulate) throw { field: 'data', message: 'the Monte Carlo over rare realizations simulates: it needs a simulated scenario, not data' };
-      s.simulate.condition = clone(p.st.preset.scenario.simulate.condition);
-      return { scenario: s, preset: p.st.preset.scenario };
-    }, p.setBusy);
+    p.resetMonteCarlo = mountMonteCarlo(p.ui.mc, () => studyScenario(p), p.setBusy);
   },
   leave: (p) => p.resetMonteCarlo(),
   load,

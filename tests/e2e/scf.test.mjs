@@ -36,11 +36,12 @@ export default async function scf(env) {
     assert.match(await text(page, '#t-run'), /^computed in [\d.]+ ms$/);
     assert.match(await text(page, '#t-draw'), /drawn in [\d.]+ ms/);
 
-    // Every preset runs and draws; the robot presets show the Monte Carlo section.
+    // Every preset runs and draws; every simulated one has its Monte Carlo one click away.
     for (const name of ['scf-robots', 'scf-robots-literal', 'custom', 'scf-scalar']) {
       await choose(page, name);
       assert.equal(await text(page, '#fig-state .fig-err'), '', `${name}: state figure drawn`);
-      assert.equal(await page.$eval('#mc', (e) => e.hidden), !name.startsWith('scf-robots'), `${name}: Monte Carlo section`);
+      assert.equal(await page.$eval('#mc', (e) => e.hidden), false, `${name}: Monte Carlo section`);
+      assert.equal(await page.$eval('#mc tr.robots', (e) => e.hidden), !name.startsWith('scf-robots'), `${name}: collision warnings row`);
       assert.ok((await text(page, '#notes')).length > 20, `${name}: notes shown`);
     }
 
@@ -112,6 +113,23 @@ export default async function scf(env) {
       // Counts belong to their scenario: switching preset clears them.
       await choose(page, 'scf-robots-literal');
       assert.equal(await text(page, '#mc-scf-in'), '–', 'Monte Carlo counts cleared on a preset change');
+
+      // The scalar example: the state fixed at x̄ = 25 (about 10 σ of the prior). The SCF count
+      // lies in the core's 99.9 % binomial range around α·N; the Kalman region, pulled to the
+      // prior mean, holds x̄ far less often (Fig. 1: about 0.2 at x̄ = 25).
+      await choose(page, 'scf-scalar');
+      assert.match(await text(page, '#mc h2.fixed'), /x̄ = 25 at t = 50/);
+      await page.fill('#mc-n', '2000');
+      await page.click('#mc-go');
+      await page.waitForFunction(() => /runs in \d+ ms/.test(document.getElementById('mc-status').textContent), null, { timeout: 60_000 });
+      await idle(page);
+      const [kfIn, scfIn2] = [await text(page, '#mc-kf-in'), await text(page, '#mc-scf-in')];
+      const count = (t) => Number(t.match(/^([\d,]+) \/ 2,000$/)?.[1].replace(/,/g, ''));
+      const [kfK, scfK] = [count(kfIn), count(scfIn2)];
+      assert.ok(Number.isInteger(kfK) && Number.isInteger(scfK), `counts shown: KF "${kfIn}", SCF "${scfIn2}"`);
+      assert.match(await text(page, '#mc-range'), /should lie in \[[\d,]+, [\d,]+\] .*it does\./, `SCF within its range: ${scfIn2}`);
+      assert.ok(kfK < 0.5 * scfK, `KF holds x̄ = 25 far less often than SCF: ${kfIn} vs ${scfIn2}`);
+      assert.equal(await text(page, '#mc-err'), '');
     }
 
     // Downloads: the figure as SVG (drawn by the same Rust code on plotters' SVG backend), the report.

@@ -1,9 +1,10 @@
 //! The wasm bindings in a real browser (`wasm-pack test --headless --chrome`): presets, a
 //! Session running and drawing a preset, errors thrown as JS Errors naming the field, a
 //! chunk of the conditional Monte Carlo; LSCR: a preset's level, the membership raster and the
-//! chunked coverage experiment; CSV data (`withCsvData`, `dataShape`) as the core reads it.
+//! chunked coverage experiment; CSV data (`withCsvData`, `dataShape`) as the core reads it; the
+//! figure list the page makes its cards from (`methodPanels`, `Session.usefulPanels`).
 
-use confset::web::{data_shape, presets, with_csv_data, Session, Study};
+use confset::web::{data_shape, method_panels, presets, with_csv_data, Session, Study};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -613,4 +614,35 @@ fn csv_data_is_read_as_the_core_reads_it() {
     assert_eq!(message, "data.y row 3, column y1: 'x' is not a number");
     let (_, field) = thrown(data_shape("{}").expect_err("no scenario"));
     assert!(!field.is_empty(), "the error names a field");
+}
+
+/// The page's figure cards come from `methodPanels`: every figure of every method, named as the
+/// core names them, with a text alternative; `usefulPanels` is the core's choice for the kept
+/// report; an unknown method is a `method` error.
+#[wasm_bindgen_test]
+fn figure_lists_are_the_cores() {
+    use confset::method::Method;
+    use confset::plot;
+    for m in Method::ALL {
+        let list: Value = serde_json::from_str(&method_panels(&m.to_string()).expect("panels"))
+            .expect("JSON");
+        let names: Vec<&str> = list
+            .as_array()
+            .expect("a list")
+            .iter()
+            .map(|f| {
+                assert!(f["alt"].as_str().is_some_and(|a| a.len() > 20), "{m}: {f}");
+                f["panel"].as_str().expect("a name")
+            })
+            .collect();
+        let core: Vec<&str> = plot::method_panels(m).iter().map(|p| p.name()).collect();
+        assert_eq!(names, core, "{m}");
+    }
+    let (msg, field) = thrown(method_panels("kalman").expect_err("unknown method"));
+    assert_eq!(field, "method", "{msg}");
+    let mut s = Session::new();
+    assert_eq!(s.useful_panels(), "[]");
+    s.run(&preset("scf-scalar").to_string()).expect("run");
+    let useful: Vec<String> = serde_json::from_str(&s.useful_panels()).expect("JSON");
+    assert_eq!(useful, ["state", "series", "coverage"]);
 }
