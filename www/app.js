@@ -279,7 +279,8 @@ async function loadScenarioFile(file) {
 // A slider keeps its own, narrower range where the core's would freeze the page.
 function applyLimits(d) {
   const limits = JSON.parse(confset.limits());
-  for (const el of d.section().querySelectorAll('input[type=number][data-field], input[type=number][data-limit]')) {
+  // Number boxes and the sliders paired with them (data-limit) take the core's ranges.
+  for (const el of d.section().querySelectorAll('input[type=number][data-field], input[data-limit]')) {
     const key = el.dataset.limit || (/(^|\.)runs$/.test(el.dataset.field) ? 'runs' : el.dataset.field);
     let range = limits[key];
     if (range && !Array.isArray(range)) range = range[d.methods[0]];

@@ -214,7 +214,9 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
     if (id === 'window-range') setWindow(p, ui['window-range'].value);
     if (id === 'window') {
       const v = Number(ui.window.value);
-      if (Number.isSafeInteger(v) && v >= 1 && v <= 20) ui['window-range'].value = String(v);
+      // The slider spans the core's range too (the shell's limits); the box may hold what the
+      // core will refuse, with its message.
+      if (Number.isSafeInteger(v) && v >= Number(ui['window-range'].min) && v <= Number(ui['window-range'].max)) ui['window-range'].value = String(v);
       ui['window-out'].textContent = `= ${ui.window.value}`;
     }
   },

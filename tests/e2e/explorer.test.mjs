@@ -182,6 +182,32 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await custom.close();
     }
 
+    // One source of limits: every box and slider bound to a limited field spans the core's range
+    // (a slider beside its box spans the same), and a value past it gets the core's message.
+    {
+      const lim = await newPage();
+      await lim.goto(`${baseUrl}#${d.id}`);
+      await ready(lim);
+      await idle(lim, d.busy);
+      const ranges = await lim.evaluate(([id, method]) => {
+        const limits = JSON.parse(window.confset.limits());
+        return [...document.querySelectorAll(`#${id} input[data-limit], #${id} input[type=number][data-field]`)].flatMap((el) => {
+          const key = el.dataset.limit || (/(^|\.)runs$/.test(el.dataset.field) ? 'runs' : el.dataset.field);
+          const r = Array.isArray(limits[key]) ? limits[key] : limits[key]?.[method];
+          return r ? [[el.id, key, [el.min, el.max].map(Number), r]] : [];
+        });
+      }, [d.id, d.methods[0]]);
+      for (const [id, key, got, want] of ranges) assert.deepEqual(got, want, `${d.id}: #${id} spans the core's ${key} range`);
+      if (d.id === 'uniform') {
+        assert.ok(ranges.some(([id]) => id === 'u-window-range') && ranges.some(([id]) => id === 'u-window'), 'uniform: the window slider and box both take the core\'s range');
+        const [, , [, max]] = ranges.find(([id]) => id === 'u-window');
+        await lim.fill('#u-window', String(max + 1));
+        await idle(lim, d.busy);
+        assert.match(await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.textContent), new RegExp(`1\\.\\.=${max}`), 'uniform: the message names the same limit');
+      }
+      await lim.close();
+    }
+
     // A phone: no horizontal scrolling.
     const phone = await newPage({ viewport: { width: 390, height: 844 }, deviceScaleFactor: 2 });
     await phone.goto(`${baseUrl}#${d.id}`);
