@@ -275,8 +275,8 @@ async function loadScenarioFile(file) {
 
 // ----- the core's limits on the controls -----
 
-// Number boxes take their range from the core (`limits()`): the same numbers as its messages.
-// A slider keeps its own, narrower range where the core's would freeze the page.
+// Number boxes, and the sliders paired with them, take their range from the core (`limits()`):
+// the same numbers as its messages.
 function applyLimits(d) {
   const limits = JSON.parse(confset.limits());
   // Number boxes and the sliders paired with them (data-limit) take the core's ranges.
@@ -324,14 +324,18 @@ function mount(d) {
   return mounted.get(d.id);
 }
 
-async function show(d) {
+// Show a view, mounting it on its first visit. A panel computes once it is shown, unless a link
+// is about to be restored into it (`restoring`): then the link's preset and fields make its first
+// compute, not a second one.
+async function show(d, restoring = false) {
   current = d;
   for (const v of views) v.hidden = v !== (d ? d.section() : views[0]);
   for (const a of document.querySelectorAll('nav.routes a')) a.toggleAttribute('aria-current', !!d && a.dataset.route === d.id);
   document.title = d ? `${d.title} — confset explorer` : 'confset explorer — guaranteed sets for state estimation';
   if (!d) return;
   try {
-    await mount(d);
+    const api = await mount(d);
+    if (!restoring) api.start();
   } catch (e) {
     mounted.delete(d.id); // the next visit tries again
     d.banner(`This view could not be loaded (${e.message}): reload the page to try again.`);
@@ -350,7 +354,7 @@ async function route() {
     homeNote(`There is no view “${r.id.slice(0, 24)}”: here are the five.`);
   } else {
     homeNote('');
-    await show(d);
+    await show(d, !r.error && !!(r.state || r.preset));
   }
   if (d) {
     d.banner('');
@@ -362,6 +366,9 @@ async function route() {
       } catch (e) {
         d.banner(`This link could not be restored: ${e.message}. The panel shows its default scenario instead.`);
       }
+      // The panel's first compute, if the link changed nothing (or could not be restored).
+      (await mounted.get(d.id))?.start();
+      await idle(d.busy);
     }
   }
   document.body.dataset.route = d ? d.id : '';

@@ -27,7 +27,7 @@ export function presetMenu(select, presets, custom) {
 
 // The shell's handle on a mounted panel: its preset menu, how to add a loaded scenario, and the
 // scenario it last ran.
-export const panelApi = (select, menu, scenario) => ({ presetSelect: select, addPreset: menu.add, scenario });
+export const panelApi = (select, menu, scenario, start) => ({ presetSelect: select, addPreset: menu.add, scenario, start });
 
 // On the user's data (`data` instead of `simulate`) the simulation's controls have nothing to
 // set: they are disabled, and the panel's note says that the run has no truth.
@@ -120,7 +120,9 @@ export function mountPanel(root, spec) {
   }
 
   // One run of the scenario the controls describe; whether it succeeded.
+  let computed = false;
   function compute() {
+    computed = true;
     const run = spec.run ? (s) => spec.run(session, s) : (s) => session.run(JSON.stringify(s));
     if (!runScenario(st, errors, build, run)) return false;
     // The cards of the figures the core finds worth drawing for this report.
@@ -162,8 +164,8 @@ export function mountPanel(root, spec) {
   spec.init?.(p);
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
-  // On the next frame, like every compute: a share link restored right after the mount joins
-  // this first compute instead of following it.
-  schedule('compute');
-  return panelApi(ui.preset, menu, () => st.scenario);
+  // The first compute is the shell's to start (`start()`), once it knows whether a share link
+  // sets the controls first; a compute already scheduled (by the link's preset) makes it a no-op.
+  const start = () => { if (!computed) schedule('compute'); };
+  return panelApi(ui.preset, menu, () => st.scenario, start);
 }

@@ -372,15 +372,29 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await plain.goto(`${baseUrl}#${d.id}`);
       await ready(plain);
       const first = await plain.evaluate(() => performance.now());
-      await moveControls(plain, d);
+      const moved = await moveControls(plain, d);
       await plain.waitForFunction((id) => location.hash.startsWith(`#${id}/v1/`), d.id);
       await plain.waitForTimeout(500);
       const link = await plain.evaluate(() => location.href);
+      // Count the core's runs: a link restores in one compute, not the preset's and then its own.
+      const counted = await newPage({ viewport: { width: 1366, height: 900 } });
+      await counted.route('**/pkg/confset.js', async (route) => {
+        const response = await route.fetch();
+        const body = (await response.text()).replace(/(\n    run\(scenario_json\) \{)/, '$1 window.__runs = (window.__runs || 0) + 1;');
+        await route.fulfill({ response, body });
+      });
+      await counted.goto(link);
+      await ready(counted);
+      assert.equal(await counted.evaluate(() => window.__runs), 1, `${d.id}: the link restores in one run of the core`);
+      await counted.close();
       const restored = await newPage({ viewport: { width: 1366, height: 900 } });
       await restored.goto(link);
       await ready(restored);
       const again = await restored.evaluate(() => performance.now());
-      console.log(`    [page timing] ${d.id}: ready ${first.toFixed(0)} ms after navigation start on the preset, ${again.toFixed(0)} ms on a link`);
+      // The link's scenario is not the preset's (its sliders moved): its own compute time says
+      // how much of the difference is the scenario, not the restore.
+      const own = await restored.$eval(`#${d.id} .timing-line`, (e) => e.textContent.replace(/\s+/g, ' ').trim()).catch(() => '');
+      console.log(`    [page timing] ${d.id}: ready ${first.toFixed(0)} ms after navigation start on the preset, ${again.toFixed(0)} ms on a link (${moved.join(', ')}; ${own})`);
       await restored.close();
       await plain.close();
     }
@@ -401,7 +415,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       d.section().append(root);
       root.innerHTML = await (await fetch(d.view)).text();
       const list = JSON.parse(window.confset.presets()).filter((p) => d.methods.includes(p.scenario.method));
-      await (await import(d.module))[d.mount](root, list);
+      (await (await import(d.module))[d.mount](root, list)).start();
     });
     await idle(page, 'lscrBusy');
     const copy = await snapshot(page, 'lscr-copy');
