@@ -624,8 +624,8 @@ fn figure_lists_are_the_cores() {
     use confset::method::Method;
     use confset::plot;
     for m in Method::ALL {
-        let list: Value = serde_json::from_str(&method_panels(&m.to_string()).expect("panels"))
-            .expect("JSON");
+        let list: Value =
+            serde_json::from_str(&method_panels(&m.to_string()).expect("panels")).expect("JSON");
         let names: Vec<&str> = list
             .as_array()
             .expect("a list")
