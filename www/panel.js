@@ -80,6 +80,11 @@ export function dataMode(root, scenario) {
 export function mountPanel(root, spec) {
   const session = new Session();
   const prefix = spec.prefix || '';
+  // Every panel's form opens with its preset menu and the preset's description.
+  const row = Object.assign(document.createElement('label'), { className: 'row', textContent: 'Scenario' });
+  row.append(Object.assign(document.createElement('select'), { id: `${prefix}preset` }));
+  row.lastChild.dataset.field = 'preset';
+  root.querySelector('form').prepend(row, Object.assign(document.createElement('p'), { id: `${prefix}preset-desc`, className: 'desc' }));
   const ids = new Set(['preset', 'preset-desc', 'custom', 'stale', 'notes', 'numbers', ...(spec.timing ? [] : ['timing']),
     ...(spec.model || []).map((k) => `m-${k}`), ...(spec.compute || []), ...(spec.redraw || []), ...(spec.ids || [])]);
   // Ids are looked up under the panel's root only, so the same view can be mounted twice.
