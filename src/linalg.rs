@@ -76,9 +76,37 @@ fn scale(m: &DMatrix<f64>) -> f64 {
     m.amax().max(f64::MIN_POSITIVE)
 }
 
-/// Smallest eigenvalue of a symmetric matrix.
+/// Sweeps any one decomposition may take: nalgebra's default (0) loops until convergence,
+/// which a matrix holding ±∞ never reaches.
+const MAX_SWEEPS: usize = 10_000;
+
+/// The SVD of `m`, or `None` when `m` holds a NaN or ±∞ (nalgebra panics with "Singular value
+/// was NaN" or never converges on those) or it does not converge within [`MAX_SWEEPS`]. Every
+/// SVD of the core goes through here or checks finiteness first.
+pub fn try_svd(
+    m: DMatrix<f64>,
+    compute_u: bool,
+    compute_v: bool,
+) -> Option<nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
+    if !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    m.try_svd(compute_u, compute_v, f64::EPSILON, MAX_SWEEPS)
+}
+
+/// The eigendecomposition of a symmetric `m`, with the same guarantees as [`try_svd`].
+pub fn try_symmetric_eigen(
+    m: DMatrix<f64>,
+) -> Option<nalgebra::SymmetricEigen<f64, nalgebra::Dyn>> {
+    if !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    nalgebra::SymmetricEigen::try_new(m, f64::EPSILON, MAX_SWEEPS)
+}
+
+/// Smallest eigenvalue of a symmetric matrix; NaN when it has none (a non-finite entry).
 pub fn min_eigenvalue(m: &DMatrix<f64>) -> f64 {
-    m.clone().symmetric_eigen().eigenvalues.min()
+    try_symmetric_eigen(m.clone()).map_or(f64::NAN, |e| e.eigenvalues.min())
 }
 
 /// Check that a covariance is symmetric and positive semidefinite (`definite = false`) or
@@ -104,6 +132,12 @@ pub fn check_covariance(field: &str, m: &DMatrix<f64>, definite: bool) -> Result
         ));
     }
     let lmin = min_eigenvalue(m);
+    if !lmin.is_finite() {
+        return Err(Error::field(
+            field,
+            "must be a finite symmetric matrix (an entry is not a finite number)",
+        ));
+    }
     let bad = if definite {
         lmin <= SYM_TOL * s
     } else {
@@ -131,7 +165,10 @@ pub fn psd_sqrt(m: &DMatrix<f64>) -> DMatrix<f64> {
     if let Some(c) = symmetrize(m).cholesky() {
         return c.l();
     }
-    let eig = symmetrize(m).symmetric_eigen();
+    // No factor of a matrix with a non-finite entry: NaNs, which the report check names.
+    let Some(eig) = try_symmetric_eigen(symmetrize(m)) else {
+        return DMatrix::from_element(n, n, f64::NAN);
+    };
     let mut root = eig.eigenvectors.clone();
     for j in 0..n {
         let s = eig.eigenvalues[j].max(0.0).sqrt();
@@ -203,7 +240,7 @@ pub fn norm_2(m: &DMatrix<f64>) -> f64 {
     if !m.iter().all(|v| v.is_finite()) {
         return f64::INFINITY;
     }
-    m.clone().svd(false, false).singular_values.max()
+    try_svd(m.clone(), false, false).map_or(f64::INFINITY, |s| s.singular_values.max())
 }
 
 /// Spectral radius via the eigenvalues of the (real) Schur form.

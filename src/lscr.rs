@@ -357,7 +357,12 @@ impl KarhunenLoeve {
                 .q2
                 .view((range.start, range.start), (range.len(), range.len()))
                 .into_owned();
-            let eig = linalg::symmetrize(&sub).symmetric_eigen();
+            let eig = linalg::try_symmetric_eigen(linalg::symmetrize(&sub)).ok_or_else(|| {
+                Error::field(
+                    "model",
+                    "the covariance of the data is not finite: the model's entries overflow double precision",
+                )
+            })?;
             for k in 0..range.len() {
                 let mut full = DVector::zeros(t);
                 full.rows_mut(range.start, range.len())
@@ -375,7 +380,7 @@ impl KarhunenLoeve {
             ));
         }
         let a = u.transpose() * &reg.phi;
-        let (u_a, singular, rank) = thin_svd_u(&a);
+        let (u_a, singular, rank) = thin_svd_u(&a)?;
         Ok(KarhunenLoeve {
             u,
             d,
@@ -394,12 +399,23 @@ impl KarhunenLoeve {
 
 /// Left singular vectors (t×n), singular values (decreasing) and rank of a tall A, through a QR
 /// of A and the SVD of the n×n factor R: orthonormal columns even when A is rank-deficient.
-fn thin_svd_u(a: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, usize) {
+fn thin_svd_u(a: &DMatrix<f64>) -> Result<(DMatrix<f64>, Vec<f64>, usize)> {
     let n = a.ncols();
+    if !a.iter().all(|v| v.is_finite()) {
+        return Err(Error::field(
+            "model.H",
+            "the regressors are not finite: the model's entries overflow double precision",
+        ));
+    }
     let qr = a.clone().qr();
     let q = qr.q();
     let r = qr.r();
-    let svd = r.svd(true, false);
+    let svd = linalg::try_svd(r, true, false).ok_or_else(|| {
+        Error::field(
+            "model.H",
+            "the regressors have no SVD (an entry is not finite)",
+        )
+    })?;
     let ur = svd.u.expect("requested");
     let mut idx: Vec<usize> = (0..n).collect();
     idx.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
@@ -409,7 +425,7 @@ fn thin_svd_u(a: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, usize) {
     let tol =
         singular.first().copied().unwrap_or(0.0) * (a.nrows().max(n) as f64) * f64::EPSILON * 16.0;
     let rank = singular.iter().filter(|&&s| s > tol).count();
-    (u_a, singular, rank)
+    Ok((u_a, singular, rank))
 }
 
 /// How the subsample strings were made.

@@ -916,7 +916,14 @@ impl StateProblem {
                 ));
             }
             let tol = 1e-9 * m.amax().max(1e-300);
-            m.svd(false, false).rank(tol)
+            crate::linalg::try_svd(m, false, false)
+                .ok_or_else(|| {
+                    Error::field(
+                        "model.F",
+                        format!("its observability matrix over y({s} … {k}) has no SVD (an entry is not finite)"),
+                    )
+                })?
+                .rank(tol)
         };
         if rank < r {
             return Err(Error::field(

@@ -272,9 +272,17 @@ fn simulate(
             .linear
             .simulate(t.max(tau), &Inputs::none(), None, &mut rng),
         Some(c) => {
-            let steps = t.max(tau).max(c.t);
-            if c.t < 1 {
-                return Err(Error::field("simulate.condition.t", "must be at least 1"));
+            // The condition fixes a state of the simulated run: one of x_1 … x_max(t, τ). A
+            // later time would only lengthen the simulation (t = 10⁹ asked for 32 GB).
+            let steps = t.max(tau);
+            if !(1..=steps).contains(&c.t) {
+                return Err(Error::field(
+                    "simulate.condition.t",
+                    format!(
+                        "must lie in 1..={steps} (a time of the simulated run: the data length t or the estimated time), found {}",
+                        c.t
+                    ),
+                ));
             }
             let xc = linalg::vector("simulate.condition.x", &c.x, n)?;
             ConditionedSampler::new(&model.linear, steps, &Inputs::none(), c.t)

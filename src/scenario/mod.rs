@@ -302,9 +302,122 @@ fn non_numeric_entry(v: &serde_json::Value, path: &str) -> Option<(String, Strin
     }
 }
 
+/// Largest value of any size or count field ([`COUNT_KEYS`]): steps, runs, horizons, windows,
+/// strings, grid points, budgets, indices. Each method's own limits are tighter; this one
+/// refuses the absurd (10⁹, 2⁶⁴ − 1) while parsing, before anything is allocated or looped.
+pub const MAX_COUNT: u64 = 10_000_000;
+
+/// The keys whose values are sizes, counts or indices (every integer field of the schema but
+/// the seeds, which may be any 64-bit number).
+pub const COUNT_KEYS: [&str; 22] = [
+    "steps",
+    "runs",
+    "t",
+    "time",
+    "tau",
+    "window",
+    "horizon",
+    "max_horizon",
+    "points",
+    "resolution",
+    "budget",
+    "m",
+    "q",
+    "p",
+    "j",
+    "index",
+    "warning_t",
+    "component",
+    "components",
+    "plane",
+    "plot",
+    "directions",
+];
+
+/// The first size or count in `v` over [`MAX_COUNT`]: (path, value).
+fn oversized_count(v: &serde_json::Value, key: &str, path: &str) -> Option<(String, f64)> {
+    use serde_json::Value;
+    match v {
+        Value::Number(x) if COUNT_KEYS.contains(&key) => x
+            .as_f64()
+            .filter(|&f| f > MAX_COUNT as f64)
+            .map(|f| (path.to_string(), f)),
+        Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, x)| oversized_count(x, key, &format!("{path}[{i}]"))),
+        Value::Object(o) => o.iter().find_map(|(k, x)| {
+            let p = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            oversized_count(x, k, &p)
+        }),
+        _ => None,
+    }
+}
+
+/// Largest magnitude of any number in a scenario. Products of a few such numbers stay far from
+/// f64's 1.8e308, so a model entry, a noise level or a bound cannot overflow a covariance,
+/// a Gram matrix or an LP; [`MIN_MAGNITUDE`] likewise keeps reciprocals finite.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+/// Smallest magnitude of a non-zero number in a scenario (subnormals such as 5e-324 and values
+/// like 1e-300 would make reciprocals and condition numbers overflow).
+pub const MIN_MAGNITUDE: f64 = 1e-100;
+
+/// The first number in `v` outside the magnitudes a scenario may hold: (path, value).
+fn out_of_range_number(v: &serde_json::Value, path: &str) -> Option<(String, f64)> {
+    use serde_json::Value;
+    match v {
+        Value::Number(x) => x
+            .as_f64()
+            .filter(|f| f.abs() > MAX_MAGNITUDE || (*f != 0.0 && f.abs() < MIN_MAGNITUDE))
+            .map(|f| (path.to_string(), f)),
+        Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, x)| out_of_range_number(x, &format!("{path}[{i}]"))),
+        Value::Object(o) => o.iter().find_map(|(k, x)| {
+            let p = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            out_of_range_number(x, &p)
+        }),
+        _ => None,
+    }
+}
+
+/// Sizes and magnitudes, checked on the JSON before it is read into a scenario: a count of
+/// 10⁹ or a number of 1e308 is refused here, whatever field it is in.
+fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
+    if let Some((field, x)) = oversized_count(v, "", "") {
+        return Err(Error::field(
+            field,
+            format!(
+                "is {x:.3e}: no size, count or index may exceed {MAX_COUNT} (each method's own limit is lower; a seed may be any 64-bit number)"
+            ),
+        ));
+    }
+    if let Some((field, x)) = out_of_range_number(v, "") {
+        return Err(Error::field(
+            field,
+            format!(
+                "is {x:e}: every number in a scenario is 0 or between {MIN_MAGNITUDE:e} and {MAX_MAGNITUDE:e} in magnitude, so that products and reciprocals stay within double precision"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl Scenario {
     /// Parse JSON; errors say where the JSON is wrong.
     pub fn from_json(text: &str) -> Result<Self> {
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(text) {
+            check_sizes_and_magnitudes(&v)?;
+        }
         let mut de = serde_json::Deserializer::from_str(text);
         let parsed: std::result::Result<Scenario, _> = serde_path_to_error::deserialize(&mut de);
         let e = match parsed.map(|s| (s, de.end())) {
@@ -503,7 +616,9 @@ impl Scenario {
     /// Validate and run: the report of this scenario.
     pub fn run(&self) -> Result<Report> {
         self.check_method_blocks()?;
-        make_method(self.method).run(self)
+        let report = make_method(self.method).run(self)?;
+        report.check_finite()?;
+        Ok(report)
     }
 
     /// The Monte Carlo study of this scenario's method, not yet run: the SCF conditional
@@ -617,7 +732,67 @@ impl Scenario {
     }
 }
 
+/// Keys whose value may be JSON null in a report: `Option` fields serialized without
+/// `skip_serializing_if` (the reason after each). Everywhere else a null would be a non-finite
+/// f64, which serde_json writes as null: [`Report::check_finite`] refuses those.
+pub const NULLABLE_REPORT_KEYS: [(&str, &str); 5] = [
+    (
+        "scf",
+        "ScfStep, RegionPair: no SCF region while the ratio matrix is singular (t < n)",
+    ),
+    (
+        "ratio",
+        "RegionPair: no closed-form R = I − PΓ⁻¹ while the prior Γ_t is singular",
+    ),
+    (
+        "scf_distance",
+        "CollisionReport: no SCF region yet at that time (t < n)",
+    ),
+    ("scf_warning", "CollisionReport: no SCF region yet"),
+    (
+        "true_distance",
+        "CollisionReport: t + τ lies past the simulation, or the data have no truth",
+    ),
+];
+
 impl Report {
+    /// Every number of the report is finite (the JSON contract: a number, never a null where
+    /// a number belongs). The last defence behind the input checks: a value that overflowed or
+    /// divided by zero in the computation becomes an error naming the report field, not a null.
+    pub fn check_finite(&self) -> Result<()> {
+        fn first_null(v: &serde_json::Value, key: &str, path: &str) -> Option<String> {
+            use serde_json::Value;
+            match v {
+                Value::Null if !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key) => {
+                    Some(path.to_string())
+                }
+                // An entry of a list is never one of the nullable fields themselves.
+                Value::Array(a) => a
+                    .iter()
+                    .enumerate()
+                    .find_map(|(i, x)| first_null(x, "[]", &format!("{path}[{i}]"))),
+                Value::Object(o) => o.iter().find_map(|(k, x)| {
+                    let p = if path.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{path}.{k}")
+                    };
+                    first_null(x, k, &p)
+                }),
+                _ => None,
+            }
+        }
+        let v = serde_json::to_value(self)
+            .map_err(|e| Error::field("report", format!("could not be written as JSON: {e}")))?;
+        match first_null(&v, "", "") {
+            None => Ok(()),
+            Some(path) => Err(Error::field(
+                format!("report.{path}"),
+                "is not a finite number: the computation overflowed or divided by zero — an input is too large, too small or too ill-conditioned for double precision (try smaller noise, bounds or horizons, or a better-conditioned model)",
+            )),
+        }
+    }
+
     /// The report of a method with its own result block, with the scenario's method and
     /// figure context: the SCF fields stay empty; the caller sets its block.
     pub(crate) fn of(

@@ -229,7 +229,14 @@ impl MovingRegion {
         let s_inv = linalg::inverse("region shape", shape)? / r2;
         let e = Ellipsoid::new(&DVector::zeros(idx.len()), shape, r2);
         let (planar, axes) = if idx.len() == 2 {
-            let ev = linalg::symmetrize(shape).symmetric_eigen().eigenvalues;
+            let ev = linalg::try_symmetric_eigen(linalg::symmetrize(shape))
+                .ok_or_else(|| {
+                    Error::field(
+                        "model",
+                        "the region's shape matrix is not finite: the model's covariances overflow",
+                    )
+                })?
+                .eigenvalues;
             (
                 Some(PlanarEllipse::from(&e)),
                 ((r2 * ev.max()).sqrt(), (r2 * ev.min().max(0.0)).sqrt()),

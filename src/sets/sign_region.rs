@@ -723,7 +723,9 @@ impl SignRegion {
         }
         let m = nalgebra::DMatrix::from_fn(rows.len(), self.dim, |i, j| rows[i][j]);
         let gram = m.transpose() * &m;
-        let eig = gram.symmetric_eigen();
+        let Some(eig) = crate::linalg::try_symmetric_eigen(gram) else {
+            return Vec::new();
+        };
         let top = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
         let mut out = Vec::new();
         for (k, &ev) in eig.eigenvalues.iter().enumerate() {

@@ -13,6 +13,7 @@ mod bad_input;
 mod coverage;
 mod csv;
 mod determinism;
+mod fuzz;
 mod glls;
 mod lscr;
 mod registry;

@@ -1,0 +1,529 @@
+//! One seeded mutation fuzzer over every preset's JSON (driven by `presets::all()`, so a new
+//! preset or method is fuzzed without a line here): numbers replaced by the extremes of f64
+//! (±1e308, 5e-324, 1e154, 1e-300), sizes of 10⁹ and 2⁶⁴ − 1, wrong types, deleted keys,
+//! duplicated and ragged rows, oversized matrices (40 × 40, 400 × 400), another method on the
+//! same scenario. Every case must give a report whose numbers are all JSON numbers, or an
+//! error naming a field; never a panic, a hang or an abort (an allocation of many GB aborts
+//! the test process, which fails the run).
+//!
+//! `cargo test` runs [`SAMPLE`] cases (in wasm a few per preset); the long run is
+//! `CONFSET_FUZZ_CASES=1000000 cargo test --release --test suite fuzz::long_run -- --ignored --nocapture`,
+//! which prints its counts per outcome. Case k of preset p is drawn from its own seed, so any
+//! case is replayed from its number alone (`CONFSET_FUZZ_ONLY=preset:k`).
+
+use crate::registry::check_report_json;
+use confset::presets;
+use confset::scenario::{Report, Scenario};
+use confset::Method;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde_json::{json, Value};
+
+/// One step into a JSON value.
+#[derive(Debug, Clone, PartialEq)]
+enum Seg {
+    Key(String),
+    Index(usize),
+}
+
+fn path_text(path: &[Seg]) -> String {
+    let mut s = String::new();
+    for seg in path {
+        match seg {
+            Seg::Key(k) if s.is_empty() => s.push_str(k),
+            Seg::Key(k) => {
+                s.push('.');
+                s.push_str(k);
+            }
+            Seg::Index(i) => s.push_str(&format!("[{i}]")),
+        }
+    }
+    s
+}
+
+/// Every node below the root, with its path.
+fn nodes(v: &Value) -> Vec<(Vec<Seg>, Value)> {
+    fn walk(v: &Value, path: &mut Vec<Seg>, out: &mut Vec<(Vec<Seg>, Value)>) {
+        let children: Vec<(Seg, &Value)> = match v {
+            Value::Object(o) => o.iter().map(|(k, x)| (Seg::Key(k.clone()), x)).collect(),
+            Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .map(|(i, x)| (Seg::Index(i), x))
+                .collect(),
+            _ => Vec::new(),
+        };
+        for (seg, x) in children {
+            path.push(seg);
+            out.push((path.clone(), x.clone()));
+            walk(x, path, out);
+            path.pop();
+        }
+    }
+    let mut out = Vec::new();
+    walk(v, &mut Vec::new(), &mut out);
+    out
+}
+
+fn at<'a>(v: &'a mut Value, path: &[Seg]) -> &'a mut Value {
+    path.iter().fold(v, |v, seg| match seg {
+        Seg::Key(k) => &mut v[k.as_str()],
+        Seg::Index(i) => &mut v[*i],
+    })
+}
+
+/// The object key a path ends under (the last key on it): `model.F[0][1]` → `F`.
+#[allow(dead_code)]
+fn last_key(path: &[Seg]) -> &str {
+    path.iter()
+        .rev()
+        .find_map(|s| match s {
+            Seg::Key(k) => Some(k.as_str()),
+            Seg::Index(_) => None,
+        })
+        .unwrap_or("")
+}
+
+/// Values put in place of a number: the extremes of f64, sizes of 10⁹ and 2⁶⁴ − 1, wrong types.
+fn replacements() -> Vec<Value> {
+    vec![
+        Value::Null,
+        json!(-1),
+        json!(0),
+        json!(1e308),
+        json!(-1e308),
+        json!(5e-324),
+        json!(1_000_000_000u64),
+        json!(u64::MAX),
+        json!(1e-300),
+        json!(1e154),
+        json!("1"),
+        json!([]),
+        json!([[1.0, 2.0], [3.0]]),
+    ]
+}
+
+/// A k × k matrix (0.5 on the diagonal, 0.01 elsewhere): an oversized model.
+fn big_matrix(k: usize) -> Value {
+    Value::Array(
+        (0..k)
+            .map(|i| {
+                Value::Array(
+                    (0..k)
+                        .map(|j| json!(if i == j { 0.5 } else { 0.01 }))
+                        .collect(),
+                )
+            })
+            .collect(),
+    )
+}
+
+/// A value of another JSON type than `v`.
+fn other_type(v: &Value) -> Value {
+    match v {
+        Value::Null => json!(1),
+        Value::Bool(_) => json!(1),
+        Value::Number(_) => json!("0.5"),
+        Value::String(_) => json!(2),
+        Value::Array(_) => json!({}),
+        Value::Object(_) => json!([1.0]),
+    }
+}
+
+fn pick<T: Clone>(rng: &mut ChaCha8Rng, xs: &[T]) -> Option<T> {
+    (!xs.is_empty()).then(|| xs[rng.random_range(0..xs.len())].clone())
+}
+
+/// One random mutation of a scenario's JSON, and what it did.
+fn mutate(base: &Value, rng: &mut ChaCha8Rng) -> (Value, String) {
+    let all = nodes(base);
+    let numbers: Vec<_> = all.iter().filter(|(_, v)| v.is_number()).collect();
+    let members: Vec<_> = all
+        .iter()
+        .filter(|(p, _)| matches!(p.last(), Some(Seg::Key(_))))
+        .collect();
+    let lists: Vec<_> = all
+        .iter()
+        .filter(|(_, v)| v.as_array().is_some_and(|a| !a.is_empty()))
+        .collect();
+    let rows: Vec<_> = all
+        .iter()
+        .filter(|(p, v)| v.is_array() && matches!(p.last(), Some(Seg::Index(_))))
+        .collect();
+    let any: Vec<_> = all.iter().collect();
+    let matrices: Vec<_> = all
+        .iter()
+        .filter(|(_, v)| {
+            v.as_array()
+                .is_some_and(|a| a.first().is_some_and(|r| r.is_array()))
+        })
+        .collect();
+    let mut s = base.clone();
+    loop {
+        match rng.random_range(0..10u32) {
+            // A number replaced (four in nine mutations: most of a scenario is numbers).
+            0..=3 => {
+                let Some((p, _)) = pick(rng, &numbers) else {
+                    continue;
+                };
+                let r = pick(rng, &replacements()).expect("values");
+                *at(&mut s, p) = r.clone();
+                return (s, format!("{} := {r}", path_text(p)));
+            }
+            4 => {
+                let Some((p, _)) = pick(rng, &members) else {
+                    continue;
+                };
+                let (parent, Some(Seg::Key(k))) = (&p[..p.len() - 1], p.last()) else {
+                    continue;
+                };
+                at(&mut s, parent)
+                    .as_object_mut()
+                    .expect("an object")
+                    .remove(k);
+                return (s, format!("delete {}", path_text(p)));
+            }
+            5 => {
+                let Some((p, v)) = pick(rng, &lists) else {
+                    continue;
+                };
+                let a = v.as_array().expect("a list");
+                let i = rng.random_range(0..a.len());
+                at(&mut s, p)
+                    .as_array_mut()
+                    .expect("a list")
+                    .insert(i, a[i].clone());
+                return (s, format!("duplicate {}[{i}]", path_text(p)));
+            }
+            6 => {
+                let Some((p, v)) = pick(rng, &any) else {
+                    continue;
+                };
+                let r = other_type(v);
+                *at(&mut s, p) = r.clone();
+                return (s, format!("{} := {r} (type swapped)", path_text(p)));
+            }
+            7 => {
+                // Another method on the same scenario.
+                let m = pick(rng, &Method::ALL).expect("methods");
+                s["method"] = json!(m.name());
+                return (s, format!("method := \"{m}\""));
+            }
+            8 => {
+                // An oversized matrix (a model of 40 or 400 states, a window of 400 rows …).
+                let Some((p, _)) = pick(rng, &matrices) else {
+                    continue;
+                };
+                let k = *pick(rng, &[40usize, 400]).as_ref().expect("sizes");
+                *at(&mut s, p) = big_matrix(k);
+                return (s, format!("{} := a {k} × {k} matrix", path_text(p)));
+            }
+            _ => {
+                // A ragged row: one entry more or less than its siblings.
+                let Some((p, v)) = pick(rng, &rows) else {
+                    continue;
+                };
+                let row = at(&mut s, p).as_array_mut().expect("a list");
+                let what = if v.as_array().is_some_and(|a| !a.is_empty()) && rng.random::<bool>() {
+                    row.pop();
+                    "one entry short"
+                } else {
+                    row.push(json!(0.5));
+                    "one entry long"
+                };
+                return (s, format!("{} {what}", path_text(p)));
+            }
+        }
+    }
+}
+
+/// What a mutated scenario gave.
+enum Outcome {
+    /// Refused by the parser.
+    Refused(confset::Error),
+    /// Refused by the run.
+    Failed(confset::Error),
+    Report(Box<Report>),
+}
+
+/// Parse and run, catching a panic natively (in wasm a panic aborts the test, which fails it
+/// just as well). A panic comes back as its message.
+fn outcome(text: &str) -> Result<Outcome, String> {
+    let go = || match Scenario::from_json(text) {
+        Err(e) => Outcome::Refused(e),
+        Ok(s) => match s.run() {
+            Ok(r) => Outcome::Report(Box::new(r)),
+            Err(e) => Outcome::Failed(e),
+        },
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    return std::panic::catch_unwind(std::panic::AssertUnwindSafe(go)).map_err(|p| {
+        p.downcast_ref::<String>()
+            .cloned()
+            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default()
+    });
+    #[cfg(target_arch = "wasm32")]
+    Ok(go())
+}
+
+/// Cases of the sample `cargo test` runs: natively about 20,000 (spread over the presets), in
+/// wasm 8 per preset.
+const SAMPLE: usize = if cfg!(target_arch = "wasm32") {
+    8 * 16
+} else {
+    20_000
+};
+
+/// A case that has run this long is a hang: the watchdog names it and stops the process.
+#[cfg(not(target_arch = "wasm32"))]
+const HANG_SECONDS: u64 = 30;
+
+/// The fuzzer's tally.
+#[derive(Default)]
+struct Tally {
+    cases: usize,
+    refused: usize,
+    failed: usize,
+    reports: usize,
+    /// Panics and errors without a field or message: "preset with mutation: what".
+    broken: Vec<String>,
+    /// Reports that break the JSON contract of [`check_report_json`].
+    non_finite: Vec<String>,
+    /// The slowest cases (seconds, case), slowest first.
+    slowest: Vec<(f64, String)>,
+}
+
+impl Tally {
+    fn add(&mut self, other: Tally) {
+        self.cases += other.cases;
+        self.refused += other.refused;
+        self.failed += other.failed;
+        self.reports += other.reports;
+        self.broken.extend(other.broken);
+        self.non_finite.extend(other.non_finite);
+        self.slowest.extend(other.slowest);
+        self.slowest.sort_by(|a, b| b.0.total_cmp(&a.0));
+        self.slowest.truncate(8);
+    }
+
+    fn summary(&self) -> String {
+        let slow: Vec<String> = self
+            .slowest
+            .iter()
+            .take(5)
+            .map(|(t, c)| format!("{t:.2} s {c}"))
+            .collect();
+        format!(
+            "fuzz: {} cases: {} refused by the parser, {} refused by the run, {} reports ({} with non-finite numbers), {} panics or errors without a field; slowest:\n  {}",
+            self.cases,
+            self.refused,
+            self.failed,
+            self.reports,
+            self.non_finite.len(),
+            self.broken.len(),
+            slow.join("\n  ")
+        )
+    }
+}
+
+/// Case `k` of preset `p`: its mutation, from a seed of its own.
+fn case(p: &presets::Preset, base: &Value, k: usize) -> (Value, String) {
+    let seed = p
+        .name
+        .bytes()
+        .fold(0x5eed_f00d_u64, |h, b| h.rotate_left(7) ^ u64::from(b))
+        ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (s, what) = mutate(base, &mut rng);
+    (s, format!("{}:{k} with {what}", p.name))
+}
+
+/// Run one case into a tally of one.
+fn run_case(s: &Value, name: String) -> Tally {
+    let mut t = Tally {
+        cases: 1,
+        ..Tally::default()
+    };
+    let text = s.to_string();
+    #[cfg(not(target_arch = "wasm32"))]
+    let started = std::time::Instant::now();
+    #[cfg(not(target_arch = "wasm32"))]
+    let _watch = watchdog::watch(&name);
+    match outcome(&text) {
+        Err(panic) => t.broken.push(format!("{name}: PANIC {panic}")),
+        Ok(Outcome::Refused(e)) | Ok(Outcome::Failed(e))
+            if e.field.is_empty() || e.message.is_empty() =>
+        {
+            t.broken.push(format!(
+                "{name}: an error without a field or message: {e:?}"
+            ))
+        }
+        Ok(Outcome::Refused(_)) => t.refused += 1,
+        Ok(Outcome::Failed(_)) => t.failed += 1,
+        Ok(Outcome::Report(r)) => {
+            t.reports += 1;
+            if let Err(e) = check_report_json(&r) {
+                t.non_finite.push(format!("{name}: {e}"));
+            }
+        }
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    t.slowest.push((started.elapsed().as_secs_f64(), name));
+    t
+}
+
+/// `cases` cases spread evenly over the presets (case numbers 0, 1, … per preset), natively
+/// in parallel.
+fn fuzz(cases: usize) -> Tally {
+    let all = presets::all();
+    let bases: Vec<Value> = all
+        .iter()
+        .map(|p| serde_json::to_value(&p.scenario).expect("JSON"))
+        .collect();
+    let only = option_env_var("CONFSET_FUZZ_ONLY");
+    let jobs: Vec<(usize, usize)> = (0..cases)
+        .map(|i| (i % all.len(), i / all.len()))
+        .filter(|&(p, k)| {
+            only.as_deref()
+                .is_none_or(|o| o == format!("{}:{k}", all[p].name))
+        })
+        .collect();
+    let one = |&(p, k): &(usize, usize)| {
+        let (s, name) = case(&all[p], &bases[p], k);
+        run_case(&s, name)
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        use rayon::prelude::*;
+        jobs.par_iter().map(one).reduce(Tally::default, |mut a, b| {
+            a.add(b);
+            a
+        })
+    }
+    #[cfg(target_arch = "wasm32")]
+    jobs.iter().map(one).fold(Tally::default(), |mut a, b| {
+        a.add(b);
+        a
+    })
+}
+
+fn option_env_var(name: &str) -> Option<String> {
+    #[cfg(not(target_arch = "wasm32"))]
+    return std::env::var(name).ok();
+    #[cfg(target_arch = "wasm32")]
+    {
+        let _ = name;
+        None
+    }
+}
+
+/// A thread that stops the process when a case runs past [`HANG_SECONDS`], naming it (a hang
+/// cannot be caught any other way).
+#[cfg(not(target_arch = "wasm32"))]
+mod watchdog {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    use std::time::{Duration, Instant};
+
+    type Running = Mutex<HashMap<u64, (String, Instant)>>;
+
+    fn running() -> &'static Running {
+        static RUNNING: OnceLock<Running> = OnceLock::new();
+        RUNNING.get_or_init(|| {
+            std::thread::spawn(|| loop {
+                std::thread::sleep(Duration::from_secs(1));
+                let hung = running().lock().ok().and_then(|m| {
+                    m.values()
+                        .find(|(_, t)| t.elapsed() > Duration::from_secs(super::HANG_SECONDS))
+                        .map(|(c, _)| c.clone())
+                });
+                if let Some(c) = hung {
+                    // Past the test harness's capture, which a process exit would swallow.
+                    use std::io::Write;
+                    let _ = writeln!(
+                        std::io::stderr().lock(),
+                        "fuzz: HANG: {c} has run for over {} s",
+                        super::HANG_SECONDS
+                    );
+                    std::process::exit(101);
+                }
+            });
+            Mutex::new(HashMap::new())
+        })
+    }
+
+    /// Watched while the guard lives.
+    pub struct Guard(u64);
+
+    pub fn watch(case: &str) -> Guard {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let id = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if let Ok(mut m) = running().lock() {
+            m.insert(id, (case.to_string(), Instant::now()));
+        }
+        Guard(id)
+    }
+
+    impl Drop for Guard {
+        fn drop(&mut self) {
+            if let Ok(mut m) = running().lock() {
+                m.remove(&self.0);
+            }
+        }
+    }
+}
+
+/// Every case: a report with JSON numbers only, or an error naming a field.
+fn assert_clean(t: &Tally) {
+    eprintln!("{}", t.summary());
+    assert!(
+        t.broken.is_empty() && t.non_finite.is_empty(),
+        "{} of {} mutated presets panicked or gave an error without a field, {} of {} reports break the JSON contract:\n{}",
+        t.broken.len(),
+        t.cases,
+        t.non_finite.len(),
+        t.reports,
+        t.broken.iter().chain(&t.non_finite).take(40).cloned().collect::<Vec<_>>().join("\n")
+    );
+    // The fuzzer reaches every side: the parser refuses, the run refuses, reports come out.
+    assert!(
+        t.refused > 0 && t.failed > 0 && t.reports > 0,
+        "{} refused / {} failed / {} reports",
+        t.refused,
+        t.failed,
+        t.reports
+    );
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn mutated_presets_give_a_finite_report_or_a_field_error() {
+    assert_clean(&fuzz(SAMPLE));
+}
+
+/// The long run: `CONFSET_FUZZ_CASES` cases (default 1,000,000).
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+#[ignore = "the long run (minutes to hours): run it by hand, see the module docs"]
+fn long_run() {
+    let cases = option_env_var("CONFSET_FUZZ_CASES")
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(1_000_000);
+    assert_clean(&fuzz(cases));
+}
+
+#[test]
+fn every_method_is_reached() {
+    // Sanity of the generator: mutations switch methods, so every method is fuzzed.
+    let p = &presets::all()[0];
+    let base = serde_json::to_value(&p.scenario).expect("JSON");
+    let mut seen = std::collections::HashSet::new();
+    for k in 0..400 {
+        let (s, _) = case(p, &base, k);
+        seen.insert(s["method"].as_str().unwrap_or("").to_string());
+    }
+    for m in Method::ALL {
+        assert!(seen.contains(m.name()), "no case switches to {m}");
+    }
+}
