@@ -383,15 +383,18 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await plain.waitForTimeout(500);
       const link = await plain.evaluate(() => location.href);
       // Count the core's runs: a link restores in one compute, not the preset's and then its own.
+      // The runs happen in the panel's compute worker: its global counts them.
       const counted = await newPage({ viewport: { width: 1366, height: 900 } });
       await counted.route('**/pkg/confset.js', async (route) => {
         const response = await route.fetch();
-        const body = (await response.text()).replace(/(\n    run\(scenario_json\) \{)/, '$1 window.__runs = (window.__runs || 0) + 1;');
+        const body = (await response.text()).replace(/(\n    run\(scenario_json\) \{)/, '$1 globalThis.__runs = (globalThis.__runs || 0) + 1;');
         await route.fulfill({ response, body });
       });
       await counted.goto(link);
       await ready(counted);
-      assert.equal(await counted.evaluate(() => window.__runs), 1, `${d.id}: the link restores in one run of the core`);
+      let runs = await counted.evaluate(() => globalThis.__runs || 0);
+      for (const w of counted.workers()) runs += await w.evaluate(() => globalThis.__runs || 0);
+      assert.equal(runs, 1, `${d.id}: the link restores in one run of the core`);
       await counted.close();
       const restored = await newPage({ viewport: { width: 1366, height: 900 } });
       await restored.goto(link);
