@@ -348,7 +348,9 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await idle(page, d.busy);
       // With the URL following (450 ms between moves: the debounced update runs between them)
       // and without it (150 ms: the update never fires within the burst).
-      const slide = (pause) => page.evaluate(async ([id, pause]) => {
+      // The frame counted is the first one painted after the panel drew the new report (the run
+      // is asynchronous: it happens in the panel's compute worker).
+      const slide = (pause) => page.evaluate(async ([id, pause, busy]) => {
         const r = [...document.getElementById(id).querySelectorAll('form input[type=range]')].find((e) => e.offsetParent);
         if (!r) return null;
         const out = [];
@@ -358,12 +360,15 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
           const t0 = performance.now();
           r.value = String(v);
           r.dispatchEvent(new Event('input', { bubbles: true }));
-          await new Promise((res) => requestAnimationFrame(() => requestAnimationFrame(res)));
+          await new Promise((res) => {
+            const drawn = () => requestAnimationFrame(() => (document.body.dataset[busy] ? drawn() : requestAnimationFrame(res)));
+            drawn();
+          });
           out.push(performance.now() - t0);
           await new Promise((res) => setTimeout(res, pause));
         }
         return { id: r.id, ms: out.sort((a, b) => a - b) };
-      }, [d.id, pause]);
+      }, [d.id, pause, d.busy]);
       const moves = await slide(450);
       const link = await page.evaluate(() => location.hash.length);
       if (!moves) continue; // no slider (LSCR: number fields and a click on the figure)
