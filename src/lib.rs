@@ -35,7 +35,7 @@
 //! | [`scenario::csv`] | measured data from CSV text, the one parser of the page (wasm `withCsvData`, `dataShape`), the CLI (`confset run --data FILE.csv`) and the tests: [`scenario::data_from_csv`] and [`scenario::Scenario::with_csv_data`] (columns y₁ … y_q then optionally u₁ … u_r; optional header naming them in any order; tab, semicolon, comma or space delimited; `#` comments, CRLF, BOM; at most [`scenario::csv::MAX_CSV_BYTES`] and [`scenario::csv::MAX_CSV_ROWS`] rows, checked before any cell is read; errors name `data`, `data.y`, `data.u` with the file's line number and the column) |
 //! | [`presets`] | the menu of the papers' examples as scenarios (used by page, CLI and tests): the [`presets::Preset`] type, [`presets::all`] (every method of [`Method::ALL`] in turn, from its scenario file's presets; no names listed), [`presets::get`], and re-exports of the builders that live in the scenario files (`presets::scalar()`, `presets::ubb_preset(…)`, …) |
 //! | [`plot`] | figures on any plotters backend from the report and a [`plot::View`] (panel, time, zoom) alone, so page and CLI draw the same figure; one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs. 1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with the best horizon, the state plane with the guaranteed ball and box, error box plots against the horizon with the bound), `uniform` / `uniform_params` / `uniform_polygon` (Pavelková Figs. 1–3: states, estimates and errors with the window's optimal-face bars, output prediction, Θ̂ and half-widths over time, the consistent-state polygon), `ubb` / `ubb_width` (Tempo: the exact feasible polygon of x(k+1) with its interval hull, central estimate, truth and Kalman ellipse; the hull widths over k against the Theorem 4 bound, with the truth in its hull bands) |
-//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `presets`, `limits`, `methodPanels` (a method's figures with their text alternatives), `withCsvData` and `dataShape` (CSV data for a scenario); `Session` (run, `usefulPanels`, draw, svg, LSCR raster, GLLS precision) and one chunked `Study` for every method's Monte Carlo |
+//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `presets`, `limits`, `methodPanels` (a method's figures with their text alternatives), `withCsvData` and `dataShape` (CSV data for a scenario); `Session` (run, `setReport` (a report computed in the page's worker), `usefulPanels`, draw, svg, LSCR raster, GLLS precision), `testOnlyAbort` (the page tests' crash) and one chunked `Study` for every method's Monte Carlo |
 //!
 //! The command line lives in `src/bin/confset.rs`; the page in `www/` (no numerics there):
 //! `app.js` is the shell (routes `#scf` … `#ubb` and the landing view, share links
@@ -45,7 +45,15 @@
 //! first visit; ids are looked up under the panel's root, so a view can be mounted twice),
 //! `panel.js` the one skeleton (`mountPanel`: session, figure cards, inline errors, frame
 //! scheduling, downloads) that each panel module (`scf.js`, `lscr.js`, `glls.js`, `uniform.js`,
-//! `ubb.js`) fills with its controls ⇄ scenario mapping and its numbers; the number boxes and
+//! `ubb.js`) fills with its controls ⇄ scenario mapping and its numbers. A panel's scenarios run
+//! in its own Web Worker (`worker.js`, its own wasm instance, driven by the one client
+//! `compute.js`): the report comes back as JSON, the panel's main-thread `Session` keeps it
+//! (`setReport`) and draws it. A long run never blocks input (Cancel after 1 s; a newer scenario
+//! replaces it), and a crash (a panic aborts the instance) takes only the worker down: it is
+//! replaced, the panel keeps its last picture and offers the scenario to report. The page runs
+//! under a strict Content-Security-Policy (`index.html`: own files only, `'wasm-unsafe-eval'`,
+//! no inline script, no eval). The chunked studies (`Study`) still run on the main thread, about
+//! 12 ms per task. The number boxes and
 //! their sliders take their ranges from [`scenario::limits`]. The figure cards are made from the
 //! core's list ([`plot::method_panels`], with [`plot::Panel::alt_text`]) and shown as
 //! [`plot::useful_panels`] says for each report; a view's markup only places them
@@ -74,7 +82,9 @@
 //!   from the scenario (title, axis names, …) is the report's `figure`, so the page and the CLI
 //!   draw the same figure from the same scenario (`tests/suite/registry.rs`, `plot` tests).
 //! * Every public function that takes user input returns [`Result`]; no panic is reachable from
-//!   input, valid or not (a panic would kill the page).
+//!   input, valid or not (a panic aborts the wasm instance: in the compute worker the page
+//!   contains it, but it is a bug). `web::test_only_abort` is the one deliberate abort, for the
+//!   page's crash test, and no scenario reaches it.
 //! * Every random stream takes a seed and is a named generator (ChaCha8), so a scenario with a
 //!   seed gives the same report natively and in the browser; given explicit `data`, a report is
 //!   deterministic and native = wasm to 1e-9 relative (`tests/suite/determinism.rs`; every
@@ -192,7 +202,9 @@
 //!   (`cargo tree -d`). Never `StdRng` or `thread_rng` (not portable across versions);
 //!   `tests/suite/determinism.rs` pins the first draws of a seed.
 //! * plotters' text layout panics inside a Web Worker: the page draws on the main thread (a
-//!   worker may compute, never draw). Static hosts cannot send COOP/COEP, so no wasm threads.
+//!   worker may compute, never draw): the panels' compute workers send reports back as JSON and
+//!   `Session::set_report` keeps them for drawing. Static hosts cannot send COOP/COEP, so no
+//!   wasm threads (each worker has its own instance and memory).
 //! * A figure's legend lies beside or below its charts, never over them, unless the figure is
 //!   too small for that (below would leave the chart under 60 % of the height or under 150 px):
 //!   then it overlays the emptiest corner. [`plot::Frame::legends`] gives the boxes, and the

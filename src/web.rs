@@ -8,6 +8,8 @@
 //! const withData = withCsvData(json, csvText);   // the scenario JSON with data from CSV
 //! const s = new Session();
 //! const report = JSON.parse(s.run(JSON.stringify(list[0].scenario)));
+//! // The page runs scenarios in a Web Worker (its own instance: `www/worker.js`) and draws the
+//! // report it sends back on the main thread: `s.setReport(reportJson)` keeps it for `draw`.
 //! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
 //! const svg = s.svg('{"panel":"coverage"}', 800, 500);
 //!
@@ -93,6 +95,15 @@ pub fn start() {
     console_error_panic_hook::set_once();
 }
 
+/// Test only: aborts the module's instance (a wasm trap, as a panic or an allocation failure
+/// does here), so the page's tests can check that a failed computation is contained: the
+/// compute worker is replaced and the panel keeps its picture. No scenario, link or file
+/// reaches it: only the worker's test message (`www/worker.js`) calls it.
+#[wasm_bindgen(js_name = testOnlyAbort)]
+pub fn test_only_abort() {
+    std::process::abort()
+}
+
 /// Every preset as JSON: `[{"name", "description", "scenario"}, …]` in menu order.
 #[wasm_bindgen]
 pub fn presets() -> Result<String, JsValue> {
@@ -167,6 +178,23 @@ impl Session {
         let json = to_json("the report", &report)?;
         self.report = Some(report);
         Ok(json)
+    }
+
+    /// Keep a report computed elsewhere (its JSON, as [`Session::run`] returns it) for drawing,
+    /// in place of the kept one: the page runs its scenarios in a Web Worker (a fault there
+    /// cannot take the page down) and draws here, on the main thread, because plotters' text
+    /// layout panics inside a worker. JSON that is not a report is a `report` error, and the
+    /// kept report stays.
+    #[wasm_bindgen(js_name = setReport)]
+    pub fn set_report(&mut self, report_json: &str) -> Result<(), JsValue> {
+        let report: Report = serde_json::from_str(report_json).map_err(|e| {
+            js_error(&Error::field(
+                "report",
+                format!("is not a valid report: {e}"),
+            ))
+        })?;
+        self.report = Some(report);
+        Ok(())
     }
 
     /// The panels worth drawing for the kept report (`plot::useful_panels`), JSON `["state",

@@ -238,9 +238,12 @@ async function restore(d, state) {
 
 function addLoaded(d, api, name, scenario) {
   const file = name.replace(/^(file|data):/, '');
+  // The file's title and notes are shown as text (menu label, description): strings only.
+  const title = typeof scenario.title === 'string' ? scenario.title : '';
+  const notes = typeof scenario.notes === 'string' ? scenario.notes : '';
   const p = name.startsWith('data:')
-    ? { name, label: `your data: ${file}`.slice(0, 60), description: `${scenario.title || d.title}: measured data from ${file}`, scenario }
-    : { name, label: `loaded: ${scenario.title || file}`.slice(0, 60), description: scenario.notes || `a scenario loaded from ${file}`, scenario };
+    ? { name, label: `your data: ${file}`.slice(0, 60), description: `${title || d.title}: measured data from ${file}`, scenario }
+    : { name, label: `loaded: ${title || file}`.slice(0, 60), description: notes || `a scenario loaded from ${file}`, scenario };
   api.addPreset(p);
   d.loaded = p;
 }

@@ -1,6 +1,7 @@
 // Shared by the panels: wasm experiments run in chunks (about 12 ms of work per task, then the
 // browser paints and Cancel can land), input bursts coalesced into one run per frame, and core
-// errors shown next to the field they name.
+// errors shown next to the field they name. (A panel's scenario runs in its compute worker:
+// compute.js, panel.js.)
 
 const SLICE_MS = 12;
 // Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
@@ -29,17 +30,18 @@ export async function runChunked(exp, chunk, me, onChunk) {
 
 // A run-per-frame scheduler: schedule('compute') or schedule('redraw') during a burst of input
 // events runs once on the next animation frame (a compute covers a redraw); the panel's busy
-// count is held meanwhile so tests can wait for it.
+// count is held until it has drawn — for a compute, until the Promise `compute()` returns
+// settles — so tests can wait for it.
 export function frameScheduler(setBusy, compute, redraw) {
   let queued = null;
   return function schedule(what) {
     if (queued === 'compute' || queued === what) return;
     if (!queued) setBusy(+1);
     queued = what;
-    requestAnimationFrame(() => {
+    requestAnimationFrame(async () => {
       const w = queued;
       queued = null;
-      try { if (w === 'compute') compute(); else redraw(); } finally { setBusy(-1); }
+      try { if (w === 'compute') await compute(); else redraw(); } finally { setBusy(-1); }
     });
   };
 }
@@ -74,29 +76,6 @@ export function fieldErrors(root, staleNote, within = '') {
     staleNote.hidden = !hasGood;
   }
   return { show, clear };
-}
-
-// One run of a panel's scenario: `build()` makes it, `run(scenario)` returns the report's JSON
-// (one wasm call, or two when the first report fixes something the scenario must be run with).
-// On success the report, its JSON, the scenario and the run time (ms, `build` excluded) land in
-// `st` and the inline errors clear; on failure the error shows next to its field (the last good
-// picture, if any, stays). Returns whether it succeeded.
-export function runScenario(st, errors, build, run) {
-  let scenario, json;
-  try {
-    scenario = build();
-    const t0 = performance.now();
-    json = run(scenario);
-    st.runMs = performance.now() - t0;
-    st.report = JSON.parse(json);
-    errors.clear();
-  } catch (e) {
-    errors.show(e, !!st.report);
-    return false;
-  }
-  st.reportJson = json;
-  st.scenario = scenario;
-  return true;
 }
 
 // A counter of running computations shown as document.body.dataset[key] (set while > 0), which

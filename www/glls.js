@@ -1,5 +1,5 @@
-// The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → wasm
-// Session.run → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
+// The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → a run in
+// the panel's compute worker → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
 // "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, in chunks
 // (wasm Study), and its result is handed back to the Session (set_precision) so the
 // "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
@@ -174,14 +174,14 @@ function build(p, s) {
   delete g.monte_carlo;
 }
 
-function run(session, scenario) {
-  let json = session.run(JSON.stringify(scenario));
+async function run(runInWorker, scenario) {
+  let json = await runInWorker(scenario);
   const g = scenario.glls;
   if (g.noise === 'worst' && g.horizon == null) {
     // The worst-case noise is aligned with the gain of the horizon in use: the best one,
     // which only the report knows — run again with it fixed.
     g.horizon = JSON.parse(json).glls.s;
-    json = session.run(JSON.stringify(scenario));
+    json = await runInWorker(scenario);
   }
   return json;
 }

@@ -1,4 +1,4 @@
-// The LSCR panel: controls → Scenario JSON (method "lscr") → wasm Session.run → the region figure
+// The LSCR panel: controls → Scenario JSON (method "lscr") → a run in the panel's compute worker → the region figure
 // (Session.draw, view {"panel":"region"}), the numbers of the report, and the chunked coverage
 // experiment (wasm Study) at a true state placed with a click. No estimation happens
 // here: the page only edits the preset's scenario and shows what the core reports.
@@ -7,7 +7,7 @@ import { mountPanel, clone } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner } from './chunked.js';
 import { parseVector, parseNumber, wholeNumber } from './parse.js';
-import { sub } from './richtext.js';
+import { sub, escapeHtml } from './richtext.js';
 
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toFixed(3));
@@ -40,7 +40,7 @@ class RegionFigure extends Figure {
 function load(p, s) {
   const { ui } = p;
   const l = s.lscr;
-  ui.notes.textContent = (s.notes || '').replace(/\s{2,}/g, ' ');
+  ui.notes.textContent = (typeof s.notes === 'string' ? s.notes : '').replace(/\s{2,}/g, ' ');
   ui.sv.value = s.model.sigma_v2;
   ui.sw.value = s.model.sigma_w2;
   ui.t.value = s.simulate ? s.simulate.steps : s.data.y.length;
@@ -112,14 +112,14 @@ function build(p, s) {
   }
 }
 
-function run(session, scenario) {
-  let json = session.run(JSON.stringify(scenario));
+async function run(runInWorker, scenario) {
+  let json = await runInWorker(scenario);
   const c = scenario.simulate?.condition;
   if (c) {
     const time = JSON.parse(json).lscr.time;
     if (time !== c.t) { // the truth belongs at the estimated time
       c.t = time;
-      json = session.run(JSON.stringify(scenario));
+      json = await runInWorker(scenario);
     }
   }
   return json;
@@ -170,7 +170,7 @@ function showNumbers({ ui, st }) {
   }
   const est = [
     ['true state', l.x_true ? vec(l.x_true) : '– (data given)'],
-    ['BLUE ⋆', l.blue ? vec(l.blue.center) : `none${l.blue_note ? ` — ${l.blue_note}` : ''}`],
+    ['BLUE ⋆', l.blue ? vec(l.blue.center) : `none${l.blue_note ? ` — ${escapeHtml(l.blue_note)}` : ''}`],
     ['Kalman (dashed)', l.kf ? vec(l.kf.center) : 'none for smoothing'],
   ];
   html += `<table class="est"><tbody>${est.map(([a, b]) => `<tr><th>${a}</th><td>${b}</td></tr>`).join('')}</tbody></table>`;

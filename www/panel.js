@@ -2,7 +2,8 @@
 // small API the shell (router, share links, scenario import) drives it through.
 import { Session } from './pkg/confset.js';
 import { Figure, figureCards, download, drawFigures, redrawOnResize } from './figure.js';
-import { runScenario, fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
+import { computeClient, ComputeFault } from './compute.js';
 import { parseMatrix, matrixText } from './parse.js';
 
 export const clone = (v) => JSON.parse(JSON.stringify(v));
@@ -47,9 +48,44 @@ export function dataMode(root, scenario) {
   note.hidden = !onData;
 }
 
+// A run still going after this long shows its Cancel control, and a newer scenario replaces it
+// (rather than queueing behind it).
+const CANCEL_AFTER_MS = 1000;
+
+// What a panel says about a run that did not end in a report (or a core error), beside its
+// stale-picture note: Cancel while a run takes long, "cancelled" after it, and the message of a
+// crash with the scenario that caused it to download.
+function computeNote(staleNote, saveScenario) {
+  const note = Object.assign(document.createElement('p'), { className: 'stale compute-note', hidden: true });
+  staleNote.after(note);
+  const say = (text, button, onClick, role = 'status') => {
+    note.setAttribute('role', role);
+    const b = button ? Object.assign(document.createElement('button'), { type: 'button', className: 'compute-act', textContent: button }) : null;
+    b?.addEventListener('click', onClick);
+    note.replaceChildren(Object.assign(document.createElement('span'), { textContent: text }), ...(b ? [' ', b] : []));
+    note.hidden = false;
+  };
+  let timer = 0;
+  return {
+    // A run starts: nothing to say until it takes long, then its Cancel.
+    running(cancel) {
+      clearTimeout(timer);
+      note.hidden = true;
+      timer = setTimeout(() => say('Still computing…', 'Cancel', cancel), CANCEL_AFTER_MS);
+    },
+    done() { clearTimeout(timer); note.hidden = true; },
+    cancelled() { clearTimeout(timer); say('Computation cancelled: the figures show the last computed scenario.'); },
+    crashed(scenario) {
+      clearTimeout(timer);
+      say('The computation failed — this is a bug. Download the scenario to report it.', 'Download the scenario', () => saveScenario(scenario), 'alert');
+    },
+  };
+}
+
 // The skeleton of a panel: a wasm Session, the controls ⇄ scenario ⇄ report loop, its figures,
 // preset menu, inline errors, busy flag, downloads (#<prefix>dl-report, #<prefix>dl-scenario) and
-// timing line. A panel module describes itself in `spec`; the hooks get the panel `p` = { root,
+// timing line. The scenarios run in the panel's compute worker (compute.js); the Session here
+// keeps the report it sends back (setReport) and draws it. A panel module describes itself in `spec`; the hooks get the panel `p` = { root,
 // session, ui, st, figures, errors, setBusy, schedule, build(), compute(), redraw(), isCustom(),
 // model(), stem() } with st = { preset, report, reportJson, scenario, runMs, drawMs } (a hook may
 // keep its own fields in p and st).
@@ -70,7 +106,9 @@ export function dataMode(root, scenario) {
 //   load(p, s)       controls ← the preset's scenario s (the skeleton has shown its description,
 //                    notes, custom box and data mode)
 //   build(p, s)      controls → scenario: sets the fields of s, a copy of the preset's scenario
-//   run(session, scenario)  the report's JSON (default: one session.run)
+//   run(runInWorker, scenario)  a Promise of the report's JSON (default: runInWorker(scenario),
+//                    one run in the worker; a hook may run twice when the first report fixes
+//                    something the scenario must be run with)
 //   after(p)         after a run succeeded, before the redraw
 //   time(p)          the time the figures are drawn at (default: none)
 //   draw(p, time)    the numbers of the report, after the figures
@@ -79,6 +117,7 @@ export function dataMode(root, scenario) {
 // Returns the panel's API for the shell.
 export function mountPanel(root, spec) {
   const session = new Session();
+  const worker = computeClient(root.id);
   const prefix = spec.prefix || '';
   // Every panel's form opens with its preset menu and the preset's description.
   const row = Object.assign(document.createElement('label'), { className: 'row', textContent: 'Scenario' });
@@ -103,7 +142,12 @@ export function mountPanel(root, spec) {
   const isCustom = () => st.preset === spec.custom;
   const model = () => Object.fromEntries(spec.model.map((k) => [k, parseMatrix(`model.${k}`, ui[`m-${k}`].value)]));
   for (const k of spec.model || []) ui[`m-${k}`].value = matrixText(spec.custom.scenario.model[k]);
-  const prose = (el, text) => { if (spec.prose) el.innerHTML = spec.prose(text); else el.textContent = text; };
+  // Descriptions and notes may come from a scenario file (any JSON value): always as text, and
+  // as HTML only through the panel's prose(), which escapes it first (richtext.js).
+  const prose = (el, value) => {
+    const text = typeof value === 'string' ? value : '';
+    if (spec.prose) el.innerHTML = spec.prose(text); else el.textContent = text;
+  };
 
   function loadPreset(name) {
     st.preset = all.find((x) => x.name === name) || all[0];
@@ -124,12 +168,81 @@ export function mountPanel(root, spec) {
     return s;
   }
 
-  // One run of the scenario the controls describe; whether it succeeded.
+  // The runs. At most one is in flight; input meanwhile marks the controls' scenario as wanted
+  // (`again`), and it is built and sent when the one in flight ends — so a burst of input costs
+  // one more run, not one per event. A run past CANCEL_AFTER_MS is replaced by the newer
+  // scenario instead of waited for. A result is drawn unless another preset was chosen while
+  // it ran (`preset` changed: it belongs to the old one).
   let computed = false;
+  let inFlight = null; // the Promise of the runs going on
+  let again = false;
+  let runStarted = 0;
+  let presetChoice = 0;
   function compute() {
     computed = true;
-    const run = spec.run ? (s) => spec.run(session, s) : (s) => session.run(JSON.stringify(s));
-    if (!runScenario(st, errors, build, run)) return false;
+    if (inFlight) {
+      again = true;
+      if (performance.now() - runStarted > CANCEL_AFTER_MS) worker.replace('superseded');
+      return inFlight;
+    }
+    // Busy until drawn, whoever asked (the frame scheduler, or a panel's own loop like ubb's animation).
+    setBusy(+1);
+    inFlight = (async () => {
+      let ok;
+      do {
+        again = false;
+        ok = await computeOnce();
+      } while (again);
+      return ok;
+    })().finally(() => { inFlight = null; setBusy(-1); });
+    return inFlight;
+  }
+
+  const runInWorker = async (s) => (await worker.run(JSON.stringify(s))).report;
+  const cancel = () => { again = false; worker.replace('cancelled'); };
+
+  // One run of the scenario the controls describe, and its redraw; whether it succeeded. A core
+  // error shows next to its field, a crash or a cancel in the compute note; the last good
+  // picture stays.
+  async function computeOnce() {
+    const choice = presetChoice;
+    let scenario, json;
+    try {
+      scenario = build();
+    } catch (e) {
+      errors.show(e, !!st.report);
+      return false;
+    }
+    const t0 = performance.now();
+    runStarted = t0;
+    note.running(cancel);
+    try {
+      json = await (spec.run ? spec.run(runInWorker, scenario) : runInWorker(scenario));
+    } catch (e) {
+      if (choice !== presetChoice || e?.kind === 'superseded') { note.done(); return false; }
+      if (e instanceof ComputeFault) {
+        again = false; // what was asked meanwhile waits for the next input
+        errors.clear();
+        if (e.kind === 'crash') note.crashed(scenario); else note.cancelled();
+        return false;
+      }
+      note.done();
+      errors.show(e, !!st.report);
+      return false;
+    }
+    note.done();
+    if (choice !== presetChoice) return false;
+    st.runMs = performance.now() - t0; // the round trip to the worker
+    try {
+      session.setReport(json);
+    } catch (e) {
+      errors.show(e, !!st.report);
+      return false;
+    }
+    st.report = JSON.parse(json);
+    st.reportJson = json;
+    st.scenario = scenario;
+    errors.clear();
     // The cards of the figures the core finds worth drawing for this report.
     const useful = JSON.parse(session.usefulPanels());
     for (const f of figures) f.card.hidden = !f.shownFor(useful);
@@ -151,7 +264,7 @@ export function mountPanel(root, spec) {
   const schedule = frameScheduler(setBusy, compute, redraw);
   const p = { root, session, ui, st, figures, errors, setBusy, schedule, build, compute, redraw, isCustom, model, stem };
 
-  ui.preset.addEventListener('change', () => { spec.leave?.(p); loadPreset(ui.preset.value); schedule('compute'); });
+  ui.preset.addEventListener('change', () => { presetChoice++; spec.leave?.(p); loadPreset(ui.preset.value); schedule('compute'); });
   for (const [list, what] of [[spec.compute, 'compute'], [spec.redraw, 'redraw']]) {
     for (const id of list || []) ui[id].addEventListener('input', () => { spec.input?.(p, id); schedule(what); });
   }
@@ -159,6 +272,7 @@ export function mountPanel(root, spec) {
   redrawOnResize(figures, () => schedule('redraw'));
 
   const save = (kind, json) => download(`${stem()}-${kind}.json`, new Blob([json], { type: 'application/json' }));
+  const note = computeNote(ui.stale, (s) => save('failed-scenario', JSON.stringify(s, null, 2)));
   byId(`${prefix}dl-report`).addEventListener('click', () => {
     if (st.reportJson) save('report', spec.reportFile ? spec.reportFile(p) : st.reportJson);
   });

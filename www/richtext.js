@@ -4,7 +4,9 @@
 // A check mark for the numbers tables: ✓ `yes`, ✗ `no`, or – when unknown (null).
 export const verdict = (b, yes, no) => (b == null ? '–' : b ? `<b class="good">✓ ${yes}</b>` : `<b class="warn">✗ ${no}</b>`);
 
-const escapeHtml = (t) => t.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
+// Text as HTML that shows it as it is: every string of a report that goes into a numbers table
+// (it may carry a name from a loaded scenario) passes through it.
+export const escapeHtml = (t) => String(t).replace(/[&<>"']/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;' }[c]));
 
 // Escaped text with runs of whitespace folded and the braced _{…} / ^{…} as <sub>/<sup>; each
 // panel adds its own unbraced subscripts (their symbols differ).

@@ -1,4 +1,4 @@
-// The SCF vs KF panel: controls → Scenario JSON → wasm Session.run → figures and numbers.
+// The SCF vs KF panel: controls → Scenario JSON → a run in the compute worker → figures and numbers.
 // No estimation happens here: the page only edits the preset's scenario and shows the report.
 import { mountPanel, clone } from './panel.js';
 import { mountMonteCarlo } from './montecarlo.js';

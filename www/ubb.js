@@ -1,4 +1,4 @@
-// The set-membership panel (Tempo, method "ubb"): controls → Scenario JSON → wasm Session.run →
+// The set-membership panel (Tempo, method "ubb"): controls → Scenario JSON → a run in the compute worker →
 // two figures drawn by the core (views {"panel": "ubbset" | "ubbwidth"}) and the numbers of the
 // report (report.ubb). The step k is the scenario's ubb.time: the core computes the exact polygon,
 // the interval hull and the prediction there. The guarantee runs fresh simulations in chunks
@@ -9,7 +9,7 @@ import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
-import { bracedScripts, verdict, sub } from './richtext.js';
+import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
 
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
@@ -121,7 +121,7 @@ function showNumbers({ ui, st }) {
   const sm = u.smoothing;
   const step = u.track.find((t) => t.k === k);
   // Example 1's state is the coefficient vector a: the report names it ("a₁ (1)", …).
-  const names = u.state_names || at.lo.map((_, c) => `x${sub(c + 1)}`);
+  const names = (u.state_names || at.lo.map((_, c) => `x${sub(c + 1)}`)).map(escapeHtml);
   const coef = !names[0].startsWith('x');
   const target = coef ? 'the coefficients a' : `x(${k + 1})`;
   ui['num-title'].textContent = `At step k = ${k}: the set of ${target} from y(${at.first}) … y(${k}), ${NORM[u.norm] || u.norm} bounds`;
@@ -174,14 +174,17 @@ function startAnimation(p) {
   ui.animate.textContent = '■ stop';
   let k = Number(ui.time.value);
   if (k >= Number(ui.time.max)) k = st.report.ubb.track[0].k - 1;
-  const tick = () => {
+  const tick = async () => {
     if (!p.animating) return;
     k += 1;
     if (k > Number(ui.time.max)) { stopAnimation(p); return; }
     ui.time.value = String(k);
     showTime(p);
-    if (!p.compute()) { stopAnimation(p); return; }
-    p.animating.timer = setTimeout(tick, ANIMATE_MS);
+    const me = p.animating;
+    const ok = await p.compute();
+    if (p.animating !== me) return; // stopped (or restarted) while it computed
+    if (!ok) { stopAnimation(p); return; }
+    me.timer = setTimeout(tick, ANIMATE_MS);
   };
   tick();
 }

@@ -1,4 +1,4 @@
-// The uniform-innovation panel: controls → Scenario JSON (method "uniform_lp") → wasm Session.run →
+// The uniform-innovation panel: controls → Scenario JSON (method "uniform_lp") → a run in the compute worker →
 // four figures drawn by the core (views {"panel": "ustates" | "uoutput" | "uparams" | "upolygon"})
 // and the numbers of the report (report.uniform). The time cursor is the scenario's uniform.time:
 // the core computes the window, the optimal face and the consistent-state polygon there, and every
@@ -7,7 +7,7 @@
 import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
-import { bracedScripts, verdict, sub } from './richtext.js';
+import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
 
 const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
@@ -168,7 +168,7 @@ function showNumbers({ ui, st }) {
     row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
       ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}; ${exact}</span>`);
   } else {
-    row('polygon', `– <span class="hint">(${at.polygon_absent || 'none'})</span>`);
+    row('polygon', `– <span class="hint">(${escapeHtml(at.polygon_absent || 'none')})</span>`);
   }
   ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
 

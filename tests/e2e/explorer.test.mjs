@@ -348,7 +348,9 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await idle(page, d.busy);
       // With the URL following (450 ms between moves: the debounced update runs between them)
       // and without it (150 ms: the update never fires within the burst).
-      const slide = (pause) => page.evaluate(async ([id, pause]) => {
+      // The frame counted is the first one painted after the panel drew the new report (the run
+      // is asynchronous: it happens in the panel's compute worker).
+      const slide = (pause) => page.evaluate(async ([id, pause, busy]) => {
         const r = [...document.getElementById(id).querySelectorAll('form input[type=range]')].find((e) => e.offsetParent);
         if (!r) return null;
         const out = [];
@@ -358,12 +360,15 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
           const t0 = performance.now();
           r.value = String(v);
           r.dispatchEvent(new Event('input', { bubbles: true }));
-          await new Promise((res) => requestAnimationFrame(() => requestAnimationFrame(res)));
+          await new Promise((res) => {
+            const drawn = () => requestAnimationFrame(() => (document.body.dataset[busy] ? drawn() : requestAnimationFrame(res)));
+            drawn();
+          });
           out.push(performance.now() - t0);
           await new Promise((res) => setTimeout(res, pause));
         }
         return { id: r.id, ms: out.sort((a, b) => a - b) };
-      }, [d.id, pause]);
+      }, [d.id, pause, d.busy]);
       const moves = await slide(450);
       const link = await page.evaluate(() => location.hash.length);
       if (!moves) continue; // no slider (LSCR: number fields and a click on the figure)
@@ -383,15 +388,18 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await plain.waitForTimeout(500);
       const link = await plain.evaluate(() => location.href);
       // Count the core's runs: a link restores in one compute, not the preset's and then its own.
+      // The runs happen in the panel's compute worker: its global counts them.
       const counted = await newPage({ viewport: { width: 1366, height: 900 } });
       await counted.route('**/pkg/confset.js', async (route) => {
         const response = await route.fetch();
-        const body = (await response.text()).replace(/(\n    run\(scenario_json\) \{)/, '$1 window.__runs = (window.__runs || 0) + 1;');
+        const body = (await response.text()).replace(/(\n    run\(scenario_json\) \{)/, '$1 globalThis.__runs = (globalThis.__runs || 0) + 1;');
         await route.fulfill({ response, body });
       });
       await counted.goto(link);
       await ready(counted);
-      assert.equal(await counted.evaluate(() => window.__runs), 1, `${d.id}: the link restores in one run of the core`);
+      let runs = await counted.evaluate(() => globalThis.__runs || 0);
+      for (const w of counted.workers()) runs += await w.evaluate(() => globalThis.__runs || 0);
+      assert.equal(runs, 1, `${d.id}: the link restores in one run of the core`);
       await counted.close();
       const restored = await newPage({ viewport: { width: 1366, height: 900 } });
       await restored.goto(link);

@@ -9,7 +9,10 @@
 //   waitReady(page, timeoutMs?)  waits for document.body.dataset.ready === "1"
 //   assert        node:assert/strict
 //   screenshotDir tests/e2e/out (absolute; gitignored)
-// A test fails if it throws or if any of its pages logged a console error or threw a page error.
+//   takeErrors(re) removes the recorded errors matching `re` and returns them: for a test that
+//                 provokes one on purpose and checks that it was caught
+// A test fails if it throws or if any of its pages logged a console error, threw a page error or
+// broke its Content-Security-Policy (every securitypolicyviolation event is logged as an error).
 import { createRequire } from 'node:module';
 import { readdirSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -60,6 +63,12 @@ for (const file of files) {
   const newPage = async (opts = {}) => {
     const context = await browser.newContext(opts);
     contexts.push(context);
+    // A CSP violation is an error of the page's, whether or not the browser logs one.
+    await context.addInitScript(() => {
+      document.addEventListener('securitypolicyviolation', (e) => {
+        console.error(`CSP violation: ${e.violatedDirective} blocked ${e.blockedURI || 'inline'} (${e.sourceFile || ''}:${e.lineNumber})`);
+      });
+    });
     const page = await context.newPage();
     pages.push(page);
     page.on('console', (m) => {
@@ -69,9 +78,19 @@ for (const file of files) {
       else if (m.type() === 'warning') warnings.push(`console.warn: ${m.text()}${where}`);
     });
     page.on('pageerror', (e) => errors.push(`page error: ${e.stack || e.message}`));
+    // The panels' compute workers log to their own console (a panic's message lands there).
+    page.on('worker', (w) => w.on('console', (m) => {
+      if (m.type() === 'error') errors.push(`worker console.error: ${m.text()} (${w.url()})`);
+      else if (m.type() === 'warning') warnings.push(`worker console.warn: ${m.text()} (${w.url()})`);
+    }));
     return page;
   };
-  const ctx = { browser, baseUrl, newPage, waitReady, assert, screenshotDir };
+  const takeErrors = (re) => {
+    const taken = errors.filter((e) => re.test(e));
+    errors.splice(0, errors.length, ...errors.filter((e) => !re.test(e)));
+    return taken;
+  };
+  const ctx = { browser, baseUrl, newPage, waitReady, assert, screenshotDir, takeErrors };
   const t0 = Date.now();
   let failure = null;
   try {

@@ -97,6 +97,50 @@ fn session_runs_a_preset_and_keeps_it_on_error() {
     assert_eq!(field, "size");
 }
 
+/// The page's compute worker runs a scenario and the main thread draws its report: a Session
+/// given the report's JSON (`setReport`) draws what the Session that ran it draws, for the first
+/// preset of every method; JSON that is not a report is a `report` error and the kept one stays.
+#[wasm_bindgen_test]
+fn a_report_set_from_json_draws_as_the_run_one() {
+    let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
+    let mut methods = Vec::new();
+    for p in list.as_array().expect("a list") {
+        let method = p["scenario"]["method"]
+            .as_str()
+            .unwrap_or("scf")
+            .to_string();
+        if methods.contains(&method) {
+            continue;
+        }
+        methods.push(method.clone());
+        let mut ran = Session::new();
+        let json = ran
+            .run(&p["scenario"].to_string())
+            .expect("the preset runs");
+        let mut drawn = Session::new();
+        drawn.set_report(&json).expect("the report is read back");
+        assert_eq!(drawn.useful_panels(), ran.useful_panels(), "{method}");
+        let useful: Vec<String> = serde_json::from_str(&ran.useful_panels()).expect("names");
+        for panel in useful {
+            let view = serde_json::json!({ "panel": panel }).to_string();
+            assert_eq!(
+                drawn.svg(&view, 640, 480).expect("svg of the set report"),
+                ran.svg(&view, 640, 480).expect("svg of the run report"),
+                "{method}: the {panel} figure"
+            );
+        }
+        let (msg, field) = thrown(
+            drawn
+                .set_report(r#"{"steps": 3}"#)
+                .expect_err("not a report"),
+        );
+        assert_eq!(field, "report", "{msg}");
+        assert!(msg.starts_with("report is not a valid report"), "{msg}");
+        assert!(drawn.has_report(), "the kept report stays");
+    }
+    assert!(methods.len() >= 5, "every method: {methods:?}");
+}
+
 #[wasm_bindgen_test]
 fn session_draws_on_a_canvas_and_as_svg() {
     let mut s = Session::new();

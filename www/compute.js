@@ -1,0 +1,111 @@
+// The panels' compute client: each mounted panel runs its scenarios in a Web Worker of its own
+// (worker.js, with its own wasm instance), so the page's input is never blocked by a long run
+// and a fault of the core (a panic or an allocation failure aborts a wasm instance, and every
+// later call into it fails) takes down that worker only. The client then replaces the worker;
+// the panel keeps its last picture. Drawing stays on the main thread (plotters' text layout
+// panics inside a worker): the panel hands the report to its own Session (setReport).
+
+// A run that did not end with a report or a core error: `kind` is 'crash' (the worker died or
+// its instance aborted: a bug), 'cancelled' (the user's Cancel) or 'superseded' (a newer
+// scenario replaced a long run).
+export class ComputeFault extends Error {
+  constructor(kind, message) {
+    super(message);
+    this.name = 'ComputeFault';
+    this.kind = kind;
+  }
+}
+
+// Every worker start of the page, for the tests and the console: {panel, reason ('first' or
+// the fault kind that replaced the previous one), readyMs (start → module loaded)}.
+export const workerStarts = [];
+
+// The live clients by panel (the panel root's id), so a browser test can reach one
+// (`testOnlyAbortNextRun`); nothing in the page looks them up.
+export const computeClients = new Map();
+
+const WORKER_URL = new URL('./worker.js', import.meta.url);
+
+// The client of one panel: run(scenarioJson) → Promise of {report (JSON text), ms (compute time
+// in the worker)}; it rejects with the core's error (an Error with `field`) or a ComputeFault.
+// Jobs run one at a time in the order sent; replace(kind) ends them all (with that fault) and
+// starts a fresh worker.
+export function computeClient(panel) {
+  let worker = null;
+  let nextId = 1;
+  const jobs = new Map(); // id → {resolve, reject}
+  const client = {
+    // Test only: the next job aborts the worker's instance instead of running (worker.js).
+    testOnlyAbortNextRun: false,
+    run(scenarioJson) {
+      if (!worker) start('retry'); // the last one never loaded
+      const id = nextId++;
+      const testOnlyAbort = client.testOnlyAbortNextRun;
+      client.testOnlyAbortNextRun = false;
+      return new Promise((resolve, reject) => {
+        jobs.set(id, { resolve, reject });
+        worker.postMessage({ id, scenario: scenarioJson, testOnlyAbort });
+      });
+    },
+    // Whether a job is waiting for the worker.
+    get pending() { return jobs.size > 0; },
+    replace,
+  };
+
+  function start(reason) {
+    const t0 = performance.now();
+    const entry = { panel, reason, readyMs: null };
+    workerStarts.push(entry);
+    const w = new Worker(WORKER_URL, { type: 'module' });
+    worker = w;
+    let ready = false;
+    w.onmessage = ({ data }) => {
+      if (w !== worker) return; // a replaced worker's late message
+      if (data.ready) {
+        ready = true;
+        entry.readyMs = performance.now() - t0;
+        return;
+      }
+      const job = jobs.get(data.id);
+      if (!job) return;
+      if (data.fault) { fail(data.fault, ready); return; } // this job fails with every other
+      jobs.delete(data.id);
+      if (data.error) job.reject(Object.assign(new Error(data.error.message), { field: data.error.field }));
+      else job.resolve({ report: data.report, ms: data.ms });
+    };
+    // An uncaught error in the worker (its script or module did not load, or it died): handled
+    // here, not reported again as the page's.
+    w.onerror = (e) => {
+      e.preventDefault();
+      if (w === worker) fail(e.message || 'the compute worker stopped', ready);
+    };
+    w.onmessageerror = () => { if (w === worker) fail('a message from the compute worker could not be read', ready); };
+  }
+
+  // The worker failed: every job fails with it. A worker that had loaded is replaced at once
+  // (the next run finds it warm); one that never loaded is not (no restart loop), the next run
+  // tries again.
+  function fail(message, wasReady) {
+    end(new ComputeFault('crash', `The computation failed: ${message}`));
+    if (wasReady) start('crash');
+  }
+
+  function end(fault) {
+    worker?.terminate();
+    worker = null;
+    const waiting = [...jobs.values()];
+    jobs.clear();
+    for (const j of waiting) j.reject(fault);
+  }
+
+  // Stop what runs (Cancel, or a newer scenario) and start a fresh worker.
+  function replace(kind) {
+    end(new ComputeFault(kind, kind));
+    start(kind);
+  }
+
+  // Warm from the start: the module loads while the panel builds its first scenario.
+  start('first');
+  computeClients.set(panel, client);
+  return client;
+}
