@@ -84,7 +84,14 @@
 //! * Every public function that takes user input returns [`Result`]; no panic is reachable from
 //!   input, valid or not (a panic aborts the wasm instance: in the compute worker the page
 //!   contains it, but it is a bug). `web::test_only_abort` is the one deliberate abort, for the
-//!   page's crash test, and no scenario reaches it.
+//!   page's crash test, and no scenario reaches it. Three defences, written once: sizes
+//!   and magnitudes are checked on the JSON before it is read (`scenario::MAX_COUNT`,
+//!   `MAX_MAGNITUDE`/`MIN_MAGNITUDE`, `MAX_MODEL_DIM`, naming the path); every SVD and
+//!   symmetric eigendecomposition goes through [`linalg::try_svd`] /
+//!   [`linalg::try_symmetric_eigen`] (non-finite input refused, sweeps capped: nalgebra panics
+//!   on NaN and never converges on ∞); [`scenario::Report::check_finite`] turns a non-finite
+//!   report number into an error naming the report field. The fuzzer (`tests/suite/fuzz.rs`)
+//!   holds all three to account; the README's Limits table gives each limit's reason.
 //! * Every random stream takes a seed and is a named generator (ChaCha8), so a scenario with a
 //!   seed gives the same report natively and in the browser; given explicit `data`, a report is
 //!   deterministic and native = wasm to 1e-9 relative (`tests/suite/determinism.rs`; every

@@ -543,7 +543,7 @@ pub enum Joint {
 }
 
 /// The longest window ∂ the on-line estimator takes (its LP grows with ∂ · n).
-pub const MAX_WINDOW: usize = 200;
+pub const MAX_WINDOW: usize = 80;
 
 /// One step of the on-line estimation.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -390,9 +390,36 @@ fn out_of_range_number(v: &serde_json::Value, path: &str) -> Option<(String, f64
     }
 }
 
+/// Most rows or columns of any model matrix (states, outputs, inputs, noise inputs): the
+/// work budget of a report (≤ 2 s natively) at the methods' step limits. Each method may
+/// hold its state dimension lower (its `steps` and messages say so).
+pub const MAX_MODEL_DIM: usize = 100;
+
+/// The first model matrix with more than [`MAX_MODEL_DIM`] rows or columns: (path, rows, cols).
+fn oversized_model_matrix(v: &serde_json::Value) -> Option<(String, usize, usize)> {
+    v.get("model")?.as_object()?.iter().find_map(|(k, m)| {
+        let rows = m.as_array()?;
+        let cols = rows
+            .iter()
+            .filter_map(|r| r.as_array().map(|r| r.len()))
+            .max()
+            .unwrap_or(0);
+        (rows.len() > MAX_MODEL_DIM || cols > MAX_MODEL_DIM)
+            .then(|| (format!("model.{k}"), rows.len(), cols))
+    })
+}
+
 /// Sizes and magnitudes, checked on the JSON before it is read into a scenario: a count of
 /// 10⁹ or a number of 1e308 is refused here, whatever field it is in.
 fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
+    if let Some((field, rows, cols)) = oversized_model_matrix(v) {
+        return Err(Error::field(
+            field,
+            format!(
+                "is {rows} × {cols}: a model matrix has at most {MAX_MODEL_DIM} rows and columns (a report within about 2 s)"
+            ),
+        ));
+    }
     if let Some((field, x)) = oversized_count(v, "", "") {
         return Err(Error::field(
             field,

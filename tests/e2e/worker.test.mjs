@@ -1,4 +1,4 @@
-// The compute worker end to end: a long run (uniform-paper with window ∂ = 200, seconds of wasm)
+// The compute worker end to end: a long run (uniform-paper with window ∂ = 80, seconds of wasm)
 // leaves the page responsive, shows Cancel after 1 s, is cancelled or replaced by a newer
 // scenario, and the panel stays usable; a crash of the worker's wasm instance is contained (the
 // message, the scenario to download, the last picture, a fresh worker, no console error); the
@@ -68,7 +68,7 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
       }, true);
     });
     const t0 = Date.now();
-    await input(page, 'u-window', 200);
+    await input(page, 'u-window', 80);
     await page.waitForFunction(() => document.body.dataset.uniformBusy);
     await page.waitForTimeout(300);
     // Another control while it runs: the toolbar's "Paste data…" opens its box (no compute).
@@ -81,7 +81,7 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     const [click] = await page.evaluate(() => window.probe.clicks);
     assert.ok(click.pending, 'the click was handled while the compute was pending');
     assert.ok(click.delay < 100, `the click's handler ran ${click.delay.toFixed(1)} ms after its event`);
-    console.log(`    long run (∂ = 200): a click handled ${click.delay.toFixed(1)} ms after its event while the run was pending (playwright's click returned in ${clickMs} ms)`);
+    console.log(`    long run (∂ = 80): a click handled ${click.delay.toFixed(1)} ms after its event while the run was pending (playwright's click returned in ${clickMs} ms)`);
 
     // Cancel after 1 s.
     const cancel = '#uniform .compute-note button';
@@ -108,8 +108,8 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     const w10 = await pixels(page, 'uniform');
     assert.notDeepEqual(w10, before, '∂ = 10 draws');
 
-    // A newer scenario replaces a run past 1 s: ∂ = 200, then ∂ = 5 once Cancel shows.
-    await input(page, 'u-window', 200);
+    // A newer scenario replaces a run past 1 s: ∂ = 80, then ∂ = 5 once Cancel shows.
+    await input(page, 'u-window', 80);
     await page.waitForSelector(cancel, { state: 'visible', timeout: 5_000 });
     const r0 = Date.now();
     await input(page, 'u-window', 5);
@@ -122,15 +122,15 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     // The long run to its end, the frames coming all along.
     await page.evaluate(() => { window.probe.gaps.length = 0; });
     const l0 = Date.now();
-    await input(page, 'u-window', 200);
+    await input(page, 'u-window', 80);
     await idle(page, 'uniformBusy', 120_000);
     const longMs = Date.now() - l0;
-    assert.match(await page.$eval('#u-num-title', (e) => e.textContent), /∂ = 200\)/);
+    assert.match(await page.$eval('#u-num-title', (e) => e.textContent), /∂ = 80\)/);
     assert.equal(await figureErrors(page, 'uniform'), '');
     const gaps = await page.evaluate(() => { window.probe.stop = true; return window.probe.gaps.slice(1); });
     const worst = Math.max(...gaps);
     const timing = await page.$eval('#u-timing', (e) => e.textContent);
-    console.log(`    ∂ = 200 to its end: ${longMs} ms (${timing}); ${gaps.length} frames, longest gap ${worst.toFixed(0)} ms (the report's setReport + draw)`);
+    console.log(`    ∂ = 80 to its end: ${longMs} ms (${timing}); ${gaps.length} frames, longest gap ${worst.toFixed(0)} ms (the report's setReport + draw)`);
     await page.close();
   }
 

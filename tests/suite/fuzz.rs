@@ -527,3 +527,65 @@ fn every_method_is_reached() {
         assert!(seen.contains(m.name()), "no case switches to {m}");
     }
 }
+
+/// The work at the limits: each preset with one size field at the largest value the core
+/// accepts, timed (printed, not asserted: timings belong to the machine). The README's table
+/// of limits quotes this run:
+/// `cargo test --release --test suite fuzz::work_at_the_limits -- --ignored --nocapture`.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+#[ignore = "a measurement (about a minute): run it by hand"]
+fn work_at_the_limits() {
+    let limits = confset::scenario::limits();
+    let mut rows = Vec::new();
+    for p in presets::all() {
+        let base = serde_json::to_value(&p.scenario).expect("JSON");
+        let method = base["method"].as_str().unwrap_or("").to_string();
+        let max_steps = limits["simulate.steps"][&method][1].as_u64().unwrap_or(1);
+        let mut cases: Vec<(String, Value)> = Vec::new();
+        if base["simulate"].is_object() {
+            let mut s = base.clone();
+            s["simulate"]["steps"] = json!(max_steps);
+            if s["lscr"]["time"].is_number() {
+                s["lscr"]["time"] = json!(max_steps);
+            }
+            cases.push((format!("simulate.steps = {max_steps}"), s));
+        }
+        for (block, key, v) in [
+            ("uniform", "window", limits["uniform.window"][1].clone()),
+            ("ubb", "window", json!(confset::scenario::ubb::MAX_WINDOW)),
+            ("lscr", "m", json!(100_000)),
+            ("glls", "max_horizon", json!(100_000)),
+        ] {
+            if base[block].is_object() {
+                let mut s = base.clone();
+                s[block][key] = v.clone();
+                cases.push((format!("{block}.{key} = {v}"), s));
+            }
+        }
+        for (what, s) in cases {
+            let t0 = std::time::Instant::now();
+            let r = Scenario::from_json(&s.to_string()).and_then(|s| s.run());
+            let secs = t0.elapsed().as_secs_f64();
+            rows.push((
+                secs,
+                format!(
+                    "{secs:7.3} s  {} with {what}: {}",
+                    p.name,
+                    match r {
+                        Ok(_) => "report".to_string(),
+                        Err(e) => format!(
+                            "{}: {}",
+                            e.field,
+                            e.message.chars().take(90).collect::<String>()
+                        ),
+                    }
+                ),
+            ));
+        }
+    }
+    rows.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (_, r) in rows {
+        eprintln!("{r}");
+    }
+}
