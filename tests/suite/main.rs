@@ -15,6 +15,7 @@ mod csv;
 mod determinism;
 mod glls;
 mod lscr;
+mod messages;
 mod registry;
 mod scf_paper;
 mod sets;
