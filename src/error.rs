@@ -39,5 +39,26 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
+/// Most characters of a user's string that a message repeats: a pasted file in a name box
+/// must not become a page-long message.
+pub const ECHO_CHARS: usize = 40;
+
+/// A user's string as a message repeats it: at most `max` characters, cut with "…". Every
+/// message that echoes user text (names, enum values, CSV cells) goes through here, mostly by
+/// [`quoted`].
+pub fn cut(s: &str, max: usize) -> String {
+    if s.chars().count() > max {
+        let head: String = s.chars().take(max).collect();
+        format!("{head}…")
+    } else {
+        s.to_string()
+    }
+}
+
+/// A user's string in double quotes, cut at [`ECHO_CHARS`]: `"gls"`, `"aaaaaaaa…"`.
+pub fn quoted(s: &str) -> String {
+    format!("\"{}\"", cut(s, ECHO_CHARS))
+}
+
 /// Result with the crate's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;

@@ -1375,7 +1375,13 @@ impl StateNoise {
             eq: Some((aeq, yt)),
             le: None,
             soc: Vec::new(),
-            field: "glls.estimator".into(),
+            // Equalities only: infeasible when the rows of [Γ Ψ] are dependent and the
+            // measurements contradict them; the estimator is the user's choice.
+            blame: crate::solve::Blame::new(
+                "glls.estimator",
+                "state and state noise",
+                "no state and state noise reproduce the measurements exactly (the rows of [Γ Ψ] are dependent); try glls.estimator \"lls\"",
+            ),
         })?;
         let x = sol.x.rows(0, n).into_owned();
         let xi = sol.x.rows(n, n * s).into_owned();

@@ -604,7 +604,11 @@ impl Strings {
                     other => {
                         return Err(Error::field(
                             field,
-                            format!("must contain only 0 and 1, found {other:?}"),
+                            format!(
+                                "must contain only 0 and 1, found {} at position {}",
+                                crate::error::quoted(&other.to_string()),
+                                k + 1
+                            ),
                         ))
                     }
                 }

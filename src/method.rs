@@ -6,7 +6,7 @@
 //! Adding a method is one arm here, one scenario file, one method file, one plot folder and
 //! one page module.
 
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -63,6 +63,18 @@ impl Method {
         }
     }
 
+    /// The scenario block of the method's Monte Carlo study (`None`: the method has none):
+    /// what `Scenario::study` runs, and what messages point to.
+    pub fn study_block(self) -> Option<&'static str> {
+        match self {
+            Method::Scf | Method::Kf => Some("experiment"),
+            Method::Lscr => Some("lscr.coverage"),
+            Method::Glls => Some("glls.monte_carlo"),
+            Method::UniformLp => None,
+            Method::Ubb => Some("ubb.guarantee"),
+        }
+    }
+
     /// Parse a JSON name; the error lists the allowed ones.
     pub fn from_name(s: &str) -> Result<Method> {
         Method::ALL
@@ -84,14 +96,4 @@ impl fmt::Display for Method {
 pub(crate) fn allowed() -> String {
     let names: Vec<String> = Method::ALL.iter().map(|m| format!("\"{m}\"")).collect();
     format!("choose {}", names.join(", "))
-}
-
-/// A user string in a message, cut to 40 characters.
-pub(crate) fn quoted(s: &str) -> String {
-    let cut: String = s.chars().take(40).collect();
-    if cut.len() < s.len() {
-        format!("\"{cut}…\"")
-    } else {
-        format!("\"{cut}\"")
-    }
 }

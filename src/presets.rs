@@ -58,7 +58,11 @@ pub fn get(name: &str) -> Result<Scenario> {
             let names: Vec<String> = all().into_iter().map(|p| p.name).collect();
             Error::field(
                 "preset",
-                format!("\"{name}\" is unknown; presets: {}", names.join(", ")),
+                format!(
+                    "{} is unknown; presets: {}",
+                    crate::error::quoted(name),
+                    names.join(", ")
+                ),
             )
         })
 }

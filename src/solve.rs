@@ -4,9 +4,16 @@
 //!
 //! minimize ½ xᵀPx + qᵀx subject to A_eq x = b_eq, A_le x ≤ b_le,
 //!
-//! and come back as a [`Solution`] or as an [`Error`] naming the scenario field the problem
-//! belongs to, with the outcome in words (infeasible data, unbounded objective, no convergence).
-//! P = None is a linear program.
+//! and come back as a [`Solution`] or as an [`Error`] naming the scenario field most likely
+//! responsible ([`Blame`]), with clarabel's status in words a user can act on: no point
+//! consistent with the data (with the caller's hint, e.g. "ubb.eps may be too small"), an
+//! unbounded set, or a solver that stopped before converging (with the span of the problem's
+//! coefficients, the usual cause). P = None is a linear program.
+//!
+//! Every solve is capped at [`MAX_ITERATIONS`] interior-point iterations and
+//! [`TIME_LIMIT_SECONDS`] seconds, so no input can keep the page busy in one solve. The presets'
+//! solves take at most a few dozen iterations and milliseconds; the caps only end solves that
+//! would not converge anyway.
 
 use crate::error::{Error, Result};
 use clarabel::algebra::CscMatrix;
@@ -15,7 +22,79 @@ use clarabel::solver::{
 };
 use nalgebra::{DMatrix, DVector};
 
-/// A dense LP/QP; `field` names the scenario field its errors belong to.
+/// Most interior-point iterations of one solve (clarabel's default; the presets need at most
+/// a few dozen).
+pub const MAX_ITERATIONS: u32 = 200;
+
+/// Most seconds one solve may take (clarabel times itself with `web-time`, so the cap holds in
+/// the browser too). The presets' solves take milliseconds.
+pub const TIME_LIMIT_SECONDS: f64 = 10.0;
+
+/// Whom a failed solve concerns: the scenario field most likely responsible (the error names
+/// it; it must be a field of the scenario schema), the unknowns in words ("state",
+/// "parameter vector Θ"), and what to try when no point satisfies the constraints.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Blame {
+    pub field: String,
+    /// What the problem solves for, in words; empty: "solution".
+    pub unknowns: String,
+    /// The likely fix of an infeasible problem, e.g. "ubb.eps may be too small"; empty: a
+    /// generic one.
+    pub hint: String,
+}
+
+impl Blame {
+    /// A blame with its unknowns and its infeasibility hint.
+    pub fn new(field: &str, unknowns: &str, hint: &str) -> Blame {
+        Blame {
+            field: field.into(),
+            unknowns: unknowns.into(),
+            hint: hint.into(),
+        }
+    }
+
+    /// An error about the blamed field.
+    pub fn error(&self, message: String) -> Error {
+        Error::field(self.field.clone(), message)
+    }
+
+    fn unknowns(&self) -> &str {
+        if self.unknowns.is_empty() {
+            "solution"
+        } else {
+            &self.unknowns
+        }
+    }
+
+    /// The error of an infeasible problem.
+    pub fn infeasible(&self) -> Error {
+        let hint = if self.hint.is_empty() {
+            "the bounds may be too tight for the data"
+        } else {
+            &self.hint
+        };
+        self.error(format!(
+            "leaves no {} consistent with the data under these bounds — {hint}",
+            self.unknowns()
+        ))
+    }
+}
+
+impl From<&Blame> for Blame {
+    fn from(b: &Blame) -> Blame {
+        b.clone()
+    }
+}
+
+/// A field alone (generic words for the unknowns and the hint): for tests and internal
+/// problems.
+impl From<&str> for Blame {
+    fn from(field: &str) -> Blame {
+        Blame::new(field, "", "")
+    }
+}
+
+/// A dense LP/QP; `blame` says whom its errors concern.
 #[derive(Debug, Clone, Default)]
 pub struct Problem {
     pub p: Option<DMatrix<f64>>,
@@ -24,7 +103,7 @@ pub struct Problem {
     pub le: Option<(DMatrix<f64>, DVector<f64>)>,
     /// Second-order cones: each (G, g) asks that s = g − Gx has ‖(s₁, …, s_d)‖₂ ≤ s₀.
     pub soc: Vec<(DMatrix<f64>, DVector<f64>)>,
-    pub field: String,
+    pub blame: Blame,
 }
 
 /// An optimal point.
@@ -64,15 +143,18 @@ fn csc(m: &DMatrix<f64>, upper: bool) -> CscMatrix<f64> {
 /// functions, interval hulls): the KKT structure is built once, only q changes.
 pub struct Family {
     solver: DefaultSolver<f64>,
-    field: String,
+    blame: Blame,
     n: usize,
+    /// The smallest and largest nonzero |coefficient| of the loaded problem: the first thing
+    /// to look at when the solver does not converge.
+    span: (f64, f64),
 }
 
 impl Family {
     /// Check and load `problem` (its `q` is the first objective).
     pub fn new(problem: &Problem) -> Result<Family> {
         let n = problem.q.len();
-        let bad = |what: &str| Error::field(problem.field.clone(), what.to_string());
+        let bad = |what: &str| problem.blame.error(what.to_string());
         let finite = |m: &DMatrix<f64>| m.iter().all(|v| v.is_finite());
         if !problem.q.iter().all(|v| v.is_finite())
             || problem.p.as_ref().is_some_and(|p| !finite(p))
@@ -130,17 +212,37 @@ impl Family {
         // No presolve and no dropped zeros, so that `update_q` is allowed.
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
-            .max_iter(200)
+            .max_iter(MAX_ITERATIONS)
+            .time_limit(TIME_LIMIT_SECONDS)
             .presolve_enable(false)
             .build()
-            .map_err(|e| bad(&format!("solver settings: {e:?}")))?;
+            .map_err(|e| {
+                bad(&format!(
+                    "could not be solved: the solver settings are wrong ({e})"
+                ))
+            })?;
         let q: Vec<f64> = problem.q.iter().copied().collect();
-        let solver = DefaultSolver::new(&p, &q, &csc(&a, false), &b, &cones, settings)
-            .map_err(|e| bad(&format!("the solver refused the problem: {e:?}")))?;
+        let span = a
+            .iter()
+            .chain(&b)
+            .chain(&q)
+            .chain(problem.p.iter().flat_map(|p| p.iter()))
+            .map(|v| v.abs())
+            .filter(|&v| v > 0.0)
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        let solver =
+            DefaultSolver::new(&p, &q, &csc(&a, false), &b, &cones, settings).map_err(|e| {
+                bad(&format!(
+                    "could not be solved: the solver refused the problem ({e})"
+                ))
+            })?;
         Ok(Family {
             solver,
-            field: problem.field.clone(),
+            blame: problem.blame.clone(),
             n,
+            span,
         })
     }
 
@@ -151,48 +253,108 @@ impl Family {
 
     /// Solve with objective ½xᵀPx + cᵀx (c = None: the objective the family was built with).
     pub fn minimize(&mut self, c: Option<&DVector<f64>>) -> Result<Solution> {
-        let bad = |what: &str| Error::field(self.field.clone(), what.to_string());
+        match self.minimize_if_feasible(c)? {
+            Some(solution) => Ok(solution),
+            None => Err(self.blame.infeasible()),
+        }
+    }
+
+    /// [`Family::minimize`], with an infeasible problem as `Ok(None)` rather than an error:
+    /// for callers that loosen bounds until the problem is feasible.
+    pub fn minimize_if_feasible(&mut self, c: Option<&DVector<f64>>) -> Result<Option<Solution>> {
         if let Some(c) = c {
             if c.len() != self.n || !c.iter().all(|v| v.is_finite()) {
-                return Err(bad(
-                    "the objective has the wrong length or non-finite entries",
+                return Err(self.blame.error(
+                    "could not be solved: the objective has the wrong length or non-finite entries"
+                        .into(),
                 ));
             }
-            self.solver
-                .update_q(&c.as_slice().to_vec())
-                .map_err(|e| bad(&format!("could not update the objective: {e}")))?;
+            self.solver.update_q(&c.as_slice().to_vec()).map_err(|e| {
+                self.blame.error(format!(
+                    "could not be solved: the objective was refused ({e})"
+                ))
+            })?;
         }
         self.solver.solve();
         let sol = &self.solver.solution;
+        let blame = &self.blame;
+        let scaled = || {
+            let (lo, hi) = self.span;
+            if hi > 0.0 {
+                format!(
+                    "the problem may be badly scaled: its coefficients span {lo:.1e} … {hi:.1e} (data and bounds of similar magnitude help)"
+                )
+            } else {
+                "the problem may be badly scaled".to_string()
+            }
+        };
+        let stopped = |why: String| {
+            blame.error(format!(
+                "could not be solved: the solver stopped before converging ({why}) — {}",
+                scaled()
+            ))
+        };
         let status = match sol.status {
             SolverStatus::Solved => "solved",
+            // Clarabel's reduced-accuracy optimum: its residuals meet the loose tolerances.
             SolverStatus::AlmostSolved => "almost solved",
             SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-                return Err(bad("is infeasible: no point satisfies all the constraints (the data contradict the bounds)"))
+                return Ok(None)
             }
             SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
-                return Err(bad("is unbounded: the objective can decrease without limit"))
+                return Err(blame.error(format!(
+                    "leaves the {} unbounded: nothing in the data or the bounds limits it in some direction — a bound may be missing",
+                    blame.unknowns()
+                )))
             }
-            other => {
-                return Err(bad(&format!(
-                    "could not be solved ({other:?} after {} iterations)",
+            SolverStatus::MaxIterations => {
+                return Err(stopped(format!(
+                    "its limit of {MAX_ITERATIONS} iterations"
+                )))
+            }
+            SolverStatus::MaxTime => {
+                return Err(stopped(format!(
+                    "its limit of {TIME_LIMIT_SECONDS} s per solve, after {} iterations",
                     sol.iterations
                 )))
             }
+            SolverStatus::InsufficientProgress => {
+                return Err(stopped(format!(
+                    "no progress after {} iterations",
+                    sol.iterations
+                )))
+            }
+            SolverStatus::NumericalError => {
+                return Err(blame.error(format!(
+                    "could not be solved: the solver hit a numerical error after {} iterations — {}",
+                    sol.iterations,
+                    scaled()
+                )))
+            }
+            SolverStatus::Unsolved | SolverStatus::CallbackTerminated => {
+                return Err(blame.error(
+                    "could not be solved: the solver ended without an answer".into(),
+                ))
+            }
         };
-        Ok(Solution {
+        Ok(Some(Solution {
             x: DVector::from_vec(sol.x.clone()),
             objective: sol.obj_val,
             duals: DVector::from_vec(sol.z.clone()),
             iterations: sol.iterations,
             status,
-        })
+        }))
     }
 }
 
-/// Solve; every outcome other than an optimum is an error naming `problem.field`.
+/// Solve; every outcome other than an optimum is an error naming `problem.blame.field`.
 pub fn quadratic(problem: &Problem) -> Result<Solution> {
     Family::new(problem)?.minimize(None)
+}
+
+/// [`quadratic`], with an infeasible problem as `Ok(None)`.
+pub fn quadratic_if_feasible(problem: &Problem) -> Result<Option<Solution>> {
+    Family::new(problem)?.minimize_if_feasible(None)
 }
 
 /// A linear program: minimize cᵀx subject to the constraints.
@@ -200,7 +362,7 @@ pub fn linear(
     c: &DVector<f64>,
     eq: Option<(DMatrix<f64>, DVector<f64>)>,
     le: Option<(DMatrix<f64>, DVector<f64>)>,
-    field: &str,
+    blame: impl Into<Blame>,
 ) -> Result<Solution> {
     quadratic(&Problem {
         p: None,
@@ -208,7 +370,7 @@ pub fn linear(
         eq,
         le,
         soc: Vec::new(),
-        field: field.into(),
+        blame: blame.into(),
     })
 }
 
@@ -230,7 +392,7 @@ mod tests {
             eq: Some(eq),
             le: None,
             soc: Vec::new(),
-            field: "t".into(),
+            blame: "t".into(),
         })
         .unwrap();
         assert!(
@@ -261,7 +423,12 @@ mod tests {
         )
         .unwrap_err();
         assert_eq!(bad.field, "ubb.eps");
-        assert!(bad.message.contains("infeasible"), "{}", bad.message);
+        assert!(
+            bad.message
+                .contains("leaves no solution consistent with the data"),
+            "{}",
+            bad.message
+        );
         // min x₁ with x₁ ≤ 0 only: unbounded below.
         let unb = linear(
             &DVector::from_vec(vec![1.0]),

@@ -151,6 +151,27 @@ impl FeasibleSet {
                 .is_none_or(|(e, v)| (e * f - v).amax() <= tol * (1.0 + v.amax()))
     }
 
+    /// Whom an empty or unbounded T(h) concerns: `field` first, then every other bound that
+    /// may be too small ("ubb.eps may be too small (or ubb.tau, or ubb.delta)").
+    fn blame(&self) -> solve::Blame {
+        let mut others: Vec<&str> = Vec::new();
+        for b in &self.bounds {
+            if b.field != self.field && !others.contains(&b.field.as_str()) {
+                others.push(&b.field);
+            }
+        }
+        let also = if others.is_empty() {
+            String::new()
+        } else {
+            format!(" (or {})", others.join(", or "))
+        };
+        solve::Blame::new(
+            &self.field,
+            "state",
+            &format!("{} may be too small{also}", self.field),
+        )
+    }
+
     /// The LP (or SOCP, with l2 bounds) of T(h) with a zero objective; slack variables of
     /// lifted l1 bounds come after f.
     pub fn program(&self) -> Result<(Problem, LpSize)> {
@@ -298,7 +319,7 @@ impl FeasibleSet {
                 eq,
                 le,
                 soc,
-                field: self.field.clone(),
+                blame: self.blame(),
             },
             size,
         ))

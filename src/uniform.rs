@@ -24,7 +24,7 @@
 
 use crate::error::{Error, Result};
 use crate::sets::{polygon_from_support, SupportPolygon};
-use crate::solve;
+use crate::solve::{self, Blame};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -189,8 +189,8 @@ pub struct Lp {
 
 impl Lp {
     /// Solve, the bounds becoming rows (only the finite ones).
-    pub fn solve(&self, field: &str) -> Result<solve::Solution> {
-        self.solve_with(&self.c, None, field)
+    pub fn solve(&self, blame: impl Into<Blame>) -> Result<solve::Solution> {
+        self.solve_with(&self.c, None, blame)
     }
 
     /// Minimize another objective over the same set, optionally with one more row gᵀX ≤ h.
@@ -198,9 +198,9 @@ impl Lp {
         &self,
         c: &DVector<f64>,
         extra: Option<(&DVector<f64>, f64)>,
-        field: &str,
+        blame: impl Into<Blame>,
     ) -> Result<solve::Solution> {
-        solve::quadratic(&self.problem(c, extra, field))
+        solve::quadratic(&self.problem(c, extra, blame))
     }
 
     /// The LP as the solver's problem with objective `c`: 𝒜X ≤ ℬ, the finite bounds as rows,
@@ -209,7 +209,7 @@ impl Lp {
         &self,
         c: &DVector<f64>,
         extra: Option<(&DVector<f64>, f64)>,
-        field: &str,
+        blame: impl Into<Blame>,
     ) -> solve::Problem {
         let nv = self.c.len();
         let bound_rows: Vec<(usize, f64, f64)> = (0..nv)
@@ -243,7 +243,7 @@ impl Lp {
             eq: None,
             le: Some((a, b)),
             soc: Vec::new(),
-            field: field.into(),
+            blame: blame.into(),
         }
     }
 }
@@ -386,26 +386,51 @@ pub struct StateEstimate {
     pub extended: usize,
 }
 
+/// Most doublings of the half-width bounds [`solve_extending`] tries.
+pub const MAX_EXTENSIONS: usize = 20;
+
 /// Solve an LP, doubling the half-width bounds (the last n + m entries of `hi`) while it is
 /// infeasible (Section 3.2: "LP will fail if these are chosen too restrictive"; the paper's
-/// example extends them automatically).
-pub fn solve_extending(lp: &mut Lp, nhw: usize, field: &str) -> Result<(solve::Solution, usize)> {
+/// example extends them automatically), at most [`MAX_EXTENSIONS`] times.
+pub fn solve_extending(lp: &mut Lp, nhw: usize, blame: &Blame) -> Result<(solve::Solution, usize)> {
     let nv = lp.c.len();
-    for extended in 0..=20 {
-        match lp.solve(field) {
-            Ok(s) => return Ok((s, extended)),
-            Err(e) if e.message.contains("infeasible") && extended < 20 => {
-                for j in nv - nhw..nv {
-                    lp.hi[j] *= 2.0;
-                }
+    for extended in 0..=MAX_EXTENSIONS {
+        if let Some(s) = solve::quadratic_if_feasible(&lp.problem(&lp.c, None, blame))? {
+            return Ok((s, extended));
+        }
+        if extended < MAX_EXTENSIONS {
+            for j in nv - nhw..nv {
+                lp.hi[j] *= 2.0;
             }
-            Err(e) => return Err(e),
         }
     }
+    let e = blame.infeasible();
     Err(Error::field(
-        field,
-        "stays infeasible after extending the half-width bounds 2^20 times",
+        e.field,
+        format!(
+            "{} (the half-width bounds were doubled {MAX_EXTENSIONS} times first)",
+            e.message
+        ),
     ))
+}
+
+/// Whom the state LP's failures concern: its box |x| ≤ x_bound is the bound the automatic
+/// extension of the half-widths does not loosen.
+fn state_blame() -> Blame {
+    Blame::new(
+        "uniform.x_bound",
+        "state trajectory",
+        "uniform.x_bound may be too small: every state of the window must lie in |x| ≤ x_bound",
+    )
+}
+
+/// Whom the parameter LP's failures concern: the prior box of Θ.
+fn parameter_blame() -> Blame {
+    Blame::new(
+        "uniform.prior_rel",
+        "parameter vector Θ",
+        "uniform.prior_rel may be too small: Θ must lie within ±prior_rel·|θ| of the model's Θ (and within uniform.prior_overrides)",
+    )
 }
 
 /// MAP states and half-widths of a window given Θ.
@@ -418,7 +443,7 @@ pub fn estimate_states(
 ) -> Result<(StateEstimate, Lp)> {
     let (n, m) = (theta.n(), theta.m());
     let mut lp = state_lp(theta, u, y, w, prior);
-    let (sol, extended) = solve_extending(&mut lp, n + m, "uniform.prior")?;
+    let (sol, extended) = solve_extending(&mut lp, n + m, &state_blame())?;
     let nx = w.states() * n;
     let x = (0..w.states())
         .map(|i| sol.x.rows(i * n, n).into_owned())
@@ -447,8 +472,14 @@ pub fn face_range(lp: &Lp, objective: f64, index: usize) -> Result<(f64, f64)> {
 pub fn face_ranges(lp: &Lp, objective: f64, indices: &[usize]) -> Result<Vec<(f64, f64)>> {
     let tol = 1e-7 * objective.abs().max(1.0);
     let nv = lp.c.len();
-    let mut face =
-        solve::Family::new(&lp.problem(&lp.c, Some((&lp.c, objective + tol)), "uniform.face"))?;
+    // The face holds the optimum found just before, so only the solver's accuracy can make it
+    // empty; the window is what the user can change.
+    let blame = Blame::new(
+        "uniform.window",
+        "point of the optimal face",
+        "the LP's optimum was not reproduced within the solver's accuracy",
+    );
+    let mut face = solve::Family::new(&lp.problem(&lp.c, Some((&lp.c, objective + tol)), blame))?;
     indices
         .iter()
         .map(|&index| {
@@ -512,7 +543,14 @@ pub fn consistent_polygon(
         lo: lp.lo.rows(0, nx).into_owned(),
         hi: lp.hi.rows(0, nx).into_owned(),
     };
-    let mut family = solve::Family::new(&states.problem(&states.c, None, "uniform.window"))?;
+    // The half-widths are the window's own estimate, so the set holds at least that estimate's
+    // states; only the solver's accuracy can make it empty.
+    let blame = Blame::new(
+        "uniform.window",
+        "state",
+        "the window's estimated half-widths admit no state within the solver's accuracy",
+    );
+    let mut family = solve::Family::new(&states.problem(&states.c, None, blame))?;
     // x_last comes first in the layout of (8): its components are X[plane[0]], X[plane[1]].
     let probe = |d: [f64; 2]| -> Result<(f64, [f64; 2])> {
         let mut c = DVector::zeros(nx);
@@ -663,7 +701,7 @@ impl Online {
             let mut x_full = vec![DVector::zeros(n); w.first - 1];
             x_full.extend(xs);
             let mut lp = parameter_lp(&self.theta, &x_full, u, y, w, &self.theta_prior);
-            if let Ok((sol, _)) = solve_extending(&mut lp, n + m, "uniform.theta_prior") {
+            if let Ok((sol, _)) = solve_extending(&mut lp, n + m, &parameter_blame()) {
                 self.theta = Theta::from_vec(sol.x.as_slice(), &self.theta);
             }
         }
@@ -686,7 +724,7 @@ impl Online {
         let w = self.window_ending(t);
         let (n, m) = (self.theta.n(), self.theta.m());
         let mut lp = parameter_lp(&self.theta, x, u, y, w, &self.theta_prior);
-        let (sol, extended) = solve_extending(&mut lp, n + m, "uniform.theta_prior")?;
+        let (sol, extended) = solve_extending(&mut lp, n + m, &parameter_blame())?;
         let nth = self.theta.to_vec().len();
         self.theta = Theta::from_vec(&sol.x.as_slice()[..nth], &self.theta);
         let (xr, yr) = (
@@ -784,7 +822,13 @@ impl Online {
         let mut c = DVector::zeros(nv);
         c.rows_mut(nx + nth, n + m).fill(1.0);
         let mut lp = Lp { c, a, b, lo, hi };
-        let (sol, extended) = solve_extending(&mut lp, n + m, "uniform.prior")?;
+        // States and Θ at once: both prior boxes bound it.
+        let blame = Blame::new(
+            "uniform.x_bound",
+            "joint estimate of the states and Θ",
+            "uniform.x_bound or uniform.prior_rel may be too small: the states must lie in |x| ≤ x_bound and Θ within ±prior_rel·|θ|",
+        );
+        let (sol, extended) = solve_extending(&mut lp, n + m, &blame)?;
         self.theta = Theta::from_vec(&sol.x.as_slice()[nx..nx + nth], &self.theta);
         let x = (0..ns).map(|i| sol.x.rows(i * n, n).into_owned()).collect();
         let est = StateEstimate {

@@ -85,8 +85,7 @@ fn to_json<T: Serialize>(what: &str, v: &T) -> Result<String, JsValue> {
 }
 
 fn parse_view(view_json: &str) -> Result<View, JsValue> {
-    serde_json::from_str(view_json)
-        .map_err(|e| js_error(&Error::field("view", format!("is not valid: {e}"))))
+    crate::scenario::parse::from_json(view_json, "view").map_err(|e| js_error(&e))
 }
 
 /// Install the panic hook (diagnostics only: no panic is reachable from any input).
@@ -300,13 +299,9 @@ impl Session {
     /// `"precision"` panel draws it; `"null"` removes it. Returns nothing; the next `run`
     /// replaces the kept report (and so drops the study).
     pub fn set_precision(&mut self, precision_json: &str) -> Result<(), JsValue> {
-        let precision: Option<glls::PrecisionReport> = serde_json::from_str(precision_json)
-            .map_err(|e| {
-                js_error(&Error::field(
-                    "glls.precision",
-                    format!("is not a valid precision report: {e}"),
-                ))
-            })?;
+        let precision: Option<glls::PrecisionReport> =
+            crate::scenario::parse::from_json(precision_json, "glls.precision")
+                .map_err(|e| js_error(&e))?;
         let report = self
             .report
             .as_mut()

@@ -117,7 +117,10 @@ fn size(args: &[String]) -> Result<(u32, u32), Error> {
     let bad = || {
         Error::field(
             "--size",
-            format!("must read WIDTHxHEIGHT in pixels, e.g. 960x640, found \"{v}\""),
+            format!(
+                "must read WIDTHxHEIGHT in pixels, e.g. 960x640, found {}",
+                confset::error::quoted(v)
+            ),
         )
     };
     let (w, h) = v.split_once(['x', 'X']).ok_or_else(bad)?;

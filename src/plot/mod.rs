@@ -204,7 +204,7 @@ impl Panel {
             "ubbwidth" => Ok(Panel::UbbWidth),
             _ => Err(Error::field(
                 "panel",
-                format!("\"{s}\" is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams, upolygon, ubbset or ubbwidth"),
+                format!("{} is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams, upolygon, ubbset or ubbwidth", crate::error::quoted(s)),
             )),
         }
     }

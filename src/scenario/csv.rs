@@ -176,14 +176,10 @@ fn shape_words(q: usize, r: usize) -> String {
     }
 }
 
-/// A cell as echoed in a message: at most [`ECHO_CHARS`] characters, in single quotes.
+/// A cell as echoed in a message: at most [`ECHO_CHARS`] characters (shorter than the
+/// scenario's echo: it is read next to its line and column), in single quotes.
 fn echo(cell: &str) -> String {
-    if cell.chars().count() > ECHO_CHARS {
-        let cut: String = cell.chars().take(ECHO_CHARS).collect();
-        format!("'{cut}…'")
-    } else {
-        format!("'{cell}'")
-    }
+    format!("'{}'", crate::error::cut(cell, ECHO_CHARS))
 }
 
 /// A header cell's column: `y1`, `Y_1`, `y₁`, `u2`, … (bare `y` / `u` when there is one).

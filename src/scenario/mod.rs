@@ -25,6 +25,7 @@ use std::ops::RangeInclusive;
 pub mod csv;
 pub mod glls;
 pub mod lscr;
+pub mod parse;
 pub mod scf;
 pub mod ubb;
 pub mod uniform;
@@ -266,42 +267,6 @@ fn direct_measurements(model: &ModelSpec) -> Vec<[usize; 2]> {
         .collect()
 }
 
-/// The first list entry that is not a number (every list of a scenario holds numbers or lists
-/// of numbers, or objects), as (field, message): e.g. `model.F`, "is not valid: entry [0][1] is null …".
-fn non_numeric_entry(v: &serde_json::Value, path: &str) -> Option<(String, String)> {
-    use serde_json::Value;
-    fn in_list(v: &Value, idx: &str) -> Option<String> {
-        match v {
-            Value::Number(_) => None,
-            Value::Array(a) => a
-                .iter()
-                .enumerate()
-                .find_map(|(i, x)| in_list(x, &format!("{idx}[{i}]"))),
-            other => Some(format!(
-                "is not valid: entry {idx} is {other}, but entries must be numbers (JSON has no NaN or Infinity)"
-            )),
-        }
-    }
-    match v {
-        Value::Object(o) => o.iter().find_map(|(k, x)| {
-            let p = if path.is_empty() {
-                k.clone()
-            } else {
-                format!("{path}.{k}")
-            };
-            non_numeric_entry(x, &p)
-        }),
-        // A list of objects (`uniform.prior_overrides`) holds structures, not numbers: look
-        // inside each.
-        Value::Array(a) if !a.is_empty() && a.iter().all(Value::is_object) => a
-            .iter()
-            .enumerate()
-            .find_map(|(i, x)| non_numeric_entry(x, &format!("{path}[{i}]"))),
-        Value::Array(_) => in_list(v, "").map(|m| (path.to_string(), m)),
-        _ => None,
-    }
-}
-
 /// Largest value of any size or count field ([`COUNT_KEYS`]): steps, runs, horizons, windows,
 /// strings, grid points, budgets, indices. Each method's own limits are tighter; this one
 /// refuses the absurd (10⁹, 2⁶⁴ − 1) while parsing, before anything is allocated or looped.
@@ -440,66 +405,16 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
 }
 
 impl Scenario {
-    /// Parse JSON; errors say where the JSON is wrong.
+    /// Parse JSON; an error names the JSON path of the offending value and says, in JSON
+    /// words, what belongs there ([`parse`]).
     pub fn from_json(text: &str) -> Result<Self> {
+        // Sizes and magnitudes first: a count of 10⁹ or a number of 1e308 is refused before
+        // anything is read, whatever field it is in.
         if let Ok(v) = serde_json::from_str::<serde_json::Value>(text) {
             check_sizes_and_magnitudes(&v)?;
         }
-        let mut de = serde_json::Deserializer::from_str(text);
-        let parsed: std::result::Result<Scenario, _> = serde_path_to_error::deserialize(&mut de);
-        let e = match parsed.map(|s| (s, de.end())) {
-            Ok((s, Ok(()))) => return Ok(s),
-            Ok((_, Err(e))) => {
-                return Err(Error::field("scenario", format!("is not valid: {e}")));
-            }
-            Err(e) => e,
-        };
-        // serde cannot name the field of an untagged matrix ("data did not match any
-        // variant of untagged enum MatrixSpec"): find a non-number inside a list ourselves.
-        let found = serde_json::from_str::<serde_json::Value>(text)
-            .ok()
-            .and_then(|v| non_numeric_entry(&v, ""));
-        let (line, column) = (e.inner().line(), e.inner().column());
-        Err(match found {
-            Some((field, message)) => {
-                Error::field(field, format!("{message} (line {line}, column {column})"))
-            }
-            None => {
-                // serde_path_to_error writes "?" for a segment it could not name (e.g. at EOF).
-                let path = e.path().to_string();
-                let known: Vec<&str> = path
-                    .split('.')
-                    .filter(|p| !p.is_empty() && *p != "?")
-                    .collect();
-                let field = if known.is_empty() {
-                    "scenario".to_string()
-                } else {
-                    known.join(".")
-                };
-                Error::field(
-                    field,
-                    format!("is not valid: {}", plain_serde_message(e.inner())),
-                )
-            }
-        })
+        parse::from_json(text, "")
     }
-}
-
-/// serde's message in the words of a JSON user: values in double quotes, no Rust type names.
-fn plain_serde_message(e: &serde_json::Error) -> String {
-    let text = e.to_string();
-    let (what, position) = match text.rsplit_once(" at line ") {
-        Some((w, p)) => (w.to_string(), format!(" (line {p})")),
-        None => (text.clone(), String::new()),
-    };
-    let what = if what.contains("untagged enum MatrixSpec") {
-        "expected a matrix: a list of rows of numbers, or one such matrix per time step".to_string()
-    } else if what == "expected value" {
-        "expected a JSON value here (JSON has no NaN or Infinity: write a number)".to_string()
-    } else {
-        what.replace('`', "\"")
-    };
-    format!("{what}{position}")
 }
 
 /// Where a scenario's measurements come from: the user's `data` or a seeded `simulate` block.
@@ -710,8 +625,22 @@ impl Scenario {
         Ok(source)
     }
 
-    /// A method block (`lscr`, `glls`, `uniform`, `ubb`) belongs to its own method only.
+    /// A method block (`lscr`, `glls`, `uniform`, `ubb`) belongs to its own method only, and
+    /// so does the SCF study's `experiment` (another method would ignore it silently).
     fn check_method_blocks(&self) -> Result<()> {
+        if self.experiment.is_some() && self.method.study_block() != Some("experiment") {
+            let theirs = match self.method.study_block() {
+                Some(b) => format!("whose Monte Carlo study is {b}"),
+                None => "which has no Monte Carlo study".to_string(),
+            };
+            return Err(Error::field(
+                "experiment",
+                format!(
+                    "is the SCF conditional experiment, used only with \"method\": \"scf\" or \"kf\" (found \"{}\", {theirs})",
+                    self.method
+                ),
+            ));
+        }
         let present = [
             ("lscr", self.lscr.is_some()),
             ("glls", self.glls.is_some()),

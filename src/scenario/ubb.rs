@@ -20,7 +20,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::{MethodScenario, Report, Scenario, Source};
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::ModelSpec;
@@ -247,7 +247,7 @@ fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
             .ok_or_else(|| {
                 Error::field(
                     field,
-                    format!("\"{g}\": the period must be a positive number"),
+                    format!("{}: the period must be a positive number", quoted(g)),
                 )
             })
     };
@@ -262,7 +262,7 @@ fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
                 let known = "\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\"";
                 return Err(Error::field(
                     field,
-                    format!("\"{g}\" is not a basis function ({known})"),
+                    format!("{} is not a basis function ({known})", quoted(g)),
                 ));
             }
         },

@@ -24,7 +24,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
-use crate::error::{Error, Result};
+use crate::error::{quoted, Error, Result};
 use crate::kalman::KalmanGains;
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
@@ -344,10 +344,10 @@ impl Scenario {
                 .position(|s| *s == o.matrix)
                 .ok_or_else(|| {
                     Error::field(
-                        &field,
+                        format!("{field}.matrix"),
                         format!(
-                            "matrix must be \"A\", \"B\", \"C\" or \"D\", found \"{}\"",
-                            o.matrix
+                            "must be \"A\", \"B\", \"C\" or \"D\", found {}",
+                            quoted(&o.matrix)
                         ),
                     )
                 })?;

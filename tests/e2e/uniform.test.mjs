@@ -153,7 +153,7 @@ export default async function uniform(env) {
       await bad('u-uhalf', -1, 'uniform.u_half', /^uniform\.u_half must be a finite half-width ≥ 0/);
       await set(page, 'u-uhalf', 0.5);
       await page.$eval('#u-estimator', (el) => { el.append(new Option('kalman', 'kalman')); });
-      await bad('u-estimator', 'kalman', 'uniform.estimator', /^uniform\.estimator is not valid: unknown variant "kalman", expected one of "states", "parameters", "swapping", "expansion"/);
+      await bad('u-estimator', 'kalman', 'uniform.estimator', /^uniform\.estimator must be one of "states", "parameters", "swapping" or "expansion", found "kalman"$/);
       await page.$eval('#u-estimator', (el) => { el.value = 'swapping'; el.querySelector('option[value=kalman]').remove(); el.dispatchEvent(new Event('input', { bubbles: true })); });
       await idle(page);
       await bad('u-steps', '', 'simulate.steps', /^simulate\.steps must be a whole number/);

@@ -226,30 +226,41 @@ fn non_finite_entries() {
     };
     assert_eq!(LinearModel::from_spec(&spec).unwrap_err().field, "model.H");
 
-    for bad in [json!("NaN"), Value::Null, json!("1.0"), json!(true)] {
+    // The entry itself is named, with what was found and how to write it.
+    for (bad, found) in [
+        (
+            json!("NaN"),
+            "found the text \"NaN\" (JSON has no NaN or Infinity)",
+        ),
+        (Value::Null, "found null (JSON has no NaN or Infinity)"),
+        (
+            json!("1.0"),
+            "found the text \"1.0\" (write numbers without quotes)",
+        ),
+        (json!(true), "found the value true"),
+    ] {
         let text = with(base(), &["model", "F"], json!([[0.9, 0.1], [0.0, bad]])).to_string();
         let e = Scenario::from_json(&text).unwrap_err();
         let msg = e.to_string();
         assert_eq!(
-            e.field, "model.F",
-            "parse error does not name the field: {msg}"
+            e.field, "model.F[1][1]",
+            "parse error does not name the entry: {msg}"
         );
-        assert!(msg.contains(&format!("entry [1][1] is {bad}")), "{msg}");
         assert!(
-            msg.contains("must be numbers") && msg.contains("NaN"),
+            msg.contains("must be a number") && msg.contains(found),
             "{msg}"
         );
-        assert!(msg.contains("line 1, column"), "no position: {msg}");
     }
     let text = with(base(), &["data", "y"], json!([[0.1], [null], [0.2]])).to_string();
     let e = Scenario::from_json(&text).unwrap_err();
-    assert_eq!(e.field, "data.y", "{e}");
-    assert!(e.to_string().contains("entry [1][0] is null"), "{e}");
-    // A list where a number belongs: serde's own message, with the position.
+    assert_eq!(e.field, "data.y[1][0]", "{e}");
+    assert!(e.to_string().contains("found null"), "{e}");
+    // A list where a number belongs: the first entry decides the reading (a sequence of
+    // matrices), and the entry that breaks it is named.
     let text = with(base(), &["model", "F"], json!([[[0.9], 0.1], [0.0, 0.8]])).to_string();
     let e = Scenario::from_json(&text).unwrap_err();
     assert!(
-        e.field == "model.F" && e.to_string().contains("column"),
+        e.field == "model.F[0][1]" && e.message.contains("must be a row: a list of numbers"),
         "{e}"
     );
     assert!(
@@ -266,7 +277,12 @@ fn non_finite_entries() {
     // Unknown fields are named.
     let e = Scenario::from_json(&with(base(), &["model", "Q"], json!([[1.0]])).to_string())
         .unwrap_err();
-    assert!(e.to_string().contains("\"Q\""), "{e}");
+    assert!(
+        e.field == "model.Q"
+            && e.message
+                .starts_with("is not a key of model: the keys are \"F\""),
+        "{e}"
+    );
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]

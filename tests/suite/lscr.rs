@@ -1024,8 +1024,9 @@ fn bad_input_names_the_field() {
             "model.F",
             json!({"model": {"F": [[0.5]], "H": [[1]], "G": [[1]]}}),
         ),
+        // A NaN becomes null in JSON: the parse error names the entry.
         (
-            "model.F",
+            "model.F[0][1]",
             json!({"model": {"F": [[0.5, f64::NAN], [1.0, 0.7]]}}),
         ),
         ("model.H", json!({"model": {"H": [[0, 1], [1, 0]]}})),

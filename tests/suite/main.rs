@@ -16,6 +16,7 @@ mod determinism;
 mod fuzz;
 mod glls;
 mod lscr;
+mod messages;
 mod registry;
 mod scf_paper;
 mod sets;

@@ -766,7 +766,12 @@ fn contradictory_data_and_bad_input_name_their_field() {
     u.sim_eps = Some(0.2);
     let err = sc.run().unwrap_err();
     assert_eq!(err.field, "ubb.eps");
-    assert!(err.message.contains("infeasible"), "{}", err.message);
+    assert!(
+        err.message.contains("no state consistent with the data")
+            && err.message.contains("ubb.eps may be too small"),
+        "{}",
+        err.message
+    );
     // δ = ∞ with an output that never sees x₂: unbounded, named.
     let mut sc = presets::ubb_preset(UbbKind::Track);
     sc.model.f = Some(confset::model::MatrixSpec::Constant(vec![

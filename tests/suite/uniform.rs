@@ -468,7 +468,7 @@ fn bad_input_names_the_field() {
         ("uniform.time", json!({"uniform": {"time": 500}})),
         ("uniform.D", json!({"uniform": {"D": [[0, 1]]}})),
         (
-            "uniform.prior_overrides[0]",
+            "uniform.prior_overrides[0].matrix",
             json!({"uniform": {"prior_overrides": [{"matrix": "Q", "row": 0, "col": 0, "lo": 0, "hi": 1}]}}),
         ),
         ("uniform.plane", json!({"uniform": {"plane": [0, 0]}})),
@@ -482,7 +482,8 @@ fn bad_input_names_the_field() {
     let e = Scenario::from_json(&s.to_string()).unwrap_err();
     assert_eq!(e.field, "uniform.estimator");
     assert!(
-        e.message.starts_with("is not valid: unknown variant \"kalman\", expected one of \"states\", \"parameters\", \"swapping\", \"expansion\""),
+        e.message
+            == "must be one of \"states\", \"parameters\", \"swapping\" or \"expansion\", found \"kalman\"",
         "{e}"
     );
     assert_eq!(

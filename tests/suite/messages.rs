@@ -1,0 +1,316 @@
+//! What error messages promise (README "Errors"): a parse error names the JSON path of the
+//! value at fault and says in JSON words what belongs there, never a Rust type; unknown keys
+//! and names list the accepted ones; user strings are cut; a solver failure names the field
+//! most likely responsible; a block of another method is refused with the right pointer.
+//! One test per class, then every leaf of every preset replaced by a string.
+
+use confset::plot::Panel;
+use confset::scenario::Scenario;
+use confset::{presets, Error};
+use serde_json::{json, Value};
+
+/// Words of Rust, not of JSON: no message may contain them.
+const RUST_WORDS: [&str; 9] = [
+    "struct ",
+    "enum ",
+    "usize",
+    "u64",
+    "f64",
+    "Vec<",
+    "variant identifier",
+    "MatrixSpec",
+    "`",
+];
+
+#[track_caller]
+fn assert_plain(e: &Error) {
+    let text = e.to_string();
+    for w in RUST_WORDS {
+        assert!(!text.contains(w), "{w:?} in \"{text}\"");
+    }
+}
+
+/// The JSON of a preset.
+fn preset(name: &str) -> Value {
+    serde_json::to_value(presets::get(name).expect("preset")).expect("json")
+}
+
+/// The parse error of `v`.
+#[track_caller]
+fn parse_error(v: &Value) -> Error {
+    let e = Scenario::from_json(&v.to_string()).expect_err("refused");
+    assert_plain(&e);
+    e
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn a_wrong_type_deep_inside_names_its_path() {
+    let mut v = preset("glls-saturate");
+    v["glls"]["monte_carlo"] = json!({"runs": "abc", "seed": 1});
+    let e = parse_error(&v);
+    assert_eq!(e.field, "glls.monte_carlo.runs");
+    assert_eq!(
+        e.message,
+        "must be a whole number ≥ 0, found the text \"abc\""
+    );
+    // A block of the wrong kind, a number written as text, a whole number with a point.
+    v["glls"] = json!("abc");
+    let e = parse_error(&v);
+    assert_eq!(
+        (e.field.as_str(), e.message.as_str()),
+        ("glls", "must be an object, found the text \"abc\"")
+    );
+    let mut v = preset("glls-saturate");
+    v["alpha"] = json!("0.9");
+    let e = parse_error(&v);
+    assert_eq!(
+        e.to_string(),
+        "alpha must be a number, found the text \"0.9\" (write numbers without quotes)"
+    );
+    v["alpha"] = json!(0.9);
+    v["simulate"]["steps"] = json!(40.0);
+    let e = parse_error(&v);
+    assert_eq!(e.field, "simulate.steps");
+    assert!(e.message.contains("without a decimal point"), "{e}");
+    // A missing field is named below its block.
+    v["simulate"]["steps"] = json!(40);
+    v["glls"]["monte_carlo"] = json!({"seed": 1});
+    let e = parse_error(&v);
+    assert_eq!(e.to_string(), "glls.monte_carlo.runs is missing");
+    // A list of strings holds strings: its entry is named, not "entries must be numbers".
+    let mut v = preset("ubb-series");
+    v["ubb"]["basis"] = json!(["1", 5]);
+    let e = parse_error(&v);
+    assert_eq!(
+        e.to_string(),
+        "ubb.basis[1] must be text in double quotes, found the number 5"
+    );
+    // A fixed-length list says its length.
+    let mut v = preset("glls-saturate");
+    v["glls"]["plane"] = json!([0, 1, 2]);
+    let e = parse_error(&v);
+    assert_eq!(
+        e.to_string(),
+        "glls.plane must be a list of 2 entries, found a list of 3 entries"
+    );
+    // Not JSON at all: the path reached, the line and the column.
+    let e = Scenario::from_json("{\"method\": \"scf\",\n \"alpha\": NaN}").unwrap_err();
+    assert_plain(&e);
+    assert_eq!(e.field, "alpha");
+    assert!(
+        e.message.contains("not valid JSON") && e.message.contains("line 2, column"),
+        "{e}"
+    );
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn an_unknown_key_lists_the_known_ones() {
+    let mut v = preset("glls-saturate");
+    v["glls"]["horizonn"] = json!(3);
+    let e = parse_error(&v);
+    assert_eq!(e.field, "glls.horizonn");
+    assert!(
+        e.message
+            .starts_with("is not a key of glls: the keys are \"horizon\", \"max_horizon\""),
+        "{e}"
+    );
+    let mut v = preset("glls-saturate");
+    v["methd"] = json!("glls");
+    let e = parse_error(&v);
+    assert_eq!(e.field, "methd");
+    assert!(
+        e.message
+            .starts_with("is not a key of a scenario: the keys are \"method\""),
+        "{e}"
+    );
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn a_wrong_name_lists_the_accepted_names() {
+    let mut v = preset("glls-saturate");
+    v["glls"]["estimator"] = json!("gls");
+    let e = parse_error(&v);
+    assert_eq!(e.field, "glls.estimator");
+    assert_eq!(
+        e.message,
+        "must be one of \"lls\", \"glls\" or \"state_noise\", found \"gls\""
+    );
+    // A number where a name belongs: the names all the same.
+    v["glls"]["estimator"] = json!("lls");
+    v["method"] = json!(5);
+    let e = parse_error(&v);
+    assert_eq!(
+        e.to_string(),
+        "method must be one of \"scf\", \"kf\", \"lscr\", \"glls\", \"uniform_lp\" or \"ubb\", found the number 5"
+    );
+    // A name that takes no options, written as an object.
+    let mut v = preset("glls-saturate");
+    v["glls"]["noise"] = json!({"bounded": 3});
+    let e = parse_error(&v);
+    assert_eq!(e.field, "glls.noise");
+    assert!(e.message.contains("\"bounded\" alone"), "{e}");
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn long_user_strings_are_cut() {
+    let long = "x".repeat(500);
+    let cut = format!("\"{}…\"", "x".repeat(40));
+    let mut v = preset("glls-saturate");
+    v["glls"]["estimator"] = json!(long);
+    let e = parse_error(&v);
+    assert!(e.message.contains(&cut), "{e}");
+    assert!(!e.message.contains(&"x".repeat(41)), "{e}");
+    let mut v = preset("ubb-series");
+    v["ubb"]["basis"] = json!(["1", long]);
+    let e = Scenario::from_json(&v.to_string())
+        .unwrap()
+        .run()
+        .unwrap_err();
+    assert!(
+        e.message.contains(&cut) && !e.message.contains(&"x".repeat(41)),
+        "{e}"
+    );
+    let mut v = preset("uniform-paper");
+    v["uniform"]["prior_overrides"] =
+        json!([{"matrix": long, "row": 0, "col": 0, "lo": 0, "hi": 1}]);
+    let e = Scenario::from_json(&v.to_string())
+        .unwrap()
+        .run()
+        .unwrap_err();
+    assert_eq!(e.field, "uniform.prior_overrides[0].matrix");
+    assert!(e.message.ends_with(&cut), "{e}");
+    for e in [
+        presets::get(&long).unwrap_err(),
+        Panel::from_name(&long).unwrap_err(),
+        confset::Method::from_name(&long).unwrap_err(),
+    ] {
+        assert!(
+            e.message.contains(&cut) && !e.message.contains(&"x".repeat(41)),
+            "{e}"
+        );
+    }
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn contradictory_bounds_name_the_bound() {
+    // The measurement-noise bound far below the simulated noise: no state fits the data.
+    let mut v = preset("ubb-track");
+    v["ubb"]["eps"] = json!(1e-6);
+    v["ubb"]["sim_eps"] = json!(0.2);
+    let e = Scenario::from_json(&v.to_string())
+        .unwrap()
+        .run()
+        .unwrap_err();
+    assert_plain(&e);
+    assert_eq!(e.field, "ubb.eps");
+    assert_eq!(
+        e.message,
+        "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta)"
+    );
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn a_study_block_of_another_method_is_refused() {
+    let experiment = json!({"runs": 10, "components": [0]});
+    let mut v = preset("lscr-predict");
+    v["experiment"] = experiment.clone();
+    let s = Scenario::from_json(&v.to_string()).unwrap();
+    for e in [s.run().unwrap_err(), s.study(None).err().expect("refused")] {
+        assert_eq!(e.field, "experiment");
+        assert!(
+            e.message
+                .contains("used only with \"method\": \"scf\" or \"kf\"")
+                && e.message
+                    .contains("found \"lscr\", whose Monte Carlo study is lscr.coverage"),
+            "{e}"
+        );
+    }
+    let mut v = preset("uniform-paper");
+    let e = Scenario::from_json(&v.to_string())
+        .unwrap()
+        .study(None)
+        .err()
+        .expect("no study");
+    assert!(e.message.contains("has no Monte Carlo study"), "{e}");
+    v["experiment"] = experiment;
+    let e = Scenario::from_json(&v.to_string())
+        .unwrap()
+        .study(None)
+        .err()
+        .expect("refused");
+    assert_eq!(e.field, "experiment");
+    assert!(
+        e.message
+            .contains("found \"uniform_lp\", which has no Monte Carlo study"),
+        "{e}"
+    );
+}
+
+/// Every leaf of `v` (numbers, strings, booleans) as (field path, JSON pointer), keeping of
+/// each list its first two entries and its last (the others repeat their fields).
+fn leaves(v: &Value, path: &str, pointer: &str, out: &mut Vec<(String, String)>) {
+    match v {
+        Value::Object(o) => {
+            for (k, x) in o {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                leaves(x, &p, &format!("{pointer}/{k}"), out);
+            }
+        }
+        Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                if i < 2 || i + 1 == a.len() {
+                    leaves(x, &format!("{path}[{i}]"), &format!("{pointer}/{i}"), out);
+                }
+            }
+        }
+        Value::Null => {}
+        _ => out.push((path.to_string(), pointer.to_string())),
+    }
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn every_leaf_of_every_preset_replaced_by_text_names_its_path() {
+    let mut refused = 0;
+    for p in presets::all() {
+        let base = serde_json::to_value(&p.scenario).expect("json");
+        let mut all = Vec::new();
+        leaves(&base, "", "", &mut all);
+        // A bounded sample, spread over the whole scenario.
+        let step = all.len().div_ceil(150).max(1);
+        for (path, pointer) in all.iter().step_by(step) {
+            let mut v = base.clone();
+            *v.pointer_mut(pointer).expect("leaf") = json!("abc");
+            // Free text (title, notes, names) takes "abc".
+            let Err(e) = Scenario::from_json(&v.to_string()) else {
+                continue;
+            };
+            refused += 1;
+            let at_or_above = e.field == *path
+                || path.starts_with(&format!("{}.", e.field))
+                || path.starts_with(&format!("{}[", e.field));
+            assert!(
+                at_or_above,
+                "{}: {path} = \"abc\" gives an error about {}: {e}",
+                p.name, e.field
+            );
+            assert_plain(&e);
+            assert!(
+                !e.message.starts_with("is not valid:"),
+                "{}: {path}: serde's words left as they are: {e}",
+                p.name
+            );
+        }
+    }
+    assert!(refused > 200, "only {refused} leaves refused");
+}
