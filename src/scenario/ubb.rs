@@ -131,6 +131,9 @@ fn default_kf_level() -> f64 {
 /// Longest window accepted.
 pub const MAX_WINDOW: usize = 400;
 
+/// Most states of a set-membership model: a report within about 2 s.
+pub const MAX_STATES: usize = 10;
+
 /// Theorems 4 and 5 for the scenario (l∞-induced norms).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct SmoothingReport {
@@ -321,6 +324,12 @@ impl Scenario {
         };
         let r = a.nrows();
         linalg::expect_shape("model.F", &a, r, r)?;
+        if r > MAX_STATES {
+            return Err(Error::field(
+                "model.F",
+                format!("is {r} × {r}: one LP window per step and support LPs per direction, so at most {MAX_STATES} states (n = 20 took 4.7 s)"),
+            ));
+        }
         let c: Vec<DMatrix<f64>> = if basis.is_empty() {
             let h = ModelSpec::constant("model.H", &ms.h, Method::Ubb)?
                 .unwrap_or_else(|| DMatrix::zeros(0, r));

@@ -213,6 +213,9 @@ struct Truth {
 /// The reason a scalar state has no polygon.
 const NO_PLANE: &str = "the state is scalar (n = 1): there is no plane for the consistent-state polygon; the optimal-face range of x_t is the window's answer";
 
+/// Most states of a uniform-innovation model: a report within about 2 s.
+pub const MAX_STATES: usize = 8;
+
 impl Scenario {
     /// Validate a uniform-innovation scenario and run it.
     pub fn uniform_report(&self) -> Result<UniformReport> {
@@ -227,6 +230,12 @@ impl Scenario {
         let a = constant("model.F", &ms.f)?.ok_or_else(|| Error::field("model.F", "is missing"))?;
         let n = a.nrows();
         linalg::expect_shape("model.F", &a, n, n)?;
+        if n > MAX_STATES {
+            return Err(Error::field(
+                "model.F",
+                format!("is {n} × {n}: the uniform-innovation LP is dense in the window's states, so at most {MAX_STATES} states (n = 20 took over 10 s)"),
+            ));
+        }
         let c = constant("model.H", &ms.h)?.ok_or_else(|| Error::field("model.H", "is missing"))?;
         linalg::expect_shape("model.H", &c, c.nrows(), n)?;
         let m = c.nrows();

@@ -518,3 +518,86 @@ fn components_and_method() {
 fn run_guarded(s: &Scenario) -> Option<Result<confset::scenario::Report, Error>> {
     Some(s.run())
 }
+
+// ---------------------------------------------------------------------------------------------
+// One regression test per class of hostile input (the crate docs' three defences): each must
+// be an error naming the field, before any heavy work.
+
+/// A preset's scenario as JSON, by name.
+fn preset_json(name: &str) -> Value {
+    serde_json::to_value(&confset::presets::get(name).expect("preset")).expect("JSON")
+}
+
+#[test]
+fn an_absurd_size_is_refused_while_parsing() {
+    // 2⁶⁴ − 1 as a horizon looped for minutes before; 10⁹ as a conditioning time asked for 32 GB.
+    let mut g = preset_json("glls-unstable5");
+    g["glls"]["monte_carlo"]["max_horizon"] = json!(u64::MAX);
+    assert_err(&g, "glls.monte_carlo.max_horizon", &["10000000"]);
+    let mut l = preset_json("lscr-predict");
+    l["simulate"]["condition"] = json!({"t": 1_000_000_000u64, "x": [0.0, 0.0]});
+    assert_err(&l, "simulate.condition.t", &["10000000"]);
+    // Within the count limit but past the simulated run: the method's own check.
+    l["simulate"]["condition"]["t"] = json!(5000);
+    assert_err(&l, "simulate.condition.t", &["must lie in 1..="]);
+}
+
+#[test]
+fn numbers_beyond_the_magnitude_range_are_refused_by_path() {
+    // 1e154 in H made the LSCR regressors overflow into an SVD that panicked on NaN.
+    let mut l = preset_json("lscr-ma1");
+    l["model"]["H"][0][0] = json!(1e154);
+    assert_err(&l, "model.H[0][0]", &["1e100"]);
+    let mut g = preset_json("glls-mixed");
+    g["model"]["F"][1][1] = json!(1e-300);
+    assert_err(&g, "model.F[1][1]", &["1e-100"]);
+}
+
+#[test]
+fn an_oversized_model_is_refused_before_any_work() {
+    let mut u = preset_json("uniform-paper");
+    let big: Vec<Vec<f64>> = (0..20)
+        .map(|i| (0..20).map(|j| if i == j { 0.5 } else { 0.0 }).collect())
+        .collect();
+    u["model"]["F"] = json!(big);
+    assert_err(&u, "model.F", &["at most 8 states"]);
+    let huge: Vec<Vec<f64>> = (0..101)
+        .map(|i| (0..101).map(|j| if i == j { 0.5 } else { 0.0 }).collect())
+        .collect();
+    let mut s = preset_json("scf-scalar");
+    s["model"]["F"] = json!(huge);
+    assert_err(&s, "model.F", &["at most 100 rows"]);
+}
+
+#[test]
+fn a_decomposition_of_non_finite_numbers_is_an_error() {
+    use nalgebra::DMatrix;
+    let m = DMatrix::from_row_slice(2, 2, &[1.0, f64::INFINITY, 0.0, 1.0]);
+    assert!(confset::linalg::try_svd(m.clone(), false, false).is_none());
+    assert!(confset::linalg::try_symmetric_eigen(m).is_none());
+    let ok = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+    let e = confset::linalg::try_symmetric_eigen(ok).expect("a finite symmetric matrix");
+    let mut ev: Vec<f64> = e.eigenvalues.iter().copied().collect();
+    ev.sort_by(f64::total_cmp);
+    assert!(
+        (ev[0] - 1.0).abs() < 1e-12 && (ev[1] - 3.0).abs() < 1e-12,
+        "{ev:?}"
+    );
+}
+
+#[test]
+fn powers_that_overflow_are_named_not_written_as_null() {
+    // An unstable F within the magnitude range: its powers overflow over a long simulation.
+    let mut g = preset_json("glls-grow");
+    g["simulate"]["steps"] = json!(5000);
+    match run(&g) {
+        Ok(r) => panic!(
+            "accepted an overflowing run: {}",
+            serde_json::to_string(&r).unwrap_or_default().len()
+        ),
+        Err(e) => assert!(
+            e.field.starts_with("simulate.steps") || e.field.starts_with("report."),
+            "{e}"
+        ),
+    }
+}
