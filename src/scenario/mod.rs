@@ -299,28 +299,46 @@ pub const COUNT_KEYS: [&str; 22] = [
     "directions",
 ];
 
-/// The first size or count in `v` over [`MAX_COUNT`]: (path, value).
-fn oversized_count(v: &serde_json::Value, key: &str, path: &str) -> Option<(String, f64)> {
-    use serde_json::Value;
-    match v {
-        Value::Number(x) if COUNT_KEYS.contains(&key) => x
-            .as_f64()
-            .filter(|&f| f > MAX_COUNT as f64)
-            .map(|f| (path.to_string(), f)),
-        Value::Array(a) => a
-            .iter()
-            .enumerate()
-            .find_map(|(i, x)| oversized_count(x, key, &format!("{path}[{i}]"))),
-        Value::Object(o) => o.iter().find_map(|(k, x)| {
-            let p = if path.is_empty() {
-                k.clone()
-            } else {
-                format!("{path}.{k}")
-            };
-            oversized_count(x, k, &p)
-        }),
-        _ => None,
+/// The first leaf of a JSON value (depth first) that `hit` picks, with its path: `hit` sees
+/// the leaf, the object key it stands under (for the entries of a list, the list's key) and
+/// whether it is an entry of a list. The one walker of the scenario and report checks.
+pub(crate) fn first_leaf<T>(
+    v: &serde_json::Value,
+    hit: &dyn Fn(&serde_json::Value, &str, bool) -> Option<T>,
+) -> Option<(String, T)> {
+    fn walk<T>(
+        v: &serde_json::Value,
+        key: &str,
+        in_list: bool,
+        path: &str,
+        hit: &dyn Fn(&serde_json::Value, &str, bool) -> Option<T>,
+    ) -> Option<(String, T)> {
+        use serde_json::Value;
+        match v {
+            Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .find_map(|(i, x)| walk(x, key, true, &format!("{path}[{i}]"), hit)),
+            Value::Object(o) => o.iter().find_map(|(k, x)| {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                walk(x, k, false, &p, hit)
+            }),
+            leaf => hit(leaf, key, in_list).map(|t| (path.to_string(), t)),
+        }
     }
+    walk(v, "", false, "", hit)
+}
+
+/// The first size or count in `v` over [`MAX_COUNT`]: (path, value).
+fn oversized_count(v: &serde_json::Value) -> Option<(String, f64)> {
+    first_leaf(v, &|x, key, _| {
+        x.as_f64()
+            .filter(|&f| COUNT_KEYS.contains(&key) && f > MAX_COUNT as f64)
+    })
 }
 
 /// Largest magnitude of any number in a scenario. Products of a few such numbers stay far from
@@ -332,27 +350,11 @@ pub const MAX_MAGNITUDE: f64 = 1e100;
 pub const MIN_MAGNITUDE: f64 = 1e-100;
 
 /// The first number in `v` outside the magnitudes a scenario may hold: (path, value).
-fn out_of_range_number(v: &serde_json::Value, path: &str) -> Option<(String, f64)> {
-    use serde_json::Value;
-    match v {
-        Value::Number(x) => x
-            .as_f64()
+fn out_of_range_number(v: &serde_json::Value) -> Option<(String, f64)> {
+    first_leaf(v, &|x, _, _| {
+        x.as_f64()
             .filter(|f| f.abs() > MAX_MAGNITUDE || (*f != 0.0 && f.abs() < MIN_MAGNITUDE))
-            .map(|f| (path.to_string(), f)),
-        Value::Array(a) => a
-            .iter()
-            .enumerate()
-            .find_map(|(i, x)| out_of_range_number(x, &format!("{path}[{i}]"))),
-        Value::Object(o) => o.iter().find_map(|(k, x)| {
-            let p = if path.is_empty() {
-                k.clone()
-            } else {
-                format!("{path}.{k}")
-            };
-            out_of_range_number(x, &p)
-        }),
-        _ => None,
-    }
+    })
 }
 
 /// Most rows or columns of any model matrix (states, outputs, inputs, noise inputs): the
@@ -385,7 +387,7 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
             ),
         ));
     }
-    if let Some((field, x)) = oversized_count(v, "", "") {
+    if let Some((field, x)) = oversized_count(v) {
         return Err(Error::field(
             field,
             format!(
@@ -393,7 +395,7 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
             ),
         ));
     }
-    if let Some((field, x)) = out_of_range_number(v, "") {
+    if let Some((field, x)) = out_of_range_number(v) {
         return Err(Error::field(
             field,
             format!(
@@ -716,33 +718,16 @@ impl Report {
     /// a number belongs). The last defence behind the input checks: a value that overflowed or
     /// divided by zero in the computation becomes an error naming the report field, not a null.
     pub fn check_finite(&self) -> Result<()> {
-        fn first_null(v: &serde_json::Value, key: &str, path: &str) -> Option<String> {
-            use serde_json::Value;
-            match v {
-                Value::Null if !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key) => {
-                    Some(path.to_string())
-                }
-                // An entry of a list is never one of the nullable fields themselves.
-                Value::Array(a) => a
-                    .iter()
-                    .enumerate()
-                    .find_map(|(i, x)| first_null(x, "[]", &format!("{path}[{i}]"))),
-                Value::Object(o) => o.iter().find_map(|(k, x)| {
-                    let p = if path.is_empty() {
-                        k.clone()
-                    } else {
-                        format!("{path}.{k}")
-                    };
-                    first_null(x, k, &p)
-                }),
-                _ => None,
-            }
-        }
         let v = serde_json::to_value(self)
             .map_err(|e| Error::field("report", format!("could not be written as JSON: {e}")))?;
-        match first_null(&v, "", "") {
+        // A null under a nullable key is an absent region; an entry of a list never is one.
+        let null = first_leaf(&v, &|x, key, in_list| {
+            (x.is_null() && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
+                .then_some(())
+        });
+        match null {
             None => Ok(()),
-            Some(path) => Err(Error::field(
+            Some((path, ())) => Err(Error::field(
                 format!("report.{path}"),
                 "is not a finite number: the computation overflowed or divided by zero — an input is too large, too small or too ill-conditioned for double precision (try smaller noise, bounds or horizons, or a better-conditioned model)",
             )),

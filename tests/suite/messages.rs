@@ -107,24 +107,26 @@ fn a_wrong_type_deep_inside_names_its_path() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn an_unknown_key_lists_the_known_ones() {
-    let mut v = preset("glls-saturate");
-    v["glls"]["horizonn"] = json!(3);
-    let e = parse_error(&v);
-    assert_eq!(e.field, "glls.horizonn");
-    assert!(
-        e.message
-            .starts_with("is not a key of glls: the keys are \"horizon\", \"max_horizon\""),
-        "{e}"
-    );
-    let mut v = preset("glls-saturate");
-    v["methd"] = json!("glls");
-    let e = parse_error(&v);
-    assert_eq!(e.field, "methd");
-    assert!(
-        e.message
-            .starts_with("is not a key of a scenario: the keys are \"method\""),
-        "{e}"
-    );
+    let mut block = preset("glls-saturate");
+    block["glls"]["horizonn"] = json!(3);
+    let mut top = preset("glls-saturate");
+    top["methd"] = json!("glls");
+    for (v, field, start) in [
+        (
+            block,
+            "glls.horizonn",
+            "is not a key of glls: the keys are \"horizon\", \"max_horizon\"",
+        ),
+        (
+            top,
+            "methd",
+            "is not a key of a scenario: the keys are \"method\"",
+        ),
+    ] {
+        let e = parse_error(&v);
+        assert_eq!(e.field, field);
+        assert!(e.message.starts_with(start), "{e}");
+    }
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
