@@ -6,8 +6,10 @@
 // panics inside a worker): the panel hands the report to its own Session (setReport).
 
 // A run that did not end with a report or a core error: `kind` is 'crash' (the worker died or
-// its instance aborted: a bug), 'cancelled' (the user's Cancel) or 'superseded' (a newer
-// scenario replaced a long run).
+// its instance aborted: a bug), 'timeout' (no answer within the watchdog's time: a worker that
+// went silent, e.g. one the browser stopped on memory without a trap; also a bug, since every
+// scenario the core accepts is budgeted to seconds), 'cancelled' (the user's Cancel) or
+// 'superseded' (a newer scenario replaced a long run).
 export class ComputeFault extends Error {
   constructor(kind, message) {
     super(message);
@@ -26,6 +28,11 @@ export const computeClients = new Map();
 
 const WORKER_URL = new URL('./worker.js', import.meta.url);
 
+// The watchdog: a job without an answer after this long ends as a 'timeout' fault and the
+// worker is replaced. The core's work budget holds a report to about 2 s natively (README,
+// Limits), a few times that in wasm on a slow machine; a minute is far past any accepted run.
+export const WATCHDOG_MS = 60_000;
+
 // The client of one panel: run(scenarioJson) → Promise of {report (JSON text), ms (compute time
 // in the worker)}; it rejects with the core's error (an Error with `field`) or a ComputeFault.
 // Jobs run one at a time in the order sent; replace(kind) ends them all (with that fault) and
@@ -37,13 +44,21 @@ export function computeClient(panel) {
   const client = {
     // Test only: the next job aborts the worker's instance instead of running (worker.js).
     testOnlyAbortNextRun: false,
+    // The watchdog's time for the next jobs (a test shortens it).
+    watchdogMs: WATCHDOG_MS,
     run(scenarioJson) {
       if (!worker) start('retry'); // the last one never loaded
       const id = nextId++;
       const testOnlyAbort = client.testOnlyAbortNextRun;
       client.testOnlyAbortNextRun = false;
       return new Promise((resolve, reject) => {
-        jobs.set(id, { resolve, reject });
+        const watchdog = setTimeout(() => {
+          if (!jobs.has(id)) return;
+          const s = (client.watchdogMs / 1000).toLocaleString('en-US');
+          end(new ComputeFault('timeout', `The computation gave no answer within ${s} s and was stopped`));
+          start('timeout');
+        }, client.watchdogMs);
+        jobs.set(id, { resolve, reject, watchdog });
         worker.postMessage({ id, scenario: scenarioJson, testOnlyAbort });
       });
     },
@@ -69,6 +84,7 @@ export function computeClient(panel) {
       const job = jobs.get(data.id);
       if (!job) return;
       if (data.fault) { fail(data.fault, ready); return; } // this job fails with every other
+      clearTimeout(job.watchdog);
       jobs.delete(data.id);
       if (data.error) job.reject(Object.assign(new Error(data.error.message), { field: data.error.field }));
       else job.resolve({ report: data.report, ms: data.ms });
@@ -95,7 +111,7 @@ export function computeClient(panel) {
     worker = null;
     const waiting = [...jobs.values()];
     jobs.clear();
-    for (const j of waiting) j.reject(fault);
+    for (const j of waiting) { clearTimeout(j.watchdog); j.reject(fault); }
   }
 
   // Stop what runs (Cancel, or a newer scenario) and start a fresh worker.

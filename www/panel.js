@@ -75,9 +75,11 @@ function computeNote(staleNote, saveScenario) {
     },
     done() { clearTimeout(timer); note.hidden = true; },
     cancelled() { clearTimeout(timer); say('Computation cancelled: the figures show the last computed scenario.'); },
-    crashed(scenario) {
+    // A crash or a silent worker stopped by the watchdog: a bug either way.
+    failed(fault, scenario) {
       clearTimeout(timer);
-      say('The computation failed — this is a bug. Download the scenario to report it.', 'Download the scenario', () => saveScenario(scenario), 'alert');
+      const what = fault.kind === 'timeout' ? fault.message : 'The computation failed';
+      say(`${what} — this is a bug. Download the scenario to report it.`, 'Download the scenario', () => saveScenario(scenario), 'alert');
     },
   };
 }
@@ -223,7 +225,7 @@ export function mountPanel(root, spec) {
       if (e instanceof ComputeFault) {
         again = false; // what was asked meanwhile waits for the next input
         errors.clear();
-        if (e.kind === 'crash') note.crashed(scenario); else note.cancelled();
+        if (e.kind === 'crash' || e.kind === 'timeout') note.failed(e, scenario); else note.cancelled();
         return false;
       }
       note.done();

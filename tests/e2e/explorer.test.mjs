@@ -163,6 +163,10 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
         assert.match(msg, what, `${d.id}: F = ${JSON.stringify(bad)} gives a message next to the model: "${msg}"`);
         assert.equal(await custom.$eval(`#${d.id} .stale`, (e) => e.hidden), false, `${d.id}: the stale note shows`);
         assert.deepEqual((await snapshot(custom, d.id)).pixels, pixels, `${d.id}: the last good picture stays`);
+        if (d.id === 'glls' && bad === '1 2\n3') {
+          await custom.$eval(`#${d.id} .err[data-for^="model"]:not(:empty)`, (e) => e.scrollIntoView({ block: 'center' }));
+          await custom.screenshot({ path: join(screenshotDir, 'error-ragged-model.png') });
+        }
       }
       await custom.fill(f, good);
       await idle(custom, d.busy);
@@ -204,6 +208,8 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
         await lim.fill('#u-window', String(max + 1));
         await idle(lim, d.busy);
         assert.match(await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.textContent), new RegExp(`1\\.\\.=${max}`), 'uniform: the message names the same limit');
+        await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.scrollIntoView({ block: 'center' }));
+        await lim.screenshot({ path: join(screenshotDir, 'error-window-limit.png') });
       }
       await lim.close();
     }

@@ -99,6 +99,10 @@ export default async function ubb(env) {
       assert.equal(await page.$eval('#b-stale', (e) => e.hidden), false, 'the stale note shows');
       assert.equal(await pixels(page, 'ubbset'), good, 'the last good picture stays');
       assert.equal(await numbers(page), goodNb, 'the last good numbers stay');
+      if (dpr === 1) {
+        await page.$eval('#ubb form .err[data-for="ubb.eps"]', (e) => e.scrollIntoView({ block: 'center' }));
+        await page.screenshot({ path: join(screenshotDir, 'error-ubb-eps.png') });
+      }
       await set(page, 'b-eps', '0.2');
       await drawnWell(page, assert, 'ε back to 0.2');
       assert.equal(await page.$eval('#b-stale', (e) => e.hidden), true);

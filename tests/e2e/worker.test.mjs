@@ -177,4 +177,31 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     console.log(`    crash: contained in ${faultMs} ms (message shown, picture kept); a fresh worker loaded in ${restart.toFixed(0)} ms; the next input drawn in ${nextMs} ms`);
     await page.close();
   }
+
+  // ----- the watchdog: a run without an answer is stopped (shortened here to 0.4 s) -----
+  {
+    const page = await open(newPage, waitReady, `${baseUrl}#uniform`, 'uniformBusy');
+    const before = await pixels(page, 'uniform');
+    await page.evaluate(async () => {
+      (await import(new URL('compute.js', document.baseURI).href)).computeClients.get('uniform').watchdogMs = 400;
+    });
+    const w0 = Date.now();
+    await input(page, 'u-window', 80);
+    await idle(page, 'uniformBusy', 10_000);
+    const stoppedMs = Date.now() - w0;
+    assert.equal(await note(page, 'uniform'), 'The computation gave no answer within 0.4 s and was stopped — this is a bug. Download the scenario to report it. Download the scenario');
+    assert.deepEqual(await pixels(page, 'uniform'), before, 'the last picture stays');
+    const restarted = await page.evaluate(async () => {
+      const { workerStarts, computeClients } = await import(new URL('compute.js', document.baseURI).href);
+      computeClients.get('uniform').watchdogMs = 60_000;
+      return workerStarts.some((s) => s.panel === 'uniform' && s.reason === 'timeout');
+    });
+    assert.ok(restarted, 'the silent worker was replaced');
+    await input(page, 'u-window', 6);
+    await idle(page, 'uniformBusy');
+    assert.equal(await note(page, 'uniform'), '', 'the message is gone');
+    assert.match(await page.$eval('#u-num-title', (e) => e.textContent), /∂ = 6\)/);
+    console.log(`    watchdog (0.4 s): the silent run stopped and reported ${stoppedMs} ms after its input; the next input computes`);
+    await page.close();
+  }
 }
