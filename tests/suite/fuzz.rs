@@ -9,7 +9,9 @@
 //! `cargo test` runs [`SAMPLE`] cases (in wasm a few per preset); the long run is
 //! `CONFSET_FUZZ_CASES=1000000 cargo test --release --test suite fuzz::long_run -- --ignored --nocapture`,
 //! which prints its counts per outcome. Case k of preset p is drawn from its own seed, so any
-//! case is replayed from its number alone (`CONFSET_FUZZ_ONLY=preset:k`).
+//! case is replayed from its number alone (`CONFSET_FUZZ_ONLY=preset:k`), and the long run can
+//! be cut into pieces whose counts add up: `CONFSET_FUZZ_FROM=200000 CONFSET_FUZZ_CASES=100000`
+//! runs cases 200,000 … 299,999 (the numbering of one run of 1,000,000).
 
 use crate::registry::check_report_json;
 use confset::presets;
@@ -376,13 +378,18 @@ fn run_case(s: &Value, name: String) -> Tally {
 /// `cases` cases spread evenly over the presets (case numbers 0, 1, … per preset), natively
 /// in parallel.
 fn fuzz(cases: usize) -> Tally {
+    fuzz_range(0..cases)
+}
+
+/// Cases `range` of the one numbering (case i is case i / #presets of preset i % #presets).
+fn fuzz_range(range: std::ops::Range<usize>) -> Tally {
     let all = presets::all();
     let bases: Vec<Value> = all
         .iter()
         .map(|p| serde_json::to_value(&p.scenario).expect("JSON"))
         .collect();
     let only = option_env_var("CONFSET_FUZZ_ONLY");
-    let jobs: Vec<(usize, usize)> = (0..cases)
+    let jobs: Vec<(usize, usize)> = range
         .map(|i| (i % all.len(), i / all.len()))
         .filter(|&(p, k)| {
             only.as_deref()
@@ -507,10 +514,13 @@ fn mutated_presets_give_a_finite_report_or_a_field_error() {
 #[test]
 #[ignore = "the long run (minutes to hours): run it by hand, see the module docs"]
 fn long_run() {
-    let cases = option_env_var("CONFSET_FUZZ_CASES")
-        .and_then(|c| c.parse().ok())
-        .unwrap_or(1_000_000);
-    assert_clean(&fuzz(cases));
+    let number = |name: &str, default: usize| {
+        option_env_var(name)
+            .and_then(|c| c.parse().ok())
+            .unwrap_or(default)
+    };
+    let from = number("CONFSET_FUZZ_FROM", 0);
+    assert_clean(&fuzz_range(from..from + number("CONFSET_FUZZ_CASES", 1_000_000)));
 }
 
 #[test]
