@@ -203,6 +203,15 @@
 //! * `webdriver.json` in the crate root gives Chromium the flags that stop its background
 //!   network calls (`--disable-background-networking`, `--disable-component-update`, …) next
 //!   to `--headless=new` and `--no-sandbox`.
+//! * Firefox (the fourth test layer): pass `--geckodriver "$(command -v geckodriver)"` (a
+//!   `cargo install`ed geckodriver 0.37.1) or wasm-pack downloads one. Debian's `firefox-esr`
+//!   runs headless as root with no extra settings (no `MOZ_HEADLESS`, no profile, no
+//!   `moz:firefoxOptions` in `webdriver.json`: the runner passes `-headless` itself). The smoke
+//!   test gives selenium-webdriver the geckodriver and firefox paths, so selenium's driver
+//!   manager (which would go online) never runs; selenium-webdriver 4.46.0 is the last release
+//!   that supports Node 20. Firefox measures text wider than Chromium (DejaVu Sans "Xg" at
+//!   14 px: 18.5 px against 17.1 px), so a figure near its size limit in one browser may refuse
+//!   in the other.
 //! * statrs 0.19 (0.19.1): 0.18.0 returns NaN from `ChiSquared::inverse_cdf` in the lower tail
 //!   for small degrees of freedom (p = 0.01, k = 1). [`stats::chi2_quantile`] still round-trips
 //!   every quantile and turns a failure into an error, never a NaN ellipse.

@@ -121,11 +121,15 @@ fn a_report_set_from_json_draws_as_the_run_one() {
         drawn.set_report(&json).expect("the report is read back");
         assert_eq!(drawn.useful_panels(), ran.useful_panels(), "{method}");
         let useful: Vec<String> = serde_json::from_str(&ran.useful_panels()).expect("names");
+        // The page's full-width figure size. In wasm the SVG backend measures text with the
+        // browser's fonts: at 640 × 480 (no page size) Firefox's wider sans-serif leaves the
+        // stacked charts of uniform-paper's output figure no room, a size error in both sessions.
+        let (w, h) = (960, 640);
         for panel in useful {
             let view = serde_json::json!({ "panel": panel }).to_string();
             assert_eq!(
-                drawn.svg(&view, 640, 480).expect("svg of the set report"),
-                ran.svg(&view, 640, 480).expect("svg of the run report"),
+                drawn.svg(&view, w, h).expect("svg of the set report"),
+                ran.svg(&view, w, h).expect("svg of the run report"),
                 "{method}: the {panel} figure"
             );
         }
