@@ -1,32 +1,7 @@
-// Shared by the panels: wasm experiments run in chunks (about 12 ms of work per task, then the
-// browser paints and Cancel can land), input bursts coalesced into one run per frame, and core
-// errors shown next to the field they name. (A panel's scenario runs in its compute worker:
-// compute.js, panel.js.)
-
-const SLICE_MS = 12;
-// Yield to the browser (it paints when a frame is due) without setTimeout's 4 ms clamp.
-const channel = new MessageChannel();
-const waiting = [];
-channel.port1.onmessage = () => waiting.shift()?.();
-const yieldToBrowser = () => new Promise((r) => { waiting.push(r); channel.port2.postMessage(0); });
-
-// Step `exp` (a wasm Study: step(k) → JSON result, finished()) `chunk`
-// runs at a time until it finishes or `me.cancelled` is set; `onChunk(counts)` after every
-// slice. Returns the last counts, the wall time and the time spent computing (ms).
-export async function runChunked(exp, chunk, me, onChunk) {
-  const t0 = performance.now();
-  let compute = 0;
-  let counts = null;
-  while (!me.cancelled) {
-    const s0 = performance.now();
-    do counts = JSON.parse(exp.step(chunk)); while (!exp.finished() && performance.now() - s0 < SLICE_MS);
-    compute += performance.now() - s0;
-    onChunk(counts);
-    if (exp.finished()) break;
-    await yieldToBrowser();
-  }
-  return { counts, wall: performance.now() - t0, compute };
-}
+// Shared by the panels: the studies' Start/Cancel/progress (their runs go to the study workers:
+// studypool.js), input bursts coalesced into one run per frame, and core errors shown next to
+// the field they name. (A panel's scenario runs in its compute worker: compute.js, panel.js.)
+import { runStudy } from './studypool.js';
 
 // A run-per-frame scheduler: schedule('compute') or schedule('redraw') during a burst of input
 // events runs once on the next animation frame (a compute covers a redraw); the panel's busy
@@ -90,21 +65,23 @@ export function busyFlag(key) {
 
 const int = (v) => v.toLocaleString('en-US');
 
-// A panel's chunked study (its Start and Cancel buttons, progress bar, status line and error),
-// written once:
-//   start(...args)        the run's wasm Study: { study, total (runs asked), at?, note? } — `at`
-//                         follows "N runs" in every status line (" at k = 40"), `note` only while
-//                         it runs; nothing to run: null; a throw shows in `err`
+// A panel's study (its Start and Cancel buttons, progress bar, status line and error), written
+// once; its runs go to every core (studypool.js):
+//   start(...args)        the run: { scenario (JSON text), runs (0: the scenario's count), study
+//                         (the main thread's wasm Study of it, which merges the workers' counts),
+//                         total (runs asked), at?, note? } — `at` follows "N runs" in every status
+//                         line (" at k = 40"), `note` only while it runs; nothing to run: null; a
+//                         throw shows in `err`
 //   show(c, done, final)  the counts on the page after every slice; `final`: the last one, `done`:
 //                         it finished without a cancel
 //   runs(c)               the runs done in the counts (c.runs)
 //   perRun(ms, runs), extra(c), cancelWall   the wording of the closing status line
 // A new run or reset() makes the one running stale: it stops at its next slice and shows nothing
 // more. The buttons come back only when the run that disabled them ends; `busy` is held meanwhile.
-export function studyRunner({ go, cancel, bar, status, err, chunk, busy, start, show, runs = (c) => c.runs,
+export function studyRunner({ go, cancel, bar, status, err, busy, start, show, runs = (c) => c.runs,
   perRun = (ms, k) => `${(1000 * ms / k).toFixed(0)} µs`, extra = () => '', cancelWall = true }) {
-  let running = null; // { cancelled, stale, total }
-  const makeStale = () => { if (running) Object.assign(running, { cancelled: true, stale: true }); };
+  let running = null; // { cancelled, stale, total, stop() }
+  const makeStale = () => { if (running) { Object.assign(running, { cancelled: true, stale: true }); running.stop?.(); } };
 
   async function run(...args) {
     err.textContent = '';
@@ -131,17 +108,21 @@ export function studyRunner({ go, cancel, bar, status, err, chunk, busy, start, 
     cancel.disabled = false;
     busy(+1);
     try {
-      const { counts: c, wall, compute: ms } = await runChunked(job.study, chunk, me, (c) => {
-        if (me.stale) return;
-        counted(c, false, false);
-        status.textContent = `${int(runs(c))} / ${int(me.total)} runs${at}${job.note || ''}`;
+      const { counts: c, wall, compute: ms, workers } = await runStudy({
+        scenario: job.scenario, runs: job.runs, merger: job.study, me, onCounts: (c) => {
+          if (me.stale) return;
+          counted(c, false, false);
+          status.textContent = `${int(runs(c))} / ${int(me.total)} runs${at}${job.note || ''}`;
+        },
       });
       if (me.stale) return; // the scenario changed: these counts belong to the old one
+      if (!c) { status.textContent = 'cancelled before the first runs were counted'; return; }
       counted(c, !me.cancelled, true);
       const k = runs(c);
+      const on = `${workers} worker${workers === 1 ? '' : 's'}`;
       status.textContent = me.cancelled
         ? `cancelled after ${int(k)} runs${cancelWall ? ` (${wall.toFixed(0)} ms)` : ''}`
-        : `${int(k)} runs${at} in ${wall.toFixed(0)} ms (computing ${ms.toFixed(0)} ms, ${perRun(ms, k)} per run${extra(c)})`;
+        : `${int(k)} runs${at} in ${wall.toFixed(0)} ms on ${on} (computing ${ms.toFixed(0)} ms in all, ${perRun(ms, k)} per run${extra(c)})`;
     } catch (e) {
       err.textContent = e.message;
     } finally {
@@ -156,7 +137,7 @@ export function studyRunner({ go, cancel, bar, status, err, chunk, busy, start, 
   }
 
   go.addEventListener('click', () => run());
-  cancel.addEventListener('click', () => { if (running) running.cancelled = true; });
+  cancel.addEventListener('click', () => { if (running) { running.cancelled = true; running.stop?.(); } });
   return {
     run,
     // A new scenario: stop the run and clear what belongs to the old one.

@@ -1,7 +1,7 @@
 // The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → a run in
 // the panel's compute worker → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
-// "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, in chunks
-// (wasm Study), and its result is handed back to the Session (set_precision) so the
+// "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, on every
+// core (studypool.js), and its merged result is handed back to the Session (set_precision) so the
 // "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
 // and shows what the core reports.
 import { Study } from './pkg/confset.js';
@@ -17,7 +17,6 @@ const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
 const fmtLong = (v) => (typeof v === 'number' && Number.isFinite(v) && Math.abs(v) >= 1e4 ? v.toExponential(4) : fmt(v));
 const vec = (v) => (Array.isArray(v) ? `(${v.map(fmtLong).join(', ')})` : '–');
 const mark = (b) => (b == null ? '' : b ? '<b class="good">✓ inside</b>' : '<b class="warn">✗ outside</b>');
-const CHUNK = 25; // runs per Study.step
 const STUDY_DRAW_MS = 120; // redraw the precision figure at most this often while the study runs
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
@@ -329,9 +328,9 @@ function startStudy(p, auto) {
   const total = wholeNumber('glls.monte_carlo.runs', ui['mc-n'].value);
   const s = clone(st.scenario);
   s.glls.monte_carlo = { ...monteCarlo(st, s), runs: total };
-  const study = new Study(JSON.stringify(s), 0);
+  const json = JSON.stringify(s);
   p.lastDraw = 0;
-  return { study, total, note: auto ? ' (started with the scenario)' : '' };
+  return { scenario: json, runs: 0, study: new Study(json, 0), total, note: auto ? ' (started with the scenario)' : '' };
 }
 
 // The precision figure follows the study: at most every STUDY_DRAW_MS while it runs, and at its end.
@@ -377,7 +376,7 @@ export const mountGlls = async (root, presets) => mountPanel(root, {
     });
     p.mc = studyRunner({
       go: ui['mc-go'], cancel: ui['mc-cancel'], bar: ui['mc-progress'], status: ui['mc-status'], err: ui['mc-err'],
-      chunk: CHUNK, busy: busyFlag('gllsMcBusy'), start: (auto) => startStudy(p, auto),
+      busy: busyFlag('gllsMcBusy'), start: (auto) => startStudy(p, auto),
       show: (c, done, final) => studyCounts(p, c, done, final), extra: (c) => `, ${c.horizons.length} horizons`,
     });
   },

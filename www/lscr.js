@@ -1,6 +1,6 @@
 // The LSCR panel: controls → Scenario JSON (method "lscr") → a run in the panel's compute worker → the region figure
-// (Session.draw, view {"panel":"region"}), the numbers of the report, and the chunked coverage
-// experiment (wasm Study) at a true state placed with a click. No estimation happens
+// (Session.draw, view {"panel":"region"}), the numbers of the report, and the coverage
+// experiment (on every core: studypool.js) at a true state placed with a click. No estimation happens
 // here: the page only edits the preset's scenario and shows what the core reports.
 import { Study } from './pkg/confset.js';
 import { mountPanel, clone } from './panel.js';
@@ -238,7 +238,8 @@ function startCoverage({ ui, st }) {
   if (!x) throw { field: 'simulate.condition.x', message: 'the coverage experiment needs a true state: click the figure to place one' };
   s.simulate.condition = { t: st.report.lscr.time, x };
   s.lscr.coverage = { runs: total, seed: 1 };
-  return { study: new Study(JSON.stringify(s), 0), total };
+  const json = JSON.stringify(s);
+  return { scenario: json, runs: 0, study: new Study(json, 0), total };
 }
 
 function resetCoverage({ ui, st, coverage }) {
@@ -267,7 +268,7 @@ export const mountLscr = async (root, presets) => mountPanel(root, {
     p.st.scenarioJson = '';
     p.coverage = studyRunner({
       go: ui['cov-go'], cancel: ui['cov-cancel'], bar: ui['cov-progress'], status: ui['cov-status'], err: ui['cov-err'],
-      chunk: 100, busy: p.setBusy, start: () => startCoverage(p), show: (c, done) => showCoverage(p, c, done),
+      busy: p.setBusy, start: () => startCoverage(p), show: (c, done) => showCoverage(p, c, done),
     });
     p.figures[0].canvas.addEventListener('click', (e) => placeTruth(p, e));
   },

@@ -1,5 +1,5 @@
 // Monte Carlo over rare realizations (SCF paper, Section II-B: the robots' collision, or any
-// state fixed at x̄), run by the wasm Study in chunks: about 12 ms of work per task, so the page keeps painting and can cancel.
+// state fixed at x̄), run on every core by the study workers (studypool.js), with progress and Cancel.
 import { Study } from './pkg/confset.js';
 import { wholeNumber } from './parse.js';
 import { studyRunner } from './chunked.js';
@@ -29,7 +29,8 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
     const scenario = getScenario();
     scenario.experiment.runs = runs;
     show.labels(scenario);
-    return { study: new Study(JSON.stringify(scenario), 0), total: runs };
+    const json = JSON.stringify(scenario);
+    return { scenario: json, runs: 0, study: new Study(json, 0), total: runs };
   }
 
   // The card's words for the scenario: the robots' collision study (with the paper's counts) or
@@ -45,7 +46,7 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
 
   const runner = studyRunner({
     go: q('mc-go'), cancel: q('mc-cancel'), bar: q('mc-progress'), status: q('mc-status'), err: q('mc-err'),
-    chunk: 500, busy: setBusy, start, show, runs: (c) => c.runs_done,
+    busy: setBusy, start, show, runs: (c) => c.runs_done,
     perRun: (ms, k) => `${(1000 * ms / k).toFixed(1)} µs`, cancelWall: false,
   });
 

@@ -1,8 +1,8 @@
 // The set-membership panel (Tempo, method "ubb"): controls → Scenario JSON → a run in the compute worker →
 // two figures drawn by the core (views {"panel": "ubbset" | "ubbwidth"}) and the numbers of the
 // report (report.ubb). The step k is the scenario's ubb.time: the core computes the exact polygon,
-// the interval hull and the prediction there. The guarantee runs fresh simulations in chunks
-// (wasm Study) and counts how often the truth left the set (never) and the KF ellipse.
+// the interval hull and the prediction there. The guarantee runs fresh simulations on every core
+// (studypool.js) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Study } from './pkg/confset.js';
 import { mountPanel } from './panel.js';
@@ -16,7 +16,6 @@ const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
 const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
 const int = (n) => n.toLocaleString('en-US');
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
-const CHUNK = 10; // runs per Study.step
 const ANIMATE_MS = 350; // per step of the animation (at least one LP solve per frame)
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
@@ -193,9 +192,10 @@ function startAnimation(p) {
 function startGuarantee({ ui, st }) {
   if (!st.scenario) return null;
   const total = wholeNumber('runs', ui.runs.value);
-  const study = new Study(JSON.stringify(st.scenario), total);
+  const json = JSON.stringify(st.scenario);
+  const study = new Study(json, total);
   const k = JSON.parse(study.result()).k;
-  return { study, total, at: ` at k = ${k}`, note: '…' };
+  return { scenario: json, runs: total, study, total, at: ` at k = ${k}`, note: '…' };
 }
 
 function showGuarantee({ ui }, c) {
@@ -226,7 +226,7 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
     p.animating = null;
     ui.animate.addEventListener('click', () => (p.animating ? stopAnimation(p) : startAnimation(p)));
     studyRunner({
-      go: ui.go, cancel: ui.cancel, status: ui['g-status'], err: ui['g-err'], chunk: CHUNK,
+      go: ui.go, cancel: ui.cancel, status: ui['g-status'], err: ui['g-err'],
       busy: busyFlag('ubbGuaranteeBusy'), start: () => startGuarantee(p), show: (c) => showGuarantee(p, c),
       perRun: (ms, runs) => `${(ms / Math.max(1, runs)).toFixed(2)} ms`,
     });
