@@ -31,7 +31,6 @@ use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, ModelSpec};
 use nalgebra::{DMatrix, DVector};
-use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
@@ -1435,8 +1434,10 @@ pub enum Study {
     StateNoiseVsLls,
 }
 
-/// A chunked Monte Carlo over horizons s = s_min..=s_max: each run simulates `steps` steps
-/// from x(0) and estimates the last state with every horizon.
+/// A Monte Carlo over horizons s = s_min..=s_max: each run simulates `steps` steps from x(0)
+/// and estimates the last state with every horizon. Run i simulates from its own stream
+/// ([`crate::study::run_stream`] of the seed and i); the study runs it in ranges of runs
+/// ([`crate::study::Runs`]).
 pub struct Precision {
     model: GllsModel,
     study: Study,
@@ -1444,12 +1445,55 @@ pub struct Precision {
     u: Vec<DVector<f64>>,
     /// Per horizon: (s, first estimator, second estimator).
     horizons: Vec<(usize, Horizon, Option<StateNoise>)>,
-    rng: ChaCha8Rng,
+    pub seed: u64,
     pub total: usize,
-    pub runs: usize,
-    /// errors[h] = (first estimator's ‖x_est(k) − x(k)‖ per run, second's).
-    errors: Vec<(Vec<f64>, Vec<f64>)>,
-    state_norms: Vec<f64>,
+}
+
+/// What a range of runs gives: every run's error norms, in run order (the quartiles need them
+/// all, so these, not counts, are what adds: ranges concatenate).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrecisionRuns {
+    /// Per horizon, the first estimator's ‖x_est(k) − x(k)‖ of each run.
+    pub first: Vec<crate::study::Floats>,
+    /// Per horizon, the second's (LLS in Section 5.2; empty in 5.1).
+    pub second: Vec<crate::study::Floats>,
+    /// ‖x(k)‖ of each run.
+    pub state_norms: crate::study::Floats,
+}
+
+impl crate::study::Tally for PrecisionRuns {
+    fn runs(&self) -> usize {
+        self.state_norms.0.len()
+    }
+    fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
+        let runs = later.runs();
+        if later.first.len() != self.first.len() || later.second.len() != self.second.len() {
+            return Err(format!(
+                "its errors are for {} horizons, this study's for {}",
+                later.first.len(),
+                self.first.len()
+            ));
+        }
+        if later.first.iter().any(|v| v.0.len() != runs)
+            || later
+                .second
+                .iter()
+                .any(|v| !v.0.is_empty() && v.0.len() != runs)
+        {
+            return Err(format!(
+                "its errors per horizon are not one per run of its {runs}"
+            ));
+        }
+        for (a, b) in self.first.iter_mut().zip(&later.first) {
+            a.0.extend_from_slice(&b.0);
+        }
+        for (a, b) in self.second.iter_mut().zip(&later.second) {
+            a.0.extend_from_slice(&b.0);
+        }
+        self.state_norms.0.extend_from_slice(&later.state_norms.0);
+        Ok(())
+    }
 }
 
 /// The result of a study so far.
@@ -1515,34 +1559,39 @@ impl Precision {
                 "no horizon in the range determines the state",
             ));
         }
-        let errors = vec![(Vec::new(), Vec::new()); horizons.len()];
         Ok(Precision {
             model: model.clone(),
             study,
             steps,
             u,
             horizons,
-            rng: ChaCha8Rng::seed_from_u64(seed),
+            seed,
             total: runs,
-            runs: 0,
-            errors,
-            state_norms: Vec::new(),
         })
     }
 
-    pub fn finished(&self) -> bool {
-        self.runs >= self.total
+    /// The numbers of no run.
+    pub fn zero(&self) -> PrecisionRuns {
+        let h = self.horizons.len();
+        PrecisionRuns {
+            first: vec![Default::default(); h],
+            second: vec![Default::default(); h],
+            state_norms: Default::default(),
+        }
     }
 
-    /// Run up to k more realizations.
-    pub fn step(&mut self, k: usize) {
+    /// Run the realizations of `runs`.
+    pub fn run(&self, runs: std::ops::Range<usize>) -> PrecisionRuns {
         let (m, r) = (self.model.m(), self.model.r());
-        for _ in 0..k.min(self.total - self.runs) {
-            let (xs, ys) = self.model.simulate(self.steps, &self.u, &mut self.rng);
+        let mut out = self.zero();
+        for i in runs {
+            let mut rng = crate::study::run_stream(self.seed, i);
+            let (xs, ys) = self.model.simulate(self.steps, &self.u, &mut rng);
             let last = self.steps - 1;
             let x = &xs[last];
-            self.state_norms.push(x.norm());
-            for (slot, (s, h, sn)) in self.errors.iter_mut().zip(&self.horizons) {
+            out.state_norms.0.push(x.norm());
+            let slots = out.first.iter_mut().zip(out.second.iter_mut());
+            for ((first, second), (s, h, sn)) in slots.zip(&self.horizons) {
                 let s = *s;
                 let y = DVector::from_iterator(
                     m * (s + 1),
@@ -1557,27 +1606,24 @@ impl Precision {
                 match sn {
                     Some(sn) => {
                         let (_, _, cur) = sn.estimate(&y, &u);
-                        slot.0.push((cur - x).norm());
-                        slot.1.push((lls - x).norm());
+                        first.0.push((cur - x).norm());
+                        second.0.push((lls - x).norm());
                     }
-                    None => slot.0.push((lls - x).norm()),
+                    None => first.0.push((lls - x).norm()),
                 }
             }
-            self.runs += 1;
         }
+        out
     }
 
-    pub fn report(&self) -> PrecisionReport {
-        let first = self
-            .errors
-            .iter()
-            .map(|e| Spread::of(e.0.clone()))
-            .collect();
+    /// The result for the numbers of some runs.
+    pub fn report(&self, runs: &PrecisionRuns) -> PrecisionReport {
+        let first = runs.first.iter().map(|e| Spread::of(e.0.clone())).collect();
         let second = match self.study {
             Study::StateNoiseVsLls => Some(
-                self.errors
+                runs.second
                     .iter()
-                    .map(|e| Spread::of(e.1.clone()))
+                    .map(|e| Spread::of(e.0.clone()))
                     .collect(),
             ),
             Study::Precision => None,
@@ -1587,17 +1633,18 @@ impl Precision {
             .iter()
             .map(|(_, h, _)| h.expected_bound(&self.model.omega))
             .collect();
+        let norms = &runs.state_norms.0;
         PrecisionReport {
-            runs: self.runs,
+            runs: norms.len(),
             total: self.total,
             horizons: self.horizons.iter().map(|h| h.0).collect(),
             first,
             second,
             bound,
-            mean_state_norm: if self.state_norms.is_empty() {
+            mean_state_norm: if norms.is_empty() {
                 0.0
             } else {
-                self.state_norms.iter().sum::<f64>() / self.state_norms.len() as f64
+                norms.iter().sum::<f64>() / norms.len() as f64
             },
         }
     }
@@ -1606,7 +1653,7 @@ impl Precision {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::RngExt;
+    use rand::{RngExt, SeedableRng};
 
     /// D_row·R·D_col with R the triangular factor of a random n×n matrix (entries uniform in
     /// (−1, 1): R is moderately conditioned, unlike a triangle of random entries), column j
@@ -1762,18 +1809,22 @@ mod tests {
     }
 }
 
-impl crate::study::Study for Precision {
-    fn step(&mut self, runs: usize) -> Result<()> {
-        Precision::step(self, runs);
-        Ok(())
-    }
-    fn runs(&self) -> usize {
-        self.runs
-    }
+impl crate::study::Runs for Precision {
+    type Tally = PrecisionRuns;
+    type Report = PrecisionReport;
     fn total(&self) -> usize {
         self.total
     }
-    fn result(&self) -> Result<serde_json::Value> {
-        crate::study::to_value(&self.report())
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+    fn zero(&self) -> PrecisionRuns {
+        Precision::zero(self)
+    }
+    fn run(&mut self, range: std::ops::Range<usize>) -> Result<PrecisionRuns> {
+        Ok(Precision::run(self, range))
+    }
+    fn report(&self, runs: &PrecisionRuns) -> PrecisionReport {
+        Precision::report(self, runs)
     }
 }

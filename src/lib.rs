@@ -20,7 +20,7 @@
 //! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why; [`error::quoted`], the one way a message repeats a user's string (cut at [`error::ECHO_CHARS`]) |
 //! | [`method`] | the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`), parsed once from the scenario; its names and its option block |
 //! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
-//! | [`study`] | the [`Study`] trait every chunked Monte Carlo implements (step, runs, total, finished, result), driven alike by the CLI, the wasm `Study` class and the tests |
+//! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`] (native), the shards on rayon's threads, merged |
 //! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots, the induced norms ‖·‖₁, ‖·‖₂, ‖·‖∞ |
 //! | [`model`] | the scenario's `model` block ([`model::ModelSpec::constant`]: the one matrix of a field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse) and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
 //! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q affine functions are > 0 and ≥ q are < 0) with its exact pixel raster [`sets::GridRegion`], line pieces, boundary polygons, 2-D slices and recession directions; in [`sets::support_polygon`] the exact polygon of a planar convex set known only through its support function (one LP per call: each unsettled stretch between two boundary points is closed by a support call normal to it; used by `ubb` and `uniform`), and [`sets::point_in_convex`] |
@@ -53,7 +53,8 @@
 //! replaced, the panel keeps its last picture and offers the scenario to report. The page runs
 //! under a strict Content-Security-Policy (`index.html`: own files only, `'wasm-unsafe-eval'`,
 //! no inline script, no eval). The chunked studies (`Study`) still run on the main thread, about
-//! 12 ms per task. The number boxes and
+//! 12 ms per task; the binding can already run one shard per Web Worker (`restrict`,
+//! `partial`) and merge their partials on the main thread (`merge`). The number boxes and
 //! their sliders take their ranges from [`scenario::limits`]. The figure cards are made from the
 //! core's list ([`plot::method_panels`], with [`plot::Panel::alt_text`]) and shown as
 //! [`plot::useful_panels`] says for each report; a view's markup only places them
@@ -107,6 +108,16 @@
 //!   the GLLS Monte Carlo's error quartiles (up to 1.5e-4 relative; held to 1e-3) and the small
 //!   singular values of an ill-conditioned Γ_{s+1} (held to 1e-6), because the last bit of a
 //!   libm call (glibc natively, Rust's libm in wasm) is amplified there.
+//! * A study's run i draws its randomness from a stream fixed by the study's seed and i
+//!   ([`study::run_stream`]: ChaCha8 stream i of the seed; the set-membership guarantee: seed
+//!   base + i), or by the seed and i's batch for a study that draws [`study::Runs::batch`] runs
+//!   side by side (SCF: one stream per independent block of the model, read in batches of 8
+//!   runs; a shard that starts at run a draws and drops what runs 0 … a − 1 drew). Never from
+//!   what ran before it in the same process: so the counts of any run range are the same
+//!   whatever the chunking, the sharding or the number of workers, and merged parts give the
+//!   unsharded result bit for bit (`tests/suite/shards.rs`). JSON text keeps every f64
+//!   (serde_json's `float_roundtrip`), so parts passed as files or between workers merge
+//!   exactly too.
 //! * Time is 1-based as in the papers; JSON matrices are lists of rows; every number in a report
 //!   is a JSON number; an ellipsoid is `{"center", "cov", "radius2"}` meaning
 //!   (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2.

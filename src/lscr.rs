@@ -892,8 +892,9 @@ impl Estimator {
     }
 }
 
-/// Counts of a coverage experiment for one fixed true state.
+/// Counts of a coverage experiment for one fixed true state (over a range of runs: they add).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Coverage {
     pub runs: usize,
     /// Runs with x̄ ∈ X̂_l, per l.
@@ -906,21 +907,48 @@ pub struct Coverage {
     pub kf: Option<usize>,
 }
 
-/// A chunked coverage experiment: N realizations of the data given x_τ = x̄, counting how often
-/// each region holds x̄ (Theorem 3.2 made visible). Membership needs only g_{i,l}(x̄), so a run
-/// costs a draw of the data, s = Uᵀy and (M − 1)·n·t additions. Random strings (point 4) are
-/// redrawn for every run, because Theorem 3.2's probability is over the strings as well as the
-/// noise (one fixed random draw can sit a little above or below the level); group and explicit
-/// strings stay fixed, for which the theorem holds given the strings.
+impl crate::study::Tally for Coverage {
+    fn runs(&self) -> usize {
+        self.runs
+    }
+    fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
+        crate::study::add_counts(
+            &mut self.inside_each,
+            &later.inside_each,
+            "counts in inside_each",
+        )?;
+        for (a, b, what) in [
+            (&mut self.blue, later.blue, "blue"),
+            (&mut self.kf, later.kf, "kf"),
+        ] {
+            match (a.as_mut(), b) {
+                (Some(a), Some(b)) => *a += b,
+                (None, None) => {}
+                _ => return Err(format!("{what} is counted in one and not the other")),
+            }
+        }
+        self.runs += later.runs;
+        self.inside += later.inside;
+        Ok(())
+    }
+}
+
+/// A coverage experiment: N realizations of the data given x_τ = x̄, counting how often each
+/// region holds x̄ (Theorem 3.2 made visible), run in ranges of runs (the study is
+/// `scenario::lscr::LscrStudy`). Membership needs only g_{i,l}(x̄), so a run costs a draw of
+/// the data, s = Uᵀy and (M − 1)·n·t additions. Random strings (point 4) are redrawn for every
+/// run, because Theorem 3.2's probability is over the strings as well as the noise (one fixed
+/// random draw can sit a little above or below the level); group and explicit strings stay
+/// fixed, for which the theorem holds given the strings. Run i draws its strings and data from
+/// its own stream ([`crate::study::run_stream`] of the seed and i).
 pub struct Experiment {
     est: Estimator,
     /// The strings of the runs: the estimator's, redrawn per run for point 4 (random).
     strings: Strings,
     sampler: ConditionedSampler,
     truth: DVector<f64>,
-    rng: ChaCha8Rng,
+    pub seed: u64,
     pub total: usize,
-    pub counts: Coverage,
     blue_r2: f64,
     /// Inverse BLUE covariance (data-independent).
     blue_inv: Option<DMatrix<f64>>,
@@ -970,30 +998,29 @@ impl Experiment {
             .as_ref()
             .ok()
             .and_then(|(_, cov)| linalg::inverse("BLUE covariance", cov).ok());
-        let counts = Coverage {
-            runs: 0,
-            inside_each: vec![0; n],
-            inside: 0,
-            blue: blue_inv.as_ref().map(|_| 0),
-            kf: kf.as_ref().map(|_| 0),
-        };
         let strings = est.strings.clone();
         Ok(Experiment {
             est,
             strings,
             sampler,
             truth,
-            rng: ChaCha8Rng::seed_from_u64(seed),
+            seed,
             total: runs,
-            counts,
             blue_r2,
             blue_inv,
             kf,
         })
     }
 
-    pub fn finished(&self) -> bool {
-        self.counts.runs >= self.total
+    /// The counts of no run.
+    pub fn zero(&self) -> Coverage {
+        Coverage {
+            runs: 0,
+            inside_each: vec![0; self.est.problem.n()],
+            inside: 0,
+            blue: self.blue_inv.as_ref().map(|_| 0),
+            kf: self.kf.as_ref().map(|_| 0),
+        }
     }
 
     /// The estimator the runs use (levels, for [`crate::scenario::lscr::coverage_report`]).
@@ -1006,8 +1033,9 @@ impl Experiment {
         self.truth.as_slice()
     }
 
-    /// Run up to `k` more realizations.
-    pub fn step(&mut self, k: usize) -> &Coverage {
+    /// Run the realizations of `runs` and count them.
+    pub fn run(&mut self, runs: std::ops::Range<usize>) -> Coverage {
+        let mut counts = self.zero();
         let est = &self.est;
         let p = &est.problem;
         let n = p.n();
@@ -1015,13 +1043,12 @@ impl Experiment {
         let ax = &p.kl.a * &self.truth;
         let mut z = DVector::zeros(t);
         let redraw = est.strings.construction == Construction::Random;
-        for _ in 0..k.min(self.total - self.counts.runs) {
+        for i in runs {
+            let mut rng = crate::study::run_stream(self.seed, i);
             if redraw {
-                self.strings.redraw_random(&mut self.rng);
+                self.strings.redraw_random(&mut rng);
             }
-            let traj = self
-                .sampler
-                .draw(&est.model.linear, &self.truth, &mut self.rng);
+            let traj = self.sampler.draw(&est.model.linear, &self.truth, &mut rng);
             let y: Vec<f64> = traj.y[..t].iter().map(|v| v[0]).collect();
             let s = p.s(&y);
             let resid = &s - &ax; // s_k − a_k x̄
@@ -1034,23 +1061,23 @@ impl Experiment {
                 let pos = g.iter().filter(|&&v| v > 0.0).count();
                 let neg = g.iter().filter(|&&v| v < 0.0).count();
                 if pos >= est.q && neg >= est.q {
-                    self.counts.inside_each[l] += 1;
+                    counts.inside_each[l] += 1;
                 } else {
                     all = false;
                 }
             }
             if all {
-                self.counts.inside += 1;
+                counts.inside += 1;
             }
             if let (Some(c), Ok((gain, _)), Some(inv)) =
-                (self.counts.blue.as_mut(), &est.blue, &self.blue_inv)
+                (counts.blue.as_mut(), &est.blue, &self.blue_inv)
             {
                 let e = gain * &s - &self.truth;
                 if (e.transpose() * inv * &e)[(0, 0)] <= self.blue_r2 {
                     *c += 1;
                 }
             }
-            if let (Some(c), Some((inv, r2))) = (self.counts.kf.as_mut(), &self.kf) {
+            if let (Some(c), Some((inv, r2))) = (counts.kf.as_mut(), &self.kf) {
                 if let Some(ell) = est.kalman(&y) {
                     let e = ell.center_vec() - &self.truth;
                     if (e.transpose() * inv * &e)[(0, 0)] <= *r2 {
@@ -1058,8 +1085,8 @@ impl Experiment {
                     }
                 }
             }
-            self.counts.runs += 1;
+            counts.runs += 1;
         }
-        &self.counts
+        counts
     }
 }

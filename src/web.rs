@@ -18,6 +18,13 @@
 //! const e = new Study(JSON.stringify(scenario), 0);
 //! while (!e.finished()) result = JSON.parse(e.step(500));  // what `confset experiment` prints
 //!
+//! // The same study spread over Web Workers: worker i of N runs its shard and posts partials;
+//! // the main thread merges the latest ones (each merge replaces the counts).
+//! const w = new Study(JSON.stringify(scenario), 0); w.restrict(i, N);
+//! while (!w.finished()) { w.step(500); postMessage(w.partial()); }      // in worker i
+//! const all = new Study(JSON.stringify(scenario), 0);                   // main thread
+//! result = JSON.parse(all.merge('[' + latestPartials.join(',') + ']')); // after every slice
+//!
 //! // LSCR (method "lscr"): the kept report's 2-D region as a membership raster over its window,
 //! // and the chunked coverage experiment at a fixed true state.
 //! const r = JSON.parse(s.run(JSON.stringify(lscrScenario)));
@@ -369,6 +376,32 @@ impl Study {
 
     pub fn finished(&self) -> bool {
         self.inner.finished()
+    }
+
+    /// Do only shard `shard_index` of `shard_count` (0-based), before the first step: one Web
+    /// Worker's share of the runs.
+    pub fn restrict(&mut self, shard_index: usize, shard_count: usize) -> Result<(), JsValue> {
+        self.inner
+            .restrict(shard_index, shard_count)
+            .map_err(|e| js_error(&e))
+    }
+
+    /// The counts so far with the runs they cover (JSON text), for `merge` on another `Study`
+    /// of the same scenario.
+    pub fn partial(&self) -> Result<String, JsValue> {
+        let v = self.inner.partial().map_err(|e| js_error(&e))?;
+        to_json("the partial counts", &v)
+    }
+
+    /// Replace the counts by the sum of the parts (a JSON array of `partial()` texts' values,
+    /// e.g. `'[' + parts.join(',') + ']'`) and return the result so far (JSON, as `step`).
+    /// Each call replaces the counts, so the page can merge the workers' latest partials after
+    /// every slice; the study then only reports.
+    pub fn merge(&mut self, parts_json: &str) -> Result<String, JsValue> {
+        let parts: Vec<serde_json::Value> =
+            crate::scenario::parse::from_json(parts_json, "parts").map_err(|e| js_error(&e))?;
+        self.inner.merge(&parts).map_err(|e| js_error(&e))?;
+        self.result()
     }
 }
 

@@ -8,10 +8,15 @@
 //!                                          the scenario on measured data from CSV (its
 //!                                          `data` replaced, its `simulate` dropped): columns
 //!                                          y1 … yq, then optionally u1 … ur, header optional
-//! confset experiment SCENARIO.json|--preset NAME [--runs N]
+//! confset experiment SCENARIO.json|--preset NAME [--runs N] [--shard i/N]
 //!                                          the method's Monte Carlo study (result JSON):
 //!                                          SCF conditional coverage, LSCR coverage, GLLS
-//!                                          precision, set-membership guarantee
+//!                                          precision, set-membership guarantee; its shards
+//!                                          run on every core (RAYON_NUM_THREADS=1: one),
+//!                                          merged. With --shard i/N (0 ≤ i < N) only shard
+//!                                          i's runs, printed as a part (one JSON line)
+//! confset merge PART.json… | -             the parts of one study (files, or JSON documents
+//!                                          on stdin) merged: what `experiment` prints
 //! confset figure SCENARIO.json|--preset NAME -o FILE.svg
 //!         [--panel state|series|coverage|region|singular|index|plane|precision
 //!                 |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
@@ -28,13 +33,14 @@
 
 use confset::plot::{self, Panel, View, Zoom};
 use confset::scenario::{Report, Scenario};
-use confset::{presets, Error};
+use confset::{presets, study, Error};
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
   confset presets
   confset run (SCENARIO.json | --preset NAME) [--data FILE.csv]
-  confset experiment (SCENARIO.json | --preset NAME) [--runs N]
+  confset experiment (SCENARIO.json | --preset NAME) [--runs N] [--shard i/N]
+  confset merge (PART.json… | -)
   confset figure (SCENARIO.json | --preset NAME) -o FILE.svg
           [--panel state|series|coverage|region|singular|index|plane|precision
                   |ustates|uoutput|uparams|upolygon|ubbset|ubbwidth]
@@ -44,8 +50,8 @@ const USAGE: &str = "usage:
   confset figures [-o] DIR [--size WxH]";
 
 /// Flags that take a value (so the value is not mistaken for the scenario file).
-const VALUED: [&str; 8] = [
-    "-o", "--runs", "--preset", "--panel", "--time", "--zoom", "--size", "--data",
+const VALUED: [&str; 9] = [
+    "-o", "--runs", "--preset", "--panel", "--time", "--zoom", "--size", "--data", "--shard",
 ];
 
 fn main() -> ExitCode {
@@ -161,6 +167,124 @@ fn view(args: &[String], report: &Report) -> Result<View, Error> {
     Ok(v)
 }
 
+/// Runs per chunk of a study on the command line.
+const CHUNK: usize = 1000;
+
+/// `--shard i/N` (0 ≤ i < N), if given.
+fn shard(args: &[String]) -> Result<Option<(usize, usize)>, Error> {
+    if !args.iter().any(|a| a == "--shard") {
+        return Ok(None);
+    }
+    let v = flag(args, "--shard").unwrap_or("");
+    let bad = || {
+        Error::field(
+            "--shard",
+            format!(
+                "must read i/N with 0 ≤ i < N, e.g. --shard 0/4 (shards are counted from 0), found {}",
+                confset::error::quoted(v)
+            ),
+        )
+    };
+    let (i, n) = v.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (i.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?);
+    if i >= n {
+        return Err(bad());
+    }
+    Ok(Some((i, n)))
+}
+
+/// What `experiment --shard i/N` prints and `merge` reads: the scenario with its digest, the
+/// study's run count, the shard and the core's partial counts.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Part {
+    confset: String,
+    scenario: serde_json::Value,
+    scenario_digest: String,
+    runs: usize,
+    shard: [usize; 2],
+    range: [usize; 2],
+    partial: serde_json::Value,
+}
+
+fn to_value<T: serde::Serialize>(v: &T) -> Result<serde_json::Value, Error> {
+    serde_json::to_value(v).map_err(|e| Error::field("", e.to_string()))
+}
+
+/// `merge PART.json…` or `merge -` (parts as JSON documents on stdin): the parts checked
+/// (same version, scenario, seed and run count; every run exactly once) and merged into the
+/// result `experiment` prints.
+fn merge(paths: &[String]) -> Result<serde_json::Value, Error> {
+    let mut texts = Vec::new();
+    for path in paths {
+        if path == "-" {
+            let mut text = String::new();
+            std::io::Read::read_to_string(&mut std::io::stdin(), &mut text)
+                .map_err(|e| Error::field("", format!("cannot read the parts on stdin: {e}")))?;
+            for (k, v) in serde_json::Deserializer::from_str(&text)
+                .into_iter::<serde_json::Value>()
+                .enumerate()
+            {
+                let v = v.map_err(|e| {
+                    Error::field("", format!("document {} on stdin is not JSON: {e}", k + 1))
+                })?;
+                texts.push((format!("stdin document {}", k + 1), v.to_string()));
+            }
+        } else {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| Error::field("", format!("cannot read {path}: {e}")))?;
+            texts.push((path.clone(), text));
+        }
+    }
+    if texts.is_empty() {
+        return Err(Error::field(
+            "",
+            format!("merge needs the part files\n{USAGE}"),
+        ));
+    }
+    let legend = texts
+        .iter()
+        .enumerate()
+        .map(|(k, (name, _))| format!("part {} = {name}", k + 1))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let with_legend = |e: Error| Error::field(e.field, format!("{} ({legend})", e.message));
+    let mut parts = Vec::new();
+    for (k, (name, text)) in texts.iter().enumerate() {
+        let p: Part = confset::scenario::parse::from_json(text, "").map_err(|e| {
+            Error::field(
+                "",
+                format!("part {} ({name}) is not a part file: {e}", k + 1),
+            )
+        })?;
+        if p.confset != env!("CARGO_PKG_VERSION") {
+            return Err(with_legend(Error::field(
+                "",
+                format!(
+                    "part {} was written by confset {}, this is confset {}: runs may differ between versions",
+                    k + 1,
+                    p.confset,
+                    env!("CARGO_PKG_VERSION")
+                ),
+            )));
+        }
+        parts.push(p);
+    }
+    let first = &parts[0];
+    let s = Scenario::from_json(&first.scenario.to_string()).map_err(with_legend)?;
+    if s.digest()? != first.scenario_digest {
+        return Err(with_legend(Error::field(
+            "",
+            "part 1's scenario does not match its scenario_digest: the file was edited",
+        )));
+    }
+    let mut st = s.study(Some(first.runs)).map_err(with_legend)?;
+    let partials: Vec<serde_json::Value> = parts.iter().map(|p| p.partial.clone()).collect();
+    st.merge(&partials).map_err(with_legend)?;
+    st.complete().map_err(with_legend)?;
+    st.result()
+}
+
 fn json<T: serde::Serialize>(v: &T) -> Result<(), Error> {
     let s = serde_json::to_string_pretty(v).map_err(|e| Error::field("", e.to_string()))?;
     println!("{s}");
@@ -189,13 +313,34 @@ fn run(args: &[String]) -> Result<(), Error> {
                 ),
                 None => None,
             };
-            let mut study = s.study(runs)?;
-            json(&confset::study::run_to_end(
-                study.as_mut(),
-                1000,
-                |_, _| {},
-            )?)
+            match shard(args)? {
+                None => json(&study::run_sharded(
+                    &|| s.study(runs),
+                    rayon::current_num_threads(),
+                    CHUNK,
+                )?),
+                Some((i, n)) => {
+                    let mut st = s.study(runs)?;
+                    st.restrict(i, n)?;
+                    study::run_to_end(st.as_mut(), CHUNK, |_, _| {})?;
+                    let range = st.range();
+                    let part = Part {
+                        confset: env!("CARGO_PKG_VERSION").into(),
+                        scenario: to_value(&s)?,
+                        scenario_digest: s.digest()?,
+                        runs: st.total(),
+                        shard: [i, n],
+                        range: [range.start, range.end],
+                        partial: st.partial()?,
+                    };
+                    let line = serde_json::to_string(&part)
+                        .map_err(|e| Error::field("", e.to_string()))?;
+                    println!("{line}");
+                    Ok(())
+                }
+            }
         }
+        Some("merge") => json(&merge(&args[1..])?),
         Some("figure") => {
             let out = flag(args, "-o")
                 .ok_or_else(|| Error::field("-o", "is needed: the SVG file to write"))?;

@@ -26,6 +26,7 @@ use crate::method::Method;
 use crate::model::{normal_vector, MatrixSpec, ModelSpec};
 use crate::presets::Preset;
 use crate::sets::{BoxSet, Ellipsoid};
+use crate::study::Chunked;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -575,11 +576,9 @@ impl GllsPrepared {
         let rounding = h.rounding_estimate(&lls_past, &y);
         let precision = match &spec.monte_carlo {
             Some(mc) => {
-                let mut study = self.precision(mc)?;
-                while !study.finished() {
-                    study.step(1000);
-                }
-                Some(study.report())
+                let mut runs = Chunked::new(self.precision(mc)?);
+                crate::study::run_to_end(&mut runs, 1000, |_, _| {})?;
+                Some(runs.report())
             }
             None => None,
         };
@@ -698,7 +697,7 @@ impl MethodScenario for Glls {
         if let Some(r) = runs {
             mc.runs = r;
         }
-        Ok(Box::new(p.precision(&mc)?))
+        Ok(Box::new(Chunked::new(p.precision(&mc)?)))
     }
     fn presets(&self) -> Vec<Preset> {
         presets()

@@ -26,7 +26,7 @@ use crate::method::Method;
 use crate::model::{ConditionedSampler, Inputs, MatrixSpec, ModelSpec};
 use crate::presets::Preset;
 use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
-use crate::study::{self, Study};
+use crate::study::{self, Chunked, Runs, Study};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -653,11 +653,10 @@ impl LscrPrepared {
             .coverage
             .clone()
             .ok_or_else(|| Error::field("lscr.coverage", "is missing"))?;
-        let mut e = lscr::Experiment::new(self.estimator.clone(), truth, c.runs, c.seed)?;
-        while !e.finished() {
-            e.step(1000);
-        }
-        Ok(coverage_report(&self.estimator, truth, e.counts.clone()))
+        let e = lscr::Experiment::new(self.estimator.clone(), truth, c.runs, c.seed)?;
+        let mut runs = Chunked::new(LscrStudy(e));
+        study::run_to_end(&mut runs, 1000, |_, _| {})?;
+        Ok(runs.report())
     }
 }
 
@@ -716,31 +715,35 @@ impl MethodScenario for Lscr {
         if let (Some(r), Some(c)) = (runs, s.lscr.as_mut().and_then(|l| l.coverage.as_mut())) {
             c.runs = r;
         }
-        Ok(Box::new(LscrStudy(s.lscr_experiment()?)))
+        Ok(Box::new(Chunked::new(LscrStudy(s.lscr_experiment()?))))
     }
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
 }
 
-/// The LSCR coverage experiment as a [`Study`]: its result is the [`CoverageReport`] (counts,
-/// promised levels, exact bands).
+/// The LSCR coverage experiment's runs; as a [`Study`] (`Chunked::new(LscrStudy(e))`) its
+/// result is the [`CoverageReport`] (counts, promised levels, exact bands).
 pub struct LscrStudy(pub lscr::Experiment);
 
-impl Study for LscrStudy {
-    fn step(&mut self, runs: usize) -> Result<()> {
-        self.0.step(runs);
-        Ok(())
-    }
-    fn runs(&self) -> usize {
-        self.0.counts.runs
-    }
+impl Runs for LscrStudy {
+    type Tally = Coverage;
+    type Report = CoverageReport;
     fn total(&self) -> usize {
         self.0.total
     }
-    fn result(&self) -> Result<serde_json::Value> {
+    fn seed(&self) -> u64 {
+        self.0.seed
+    }
+    fn zero(&self) -> Coverage {
+        self.0.zero()
+    }
+    fn run(&mut self, range: std::ops::Range<usize>) -> Result<Coverage> {
+        Ok(self.0.run(range))
+    }
+    fn report(&self, counts: &Coverage) -> CoverageReport {
         let e = &self.0;
-        study::to_value(&coverage_report(e.estimator(), e.truth(), e.counts.clone()))
+        coverage_report(e.estimator(), e.truth(), counts.clone())
     }
 }
 

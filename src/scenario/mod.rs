@@ -579,7 +579,23 @@ impl Scenario {
                 ));
             }
         }
-        make_method(self.method).study(self, runs)
+        let mut study = make_method(self.method).study(self, runs)?;
+        study.set_scenario_digest(&self.digest()?);
+        Ok(study)
+    }
+
+    /// A stable digest of the scenario: FNV-1a (64 bits, 16 hex digits) of its canonical JSON
+    /// (keys sorted, numbers as serde_json writes them). A study's partial counts carry it, so
+    /// a merge refuses the parts of another scenario.
+    pub fn digest(&self) -> Result<String> {
+        let v = serde_json::to_value(self)
+            .map_err(|e| Error::field("", format!("the scenario could not be written: {e}")))?;
+        let text = v.to_string();
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in text.bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+        Ok(format!("{h:016x}"))
     }
 
     /// The one observations step: `data` or `simulate` (exactly one), with the number of

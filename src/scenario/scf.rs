@@ -19,7 +19,7 @@ use crate::scf::{
     self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ScfOptions, ScfStep,
 };
 use crate::sets::{Ellipsoid, PlanarEllipse};
-use crate::study::Study;
+use crate::study::{Chunked, Study};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -344,7 +344,9 @@ impl MethodScenario for Scf {
         if let (Some(r), Some(e)) = (runs, s.experiment.as_mut()) {
             e.runs = r;
         }
-        Ok(Box::new(s.prepare_scf()?.conditional_experiment()?))
+        Ok(Box::new(Chunked::new(
+            s.prepare_scf()?.conditional_experiment()?,
+        )))
     }
     fn presets(&self) -> Vec<Preset> {
         presets()

@@ -27,7 +27,7 @@ use crate::model::ModelSpec;
 use crate::presets::Preset;
 use crate::sets::{Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
-use crate::study::{self, Study};
+use crate::study::{self, Runs, Study};
 use crate::ubb::{
     Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem, System,
 };
@@ -676,17 +676,24 @@ pub struct GuaranteeCount {
     pub worst_excess: f64,
 }
 
-impl GuaranteeCount {
-    /// Add another chunk's counts.
-    pub fn merge(&mut self, other: &GuaranteeCount) {
-        if self.runs == 0 {
-            *self = *other;
-            return;
+impl study::Tally for GuaranteeCount {
+    fn runs(&self) -> usize {
+        self.runs
+    }
+    /// The sum; the worst excess of no run (0 here, −∞ in truth, which JSON cannot hold) is
+    /// replaced by the first counted run's.
+    fn add(&mut self, later: &GuaranteeCount) -> std::result::Result<(), String> {
+        match (self.runs, later.runs) {
+            (_, 0) => {}
+            (0, _) => *self = *later,
+            _ => {
+                self.runs += later.runs;
+                self.outside += later.outside;
+                self.kf_outside += later.kf_outside;
+                self.worst_excess = self.worst_excess.max(later.worst_excess);
+            }
         }
-        self.runs += other.runs;
-        self.outside += other.outside;
-        self.kf_outside += other.kf_outside;
-        self.worst_excess = self.worst_excess.max(other.worst_excess);
+        Ok(())
     }
 }
 
@@ -755,7 +762,6 @@ pub struct Guarantee {
     k: usize,
     base_seed: u64,
     total: usize,
-    count: GuaranteeCount,
 }
 
 /// The guarantee counts so far, as the study's result.
@@ -793,9 +799,6 @@ impl Guarantee {
             k,
             base_seed,
             total,
-            // worst_excess starts at 0 (not −∞, which JSON cannot hold); the first chunk's
-            // counts replace it (GuaranteeCount::merge).
-            count: GuaranteeCount::default(),
         })
     }
 
@@ -803,36 +806,33 @@ impl Guarantee {
     pub fn k(&self) -> usize {
         self.k
     }
+}
 
-    /// The counts so far.
-    pub fn report(&self) -> GuaranteeReport {
+impl Runs for Guarantee {
+    type Tally = GuaranteeCount;
+    type Report = GuaranteeReport;
+    fn total(&self) -> usize {
+        self.total
+    }
+    fn seed(&self) -> u64 {
+        self.prepared.seed
+    }
+    fn zero(&self) -> GuaranteeCount {
+        // worst_excess starts at 0 (not −∞, which JSON cannot hold); the first counted run's
+        // replaces it (`Tally::add`).
+        GuaranteeCount::default()
+    }
+    fn run(&mut self, range: std::ops::Range<usize>) -> Result<GuaranteeCount> {
+        let first = self.base_seed.wrapping_add(range.start as u64);
+        self.prepared.guarantee(self.k, first, range.len())
+    }
+    fn report(&self, count: &GuaranteeCount) -> GuaranteeReport {
         GuaranteeReport {
-            count: self.count,
+            count: *count,
             total: self.total,
             k: self.k,
             kf_level: self.prepared.spec.kf_level,
         }
-    }
-}
-
-impl Study for Guarantee {
-    fn step(&mut self, runs: usize) -> Result<()> {
-        let n = runs.min(self.total - self.count.runs);
-        if n > 0 {
-            let first = self.base_seed.wrapping_add(self.count.runs as u64);
-            let c = self.prepared.guarantee(self.k, first, n)?;
-            self.count.merge(&c);
-        }
-        Ok(())
-    }
-    fn runs(&self) -> usize {
-        self.count.runs
-    }
-    fn total(&self) -> usize {
-        self.total
-    }
-    fn result(&self) -> Result<serde_json::Value> {
-        study::to_value(&self.report())
     }
 }
 
@@ -879,7 +879,7 @@ impl MethodScenario for Ubb {
         let total = runs
             .or(p.spec.guarantee.as_ref().map(|g| g.runs))
             .unwrap_or_else(default_guarantee_runs);
-        Ok(Box::new(Guarantee::new(p, total)?))
+        Ok(Box::new(study::Chunked::new(Guarantee::new(p, total)?)))
     }
     fn presets(&self) -> Vec<Preset> {
         presets()

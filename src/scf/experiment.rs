@@ -491,7 +491,7 @@ fn fixed_vec<const R: usize>(v: &DVector<f64>) -> [f64; R] {
 
 /// Runs advanced together: independent runs side by side keep the pipeline full (one run's
 /// recursion is a chain of dependent operations) and vectorize.
-const LANES: usize = 8;
+pub const LANES: usize = 8;
 
 /// M X for M stored by columns (`m[j]` is column j) and X holding one column per lane.
 #[inline(always)]
@@ -509,6 +509,31 @@ fn lanes_mat_vec<const R: usize, const C: usize>(
         }
     }
     out
+}
+
+/// The additive counts of a range of conditional runs (a shard's partial counts).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ConditionalCounts {
+    pub runs: usize,
+    pub kf_inside: usize,
+    pub scf_inside: usize,
+    pub kf_warnings: usize,
+    pub scf_warnings: usize,
+}
+
+impl crate::study::Tally for ConditionalCounts {
+    fn runs(&self) -> usize {
+        self.runs
+    }
+    fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
+        self.runs += later.runs;
+        self.kf_inside += later.kf_inside;
+        self.scf_inside += later.scf_inside;
+        self.kf_warnings += later.kf_warnings;
+        self.scf_warnings += later.scf_warnings;
+        Ok(())
+    }
 }
 
 /// Counts of a conditional Monte Carlo so far.
@@ -531,10 +556,21 @@ pub struct ExperimentResult {
     pub scf_expected_range: (usize, usize),
 }
 
-/// Chunked Monte Carlo over realizations conditioned on x_{t_c} = x_c.
+/// Monte Carlo over realizations conditioned on x_{t_c} = x_c, run in ranges of runs
+/// ([`crate::study::Runs`]; as a study: `Chunked::new(experiment)`).
+///
+/// Randomness: one ChaCha8 stream per independent block of the model (stream b of the seed),
+/// read in whole batches of [`LANES`] runs, each run taking t_c·q_b normals of block b. So
+/// batch k always reads the k-th stretch of each stream's normals: run i depends only on the
+/// seed and i's batch. A range that starts past the streams' position first draws and drops
+/// the normals of the runs before it (a normal takes a varying number of words, so the
+/// position cannot be computed); that costs a few percent of those runs' time.
 pub struct ConditionalExperiment {
+    seed: u64,
     /// One random stream per independent block.
     rngs: Vec<ChaCha8Rng>,
+    /// The run the streams stand at.
+    position: usize,
     blocks: Vec<Block>,
     n: usize,
     t_c: usize,
@@ -548,7 +584,19 @@ pub struct ConditionalExperiment {
     x1_mean: DVector<f64>,
     cover: (MovingRegion, MovingRegion),
     warning: Option<(usize, Csr, Vec<f64>, [MovingRegion; 4], f64)>, // t, Φ, c, [kf_a, kf_b, scf_a, scf_b], d_min
+    /// The result's fixed fields (its counts come from [`ConditionalCounts`]).
     result: ExperimentResult,
+}
+
+/// Stream b of `seed` for each of `blocks` independent blocks.
+fn block_streams(seed: u64, blocks: usize) -> Vec<ChaCha8Rng> {
+    (0..blocks)
+        .map(|b| {
+            let mut r = ChaCha8Rng::seed_from_u64(seed);
+            r.set_stream(b as u64);
+            r
+        })
+        .collect()
 }
 
 impl ConditionalExperiment {
@@ -682,13 +730,9 @@ impl ConditionalExperiment {
             ));
         }
         Ok(ConditionalExperiment {
-            rngs: (0..blocks.len())
-                .map(|b| {
-                    let mut r = ChaCha8Rng::seed_from_u64(e.seed);
-                    r.set_stream(b as u64);
-                    r
-                })
-                .collect(),
+            seed: e.seed,
+            rngs: block_streams(e.seed, blocks.len()),
+            position: 0,
             blocks,
             n,
             t_c,
@@ -718,20 +762,14 @@ impl ConditionalExperiment {
         })
     }
 
-    /// Run up to `chunk` more realizations; returns the counts so far.
+    /// Runs `range` (starting on a batch of [`LANES`]); returns their counts.
     ///
     /// The model is split into its independent blocks (the two robots are two blocks), and each
     /// block runs on fixed-size arrays zero-padded to 2×1, 4×2, 8×4 or 16×8, so every product is
-    /// unrolled and vectorized; zeros change no number. Each block draws from its own ChaCha8
-    /// stream, so results do not depend on how the runs are chunked.
-    pub fn step(&mut self, chunk: usize) -> &ExperimentResult {
-        // Whole batches of LANES runs (except the very last), so the random streams — and the
-        // counts — do not depend on how a caller chunks the work.
-        let todo = chunk
-            .max(1)
-            .div_ceil(LANES)
-            .saturating_mul(LANES)
-            .min(self.result.runs_total - self.result.runs_done);
+    /// unrolled and vectorized; zeros change no number.
+    fn run_range(&mut self, range: std::ops::Range<usize>) -> ConditionalCounts {
+        self.seek(range.start);
+        let todo = range.len();
         let n = self.n;
         let mut at_tc = vec![0.0; todo * n];
         let mut at_tw = vec![0.0; todo * n];
@@ -746,22 +784,40 @@ impl ConditionalExperiment {
                 _ => self.run_block::<16, 8>(b, todo, tw, out),
             }
         }
+        self.position = range.end;
+        let mut counts = ConditionalCounts {
+            runs: todo,
+            ..Default::default()
+        };
         let mut scratch = vec![0.0; 2 * n + 4];
         for r in 0..todo {
             let xhat = &at_tc[r * n..(r + 1) * n];
-            self.result.kf_inside += self.cover.0.contains(xhat, &self.x_c, &mut scratch) as usize;
-            self.result.scf_inside += self.cover.1.contains(xhat, &self.x_c, &mut scratch) as usize;
+            counts.kf_inside += self.cover.0.contains(xhat, &self.x_c, &mut scratch) as usize;
+            counts.scf_inside += self.cover.1.contains(xhat, &self.x_c, &mut scratch) as usize;
             if let Some((_, phi, c, regs, d)) = &self.warning {
                 let mut xp = c.clone();
                 phi.mul_add(&at_tw[r * n..(r + 1) * n], &mut xp);
-                self.result.kf_warnings +=
-                    warns(&regs[0], &regs[1], &xp, *d, &mut scratch) as usize;
-                self.result.scf_warnings +=
-                    warns(&regs[2], &regs[3], &xp, *d, &mut scratch) as usize;
+                counts.kf_warnings += warns(&regs[0], &regs[1], &xp, *d, &mut scratch) as usize;
+                counts.scf_warnings += warns(&regs[2], &regs[3], &xp, *d, &mut scratch) as usize;
             }
         }
-        self.result.runs_done += todo;
-        &self.result
+        counts
+    }
+
+    /// Put the streams where run `start` begins: back to the start if they are past it, then
+    /// draw and drop the t_c·q_b normals per run of block b that the runs before it take.
+    fn seek(&mut self, start: usize) {
+        if start < self.position {
+            self.rngs = block_streams(self.seed, self.blocks.len());
+            self.position = 0;
+        }
+        let skip = start - self.position;
+        for (rng, block) in self.rngs.iter_mut().zip(&self.blocks) {
+            for _ in 0..skip * self.t_c * block.outputs.len() {
+                let _: f64 = rng.sample(StandardNormal);
+            }
+        }
+        self.position = start;
     }
 
     /// `todo` runs of block `b`: KF estimates at t_c (and at the warning time) are written into
@@ -880,31 +936,35 @@ impl ConditionalExperiment {
             }
         }
     }
-
-    /// Counts so far.
-    pub fn result(&self) -> &ExperimentResult {
-        &self.result
-    }
-
-    /// True when every run is done.
-    pub fn finished(&self) -> bool {
-        self.result.runs_done >= self.result.runs_total
-    }
 }
 
-impl crate::study::Study for ConditionalExperiment {
-    fn step(&mut self, runs: usize) -> Result<()> {
-        ConditionalExperiment::step(self, runs);
-        Ok(())
-    }
-    fn runs(&self) -> usize {
-        self.result.runs_done
+impl crate::study::Runs for ConditionalExperiment {
+    type Tally = ConditionalCounts;
+    type Report = ExperimentResult;
+    fn batch(&self) -> usize {
+        LANES
     }
     fn total(&self) -> usize {
         self.result.runs_total
     }
-    fn result(&self) -> Result<serde_json::Value> {
-        crate::study::to_value(&self.result)
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+    fn zero(&self) -> ConditionalCounts {
+        ConditionalCounts::default()
+    }
+    fn run(&mut self, range: std::ops::Range<usize>) -> Result<ConditionalCounts> {
+        Ok(self.run_range(range))
+    }
+    fn report(&self, c: &ConditionalCounts) -> ExperimentResult {
+        ExperimentResult {
+            runs_done: c.runs,
+            kf_inside: c.kf_inside,
+            scf_inside: c.scf_inside,
+            kf_warnings: c.kf_warnings,
+            scf_warnings: c.scf_warnings,
+            ..self.result.clone()
+        }
     }
 }
 
@@ -912,6 +972,16 @@ impl crate::study::Study for ConditionalExperiment {
 mod tests {
     use super::*;
     use crate::scenario::{Condition, ExperimentSpec, Scenario, SimulateSpec};
+    use crate::study::{Chunked, Study};
+
+    /// The experiment run to the end in chunks of `chunk`.
+    fn run_all(e: ConditionalExperiment, chunk: usize) -> ExperimentResult {
+        let mut e = Chunked::new(e);
+        while !e.finished() {
+            e.step(chunk).unwrap();
+        }
+        e.report()
+    }
 
     /// The backward-innovations sampler must reproduce the exact conditional law: on the scalar
     /// example, with x_t fixed at x̄, the KF and SCF inside-counts must match the closed-form
@@ -936,11 +1006,7 @@ mod tests {
                 warning_t: None,
             });
             let p = s.prepare_scf().unwrap();
-            let mut e = p.conditional_experiment().unwrap();
-            while !e.finished() {
-                e.step(333);
-            }
-            let r = e.result().clone();
+            let r = run_all(p.conditional_experiment().unwrap(), 333);
             let off = Offline::new(&p.model, t, &p.inputs).unwrap();
             let (pt, gt) = (
                 off.gains.steps[t - 1].p[(0, 0)],
@@ -962,13 +1028,7 @@ mod tests {
         let mut s = crate::presets::robots(crate::presets::NoiseReading::Unscaled);
         s.experiment.as_mut().unwrap().runs = 203;
         let p = s.prepare_scf().unwrap();
-        let run = |chunk: usize| {
-            let mut e = p.conditional_experiment().unwrap();
-            while !e.finished() {
-                e.step(chunk);
-            }
-            e.result().clone()
-        };
+        let run = |chunk: usize| run_all(p.conditional_experiment().unwrap(), chunk);
         let (a, b) = (run(1), run(1000));
         assert_eq!(a, b);
         assert_eq!(a.runs_done, 203);

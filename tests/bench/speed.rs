@@ -5,6 +5,8 @@
 
 use confset::lscr::{self, Construction, Estimator, LscrModel, Options, Target};
 use confset::presets;
+use confset::scenario::lscr::LscrStudy;
+use confset::study::{Chunked, Study as _};
 use std::time::Instant;
 
 fn median_ms(reps: usize, mut f: impl FnMut()) -> f64 {
@@ -30,11 +32,11 @@ fn main() {
     });
     let mut last = None;
     let runs = median_ms(11, || {
-        let mut e = prepared.conditional_experiment().expect("experiment");
+        let mut e = Chunked::new(prepared.conditional_experiment().expect("experiment"));
         while !e.finished() {
-            e.step(10_000);
+            e.step(10_000).expect("runs");
         }
-        last = Some(e.result().clone());
+        last = Some(e.report());
     });
     let r = last.expect("ran");
     println!(
@@ -104,11 +106,13 @@ fn lscr_figures() {
     let est = Estimator::new(&model, 30, &o).expect("estimator");
     let mut counts = None;
     let cov = median_ms(5, || {
-        let mut e = lscr::Experiment::new(est.clone(), &[0.3, -0.4], 2000, 7).expect("experiment");
+        let mut e = Chunked::new(LscrStudy(
+            lscr::Experiment::new(est.clone(), &[0.3, -0.4], 2000, 7).expect("experiment"),
+        ));
         while !e.finished() {
-            e.step(500);
+            e.step(500).expect("runs");
         }
-        counts = Some(e.counts.clone());
+        counts = Some(e.counts().clone());
     });
     let c = counts.expect("ran");
     println!(
@@ -160,19 +164,21 @@ fn glls_figures() {
         ..five
     };
     let t = Instant::now();
-    let mut mc = Precision::new(
-        &noisy,
-        Study::Precision,
-        Weighting::Lls,
-        40,
-        (0, 20),
-        vec![],
-        100_000,
-        1,
-    )
-    .expect("study");
+    let mut mc = Chunked::new(
+        Precision::new(
+            &noisy,
+            Study::Precision,
+            Weighting::Lls,
+            40,
+            (0, 20),
+            vec![],
+            100_000,
+            1,
+        )
+        .expect("study"),
+    );
     while !mc.finished() {
-        mc.step(10_000);
+        mc.step(10_000).expect("runs");
     }
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let r = mc.report();

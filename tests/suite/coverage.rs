@@ -18,6 +18,7 @@ use crate::common::*;
 use confset::model::{normal_vector, ConditionedSampler, Inputs, LinearModel};
 use confset::presets::{self, NoiseReading};
 use confset::scf::{self, ScfOptions};
+use confset::study::{Chunked, Study};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -226,11 +227,11 @@ fn robot_experiment_counts() {
     let runs = RUNS;
     s.experiment.as_mut().unwrap().runs = runs;
     let p = s.prepare_scf().unwrap();
-    let mut e = p.conditional_experiment().unwrap();
+    let mut e = Chunked::new(p.conditional_experiment().unwrap());
     while !e.finished() {
-        e.step(500);
+        e.step(500).unwrap();
     }
-    let r = e.result().clone();
+    let r = e.report();
     assert_eq!(r.runs_done, runs);
     eprintln!("robots: {r:?}");
     assert_eq!(r.components, vec![0, 1, 2, 3]);

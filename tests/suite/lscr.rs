@@ -24,8 +24,10 @@ use confset::lscr::{
 };
 use confset::model::{MatrixSpec, ModelSpec};
 use confset::presets;
+use confset::scenario::lscr::LscrStudy;
 use confset::scenario::Scenario;
 use confset::sets::{BoxSet, SignRegion};
+use confset::study::{Chunked, Study};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -690,11 +692,13 @@ fn sign_flips_of_eigenvectors_and_singular_vectors_leave_the_region() {
 
 /// Coverage counts of a chunked experiment at `truth`.
 fn experiment(est: Estimator, truth: &[f64], runs: usize, seed: u64) -> lscr::Coverage {
-    let mut e = lscr::Experiment::new(est, truth, runs, seed).unwrap();
+    let mut e = Chunked::new(LscrStudy(
+        lscr::Experiment::new(est, truth, runs, seed).unwrap(),
+    ));
     while !e.finished() {
-        e.step(500);
+        e.step(500).unwrap();
     }
-    e.counts
+    e.counts().clone()
 }
 
 fn assert_in(count: usize, band: (usize, usize), what: &str) {
@@ -1065,4 +1069,28 @@ fn bad_input_names_the_field() {
             .field,
         "lscr.coverage.runs"
     );
+}
+
+/// The LSCR presets have no coverage block: with one (at the estimated time), each coverage
+/// study shards and merges to its unsharded result exactly (`shards::check_shards`).
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn every_lscr_preset_coverage_study_shards() {
+    let mut seen = 0;
+    for p in presets::all()
+        .into_iter()
+        .filter(|p| p.scenario.method == confset::Method::Lscr)
+    {
+        let r = p
+            .scenario
+            .run()
+            .unwrap_or_else(|e| panic!("{}: {e}", p.name));
+        let mut v = serde_json::to_value(&p.scenario).expect("JSON");
+        v["simulate"]["condition"] = json!({"t": r.time, "x": vec![0.1; r.n]});
+        v["lscr"]["coverage"] = json!({"runs": 10, "seed": 4});
+        let s: Scenario = serde_json::from_value(v).expect("a scenario");
+        crate::shards::check_shards(&p.name, &s);
+        seen += 1;
+    }
+    assert!(seen > 0, "no LSCR preset");
 }

@@ -20,6 +20,7 @@ mod messages;
 mod registry;
 mod scf_paper;
 mod sets;
+mod shards;
 mod ubb;
 mod uniform;
 #[cfg(target_arch = "wasm32")]

@@ -11,7 +11,7 @@
 //! * (the seeded mutation fuzzer over every preset's JSON is `fuzz.rs`);
 //! * every useful panel of every preset draws as SVG at the page's sizes (native);
 //! * every study: chunking never changes its result, the wasm `Study` class returns the core's
-//!   JSON, `confset experiment` prints it (native);
+//!   JSON, `confset experiment` prints it (native); sharding and merging in `shards.rs`;
 //! * every method on explicit data: the simulated report's measurements given as `data` give
 //!   the same estimates, and a report without truth.
 
@@ -630,7 +630,7 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
 const STUDY_RUNS: usize = 20;
 
 /// The presets whose method has a study for them (`Scenario::study` accepts them).
-fn study_presets() -> Vec<(String, Scenario)> {
+pub(crate) fn study_presets() -> Vec<(String, Scenario)> {
     presets::all()
         .into_iter()
         .filter_map(|p| match p.scenario.study(Some(STUDY_RUNS)) {
@@ -648,7 +648,7 @@ fn study_presets() -> Vec<(String, Scenario)> {
 }
 
 /// Run a study to the end in chunks of `chunk`, checking the counters on the way.
-fn run_study(name: &str, s: &Scenario, runs: usize, chunk: usize) -> Value {
+pub(crate) fn run_study(name: &str, s: &Scenario, runs: usize, chunk: usize) -> Value {
     let mut st = s
         .study(Some(runs))
         .unwrap_or_else(|e| panic!("{name}: {e}"));

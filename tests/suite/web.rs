@@ -2,7 +2,8 @@
 //! Session running and drawing a preset, errors thrown as JS Errors naming the field, a
 //! chunk of the conditional Monte Carlo; LSCR: a preset's level, the membership raster and the
 //! chunked coverage experiment; CSV data (`withCsvData`, `dataShape`) as the core reads it; the
-//! figure list the page makes its cards from (`methodPanels`, `Session.usefulPanels`).
+//! figure list the page makes its cards from (`methodPanels`, `Session.usefulPanels`); a study
+//! split over workers (`restrict`, `partial`) and merged on the main thread (`merge`).
 
 use confset::web::{data_shape, method_panels, presets, with_csv_data, Session, Study};
 use serde_json::Value;
@@ -696,4 +697,77 @@ fn figure_lists_are_the_cores() {
     s.run(&preset("scf-scalar").to_string()).expect("run");
     let useful: Vec<String> = serde_json::from_str(&s.useful_panels()).expect("JSON");
     assert_eq!(useful, ["state", "series", "coverage"]);
+}
+
+/// One `Study` per worker on its shard, the main thread's `Study` merging the latest partials
+/// after every slice (each merge replaces its counts): at the end, the unsharded result, the
+/// same JSON text. For the first preset of each method that has a study.
+#[wasm_bindgen_test]
+fn shards_in_workers_merge_on_the_main_thread() {
+    let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
+    let mut methods = Vec::new();
+    for p in list.as_array().expect("a list") {
+        let (name, sc) = (&p["name"], p["scenario"].to_string());
+        let method = p["scenario"]["method"].clone();
+        if methods.contains(&method) {
+            continue;
+        }
+        let Ok(mut whole) = Study::new(&sc, 21) else {
+            continue; // no study for this preset
+        };
+        methods.push(method);
+        while !whole.finished() {
+            whole.step(5).expect("step");
+        }
+        let want = whole.result().expect("result");
+
+        let mut workers: Vec<Study> = (0..3)
+            .map(|i| {
+                let mut w = Study::new(&sc, 21).expect("study");
+                w.restrict(i, 3).expect("restrict");
+                w
+            })
+            .collect();
+        let mut main = Study::new(&sc, 21).expect("study");
+        let mut latest = vec![String::new(); 3];
+        let mut got = String::new();
+        while workers.iter().any(|w| !w.finished()) {
+            for (w, slot) in workers.iter_mut().zip(&mut latest) {
+                if !w.finished() {
+                    w.step(3).expect("step");
+                }
+                *slot = w.partial().expect("partial");
+            }
+            got = main
+                .merge(&format!("[{}]", latest.join(",")))
+                .expect("merge");
+            let done: usize = workers.iter().map(|w| w.runs()).sum();
+            assert_eq!(main.runs(), done, "{name}: merge replaces the counts");
+        }
+        assert!(main.finished(), "{name}");
+        assert_eq!(got, want, "{name}: merged result");
+        assert_eq!(main.result().expect("result"), want, "{name}");
+
+        let (message, _) = thrown(
+            main.merge(&format!("[{},{}]", latest[0], latest[0]))
+                .expect_err("overlap"),
+        );
+        assert!(
+            message.contains("part 2 covers runs 0..")
+                && message.contains("which part 1 also covers"),
+            "{name}: {message}"
+        );
+        let (message, field) = thrown(main.merge("[{\"range\": 3}]").expect_err("not a part"));
+        assert!(
+            message.contains("part 1 is not a study's partial counts"),
+            "{name}: {message} ({field})"
+        );
+        let (message, field) = thrown(main.merge("{").expect_err("not JSON"));
+        assert_eq!(field, "parts", "{name}: {message}");
+        let mut late = Study::new(&sc, 21).expect("study");
+        late.step(1).expect("step");
+        let (message, field) = thrown(late.restrict(0, 2).expect_err("after a step"));
+        assert_eq!(field, "shard", "{name}: {message}");
+    }
+    assert!(!methods.is_empty(), "no preset has a study");
 }
