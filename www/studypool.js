@@ -34,10 +34,11 @@ function take(size) {
 // the merged result (parsed) at most once per frame while it runs. `me.stop()` is set: it ends
 // the study at once (its workers are terminated and replaced). Resolves with
 // {counts, wall, compute, workers} — `compute` sums the workers' busy time — or rejects with the
-// core's error (an Error with `field`) or with an Error naming the fault.
-export function runStudy({ scenario, runs, merger, me, onCounts }) {
+// core's error (an Error with `field`) or with an Error naming the fault. `workers` (default: one
+// per core) changes the speed, never the counts.
+export function runStudy({ scenario, runs, merger, me, onCounts, workers: size = poolSize() }) {
   const t0 = performance.now();
-  const n = poolSize();
+  const n = size;
   const workers = take(n);
   const parts = new Array(n).fill(null); // the newest partial (JSON text) of each shard
   const busyMs = new Array(n).fill(0);
@@ -103,6 +104,6 @@ export function runStudy({ scenario, runs, merger, me, onCounts }) {
     });
   }).finally(() => {
     // Workers that were terminated are replaced, warm for the next study.
-    while (idle.length < n) idle.push(spawn());
+    while (idle.length < Math.min(n, poolSize())) idle.push(spawn());
   });
 }

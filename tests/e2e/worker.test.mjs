@@ -204,4 +204,42 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     console.log(`    watchdog (0.4 s): the silent run stopped and reported ${stoppedMs} ms after its input; the next input computes`);
     await page.close();
   }
+
+  // ----- studies on every core: the counts of W workers are the single-run counts -----
+  {
+    const page = await open(newPage, waitReady, `${baseUrl}#scf`, 'busy');
+    const out = await page.evaluate(async () => {
+      const { runStudy, poolSize } = await import(new URL('studypool.js', document.baseURI).href);
+      const { Study, presets } = window.confset;
+      const all = JSON.parse(presets());
+      const cases = [['scf-robots', 0], ['ubb-track', 60], ['lscr-predict', 300], ['glls-saturate', 40]];
+      const rows = [];
+      for (const [name, runs] of cases) {
+        const sc = all.find((p) => p.name === name).scenario;
+        if (name === 'lscr-predict') Object.assign(sc, { simulate: { ...sc.simulate, condition: { t: 31, x: [0.5, -0.5] } }, lscr: { ...sc.lscr, coverage: { runs, seed: 1 } } });
+        const json = JSON.stringify(sc);
+        const one = new Study(json, runs);
+        const t0 = performance.now();
+        let single;
+        while (!one.finished()) single = one.step(100000);
+        const mainMs = performance.now() - t0;
+        one.free();
+        const pooled = {};
+        for (const w of [1, 2, 3]) {
+          const merger = new Study(json, runs);
+          const r = await runStudy({ scenario: json, runs, merger, me: {}, onCounts() {}, workers: w });
+          pooled[w] = { same: JSON.stringify(r.counts) === single, wall: r.wall };
+          merger.free();
+        }
+        rows.push({ name, runs: JSON.parse(single).runs ?? JSON.parse(single).runs_done, mainMs, pooled });
+      }
+      return { rows, cores: poolSize() };
+    });
+    for (const r of out.rows) {
+      for (const [w, p] of Object.entries(r.pooled)) assert.ok(p.same, `${r.name}: ${w} worker(s) give the single-run counts`);
+      console.log(`    study ${r.name}: ${r.runs} runs — one call on the main thread ${r.mainMs.toFixed(0)} ms; workers 1 / 2 / 3: `
+        + `${[1, 2, 3].map((w) => r.pooled[w].wall.toFixed(0)).join(' / ')} ms (wall, same counts; ${out.cores} cores)`);
+    }
+    await page.close();
+  }
 }
