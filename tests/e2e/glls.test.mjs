@@ -115,7 +115,7 @@ export default async function glls(env) {
       // The Monte Carlo with N = 100 redraws the precision figure.
       const prec = await pixels(page, 'precision');
       await monteCarlo(page, 100);
-      assert.match(await text(page, '#g-mc-status'), /^100 runs in \d+ ms \(computing \d+ ms, \d+ µs per run, \d+ horizons\)$/);
+      assert.match(await text(page, '#g-mc-status'), /^100 runs in \d+ ms on \d+ workers? \(computing \d+ ms in all, \d+ µs per run, \d+ horizons\)$/);
       assert.equal(await page.$eval('#g-mc-progress', (e) => [e.value, e.max].join()), '100,100');
       assert.match(await text(page, '#g-mc-verdict'), /^Smallest median error [\d.e-]+ at s = \d+ \(expected bound there [\d.e-]+\)\. Mean ‖x\(k\)‖ = [\d.]+\.$/);
       assert.equal(await text(page, '#g-mc-err'), '');
