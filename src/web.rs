@@ -13,6 +13,13 @@
 //! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
 //! const svg = s.svg('{"panel":"coverage"}', 800, 500);
 //!
+//! // A time cursor (ubb's step k, uniform's t): the worker prepares the scenario once and
+//! // computes any step's detail; the page puts it into the kept report and draws that step.
+//! const c = new Cursor(JSON.stringify(ubbScenario));   // throws for a method without one
+//! const at = c.at(12);                                  // JSON of report.ubb.at at k = 12
+//! s.setAt(at);                                          // the kept report now shows k = 12
+//! s.draw(canvas, '{"panel":"ubbset","time":12}', devicePixelRatio);
+//!
 //! // Every method's Monte Carlo through one class (0: the scenario's own run count):
 //! // SCF `experiment`, LSCR `lscr.coverage`, GLLS `glls.monte_carlo`, ubb `ubb.guarantee`.
 //! const e = new Study(JSON.stringify(scenario), 0);
@@ -196,6 +203,21 @@ impl Session {
         Ok(())
     }
 
+    /// Put a detail of the report's time cursor (the JSON text [`Cursor::at`] returns, computed
+    /// in the worker) into the kept report: its `at` block and `time` become those of the
+    /// report run at that step, so `draw` draws that step (`Report::set_at`). JSON that is not
+    /// a detail of the kept report's method is an `at` error, and the kept report stays.
+    #[wasm_bindgen(js_name = setAt)]
+    pub fn set_at(&mut self, at_json: &str) -> Result<(), JsValue> {
+        let at: serde_json::Value = serde_json::from_str(at_json)
+            .map_err(|e| js_error(&Error::field("at", format!("is not JSON: {e}"))))?;
+        self.report
+            .as_mut()
+            .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))?
+            .set_at(at)
+            .map_err(|e| js_error(&e))
+    }
+
     /// The panels worth drawing for the kept report (`plot::useful_panels`), JSON `["state",
     /// "series", …]`: `[]` before the first good run.
     #[wasm_bindgen(js_name = usefulPanels)]
@@ -206,6 +228,13 @@ impl Session {
             .map(|r| plot::useful_panels(r).iter().map(|p| p.name()).collect())
             .unwrap_or_default();
         serde_json::Value::from(names).to_string()
+    }
+
+    /// The time the kept report shows (its `time`: the step of its `at` for a method with a
+    /// time cursor), or undefined before the first good run.
+    #[wasm_bindgen(js_name = shownTime)]
+    pub fn shown_time(&self) -> Option<usize> {
+        self.report.as_ref().map(|r| r.time)
     }
 
     /// Whether a report is kept (a `run` has succeeded).
@@ -369,6 +398,52 @@ impl Study {
 
     pub fn finished(&self) -> bool {
         self.inner.finished()
+    }
+}
+
+/// The time cursor of a scenario (`Scenario::cursor`): the run prepared once (simulation,
+/// filters, the on-line estimator), then the detail of any step on demand, the JSON of the
+/// report's `at` at that step, bit for bit as a run with the time field there would hold it.
+/// The page's worker keeps one per scenario and answers cursor moves from it; a method whose
+/// reports hold every step (SCF, KF) or have no time (LSCR, GLLS) has none: the constructor
+/// throws a `method` error.
+#[wasm_bindgen]
+pub struct Cursor {
+    inner: Box<dyn crate::scenario::Cursor>,
+}
+
+#[wasm_bindgen]
+impl Cursor {
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario_json: &str) -> Result<Cursor, JsValue> {
+        let s = Scenario::from_json(scenario_json).map_err(|e| js_error(&e))?;
+        match s.cursor().map_err(|e| js_error(&e))? {
+            Some(inner) => Ok(Cursor { inner }),
+            None => Err(js_error(&Error::field(
+                "method",
+                format!(
+                    "\"{}\" has no time cursor: its reports hold every step, or have none",
+                    s.method
+                ),
+            ))),
+        }
+    }
+
+    /// The first step with a detail of its own.
+    pub fn first(&self) -> usize {
+        *self.inner.steps().start()
+    }
+
+    /// The last step.
+    pub fn last(&self) -> usize {
+        *self.inner.steps().end()
+    }
+
+    /// The detail at step t (JSON text of the report's `at`); a time the run refuses throws
+    /// the run's error.
+    pub fn at(&mut self, t: u32) -> Result<String, JsValue> {
+        let v = self.inner.at(t as usize).map_err(|e| js_error(&e))?;
+        to_json("the detail", &v)
     }
 }
 
