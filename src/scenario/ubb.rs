@@ -620,17 +620,17 @@ impl UbbPrepared {
     /// The first step with a bounded set (the first of the report's track); when none is, the
     /// first step's reason.
     fn first_bounded(&self, y: &[DVector<f64>]) -> Result<usize> {
-        let mut why = None;
         for k in 0..self.steps {
-            match self.problem.step(y, k) {
-                Ok(_) => return Ok(k),
-                Err(e) if e.field == "ubb.delta" => {
-                    why.get_or_insert(e);
-                }
-                Err(e) => return Err(e),
+            if self.bounded_step(y, k)?.is_some() {
+                return Ok(k);
             }
         }
-        Err(why.unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")))
+        // Every step is unbounded: the first says why.
+        Err(self
+            .problem
+            .step(y, 0)
+            .err()
+            .unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")))
     }
 
     /// The step shown for `ubb.time` = t: t itself, or the first bounded step `first` when t
