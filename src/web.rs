@@ -277,7 +277,7 @@ impl Session {
         let inner = CanvasBackend::with_canvas_object(canvas)
             .ok_or_else(|| js_error(&Error::field("canvas", "has no 2-D context")))?;
         let frame: Frame =
-            plot::draw(Scaled { inner, ctx, size }, report, &view).map_err(|e| js_error(&e))?;
+            plot::draw(Scaled::new(inner, ctx, size), report, &view).map_err(|e| js_error(&e))?;
         to_json("the frame", &frame)
     }
 
@@ -453,21 +453,93 @@ impl Cursor {
 /// Text is measured with the context's `measureText` in the very font string plotters-canvas
 /// draws with: plotters' own browser measurement appends a `<span>` to the page and reads its
 /// size, a forced layout of the whole document per label (most of a figure's drawing time).
+///
+/// Lines and paths are stroked in batches: consecutive ones of the same colour and width
+/// become subpaths of one canvas path, stroked once before anything else is drawn (and when
+/// the figure is done), so the drawing order stays. A dashed curve is hundreds of dashes and a
+/// chart's grid dozens of lines: one `stroke()` each instead of one per piece (most of the
+/// canvas calls of a time figure; a cursor move redraws every figure).
 struct Scaled {
     inner: CanvasBackend,
     ctx: CanvasRenderingContext2d,
     size: (u32, u32),
+    /// The style of the path being built and not yet stroked: (r, g, b, alpha bits, width).
+    batch: Option<(u8, u8, u8, u64, u32)>,
 }
 
 impl Scaled {
+    fn new(inner: CanvasBackend, ctx: CanvasRenderingContext2d, size: (u32, u32)) -> Scaled {
+        Scaled {
+            inner,
+            ctx,
+            size,
+            batch: None,
+        }
+    }
+
+    /// Stroke the batch, if any.
+    fn flush(&mut self) {
+        if self.batch.take().is_some() {
+            self.ctx.stroke();
+        }
+    }
+
+    /// Add one stroked piece (`points` in canvas coordinates) to the batch of its style,
+    /// starting a new batch when the style differs.
+    fn stroke_piece<S: BackendStyle>(&mut self, style: &S, points: &[(f64, f64)]) {
+        let c = style.color();
+        let key = (
+            c.rgb.0,
+            c.rgb.1,
+            c.rgb.2,
+            c.alpha.to_bits(),
+            style.stroke_width(),
+        );
+        if self.batch != Some(key) {
+            self.flush();
+            self.ctx.begin_path();
+            let (r, g, b) = c.rgb;
+            self.ctx
+                .set_stroke_style_str(&format!("rgba({r},{g},{b},{})", c.alpha));
+            self.ctx.set_line_width(style.stroke_width() as f64);
+            self.batch = Some(key);
+        }
+        if let Some((first, rest)) = points.split_first() {
+            self.ctx.move_to(first.0, first.1);
+            for p in rest {
+                self.ctx.line_to(p.0, p.1);
+            }
+        }
+    }
+
+    /// The size of `text` in the style's font: measured once per font and text (a figure's
+    /// labels repeat from one draw to the next: a cursor move redraws the same axes and
+    /// legends), then remembered.
     fn measure<S: BackendTextStyle>(&self, text: &str, s: &S) -> Option<(u32, u32)> {
-        use js_sys::{Function, Reflect};
-        self.ctx.set_font(&format!(
+        let font = format!(
             "{} {}px {}",
             s.style().as_str(),
             s.size(),
             s.family().as_str()
-        ));
+        );
+        let key = (font, text.to_string());
+        if let Some(size) = MEASURED.with(|m| m.borrow().get(&key).copied()) {
+            return Some(size);
+        }
+        let size = self.measure_now(&key.0, text, s.size())?;
+        MEASURED.with(|m| {
+            let mut m = m.borrow_mut();
+            if m.len() >= MEASURED_MAX {
+                m.clear();
+            }
+            m.insert(key, size);
+        });
+        Some(size)
+    }
+
+    fn measure_now(&self, font: &str, text: &str, font_size: f64) -> Option<(u32, u32)> {
+        use js_sys::{Function, Reflect};
+        self.ctx.set_font(font);
         let get = |o: &JsValue, k: &str| Reflect::get(o, &JsValue::from_str(k)).ok();
         let f: Function = get(&self.ctx, "measureText")?.dyn_into().ok()?;
         let m = f.call1(&self.ctx, &JsValue::from_str(text)).ok()?;
@@ -480,13 +552,29 @@ impl Scaled {
         // The font's line box, like the height of plotters' measuring span.
         let h = match (num("fontBoundingBoxAscent"), num("fontBoundingBoxDescent")) {
             (Some(a), Some(d)) => a + d,
-            _ => 1.15 * s.size(),
+            _ => 1.15 * font_size,
         };
         Some((w.ceil().max(0.0) as u32, h.ceil().max(0.0) as u32))
     }
 }
 
+/// Most text sizes remembered (then they are forgotten all at once).
+const MEASURED_MAX: usize = 4096;
+
+thread_local! {
+    /// Text sizes measured by the canvas, by font and text ([`Scaled::measure`]).
+    static MEASURED: std::cell::RefCell<std::collections::HashMap<(String, String), (u32, u32)>> =
+        std::cell::RefCell::new(std::collections::HashMap::new());
+}
+
 type Err = DrawingErrorKind<<CanvasBackend as DrawingBackend>::ErrorType>;
+
+/// The last batch is stroked when the figure is done with the backend.
+impl Drop for Scaled {
+    fn drop(&mut self) {
+        self.flush();
+    }
+}
 
 impl DrawingBackend for Scaled {
     type ErrorType = <CanvasBackend as DrawingBackend>::ErrorType;
@@ -498,9 +586,11 @@ impl DrawingBackend for Scaled {
         self.inner.ensure_prepared()
     }
     fn present(&mut self) -> Result<(), Err> {
+        self.flush();
         self.inner.present()
     }
     fn draw_pixel(&mut self, p: BackendCoord, c: BackendColor) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_pixel(p, c)
     }
     fn draw_line<S: BackendStyle>(
@@ -509,7 +599,22 @@ impl DrawingBackend for Scaled {
         b: BackendCoord,
         s: &S,
     ) -> Result<(), Err> {
-        self.inner.draw_line(a, b, s)
+        if s.color().alpha == 0.0 {
+            return Ok(());
+        }
+        // As plotters-canvas does: a horizontal or vertical line on the pixel grid is moved by
+        // half a pixel, so that it covers whole pixels instead of blurring over two.
+        let (mut a, mut b) = ((a.0 as f64, a.1 as f64), (b.0 as f64, b.1 as f64));
+        if a.0 == b.0 {
+            a.0 -= 0.5;
+            b.0 -= 0.5;
+        }
+        if a.1 == b.1 {
+            a.1 -= 0.5;
+            b.1 -= 0.5;
+        }
+        self.stroke_piece(s, &[a, b]);
+        Ok(())
     }
     fn draw_rect<S: BackendStyle>(
         &mut self,
@@ -518,6 +623,7 @@ impl DrawingBackend for Scaled {
         s: &S,
         fill: bool,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_rect(a, b, s, fill)
     }
     fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
@@ -525,7 +631,12 @@ impl DrawingBackend for Scaled {
         path: I,
         s: &S,
     ) -> Result<(), Err> {
-        self.inner.draw_path(path, s)
+        if s.color().alpha == 0.0 {
+            return Ok(());
+        }
+        let points: Vec<(f64, f64)> = path.into_iter().map(|p| (p.0 as f64, p.1 as f64)).collect();
+        self.stroke_piece(s, &points);
+        Ok(())
     }
     fn draw_circle<S: BackendStyle>(
         &mut self,
@@ -534,6 +645,7 @@ impl DrawingBackend for Scaled {
         s: &S,
         fill: bool,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_circle(c, r, s, fill)
     }
     fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
@@ -541,6 +653,7 @@ impl DrawingBackend for Scaled {
         vert: I,
         s: &S,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.fill_polygon(vert, s)
     }
     fn draw_text<S: BackendTextStyle>(
@@ -549,6 +662,7 @@ impl DrawingBackend for Scaled {
         s: &S,
         p: BackendCoord,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_text(text, s, p)
     }
     fn estimate_text_size<S: BackendTextStyle>(
