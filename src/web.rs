@@ -13,6 +13,13 @@
 //! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
 //! const svg = s.svg('{"panel":"coverage"}', 800, 500);
 //!
+//! // A time cursor (ubb's step k, uniform's t): the worker prepares the scenario once and
+//! // computes any step's detail; the page puts it into the kept report and draws that step.
+//! const c = new Cursor(JSON.stringify(ubbScenario));   // throws for a method without one
+//! const at = c.at(12);                                  // JSON of report.ubb.at at k = 12
+//! s.setAt(at);                                          // the kept report now shows k = 12
+//! s.draw(canvas, '{"panel":"ubbset","time":12}', devicePixelRatio);
+//!
 //! // Every method's Monte Carlo through one class (0: the scenario's own run count):
 //! // SCF `experiment`, LSCR `lscr.coverage`, GLLS `glls.monte_carlo`, ubb `ubb.guarantee`.
 //! const e = new Study(JSON.stringify(scenario), 0);
@@ -203,6 +210,21 @@ impl Session {
         Ok(())
     }
 
+    /// Put a detail of the report's time cursor (the JSON text [`Cursor::at`] returns, computed
+    /// in the worker) into the kept report: its `at` block and `time` become those of the
+    /// report run at that step, so `draw` draws that step (`Report::set_at`). JSON that is not
+    /// a detail of the kept report's method is an `at` error, and the kept report stays.
+    #[wasm_bindgen(js_name = setAt)]
+    pub fn set_at(&mut self, at_json: &str) -> Result<(), JsValue> {
+        let at: serde_json::Value = serde_json::from_str(at_json)
+            .map_err(|e| js_error(&Error::field("at", format!("is not JSON: {e}"))))?;
+        self.report
+            .as_mut()
+            .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))?
+            .set_at(at)
+            .map_err(|e| js_error(&e))
+    }
+
     /// The panels worth drawing for the kept report (`plot::useful_panels`), JSON `["state",
     /// "series", …]`: `[]` before the first good run.
     #[wasm_bindgen(js_name = usefulPanels)]
@@ -213,6 +235,13 @@ impl Session {
             .map(|r| plot::useful_panels(r).iter().map(|p| p.name()).collect())
             .unwrap_or_default();
         serde_json::Value::from(names).to_string()
+    }
+
+    /// The time the kept report shows (its `time`: the step of its `at` for a method with a
+    /// time cursor), or undefined before the first good run.
+    #[wasm_bindgen(js_name = shownTime)]
+    pub fn shown_time(&self) -> Option<usize> {
+        self.report.as_ref().map(|r| r.time)
     }
 
     /// Whether a report is kept (a `run` has succeeded).
@@ -255,7 +284,7 @@ impl Session {
         let inner = CanvasBackend::with_canvas_object(canvas)
             .ok_or_else(|| js_error(&Error::field("canvas", "has no 2-D context")))?;
         let frame: Frame =
-            plot::draw(Scaled { inner, ctx, size }, report, &view).map_err(|e| js_error(&e))?;
+            plot::draw(Scaled::new(inner, ctx, size), report, &view).map_err(|e| js_error(&e))?;
         to_json("the frame", &frame)
     }
 
@@ -405,27 +434,145 @@ impl Study {
     }
 }
 
+/// The time cursor of a scenario (`Scenario::cursor`): the run prepared once (simulation,
+/// filters, the on-line estimator), then the detail of any step on demand, the JSON of the
+/// report's `at` at that step, bit for bit as a run with the time field there would hold it.
+/// The page's worker keeps one per scenario and answers cursor moves from it; a method whose
+/// reports hold every step (SCF, KF) or have no time (LSCR, GLLS) has none: the constructor
+/// throws a `method` error.
+#[wasm_bindgen]
+pub struct Cursor {
+    inner: Box<dyn crate::scenario::Cursor>,
+}
+
+#[wasm_bindgen]
+impl Cursor {
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario_json: &str) -> Result<Cursor, JsValue> {
+        let s = Scenario::from_json(scenario_json).map_err(|e| js_error(&e))?;
+        match s.cursor().map_err(|e| js_error(&e))? {
+            Some(inner) => Ok(Cursor { inner }),
+            None => Err(js_error(&Error::field(
+                "method",
+                format!(
+                    "\"{}\" has no time cursor: its reports hold every step, or have none",
+                    s.method
+                ),
+            ))),
+        }
+    }
+
+    /// The first step with a detail of its own.
+    pub fn first(&self) -> usize {
+        *self.inner.steps().start()
+    }
+
+    /// The last step.
+    pub fn last(&self) -> usize {
+        *self.inner.steps().end()
+    }
+
+    /// The detail at step t (JSON text of the report's `at`); a time the run refuses throws
+    /// the run's error.
+    pub fn at(&mut self, t: u32) -> Result<String, JsValue> {
+        let v = self.inner.at(t as usize).map_err(|e| js_error(&e))?;
+        to_json("the detail", &v)
+    }
+}
+
 /// A canvas backend seen at CSS size: the context is scaled by the pixel ratio, so every
 /// coordinate, width and font size the figure code uses is in CSS pixels.
 ///
 /// Text is measured with the context's `measureText` in the very font string plotters-canvas
 /// draws with: plotters' own browser measurement appends a `<span>` to the page and reads its
 /// size, a forced layout of the whole document per label (most of a figure's drawing time).
+///
+/// Lines and paths are stroked in batches: consecutive ones of the same colour and width
+/// become subpaths of one canvas path, stroked once before anything else is drawn (and when
+/// the figure is done), so the drawing order stays. A dashed curve is hundreds of dashes and a
+/// chart's grid dozens of lines: one `stroke()` each instead of one per piece (most of the
+/// canvas calls of a time figure; a cursor move redraws every figure).
 struct Scaled {
     inner: CanvasBackend,
     ctx: CanvasRenderingContext2d,
     size: (u32, u32),
+    /// The style of the path being built and not yet stroked: (r, g, b, alpha bits, width).
+    batch: Option<(u8, u8, u8, u64, u32)>,
 }
 
 impl Scaled {
+    fn new(inner: CanvasBackend, ctx: CanvasRenderingContext2d, size: (u32, u32)) -> Scaled {
+        Scaled {
+            inner,
+            ctx,
+            size,
+            batch: None,
+        }
+    }
+
+    /// Stroke the batch, if any.
+    fn flush(&mut self) {
+        if self.batch.take().is_some() {
+            self.ctx.stroke();
+        }
+    }
+
+    /// Add one stroked piece (`points` in canvas coordinates) to the batch of its style,
+    /// starting a new batch when the style differs.
+    fn stroke_piece<S: BackendStyle>(&mut self, style: &S, points: &[(f64, f64)]) {
+        let c = style.color();
+        let key = (
+            c.rgb.0,
+            c.rgb.1,
+            c.rgb.2,
+            c.alpha.to_bits(),
+            style.stroke_width(),
+        );
+        if self.batch != Some(key) {
+            self.flush();
+            self.ctx.begin_path();
+            let (r, g, b) = c.rgb;
+            self.ctx
+                .set_stroke_style_str(&format!("rgba({r},{g},{b},{})", c.alpha));
+            self.ctx.set_line_width(style.stroke_width() as f64);
+            self.batch = Some(key);
+        }
+        if let Some((first, rest)) = points.split_first() {
+            self.ctx.move_to(first.0, first.1);
+            for p in rest {
+                self.ctx.line_to(p.0, p.1);
+            }
+        }
+    }
+
+    /// The size of `text` in the style's font: measured once per font and text (a figure's
+    /// labels repeat from one draw to the next: a cursor move redraws the same axes and
+    /// legends), then remembered.
     fn measure<S: BackendTextStyle>(&self, text: &str, s: &S) -> Option<(u32, u32)> {
-        use js_sys::{Function, Reflect};
-        self.ctx.set_font(&format!(
+        let font = format!(
             "{} {}px {}",
             s.style().as_str(),
             s.size(),
             s.family().as_str()
-        ));
+        );
+        let key = (font, text.to_string());
+        if let Some(size) = MEASURED.with(|m| m.borrow().get(&key).copied()) {
+            return Some(size);
+        }
+        let size = self.measure_now(&key.0, text, s.size())?;
+        MEASURED.with(|m| {
+            let mut m = m.borrow_mut();
+            if m.len() >= MEASURED_MAX {
+                m.clear();
+            }
+            m.insert(key, size);
+        });
+        Some(size)
+    }
+
+    fn measure_now(&self, font: &str, text: &str, font_size: f64) -> Option<(u32, u32)> {
+        use js_sys::{Function, Reflect};
+        self.ctx.set_font(font);
         let get = |o: &JsValue, k: &str| Reflect::get(o, &JsValue::from_str(k)).ok();
         let f: Function = get(&self.ctx, "measureText")?.dyn_into().ok()?;
         let m = f.call1(&self.ctx, &JsValue::from_str(text)).ok()?;
@@ -438,13 +585,29 @@ impl Scaled {
         // The font's line box, like the height of plotters' measuring span.
         let h = match (num("fontBoundingBoxAscent"), num("fontBoundingBoxDescent")) {
             (Some(a), Some(d)) => a + d,
-            _ => 1.15 * s.size(),
+            _ => 1.15 * font_size,
         };
         Some((w.ceil().max(0.0) as u32, h.ceil().max(0.0) as u32))
     }
 }
 
+/// Most text sizes remembered (then they are forgotten all at once).
+const MEASURED_MAX: usize = 4096;
+
+thread_local! {
+    /// Text sizes measured by the canvas, by font and text ([`Scaled::measure`]).
+    static MEASURED: std::cell::RefCell<std::collections::HashMap<(String, String), (u32, u32)>> =
+        std::cell::RefCell::new(std::collections::HashMap::new());
+}
+
 type Err = DrawingErrorKind<<CanvasBackend as DrawingBackend>::ErrorType>;
+
+/// The last batch is stroked when the figure is done with the backend.
+impl Drop for Scaled {
+    fn drop(&mut self) {
+        self.flush();
+    }
+}
 
 impl DrawingBackend for Scaled {
     type ErrorType = <CanvasBackend as DrawingBackend>::ErrorType;
@@ -456,9 +619,11 @@ impl DrawingBackend for Scaled {
         self.inner.ensure_prepared()
     }
     fn present(&mut self) -> Result<(), Err> {
+        self.flush();
         self.inner.present()
     }
     fn draw_pixel(&mut self, p: BackendCoord, c: BackendColor) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_pixel(p, c)
     }
     fn draw_line<S: BackendStyle>(
@@ -467,7 +632,22 @@ impl DrawingBackend for Scaled {
         b: BackendCoord,
         s: &S,
     ) -> Result<(), Err> {
-        self.inner.draw_line(a, b, s)
+        if s.color().alpha == 0.0 {
+            return Ok(());
+        }
+        // As plotters-canvas does: a horizontal or vertical line on the pixel grid is moved by
+        // half a pixel, so that it covers whole pixels instead of blurring over two.
+        let (mut a, mut b) = ((a.0 as f64, a.1 as f64), (b.0 as f64, b.1 as f64));
+        if a.0 == b.0 {
+            a.0 -= 0.5;
+            b.0 -= 0.5;
+        }
+        if a.1 == b.1 {
+            a.1 -= 0.5;
+            b.1 -= 0.5;
+        }
+        self.stroke_piece(s, &[a, b]);
+        Ok(())
     }
     fn draw_rect<S: BackendStyle>(
         &mut self,
@@ -476,6 +656,7 @@ impl DrawingBackend for Scaled {
         s: &S,
         fill: bool,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_rect(a, b, s, fill)
     }
     fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
@@ -483,7 +664,12 @@ impl DrawingBackend for Scaled {
         path: I,
         s: &S,
     ) -> Result<(), Err> {
-        self.inner.draw_path(path, s)
+        if s.color().alpha == 0.0 {
+            return Ok(());
+        }
+        let points: Vec<(f64, f64)> = path.into_iter().map(|p| (p.0 as f64, p.1 as f64)).collect();
+        self.stroke_piece(s, &points);
+        Ok(())
     }
     fn draw_circle<S: BackendStyle>(
         &mut self,
@@ -492,6 +678,7 @@ impl DrawingBackend for Scaled {
         s: &S,
         fill: bool,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_circle(c, r, s, fill)
     }
     fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
@@ -499,6 +686,7 @@ impl DrawingBackend for Scaled {
         vert: I,
         s: &S,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.fill_polygon(vert, s)
     }
     fn draw_text<S: BackendTextStyle>(
@@ -507,6 +695,7 @@ impl DrawingBackend for Scaled {
         s: &S,
         p: BackendCoord,
     ) -> Result<(), Err> {
+        self.flush();
         self.inner.draw_text(text, s, p)
     }
     fn estimate_text_size<S: BackendTextStyle>(

@@ -47,25 +47,48 @@ export function computeClient(panel) {
     // The watchdog's time for the next jobs (a test shortens it).
     watchdogMs: WATCHDOG_MS,
     run(scenarioJson) {
-      if (!worker) start('retry'); // the last one never loaded
-      const id = nextId++;
       const testOnlyAbort = client.testOnlyAbortNextRun;
       client.testOnlyAbortNextRun = false;
-      return new Promise((resolve, reject) => {
-        const watchdog = setTimeout(() => {
-          if (!jobs.has(id)) return;
-          const s = (client.watchdogMs / 1000).toLocaleString('en-US');
-          end(new ComputeFault('timeout', `The computation gave no answer within ${s} s and was stopped`));
-          start('timeout');
-        }, client.watchdogMs);
-        jobs.set(id, { resolve, reject, watchdog });
-        worker.postMessage({ id, scenario: scenarioJson, testOnlyAbort });
-      });
+      return post({ scenario: scenarioJson, testOnlyAbort }).then((d) => ({ report: d.report, ms: d.ms, cursor: keyOf(d.cursor) }));
     },
+    // The detail of step t of a scenario's time cursor (worker.js): a Promise of {t, at (JSON
+    // text of the report's `at` at t), cursor (the key of the cursor it comes from, as run()
+    // gives it for the report)}, or of null when a newer at() came before its answer (the newest
+    // request wins; a stale answer is dropped). Rejects as run() does.
+    at(scenarioJson, t) {
+      const mine = ++atRequests;
+      return post({ cursor: { scenario: scenarioJson, t } })
+        .then((d) => (d.superseded || mine !== atRequests ? null : { ...d.detail, cursor: keyOf(d.detail.cursor) }));
+    },
+    // Called with (cursor key, t, at JSON) for every detail the worker sends (prefetched or
+    // asked for): the panel keeps those of its report's cursor.
+    onDetail: null,
     // Whether a job is waiting for the worker.
     get pending() { return jobs.size > 0; },
     replace,
   };
+
+  // One job to the current worker (a new one if the last never loaded), with its watchdog.
+  function post(message) {
+    if (!worker) start('retry'); // the last one never loaded
+    const id = nextId++;
+    return new Promise((resolve, reject) => {
+      const watchdog = setTimeout(() => {
+        if (!jobs.has(id)) return;
+        const s = (client.watchdogMs / 1000).toLocaleString('en-US');
+        end(new ComputeFault('timeout', `The computation gave no answer within ${s} s and was stopped`));
+        start('timeout');
+      }, client.watchdogMs);
+      jobs.set(id, { resolve, reject, watchdog });
+      worker.postMessage({ id, ...message });
+    });
+  }
+
+  // Cursor keys: the worker numbers its cursors (a report's answer names the cursor of its
+  // scenario), and every worker start is a new epoch, so a key never names another worker's.
+  let epoch = 0;
+  let atRequests = 0;
+  const keyOf = (n) => `${epoch}.${n}`;
 
   function start(reason) {
     const t0 = performance.now();
@@ -73,6 +96,7 @@ export function computeClient(panel) {
     workerStarts.push(entry);
     const w = new Worker(WORKER_URL, { type: 'module' });
     worker = w;
+    epoch++;
     let ready = false;
     w.onmessage = ({ data }) => {
       if (w !== worker) return; // a replaced worker's late message
@@ -81,13 +105,16 @@ export function computeClient(panel) {
         entry.readyMs = performance.now() - t0;
         return;
       }
+      const detail = data.prefetched || data.detail;
+      if (detail) client.onDetail?.(keyOf(detail.cursor), detail.t, detail.at);
+      if (data.prefetched) return;
       const job = jobs.get(data.id);
       if (!job) return;
       if (data.fault) { fail(data.fault, ready); return; } // this job fails with every other
       clearTimeout(job.watchdog);
       jobs.delete(data.id);
       if (data.error) job.reject(Object.assign(new Error(data.error.message), { field: data.error.field }));
-      else job.resolve({ report: data.report, ms: data.ms });
+      else job.resolve(data);
     };
     // An uncaught error in the worker (its script or module did not load, or it died): handled
     // here, not reported again as the page's.

@@ -5,6 +5,7 @@ import { Figure, figureCards, download, drawFigures, redrawOnResize } from './fi
 import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { computeClient, ComputeFault } from './compute.js';
 import { parseMatrix, matrixText } from './parse.js';
+import { timeCursor, animation } from './cursor.js';
 
 export const clone = (v) => JSON.parse(JSON.stringify(v));
 
@@ -101,6 +102,11 @@ function computeNote(staleNote, saveScenario) {
 //   prose(text)      the description and notes as HTML (default: plain text)
 //   errorsWithin     what the inline errors clear ('form ' by default)
 //   compute, redraw  the inputs that change the scenario, and those that change only the view;
+//   cursor           a time cursor whose report keeps one step's detail (cursor.js): {control
+//                    (the slider's id, in `redraw`), animate (its ▶ button's id, optional),
+//                    block(report) (the report's block holding `at`), setTime(scenario, v),
+//                    shown(report, v) (the step a slider value shows), first(report),
+//                    last(report) (the animation's range)}; `time` defaults to the step shown
 //   input(p, id)     what a control shows at once (before the run, next frame)
 //   stem(p)          the stem of the file names
 //   init(p)          the panel's own wiring, once, before the first preset loads
@@ -127,7 +133,8 @@ export function mountPanel(root, spec) {
   row.lastChild.dataset.field = 'preset';
   root.querySelector('form').prepend(row, Object.assign(document.createElement('p'), { id: `${prefix}preset-desc`, className: 'desc' }));
   const ids = new Set(['preset', 'preset-desc', 'custom', 'stale', 'notes', 'numbers', ...(spec.timing ? [] : ['timing']),
-    ...(spec.model || []).map((k) => `m-${k}`), ...(spec.compute || []), ...(spec.redraw || []), ...(spec.ids || [])]);
+    ...(spec.model || []).map((k) => `m-${k}`), ...(spec.compute || []), ...(spec.redraw || []), ...(spec.ids || []),
+    ...(spec.cursor?.animate ? [spec.cursor.animate] : [])]);
   // Ids are looked up under the panel's root only, so the same view can be mounted twice.
   const byId = (id) => root.querySelector(`#${CSS.escape(id)}`);
   const ui = Object.fromEntries([...ids].map((id) => [id, byId(`${prefix}${id}`)]));
@@ -200,7 +207,14 @@ export function mountPanel(root, spec) {
     return inFlight;
   }
 
-  const runInWorker = async (s) => (await worker.run(JSON.stringify(s))).report;
+  // The scenario text of the last report and the worker's cursor for it (the time cursor's).
+  let ran = null;
+  const runInWorker = async (s) => {
+    const text = JSON.stringify(s);
+    const r = await worker.run(text);
+    ran = { text, cursor: r.cursor };
+    return r.report;
+  };
   const cancel = () => { again = false; worker.replace('cancelled'); };
 
   // One run of the scenario the controls describe, and its redraw; whether it succeeded. A core
@@ -244,6 +258,7 @@ export function mountPanel(root, spec) {
     st.report = JSON.parse(json);
     st.reportJson = json;
     st.scenario = scenario;
+    p.cursor?.reset(ran.text, ran.cursor);
     errors.clear();
     // The cards of the figures the core finds worth drawing for this report.
     const useful = JSON.parse(session.usefulPanels());
@@ -255,7 +270,10 @@ export function mountPanel(root, spec) {
 
   function redraw() {
     if (!st.report) return;
-    const time = spec.time?.(p);
+    const time = spec.time?.(p) ?? cursorTime();
+    // A time cursor's step: the kept report shows it (its detail from the cache), or the
+    // figures draw it from what the report holds for every step until the detail comes.
+    if (time != null) p.cursor?.show(time);
     st.drawMs = drawFigures(figures, time);
     spec.draw(p, time);
     if (spec.timing) spec.timing(p);
@@ -265,8 +283,36 @@ export function mountPanel(root, spec) {
   // Bursts of input events coalesce into one run (or redraw) per frame.
   const schedule = frameScheduler(setBusy, compute, redraw);
   const p = { root, session, ui, st, figures, errors, setBusy, schedule, build, compute, redraw, isCustom, model, stem };
+  // The time cursor: the step the slider shows, its details, its animation.
+  const cur = spec.cursor;
+  const cursorTime = () => (cur && st.report ? cur.shown(st.report, Number(ui[cur.control].value)) : undefined);
+  if (cur) {
+    const showError = (e) => {
+      if (!(e instanceof ComputeFault)) errors.show(e, true);
+      else if (e.kind === 'crash' || e.kind === 'timeout') note.failed(e, st.scenario);
+    };
+    p.cursor = timeCursor({ worker, session, st, setBusy, redraw, showError }, cur);
+    const moved = () => p.cursor.moved(Number(ui[cur.control].value));
+    ui[cur.control].addEventListener('input', () => { p.animation?.stop(); moved(); });
+    if (cur.animate) {
+      p.animation = animation({
+        button: ui[cur.animate], control: ui[cur.control], cursor: p.cursor, setBusy,
+        first: () => cur.first(st.report), last: () => cur.last(st.report),
+        at: (v) => cur.shown(st.report, v),
+        moved: () => { spec.input?.(p, cur.control); moved(); },
+        draw: redraw,
+        showError,
+      });
+    }
+  }
 
-  ui.preset.addEventListener('change', () => { presetChoice++; spec.leave?.(p); loadPreset(ui.preset.value); schedule('compute'); });
+  ui.preset.addEventListener('change', () => {
+    presetChoice++;
+    p.animation?.stop();
+    spec.leave?.(p);
+    loadPreset(ui.preset.value);
+    schedule('compute');
+  });
   for (const [list, what] of [[spec.compute, 'compute'], [spec.redraw, 'redraw']]) {
     for (const id of list || []) ui[id].addEventListener('input', () => { spec.input?.(p, id); schedule(what); });
   }
@@ -275,8 +321,20 @@ export function mountPanel(root, spec) {
 
   const save = (kind, json) => download(`${stem()}-${kind}.json`, new Blob([json], { type: 'application/json' }));
   const note = computeNote(ui.stale, (s) => save('failed-scenario', JSON.stringify(s, null, 2)));
-  byId(`${prefix}dl-report`).addEventListener('click', () => {
-    if (st.reportJson) save('report', spec.reportFile ? spec.reportFile(p) : st.reportJson);
+  byId(`${prefix}dl-report`).addEventListener('click', async () => {
+    if (!st.reportJson) return;
+    // With a time cursor, the report at the cursor: its step's detail in the kept report.
+    const t = cursorTime();
+    if (t != null) {
+      try {
+        while (!p.cursor.has(t) && cursorTime() === t) await p.cursor.ready(t);
+      } catch (e) {
+        errors.show(e, true);
+        return;
+      }
+      p.cursor.show(t);
+    }
+    save('report', spec.reportFile ? spec.reportFile(p) : t != null ? JSON.stringify(st.report) : st.reportJson);
   });
   byId(`${prefix}dl-scenario`).addEventListener('click', () => {
     if (st.scenario) save('scenario', JSON.stringify(spec.scenarioFile ? spec.scenarioFile(p) : st.scenario, null, 2));

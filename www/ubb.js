@@ -1,8 +1,10 @@
 // The set-membership panel (Tempo, method "ubb"): controls → Scenario JSON → a run in the compute worker →
 // two figures drawn by the core (views {"panel": "ubbset" | "ubbwidth"}) and the numbers of the
-// report (report.ubb). The step k is the scenario's ubb.time: the core computes the exact polygon,
-// the interval hull and the prediction there. The guarantee runs fresh simulations on every core
-// (studypool.js) and counts how often the truth left the set (never) and the KF ellipse.
+// report (report.ubb). The step k is a time cursor (cursor.js): the report keeps the exact polygon,
+// hull and prediction of one step (its `at`); moving k draws the kept report with the detail of k,
+// which the compute worker computes once per step (the scenario's ubb.time follows k, so a run,
+// a download or a link gives the same picture). The guarantee runs fresh simulations on every
+// core (studypool.js) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Study } from './pkg/confset.js';
 import { mountPanel } from './panel.js';
@@ -16,7 +18,6 @@ const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
 const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
 const int = (n) => n.toLocaleString('en-US');
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
-const ANIMATE_MS = 350; // per step of the animation (at least one LP solve per frame)
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {
@@ -38,8 +39,6 @@ const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L
 // The set panel reads plane coordinates, the width panel steps (whole numbers) and values.
 class UbbFigure extends Figure {
   stacked = true;
-
-  view() { return JSON.stringify({ panel: this.panel }); }
 
   cursorText({ chart, x, y }) {
     const set = this.panel === 'ubbset';
@@ -81,6 +80,9 @@ function showTime({ ui, st }) {
   if (u) ui['time-min'].textContent = String(u.track[0].k);
 }
 
+// The step a slider value shows: steps before the first bounded set show the first.
+const shown = (report, v) => Math.min(Math.max(v, report.ubb.track[0].k), report.ubb.steps - 1);
+
 // An optional positive number: empty (or ∞, inf) = ∞ (null).
 const infinite = (t) => ['', '∞', 'inf', 'infinity'].includes(String(t).trim().toLowerCase());
 const optional = (field, t) => (infinite(t) ? null : parseNumber(field, t));
@@ -112,28 +114,36 @@ function build(p, s) {
 }
 
 // ----- numbers from the report -----
-function showNumbers({ ui, st }) {
+// The numbers at step k: the report's detail of k once it is here (until then, what the track
+// holds for every step, and the rest marked as being computed).
+function showNumbers({ ui, st }, k) {
   const u = st.report.ubb;
-  const at = u.at;
-  const k = at.k;
+  const at = u.at.k === k ? u.at : null;
+  const step = u.track.find((t) => t.k === k);
+  const hull = at || step;
+  if (!hull) {
+    ui['num-title'].textContent = `At step k = ${k}`;
+    ui.numbers.textContent = `No bounded set at step k = ${k}.`;
+    return;
+  }
   const [i, j] = u.plane;
   const sm = u.smoothing;
-  const step = u.track.find((t) => t.k === k);
+  const pending = '… <span class="hint">(being computed)</span>';
   // Example 1's state is the coefficient vector a: the report names it ("a₁ (1)", …).
-  const names = (u.state_names || at.lo.map((_, c) => `x${sub(c + 1)}`)).map(escapeHtml);
+  const names = (u.state_names || hull.lo.map((_, c) => `x${sub(c + 1)}`)).map(escapeHtml);
   const coef = !names[0].startsWith('x');
   const target = coef ? 'the coefficients a' : `x(${k + 1})`;
-  ui['num-title'].textContent = `At step k = ${k}: the set of ${target} from y(${at.first}) … y(${k}), ${NORM[u.norm] || u.norm} bounds`;
+  ui['num-title'].textContent = `At step k = ${k}: the set of ${target}${at ? ` from y(${at.first}) … y(${k})` : ''}, ${NORM[u.norm] || u.norm} bounds`;
   const rows = [];
   const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
-  row('window', `${u.window} ${u.window === 1 ? 'step' : 'steps'} <span class="hint">(data y(${at.first}) … y(${k}))</span>`);
-  const cones = at.size.cones ? `, ${at.size.cones} cones (${at.size.cone_rows} rows)` : '';
-  row('LP size', `${at.size.variables} variables, ${at.size.rows} rows${cones}`);
-  row('polygon', `${at.polygon.vertices.length} vertices from ${at.polygon.calls} LPs — ${at.polygon.exact
-    ? '<b class="good">exact</b>' : `within ${fmt(at.polygon.gap)} of the set`}${u.r > 2 ? ` <span class="hint">(projection on x${sub(i + 1)}, x${sub(j + 1)})</span>` : ''}`);
-  row('central estimate', vec(at.center));
-  row('interval hull', at.lo.map((lo, c) => `<span class="nw">${names[c]} ∈ [${fmt(lo)}, ${fmt(at.hi[c])}]</span>`).join(' '));
-  row('radius', `${fmt(at.radius)} <span class="hint">(largest half-width: the guaranteed error of the central estimate)</span>`);
+  row('window', `${u.window} ${u.window === 1 ? 'step' : 'steps'}${at ? ` <span class="hint">(data y(${at.first}) … y(${k}))</span>` : ''}`);
+  const cones = at?.size.cones ? `, ${at.size.cones} cones (${at.size.cone_rows} rows)` : '';
+  row('LP size', at ? `${at.size.variables} variables, ${at.size.rows} rows${cones}` : pending);
+  row('polygon', at ? `${at.polygon.vertices.length} vertices from ${at.polygon.calls} LPs — ${at.polygon.exact
+    ? '<b class="good">exact</b>' : `within ${fmt(at.polygon.gap)} of the set`}${u.r > 2 ? ` <span class="hint">(projection on x${sub(i + 1)}, x${sub(j + 1)})</span>` : ''}` : pending);
+  row('central estimate', vec(hull.center));
+  row('interval hull', hull.lo.map((lo, c) => `<span class="nw">${names[c]} ∈ [${fmt(lo)}, ${fmt(hull.hi[c])}]</span>`).join(' '));
+  row('radius', `${fmt(hull.radius)} <span class="hint">(largest half-width: the guaranteed error of the central estimate)</span>`);
   row('Theorem 4 bound', sm.limit != null ? `${fmt(sm.limit)} <span class="hint">(on the radius; ‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)})</span>`
     : `– <span class="hint">(‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)}${sm.b_norm === 0 ? ', no process noise' : ' ≥ 1'})</span>`);
   row('Theorem 5 j', sm.j != null ? `${sm.j} <span class="hint">(γ = ${fmt(u.gamma)}: window j + 1 = ${sm.j + 1}${sm.tail != null ? `, tail ${fmt(sm.tail)}` : ''})</span>`
@@ -142,9 +152,11 @@ function showNumbers({ ui, st }) {
   row(coef ? 'true a' : `true x(${k + 1})`, truth ? vec(truth) : '– (data given)');
   row('truth inside the set', `${verdict(step?.inside, 'yes', 'no')}${step?.inside === false
     ? ' <span class="hint">(ε or τ below the simulated noise: the bounds are wrong, so no guarantee)</span>' : ''}`);
-  const kfLevel = Math.round(100 * (1 - Math.exp(-at.kf.radius2 / 2)));
+  const kfLevel = Math.round(100 * (1 - Math.exp(-u.at.kf.radius2 / 2))); // the same at every step
   row(`truth inside the KF ${kfLevel} % ellipsoid`, verdict(step?.kf_inside, 'yes', 'no'));
-  if (at.prediction.length) {
+  if (!at) {
+    row(`prediction of y(${k + 1})`, pending);
+  } else if (at.prediction.length) {
     row(`prediction of y(${k + 1})`, at.prediction.map(([lo, hi], o) => `<span class="nw">${at.prediction.length > 1 ? `y${sub(o + 1)} ` : ''}∈ [${fmt(lo)}, ${fmt(hi)}]</span>`).join(' '));
   } else {
     row(`prediction of y(${k + 1})`, '– <span class="hint">(no measurements)</span>');
@@ -154,38 +166,6 @@ function showNumbers({ ui, st }) {
   ui['window-out'].innerHTML = sm.j != null
     ? `Theorem 5: j = ${sm.j}, window ${u.window} steps`
     : `window ${u.window} steps${sm.note ? ` — ${richText(sm.note)}` : ''}`;
-}
-
-// ----- animation of k: one run per step -----
-function stopAnimation(p) {
-  if (!p.animating) return;
-  clearTimeout(p.animating.timer);
-  p.animating = null;
-  p.ui.animate.textContent = '▶ animate';
-  p.setBusy(-1);
-}
-
-function startAnimation(p) {
-  const { ui, st } = p;
-  if (p.animating || !st.report) return;
-  p.setBusy(+1);
-  p.animating = { timer: 0 };
-  ui.animate.textContent = '■ stop';
-  let k = Number(ui.time.value);
-  if (k >= Number(ui.time.max)) k = st.report.ubb.track[0].k - 1;
-  const tick = async () => {
-    if (!p.animating) return;
-    k += 1;
-    if (k > Number(ui.time.max)) { stopAnimation(p); return; }
-    ui.time.value = String(k);
-    showTime(p);
-    const me = p.animating;
-    const ok = await p.compute();
-    if (p.animating !== me) return; // stopped (or restarted) while it computed
-    if (!ok) { stopAnimation(p); return; }
-    me.timer = setTimeout(tick, ANIMATE_MS);
-  };
-  tick();
 }
 
 // ----- the guarantee: fresh simulations at the step k of the last good scenario -----
@@ -213,29 +193,36 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
   Figure: UbbFigure,
   model: ['F', 'G', 'H'],
   prose: richText,
-  ids: ['time-out', 'time-min', 'time-max', 'time-window', 'animate', 'sim-out', 'window-out', 'num-title',
+  ids: ['time-out', 'time-min', 'time-max', 'time-window', 'sim-out', 'window-out', 'num-title',
     'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err'],
-  compute: ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H', 'time'],
+  compute: ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
+  redraw: ['time'],
+  cursor: {
+    control: 'time',
+    animate: 'animate',
+    block: (report) => report.ubb,
+    setTime: (s, v) => { s.ubb.time = v; },
+    shown,
+    first: (report) => report.ubb.track[0].k,
+    last: (report) => report.ubb.steps - 1,
+  },
   input: (p, id) => { if (id === 'time') showTime(p); },
-  stem({ st }) {
+  stem({ st, ui }) {
     const u = st.report?.ubb;
-    return `${st.preset.name}-${u ? `${u.norm}-k${u.at.k}` : 'ubb'}`;
+    return `${st.preset.name}-${u ? `${u.norm}-k${shown(st.report, Number(ui.time.value))}` : 'ubb'}`;
   },
   init(p) {
     const { ui } = p;
-    p.animating = null;
-    ui.animate.addEventListener('click', () => (p.animating ? stopAnimation(p) : startAnimation(p)));
     studyRunner({
       go: ui.go, cancel: ui.cancel, status: ui['g-status'], err: ui['g-err'],
       busy: busyFlag('ubbGuaranteeBusy'), start: () => startGuarantee(p), show: (c) => showGuarantee(p, c),
       perRun: (ms, runs) => `${(ms / Math.max(1, runs)).toFixed(2)} ms`,
     });
   },
-  leave: stopAnimation,
   load,
   build,
-  draw(p) {
+  draw(p, k) {
     showTime(p);
-    showNumbers(p);
+    showNumbers(p, k);
   },
 });

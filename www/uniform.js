@@ -1,9 +1,11 @@
 // The uniform-innovation panel: controls → Scenario JSON (method "uniform_lp") → a run in the compute worker →
 // four figures drawn by the core (views {"panel": "ustates" | "uoutput" | "uparams" | "upolygon"})
-// and the numbers of the report (report.uniform). The time cursor is the scenario's uniform.time:
-// the core computes the window, the optimal face and the consistent-state polygon there, and every
-// figure marks it. No estimation happens here: the page edits the preset's scenario and shows
-// what the core reports.
+// and the numbers of the report (report.uniform). The time cursor (cursor.js) marks t in every
+// figure: the report keeps the window, the optimal face and the consistent-state polygon of one
+// time (its `at`); moving t draws the kept report with the detail of t, which the compute worker
+// computes once per time (the scenario's uniform.time follows t, so a run, a download or a link
+// gives the same picture). The window ∂ changes the estimates: it runs the scenario again. No
+// estimation happens here: the page edits the preset's scenario and shows what the core reports.
 import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
@@ -43,8 +45,6 @@ const richText = (t) => bracedScripts(t)
 // under the pointer. Time axes read whole samples.
 class UniformFigure extends Figure {
   stacked = true;
-
-  view() { return JSON.stringify({ panel: this.panel }); }
 
   cursorText({ chart, x, y }) {
     const xs = this.panel === 'upolygon' ? fmt(x) : String(Math.round(x));
@@ -98,6 +98,9 @@ function timeRange(p, toEnd = false) {
   showTime(p);
 }
 
+// The time a slider value shows (within the kept report's steps while another runs).
+const shown = (report, v) => Math.min(Math.max(v, 1), report.uniform.steps.length);
+
 function showTime({ ui, st }) {
   const u = st.report?.uniform;
   const t = Number(ui.time.value);
@@ -139,23 +142,27 @@ function build(p, s) {
 }
 
 // ----- numbers from the report -----
-function showNumbers({ ui, st }) {
+// The numbers at time t: the report's detail of t once it is here (until then, the estimates
+// the report holds for every time, and the window's numbers marked as being computed).
+function showNumbers({ ui, st }, t) {
   const u = st.report.uniform;
-  const at = u.at;
-  const t = at.time;
+  const at = u.at.time === t ? u.at : null;
   const n = u.n;
   const step = u.steps[t - 1];
   const truth = u.x_true ? u.x_true[t] : null;
-  ui['num-title'].textContent = `At the time cursor t = ${t}: window ${at.first} … ${t} (∂ = ${u.window}), ${METHOD[u.estimator] || u.estimator}`;
+  const pending = '… <span class="hint">(being computed)</span>';
+  ui['num-title'].textContent = `At the time cursor t = ${t}: window ${at ? `${at.first} … ${t} ` : ''}(∂ = ${u.window}), ${METHOD[u.estimator] || u.estimator}`;
   const rows = [];
   const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
   row(`true x<sub>${t}</sub>`, truth ? vec(truth) : '– (data given)');
   row('LP estimate', vec(step?.x));
   row('Kalman filter', u.kf ? `${vec(u.kf[t - 1])} <span class="hint">(true Θ, variances r²/3)</span>` : '– (data given: no true Θ)');
-  const faces = at.face_lo[0].map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(at.face_hi[0][i])}]</span>`);
-  row(`optimal face of x<sub>${t}</sub>`, faces.join(' '));
-  const guaranteed = at.polygon_theta_true;
-  if (at.true_objective != null) {
+  const faces = at?.face_lo[0].map((lo, i) => `<span class="nw">x${sub(i + 1)} ∈ [${fmt(lo)}, ${fmt(at.face_hi[0][i])}]</span>`);
+  row(`optimal face of x<sub>${t}</sub>`, at ? faces.join(' ') : pending);
+  const guaranteed = at?.polygon_theta_true;
+  if (!at) {
+    row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', pending);
+  } else if (at.true_objective != null) {
     const below = at.objective <= at.true_objective * (1 + 1e-9) + 1e-12;
     row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', `${fmt(at.objective)} vs the truth’s ${fmt(at.true_objective)} ${below
       ? '<b class="good">✓ the optimum is never above the truth’s</b>'
@@ -163,7 +170,9 @@ function showNumbers({ ui, st }) {
   } else {
     row('objective Σx̂<sub>r</sub> + Σŷ<sub>r</sub>', fmt(at.objective));
   }
-  if (at.polygon) {
+  if (!at) {
+    row('polygon', pending);
+  } else if (at.polygon) {
     const exact = at.polygon.exact ? `exact, ${at.polygon.calls} LPs` : `budget spent: within ${fmt(at.polygon.gap)}`;
     row('truth in polygon', `${verdict(at.truth_in_polygon, 'inside', 'outside')} <span class="hint">${guaranteed
       ? '(polygon with the true Θ: it must hold the truth)' : `(polygon with the estimated Θ̂<sub>${t}</sub>, not the true Θ: no guarantee)`}; ${exact}</span>`);
@@ -206,7 +215,17 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
   prose: richText,
   ids: ['time-out', 'time-max', 'time-window', 'window-out', 'run-numbers', 'num-title'],
   compute: ['m-F', 'm-H', 'm-B', 'm-D', 'estimator', 'xr', 'yr', 'uhalf', 'prior', 'xrmax', 'yrmax', 'xbound', 'seed',
-    'steps', 'time', 'window-range', 'window'],
+    'steps', 'window-range', 'window'],
+  redraw: ['time'],
+  cursor: {
+    control: 'time',
+    animate: 'animate',
+    block: (report) => report.uniform,
+    setTime: (s, v) => { s.uniform.time = v; },
+    shown,
+    first: () => 1,
+    last: (report) => report.uniform.steps.length,
+  },
   input(p, id) {
     const { ui } = p;
     if (id === 'steps') timeRange(p);
@@ -220,15 +239,15 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
       ui['window-out'].textContent = `= ${ui.window.value}`;
     }
   },
-  stem({ st }) {
+  stem({ st, ui }) {
     const u = st.report?.uniform;
-    return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${u.at.time}` : 'uniform'}`;
+    return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${shown(st.report, Number(ui.time.value))}` : 'uniform'}`;
   },
   init: ({ ui }) => { ui['m-D'].value = matrixText(CUSTOM_PRESET.scenario.uniform.D); },
   load,
   build,
-  draw(p) {
+  draw(p, t) {
     showTime(p);
-    showNumbers(p);
+    showNumbers(p, t);
   },
 });

@@ -1213,21 +1213,19 @@ fn the_uniform_cursor_follows_the_window_time() {
         );
         assert_ne!(a, b);
     }
-    // A view time other than the window's: the time charts move the cursor, the polygon says why
-    // it cannot.
+    // A view time other than the window's: the time charts move the cursor; the polygon panel
+    // draws the estimates at that time without the window's polygon and face (which belong to
+    // the report's time), and says so.
     let a = svg(&r, Panel::UOutput, Some(30));
     assert!(a.contains("t = 30"));
-    let e = report_svg(
-        &r,
-        &View {
-            time: Some(30),
-            ..View::new(Panel::UPolygon)
-        },
-        800,
-        600,
-    )
-    .unwrap_err();
-    assert_eq!(e.field, "time");
+    let at = r.uniform.as_ref().expect("uniform").at.time;
+    let p = svg(&r, Panel::UPolygon, Some(30));
+    assert!(
+        p.contains(&format!("not in this report (it holds t = {at})")),
+        "the polygon panel at another time says what it lacks"
+    );
+    assert!(p.contains("States consistent with the window at t = 30"));
+    assert_ne!(p, svg(&r, Panel::UPolygon, None), "no polygon at t = 30");
     let e = report_svg(
         &r,
         &View {
@@ -1519,14 +1517,25 @@ fn ubb_and_other_panels_do_not_mix() {
     let e = report_svg(&other, &View::new(Panel::UbbSet), 640, 400).expect_err("no ubb part");
     assert_eq!(e.field, "panel");
     assert!(e.message.contains("no ubb part"), "{}", e.message);
-    // The set panel holds step k only.
-    let k = r.ubb.as_ref().expect("ubb").at.k;
-    let v = View {
-        time: Some(k + 1),
+    // The set panel draws the polygon of step k only: at another step of the track, its hull
+    // and markers without the polygon and the Kalman ellipse, saying so; past the track, an
+    // error naming the time.
+    let u = r.ubb.as_ref().expect("ubb");
+    let k = u.at.k;
+    let other = |t: usize| View {
+        time: Some(t),
         ..View::new(Panel::UbbSet)
     };
+    let drawn = report_svg(&r, &other(k + 1), 640, 400).expect("another step of the track");
+    assert!(
+        drawn.contains(&format!("not in this report (it holds k = {k})")),
+        "the set panel at another step says what it lacks"
+    );
+    assert_ne!(drawn, report_svg(&r, &other(k), 640, 400).expect("step k"));
     assert_eq!(
-        report_svg(&r, &v, 640, 400).expect_err("other k").field,
+        report_svg(&r, &other(u.steps + 3), 640, 400)
+            .expect_err("past the track")
+            .field,
         "time"
     );
     // Broken reports are errors, not panics.

@@ -65,10 +65,11 @@ pub(crate) fn check(report: &Report, panel: Panel) -> Result<&UbbReport> {
         return bad("has no step with a bounded set to draw");
     }
     let ok = |lo: &[f64], hi: &[f64]| lo.len() == r && hi.len() == r && finite(lo) && finite(hi);
+    let point = |v: &[f64]| v.len() == r && finite(v);
     if !u
         .track
         .iter()
-        .all(|t| ok(&t.lo, &t.hi) && t.radius.is_finite())
+        .all(|t| ok(&t.lo, &t.hi) && point(&t.center) && point(&t.kf_mean) && t.radius.is_finite())
     {
         return bad("holds track steps of the wrong dimension or with non-finite numbers");
     }
@@ -141,26 +142,56 @@ pub fn draw_set<DB: DrawingBackend>(
 ) -> Result<Frame> {
     let u = check(report, Panel::UbbSet)?;
     let at = &u.at;
-    let k = at.k;
-    if let Some(t) = view.time {
-        if t != k {
-            return Err(Error::field(
-                "time",
-                format!(
-                    "the report holds the feasible set at k = {k} only (set ubb.time in the scenario for another step)"
-                ),
-            ));
-        }
+    // The step shown: the view's, else the report's. Its exact polygon, Kalman ellipse and LP
+    // come with the report's `at` only; another step of the track is drawn from what the
+    // report holds for every step (hull, centre, truth, Kalman mean) until its detail is set
+    // (`Report::set_at`). A detail of one step is never drawn at another.
+    let k = view.time.unwrap_or(at.k);
+    let detail = k == at.k;
+    let step = u.track.iter().find(|t| t.k == k);
+    if step.is_none() && !detail {
+        return Err(Error::field(
+            "time",
+            format!(
+                "k = {k} has no bounded set in this report (its track holds k = {} … {})",
+                u.track[0].k,
+                u.track[u.track.len() - 1].k
+            ),
+        ));
     }
     let [i, j] = u.plane;
     let short = fonts.compact;
-    let poly: Vec<(f64, f64)> = at.polygon.vertices.iter().map(|p| (p[0], p[1])).collect();
-    let (lo, hi) = ((at.lo[i], at.lo[j]), (at.hi[i], at.hi[j]));
+    let poly: Vec<(f64, f64)> = if detail {
+        at.polygon.vertices.iter().map(|p| (p[0], p[1])).collect()
+    } else {
+        Vec::new()
+    };
+    // The hull, centre and radius: the detail's (from its own LPs) or the track's.
+    let (s_lo, s_hi, s_center, radius) = match step {
+        Some(t) if !detail => (&t.lo, &t.hi, &t.center, t.radius),
+        _ => (&at.lo, &at.hi, &at.center, at.radius),
+    };
+    let (lo, hi) = ((s_lo[i], s_lo[j]), (s_hi[i], s_hi[j]));
     let hull = [(lo.0, lo.1), (hi.0, lo.1), (hi.0, hi.1), (lo.0, hi.1)];
-    let center = (at.center[i], at.center[j]);
-    let truth = at.truth.as_ref().map(|t| (t[0], t[1]));
-    let ellipse = at.kf.boundary_2d(ELLIPSE_POINTS)?;
-    let kf_center = (at.kf.center[0], at.kf.center[1]);
+    let center = (s_center[i], s_center[j]);
+    let truth = if detail {
+        at.truth.as_ref().map(|t| (t[0], t[1]))
+    } else {
+        u.x_true
+            .as_ref()
+            .and_then(|x| x.get(k + 1))
+            .map(|x| (x[i], x[j]))
+    };
+    let ellipse = if detail {
+        at.kf.boundary_2d(ELLIPSE_POINTS)?
+    } else {
+        Vec::new()
+    };
+    let kf_center = match step {
+        Some(t) if !detail => (t.kf_mean[i], t.kf_mean[j]),
+        _ => (at.kf.center[0], at.kf.center[1]),
+    };
+    // The level is the same at every step (`ubb.kf_level`).
     let kf_level = percent(level_2d(at.kf.radius2));
 
     let mut w = Win::empty();
@@ -201,32 +232,41 @@ pub fn draw_set<DB: DrawingBackend>(
     let norm = norm_name(u.norm);
     let mut notes = vec![if u.q == 0 {
         format!("{target}: the image of the a-priori set (no measurements)")
-    } else {
+    } else if detail {
         format!(
             "{target} consistent with y({}) … y({k}) and the {norm} noise bounds",
             at.first
         )
+    } else {
+        format!("{target} consistent with the data up to y({k}) and the {norm} noise bounds")
     }];
-    notes.push(format!(
-        "polygon: {} vertices from {} LPs{}",
-        poly.len(),
-        at.polygon.calls,
-        if at.polygon.exact {
-            " (exact)".to_string()
-        } else {
-            format!(", within {} of the set", sig(at.polygon.gap))
-        }
-    ));
-    notes.push(format!(
-        "LP: {} variables, {} rows{}",
-        at.size.variables,
-        at.size.rows,
-        if at.size.cones > 0 {
-            format!(", {} cones", at.size.cones)
-        } else {
-            String::new()
-        }
-    ));
+    if detail {
+        notes.push(format!(
+            "polygon: {} vertices from {} LPs{}",
+            poly.len(),
+            at.polygon.calls,
+            if at.polygon.exact {
+                " (exact)".to_string()
+            } else {
+                format!(", within {} of the set", sig(at.polygon.gap))
+            }
+        ));
+        notes.push(format!(
+            "LP: {} variables, {} rows{}",
+            at.size.variables,
+            at.size.rows,
+            if at.size.cones > 0 {
+                format!(", {} cones", at.size.cones)
+            } else {
+                String::new()
+            }
+        ));
+    } else {
+        notes.push(format!(
+            "k = {k}: polygon and Kalman ellipse not in this report (it holds k = {})",
+            at.k
+        ));
+    }
     if u.r > 2 {
         notes.push(format!(
             "r = {}: the projection on x{}, x{}",
@@ -306,8 +346,10 @@ pub fn draw_set<DB: DrawingBackend>(
     }
     style::region(root, &chart, &hull, &HULL, true, false)?;
     marks.extend(style::marks_of(&chart, &hull));
-    style::region(root, &chart, &ellipse, &KF, true, false)?;
-    marks.extend(style::marks_of(&chart, &ellipse));
+    if !ellipse.is_empty() {
+        style::region(root, &chart, &ellipse, &KF, true, false)?;
+        marks.extend(style::marks_of(&chart, &ellipse));
+    }
     let mut points = vec![
         (kf_center, Marker::Cross, KF, "KF prediction"),
         (center, Marker::Star, SET, "central estimate"),
@@ -316,13 +358,13 @@ pub fn draw_set<DB: DrawingBackend>(
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
     let mut chart_notes = Vec::new();
-    let inside = u.track.iter().find(|t| t.k == k).and_then(|t| t.inside);
+    let inside = step.and_then(|t| t.inside);
     match inside {
         Some(true) => chart_notes.push("truth inside the set (guaranteed)".to_string()),
         Some(false) => chart_notes.push("truth OUTSIDE the set (solver tolerance?)".to_string()),
         None => {}
     }
-    if !at.polygon.exact {
+    if detail && !at.polygon.exact {
         chart_notes.push(format!(
             "polygon within gap {} of the set",
             sig(at.polygon.gap)
@@ -335,7 +377,7 @@ pub fn draw_set<DB: DrawingBackend>(
             "the Kalman ellipse reaches beyond the window".to_string()
         });
     }
-    if poly.is_empty() {
+    if detail && poly.is_empty() {
         chart_notes.push("the feasible set is empty".to_string());
     }
     if !outside.is_empty() {
@@ -344,7 +386,7 @@ pub fn draw_set<DB: DrawingBackend>(
     if !short {
         chart_notes.push(format!(
             "radius {} (largest half-width of the hull)",
-            num(at.radius, 3)
+            num(radius, 3)
         ));
     }
     style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;

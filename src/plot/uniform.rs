@@ -569,7 +569,7 @@ pub fn draw_states<DB: DrawingBackend>(
         ));
     } else {
         notes.push(format!(
-            "the report holds the window's LP at t = {} only (set uniform.time)",
+            "t = {t}: the window's optimal face is not in this report (it holds t = {})",
             at.time
         ));
     }

@@ -101,6 +101,11 @@ pub fn draw<DB: DrawingBackend>(
         u.u.window
     )];
     notes.push(match at.true_objective {
+        // The objective belongs to the window at `at.time`: at another cursor it is not shown.
+        _ if !u.at_window() => format!(
+            "t = {}: the MAP objective is not in this report (it holds t = {})",
+            u.t, at.time
+        ),
         Some(truth) => format!(
             "the MAP estimate minimises Σx̂ᵣ + Σŷᵣ: {} at t = {} against {} at the true half-widths",
             sig(at.objective),

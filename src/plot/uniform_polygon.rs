@@ -28,17 +28,12 @@ pub fn draw<DB: DrawingBackend>(
 ) -> Result<Frame> {
     let u = check(report, view, Panel::UPolygon)?;
     let at = &u.u.at;
-    if !u.at_window() {
-        return Err(Error::field(
-            "time",
-            format!(
-                "the report holds the consistent-state polygon at t = {} only (set uniform.time in the scenario for another time)",
-                at.time
-            ),
-        ));
-    }
-    let t = at.time;
-    let (Some(polygon), Some([i, j])) = (&at.polygon, u.u.plane) else {
+    // The time shown: the view's, else the report's. The polygon and the optimal face come
+    // with the report's `at` only; at another time the estimates are drawn alone until its
+    // detail is set (`Report::set_at`): a window's polygon is never drawn at another time.
+    let t = u.t;
+    let detail = u.at_window();
+    let Some([i, j]) = u.u.plane else {
         return Err(Error::field(
             "report.uniform.at.polygon",
             format!(
@@ -49,6 +44,21 @@ pub fn draw<DB: DrawingBackend>(
             ),
         ));
     };
+    let polygon = match (&at.polygon, detail) {
+        (_, false) => None,
+        (Some(p), true) => Some(p),
+        (None, true) => {
+            return Err(Error::field(
+                "report.uniform.at.polygon",
+                format!(
+                    "is absent: {}",
+                    at.polygon_absent
+                        .as_deref()
+                        .unwrap_or("the report has no polygon")
+                ),
+            ))
+        }
+    };
     if i >= u.n || j >= u.n || i == j {
         return Err(Error::field(
             "report.uniform.plane",
@@ -56,21 +66,31 @@ pub fn draw<DB: DrawingBackend>(
         ));
     }
     let pick = |v: &[f64]| (v[i], v[j]);
-    let poly: Vec<(f64, f64)> = polygon.vertices.iter().map(|p| (p[0], p[1])).collect();
+    let poly: Vec<(f64, f64)> = polygon
+        .map(|p| p.vertices.iter().map(|v| (v[0], v[1])).collect())
+        .unwrap_or_default();
     let truth = u.truth.map(|x| pick(&x[t]));
     let lp = pick(&u.u.steps[t - 1].x);
     let kf = u.kf.map(|k| pick(&k[t - 1]));
-    let (flo, fhi) = (pick(&at.face_lo[0]), pick(&at.face_hi[0]));
-    let face = [
-        (flo.0, flo.1),
-        (fhi.0, flo.1),
-        (fhi.0, fhi.1),
-        (flo.0, fhi.1),
-    ];
+    let face = detail.then(|| {
+        let (flo, fhi) = (pick(&at.face_lo[0]), pick(&at.face_hi[0]));
+        (
+            flo,
+            fhi,
+            [
+                (flo.0, flo.1),
+                (fhi.0, flo.1),
+                (fhi.0, fhi.1),
+                (flo.0, fhi.1),
+            ],
+        )
+    });
 
     let mut w = Win::empty();
     w.add_points(&poly);
-    w.add_points(&face);
+    if let Some((_, _, corners)) = &face {
+        w.add_points(corners);
+    }
     for p in [Some(lp), kf, truth].into_iter().flatten() {
         w.add(p.0, p.1);
     }
@@ -95,30 +115,38 @@ pub fn draw<DB: DrawingBackend>(
     } else {
         "Θ̂ₜ"
     };
-    let mut notes = vec![format!(
-        "states x{} consistent with y{} … y{} at the half-width bounds x̄ᵣ, ȳᵣ and {theta}",
-        sub(t),
-        sub(at.first),
-        sub(t)
-    )];
-    notes.push(format!(
-        "optimal face of the LP: {xs} ∈ [{}, {}], {ys} ∈ [{}, {}]",
-        sig(flo.0),
-        sig(fhi.0),
-        sig(flo.1),
-        sig(fhi.1)
-    ));
-    if !polygon.exact {
+    let mut notes = Vec::new();
+    if let (Some((flo, fhi, _)), Some(polygon)) = (face, polygon) {
         notes.push(format!(
-            "the support-LP budget ({} LPs) ran out: the set lies within {} of the polygon",
-            polygon.calls,
-            sig(polygon.gap)
+            "states x{} consistent with y{} … y{} at the half-width bounds x̄ᵣ, ȳᵣ and {theta}",
+            sub(t),
+            sub(at.first),
+            sub(t)
         ));
-    }
-    if at.extended > 0 {
         notes.push(format!(
-            "the window's LP doubled the half-width bounds {} times: the polygon uses the extended bounds",
-            at.extended
+            "optimal face of the LP: {xs} ∈ [{}, {}], {ys} ∈ [{}, {}]",
+            sig(flo.0),
+            sig(fhi.0),
+            sig(flo.1),
+            sig(fhi.1)
+        ));
+        if !polygon.exact {
+            notes.push(format!(
+                "the support-LP budget ({} LPs) ran out: the set lies within {} of the polygon",
+                polygon.calls,
+                sig(polygon.gap)
+            ));
+        }
+        if at.extended > 0 {
+            notes.push(format!(
+                "the window's LP doubled the half-width bounds {} times: the polygon uses the extended bounds",
+                at.extended
+            ));
+        }
+    } else {
+        notes.push(format!(
+            "t = {t}: polygon and optimal face not in this report (it holds t = {})",
+            at.time
         ));
     }
     if u.n > 2 {
@@ -201,16 +229,18 @@ pub fn draw<DB: DrawingBackend>(
         marks.extend(style::marks_of(&chart, &poly));
     }
     // The face box, at least a few pixels wide so a point-like face shows.
-    let (a, b) = (style::px(&chart, flo), style::px(&chart, fhi));
-    let (x0, x1) = (a.0.min(b.0).min(a.0 - 4), a.0.max(b.0).max(a.0 + 4));
-    let (y0, y1) = (a.1.min(b.1).min(a.1 - 4), a.1.max(b.1).max(a.1 + 4));
-    style::polyline(
-        root,
-        &[(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)],
-        &FACE,
-        2,
-        Some((4, 3)),
-    )?;
+    if let Some((flo, fhi, _)) = face {
+        let (a, b) = (style::px(&chart, flo), style::px(&chart, fhi));
+        let (x0, x1) = (a.0.min(b.0).min(a.0 - 4), a.0.max(b.0).max(a.0 + 4));
+        let (y0, y1) = (a.1.min(b.1).min(a.1 - 4), a.1.max(b.1).max(a.1 + 4));
+        style::polyline(
+            root,
+            &[(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)],
+            &FACE,
+            2,
+            Some((4, 3)),
+        )?;
+    }
     let mut points: Vec<_> = kf
         .map(|p| (p, Marker::Cross, KF, "KF estimate"))
         .into_iter()
@@ -220,23 +250,25 @@ pub fn draw<DB: DrawingBackend>(
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
     let mut chart_notes = Vec::new();
-    chart_notes.push(if at.polygon_theta_true {
-        "true Θ: guaranteed to hold the true state".to_string()
-    } else if model_theta {
-        "the model's Θ: holds the state if the model and the bounds hold".to_string()
-    } else if short {
-        "Θ̂ₜ: not guaranteed to hold the truth".to_string()
-    } else {
-        "uses the estimate Θ̂ₜ: not guaranteed to hold the true state".to_string()
-    });
-    if at.truth_in_polygon == Some(false) {
+    chart_notes.extend(detail.then(|| {
+        if at.polygon_theta_true {
+            "true Θ: guaranteed to hold the true state".to_string()
+        } else if model_theta {
+            "the model's Θ: holds the state if the model and the bounds hold".to_string()
+        } else if short {
+            "Θ̂ₜ: not guaranteed to hold the truth".to_string()
+        } else {
+            "uses the estimate Θ̂ₜ: not guaranteed to hold the true state".to_string()
+        }
+    }));
+    if detail && at.truth_in_polygon == Some(false) {
         chart_notes.push(if at.polygon_theta_true {
             "truth outside (numerical tolerance?)".to_string()
         } else {
             "truth outside: Θ̂ₜ differs from Θ".to_string()
         });
     }
-    if poly.is_empty() {
+    if detail && poly.is_empty() {
         chart_notes.push("no consistent state: the polygon is empty".to_string());
     }
     if !outside.is_empty() {

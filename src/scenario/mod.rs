@@ -7,8 +7,8 @@
 //!
 //! This module holds only what every method shares: the scenario and report types, JSON
 //! parsing with field paths, the one observations step ([`Source`]: `data` or `simulate`, one
-//! step-count check, one wording), and the one dispatch from [`Method`] to its scenario file
-//! (`make_method`). Each method's block, validation, report and presets live in its own file:
+//! step-count check, one wording), the time [`Cursor`] (a report's per-step detail on demand)
+//! and the one dispatch from [`Method`] to its scenario file (`make_method`). Each method's block, validation, report and presets live in its own file:
 //! [`scf`], [`lscr`], [`glls`], [`uniform`], [`ubb`].
 
 use crate::error::{Error, Result};
@@ -500,6 +500,59 @@ impl<'a> Source<'a> {
     }
 }
 
+/// The time cursor of a prepared scenario: the costly part of a run (simulation, filters, the
+/// on-line estimator, LP setup) done once, then the detail a report holds at its shown time
+/// (its `at` block: the exact polygon, hull, face ranges … at t) computed for any step on
+/// demand. `at(t)` is, bit for bit, the `at` of the report run with the method's time field
+/// (`ubb.time`, `uniform.time`) set to t, so a page can move its cursor without a run
+/// ([`Report::set_at`] puts the detail into a kept report). Only methods whose reports keep
+/// one step's detail have one ([`Scenario::cursor`]).
+pub trait Cursor {
+    /// The steps with a detail of their own (a time the run would clamp, such as a step
+    /// before the first bounded set, gives the detail of the step it is clamped to).
+    fn steps(&self) -> RangeInclusive<usize>;
+    /// The report's `at` block at time t, as JSON; a time the run refuses is the same error,
+    /// naming the same field.
+    fn at(&mut self, t: usize) -> Result<serde_json::Value>;
+}
+
+/// A method's cursor with the report's last defence: a non-finite number in a detail is an
+/// error naming its report field, as [`Report::check_finite`] does for a whole report.
+struct CheckedCursor {
+    inner: Box<dyn Cursor>,
+    block: &'static str,
+}
+
+impl Cursor for CheckedCursor {
+    fn steps(&self) -> RangeInclusive<usize> {
+        self.inner.steps()
+    }
+    fn at(&mut self, t: usize) -> Result<serde_json::Value> {
+        let v = self.inner.at(t)?;
+        match first_null(&v) {
+            None => Ok(v),
+            Some(path) => Err(not_finite(&format!("report.{}.at.{path}", self.block))),
+        }
+    }
+}
+
+/// A detail ([`Cursor::at`]) as JSON.
+pub(crate) fn detail_value<T: Serialize>(v: &T) -> Result<serde_json::Value> {
+    serde_json::to_value(v)
+        .map_err(|e| Error::field("at", format!("could not be written as JSON: {e}")))
+}
+
+/// A detail ([`Cursor::at`]) read back for [`Report::set_at`]; JSON of another shape is an
+/// `at` error.
+pub(crate) fn detail_of<T: serde::de::DeserializeOwned>(v: serde_json::Value) -> Result<T> {
+    serde_json::from_value(v).map_err(|e| {
+        Error::field(
+            "at",
+            format!("is not a detail of this report's method: {e}"),
+        )
+    })
+}
+
 /// What each method's scenario file provides; [`make_method`] is the one place that maps a
 /// [`Method`] to it (the pattern of Clarabel.rs's `SupportedConeT` → `make_cone`).
 pub(crate) trait MethodScenario: Sync {
@@ -514,6 +567,22 @@ pub(crate) trait MethodScenario: Sync {
     fn run(&self, s: &Scenario) -> Result<Report>;
     /// The method's Monte Carlo study, not yet run (`runs` overrides the scenario's count).
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>>;
+    /// The method's time cursor over the scenario, prepared once; `None` when its reports
+    /// hold every step already (or have no time).
+    fn cursor(&self, _s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
+        Ok(None)
+    }
+    /// Put a detail of this method's [`Cursor::at`] into its report (the `at` block and the
+    /// report's `time`).
+    fn set_at(&self, report: &mut Report, _at: serde_json::Value) -> Result<()> {
+        Err(Error::field(
+            "at",
+            format!(
+                "cannot be set: the method \"{}\" has no time cursor (its reports hold every step)",
+                report.method
+            ),
+        ))
+    }
     /// The file's presets (the papers' examples), in menu order: built at the bottom of the
     /// scenario file, gathered by [`crate::presets::all`] under the method each one runs (a
     /// file shared by several methods, SCF's with KF, lists its presets once).
@@ -563,6 +632,17 @@ impl Scenario {
         let report = make_method(self.method).run(self)?;
         report.check_finite()?;
         Ok(report)
+    }
+
+    /// The time cursor of this scenario ([`Cursor`]): the run prepared once, the detail of
+    /// any step on demand. `None` for a method whose reports hold every step (SCF, KF) or
+    /// have no time (LSCR, GLLS). The scenario's own time field is not used.
+    pub fn cursor(&self) -> Result<Option<Box<dyn Cursor>>> {
+        self.check_method_blocks()?;
+        let block = self.method.block().unwrap_or("");
+        Ok(make_method(self.method)
+            .cursor(self)?
+            .map(|inner| Box::new(CheckedCursor { inner, block }) as Box<dyn Cursor>))
     }
 
     /// The Monte Carlo study of this scenario's method, not yet run: the SCF conditional
@@ -706,6 +786,24 @@ impl Scenario {
     }
 }
 
+/// The path of the first null in a report's JSON that stands for a non-finite number (a null
+/// under a nullable key is an absent region; an entry of a list never is one).
+fn first_null(v: &serde_json::Value) -> Option<String> {
+    first_leaf(v, &|x, key, in_list| {
+        (x.is_null() && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
+            .then_some(())
+    })
+    .map(|(path, ())| path)
+}
+
+/// The error of a report field that is not a finite number.
+fn not_finite(field: &str) -> Error {
+    Error::field(
+        field,
+        "is not a finite number: the computation overflowed or divided by zero — an input is too large, too small or too ill-conditioned for double precision (try smaller noise, bounds or horizons, or a better-conditioned model)",
+    )
+}
+
 /// Keys whose value may be JSON null in a report: `Option` fields serialized without
 /// `skip_serializing_if` (the reason after each). Everywhere else a null would be a non-finite
 /// f64, which serde_json writes as null: [`Report::check_finite`] refuses those.
@@ -736,18 +834,17 @@ impl Report {
     pub fn check_finite(&self) -> Result<()> {
         let v = serde_json::to_value(self)
             .map_err(|e| Error::field("report", format!("could not be written as JSON: {e}")))?;
-        // A null under a nullable key is an absent region; an entry of a list never is one.
-        let null = first_leaf(&v, &|x, key, in_list| {
-            (x.is_null() && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
-                .then_some(())
-        });
-        match null {
+        match first_null(&v) {
             None => Ok(()),
-            Some((path, ())) => Err(Error::field(
-                format!("report.{path}"),
-                "is not a finite number: the computation overflowed or divided by zero — an input is too large, too small or too ill-conditioned for double precision (try smaller noise, bounds or horizons, or a better-conditioned model)",
-            )),
+            Some(path) => Err(not_finite(&format!("report.{path}"))),
         }
+    }
+
+    /// Put a detail of the method's [`Cursor`] (its `at(t)`) into this report: its `at` block
+    /// and `time` become those of the report run at t, so the figures draw step t. A detail of
+    /// another method's shape is an `at` error, and the report stays as it was.
+    pub fn set_at(&mut self, at: serde_json::Value) -> Result<()> {
+        make_method(self.method).set_at(self, at)
     }
 
     /// The report of a method with its own result block, with the scenario's method and

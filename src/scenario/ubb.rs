@@ -19,7 +19,7 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
-use super::{MethodScenario, Report, Scenario, Source};
+use super::{detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, Source};
 use crate::error::{quoted, Error, Result};
 use crate::linalg;
 use crate::method::Method;
@@ -29,7 +29,8 @@ use crate::sets::{Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
 use crate::ubb::{
-    Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem, System,
+    Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem, StateStep,
+    System,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -552,16 +553,10 @@ impl UbbPrepared {
         let chi_full = chi2_quantile(self.spec.kf_level, r)?;
         let mut track = Vec::new();
         let (mut outside, mut kf_outside) = (0, 0);
-        let mut first_error = None;
-        for k in 0..self.steps {
-            let step = match self.problem.step(&run.y, k) {
-                Ok(s) => s,
-                // Unbounded (δ = ∞, not yet observable): no set at this step.
-                Err(e) if e.field == "ubb.delta" => {
-                    first_error.get_or_insert(e);
-                    continue;
-                }
-                Err(e) => return Err(e),
+        let first = self.first_bounded(&run.y)?;
+        for k in first..self.steps {
+            let Some(step) = self.bounded_step(&run.y, k)? else {
+                continue;
             };
             let hull = step.hull()?;
             let held = simulated.then(|| holds(&hull, &kf[k], chi_full, &run.x[k + 1]));
@@ -581,17 +576,10 @@ impl UbbPrepared {
             });
         }
         let Some(last) = track.last() else {
-            return Err(first_error
-                .unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")));
+            return Err(Error::field("simulate.steps", "no step has a bounded set"));
         };
         let k = match self.spec.time {
-            Some(t) if t < self.steps => t.max(track[0].k),
-            Some(t) => {
-                return Err(Error::field(
-                    "ubb.time",
-                    format!("must be below the {} steps, found {t}", self.steps),
-                ))
-            }
+            Some(t) => self.shown_step(t, first)?,
             None => last.k,
         };
         let at = self.at(&run, &kf, k)?;
@@ -617,6 +605,45 @@ impl UbbPrepared {
             kf_outside,
             at,
         })
+    }
+
+    /// Step k's feasible set, or `None` when it is unbounded (δ = ∞ and y(0 … k) do not fix
+    /// every direction yet): no set at that step.
+    fn bounded_step(&self, y: &[DVector<f64>], k: usize) -> Result<Option<StateStep>> {
+        match self.problem.step(y, k) {
+            Ok(s) => Ok(Some(s)),
+            Err(e) if e.field == "ubb.delta" => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The first step with a bounded set (the first of the report's track); when none is, the
+    /// first step's reason.
+    fn first_bounded(&self, y: &[DVector<f64>]) -> Result<usize> {
+        for k in 0..self.steps {
+            if self.bounded_step(y, k)?.is_some() {
+                return Ok(k);
+            }
+        }
+        // Every step is unbounded: the first says why.
+        Err(self
+            .problem
+            .step(y, 0)
+            .err()
+            .unwrap_or_else(|| Error::field("simulate.steps", "no step has a bounded set")))
+    }
+
+    /// The step shown for `ubb.time` = t: t itself, or the first bounded step `first` when t
+    /// comes before it.
+    fn shown_step(&self, t: usize, first: usize) -> Result<usize> {
+        if t < self.steps {
+            Ok(t.max(first))
+        } else {
+            Err(Error::field(
+                "ubb.time",
+                format!("must be below the {} steps, found {t}", self.steps),
+            ))
+        }
     }
 
     /// The polygon, hull and prediction at step k.
@@ -662,6 +689,40 @@ impl UbbPrepared {
             size,
             prediction,
         })
+    }
+}
+
+/// The set-membership cursor: the run, its Kalman predictions and the first bounded step made
+/// once; the polygon, hull and prediction of any step on demand (one window LP loaded per step,
+/// as the report's `at`).
+struct UbbCursor {
+    prepared: UbbPrepared,
+    run: Run,
+    kf: Vec<(DVector<f64>, DMatrix<f64>)>,
+    first: usize,
+}
+
+impl UbbCursor {
+    fn new(prepared: UbbPrepared) -> Result<UbbCursor> {
+        let run = prepared.run_data();
+        let kf = prepared.problem.kalman(&run, prepared.spec.noise);
+        let first = prepared.first_bounded(&run.y)?;
+        Ok(UbbCursor {
+            prepared,
+            run,
+            kf,
+            first,
+        })
+    }
+}
+
+impl Cursor for UbbCursor {
+    fn steps(&self) -> RangeInclusive<usize> {
+        self.first..=self.prepared.steps - 1
+    }
+    fn at(&mut self, t: usize) -> Result<serde_json::Value> {
+        let k = self.prepared.shown_step(t, self.first)?;
+        detail_value(&self.prepared.at(&self.run, &self.kf, k)?)
     }
 }
 
@@ -873,6 +934,21 @@ impl MethodScenario for Ubb {
         );
         r.ubb = Some(u);
         Ok(r)
+    }
+    fn cursor(&self, s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
+        Ok(Some(Box::new(UbbCursor::new(s.prepare_ubb()?)?)))
+    }
+    fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
+        let at: UbbStep = detail_of(at)?;
+        let u = report.ubb.as_mut().ok_or_else(|| {
+            Error::field(
+                "report.ubb",
+                "is missing: the report is not a set-membership report",
+            )
+        })?;
+        report.time = at.k;
+        u.at = at;
+        Ok(())
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
         let p = s.prepare_ubb()?;

@@ -23,7 +23,9 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
-use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
+use super::{
+    detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, SimulateSpec, Source,
+};
 use crate::error::{quoted, Error, Result};
 use crate::kalman::KalmanGains;
 use crate::linalg::{self, to_rows};
@@ -217,8 +219,9 @@ const NO_PLANE: &str = "the state is scalar (n = 1): there is no plane for the c
 pub const MAX_STATES: usize = 8;
 
 impl Scenario {
-    /// Validate a uniform-innovation scenario and run it.
-    pub fn uniform_report(&self) -> Result<UniformReport> {
+    /// Validate a uniform-innovation scenario: the model, Θ's prior box, the data or the
+    /// simulated trajectory, and the on-line estimator ready to run.
+    pub fn prepare_uniform(&self) -> Result<UniformPrepared> {
         let spec = self
             .block(
                 &self.uniform,
@@ -394,32 +397,93 @@ impl Scenario {
             Joint::States => theta.clone(),
             _ => Theta::from_vec(((&lo + &hi) * 0.5).as_slice(), &theta),
         };
-        let mut online = Online::new(joint, spec.window, theta0, theta_prior, state_prior.clone())
+        let online = Online::new(joint, spec.window, theta0, theta_prior, state_prior.clone())
             .map_err(|e| Error::field("uniform.window", e.message))?;
-        let time = spec.time.unwrap_or(steps);
-        if !(1..=steps).contains(&time) {
-            return Err(Error::field(
+        Ok(UniformPrepared {
+            spec,
+            n,
+            m,
+            plane,
+            steps,
+            theta,
+            traj,
+            truth,
+            state_prior,
+            online,
+            thetas: Vec::new(),
+        })
+    }
+
+    /// Validate a uniform-innovation scenario and run it.
+    pub fn uniform_report(&self) -> Result<UniformReport> {
+        let mut p = self.prepare_uniform()?;
+        // The cursor is checked before the on-line run (the costly part).
+        let time = p.spec.time.unwrap_or(p.steps);
+        p.check_time(time)?;
+        p.run_online()?;
+        let at = p.window_at(time)?;
+        p.report(at)
+    }
+}
+
+/// A validated uniform-innovation scenario ([`Scenario::prepare_uniform`]); after
+/// [`UniformPrepared::run_online`], the on-line estimates and the Θ in use after every step,
+/// from which the report and the cursor take the window at any time.
+pub struct UniformPrepared {
+    spec: UniformSpec,
+    n: usize,
+    m: usize,
+    plane: Option<[usize; 2]>,
+    steps: usize,
+    /// The model's Θ: the truth of a simulation, the nominal Θ with data.
+    theta: Theta,
+    traj: uniform::Trajectory,
+    truth: Option<Truth>,
+    state_prior: StatePrior,
+    online: Online,
+    /// Θ̂ after step t (index t − 1): the Θ the window at t is solved with.
+    thetas: Vec<Theta>,
+}
+
+impl UniformPrepared {
+    /// `uniform.time` = t must be a step of the run.
+    fn check_time(&self, time: usize) -> Result<()> {
+        if (1..=self.steps).contains(&time) {
+            Ok(())
+        } else {
+            Err(Error::field(
                 "uniform.time",
-                format!("must lie in 1..={steps}, found {time}"),
-            ));
+                format!("must lie in 1..={}, found {time}", self.steps),
+            ))
         }
-        let mut theta_at = theta.clone();
-        for t in 1..=steps {
-            if joint == Joint::Parameters {
-                online.step_parameters(t, &traj.x, &traj.u, &traj.y)?;
+    }
+
+    /// The on-line run over every step (Section 4), keeping the Θ in use after each.
+    fn run_online(&mut self) -> Result<()> {
+        let traj = &self.traj;
+        for t in 1..=self.steps {
+            if self.online.joint == Joint::Parameters {
+                self.online.step_parameters(t, &traj.x, &traj.u, &traj.y)?;
             } else {
-                online.step(t, &traj.u, &traj.y)?;
+                self.online.step(t, &traj.u, &traj.y)?;
             }
-            if t == time {
-                theta_at = online.theta.clone();
-            }
+            self.thetas.push(self.online.theta.clone());
         }
-        // The window at the cursor, with the Θ the estimator used there (after its step).
+        Ok(())
+    }
+
+    /// The window at the time cursor t, with the Θ the estimator used there (after its step):
+    /// its optimal face, half-width ranges and the consistent-state polygon.
+    fn window_at(&self, time: usize) -> Result<WindowReport> {
+        self.check_time(time)?;
+        let (n, m) = (self.n, self.m);
+        let (traj, state_prior) = (&self.traj, &self.state_prior);
+        let theta_at = &self.thetas[time - 1];
         let w = Window {
-            first: time.saturating_sub(spec.window - 1).max(1),
+            first: time.saturating_sub(self.spec.window - 1).max(1),
             last: time,
         };
-        let (est, lp) = uniform::estimate_states(&theta_at, &traj.u, &traj.y, w, &state_prior)?;
+        let (est, lp) = uniform::estimate_states(theta_at, &traj.u, &traj.y, w, state_prior)?;
         let face = uniform::optimal_face(&lp, est.objective, n, w.states())?;
         let nx = w.states() * n;
         let hw = uniform::face_ranges(&lp, est.objective, &(nx..nx + n + m).collect::<Vec<_>>())?;
@@ -427,30 +491,31 @@ impl Scenario {
             hw[..n].iter().map(|r| [r.0, r.1]).collect(),
             hw[n..].iter().map(|r| [r.0, r.1]).collect(),
         );
-        let polygon_theta_true = joint == Joint::States && truth.is_some();
+        let truth = &self.truth;
+        let polygon_theta_true = self.online.joint == Joint::States && truth.is_some();
         // The polygon at the bounds the window's LP ended with (x̄_r, ȳ_r unless it had to
         // extend them): the state LP was feasible there, so the set is not empty.
-        let polygon = match plane {
+        let polygon = match self.plane {
             Some(plane) => Some(uniform::consistent_polygon(
-                &theta_at,
+                theta_at,
                 &traj.u,
                 &traj.y,
                 w,
-                &state_prior,
+                state_prior,
                 &lp.hi.rows(nx, n).into_owned(),
                 &lp.hi.rows(nx + n, m).into_owned(),
                 plane,
-                spec.directions,
+                self.spec.directions,
             )?),
             None => None,
         };
-        let truth_in_polygon = match (&polygon, plane, &truth) {
+        let truth_in_polygon = match (&polygon, self.plane, truth) {
             (Some(poly), Some(p), Some(_)) => {
                 Some(poly.contains([traj.x[time][p[0]], traj.x[time][p[1]]], 1e-7))
             }
             _ => None,
         };
-        let at = WindowReport {
+        Ok(WindowReport {
             time,
             first: w.first,
             objective: est.objective,
@@ -464,7 +529,23 @@ impl Scenario {
             polygon,
             polygon_theta_true,
             truth_in_polygon,
-        };
+        })
+    }
+
+    /// The report of the run, with `at`, the window at the cursor.
+    fn report(self, at: WindowReport) -> Result<UniformReport> {
+        let UniformPrepared {
+            spec,
+            n,
+            plane,
+            steps,
+            theta,
+            traj,
+            truth,
+            online,
+            ..
+        } = self;
+        let r = theta.r();
         let from = spec.window.min(steps);
         let rms = |e: &dyn Fn(usize) -> f64| -> f64 {
             let total: f64 = (from..=steps).map(e).sum();
@@ -492,7 +573,7 @@ impl Scenario {
         }
         Ok(UniformReport {
             n,
-            estimator: joint,
+            estimator: online.joint,
             window: spec.window,
             plane,
             extended: online.steps.iter().map(|s| s.extended).sum(),
@@ -516,6 +597,19 @@ impl Scenario {
             steps: online.steps,
             at,
         })
+    }
+}
+
+/// The uniform-innovation cursor: the on-line run made once; the window, optimal face and
+/// consistent-state polygon at any time on demand (the report's `at`).
+struct UniformCursor(UniformPrepared);
+
+impl Cursor for UniformCursor {
+    fn steps(&self) -> RangeInclusive<usize> {
+        1..=self.0.steps
+    }
+    fn at(&mut self, t: usize) -> Result<serde_json::Value> {
+        detail_value(&self.0.window_at(t)?)
     }
 }
 
@@ -631,6 +725,23 @@ impl MethodScenario for Uniform {
         );
         r.uniform = Some(u);
         Ok(r)
+    }
+    fn cursor(&self, s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
+        let mut p = s.prepare_uniform()?;
+        p.run_online()?;
+        Ok(Some(Box::new(UniformCursor(p))))
+    }
+    fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
+        let at: WindowReport = detail_of(at)?;
+        let u = report.uniform.as_mut().ok_or_else(|| {
+            Error::field(
+                "report.uniform",
+                "is missing: the report is not a uniform-innovation report",
+            )
+        })?;
+        report.time = at.time;
+        u.at = at;
+        Ok(())
     }
     fn study(&self, _: &Scenario, _: Option<usize>) -> Result<Box<dyn Study>> {
         Err(Error::field(

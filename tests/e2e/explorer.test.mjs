@@ -8,6 +8,7 @@ import { execFileSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { PANELS } from '../../www/registry.js';
+import { slideToPaint } from './helpers.mjs';
 
 // The native CLI that `cargo test --release` (the first test layer) builds.
 const CLI = fileURLToPath(new URL('../../target/release/confset', import.meta.url));
@@ -356,25 +357,20 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       // and without it (150 ms: the update never fires within the burst).
       // The frame counted is the first one painted after the panel drew the new report (the run
       // is asynchronous: it happens in the panel's compute worker).
-      const slide = (pause) => page.evaluate(async ([id, pause, busy]) => {
-        const r = [...document.getElementById(id).querySelectorAll('form input[type=range]')].find((e) => e.offsetParent);
+      const slide = async (pause) => {
+        const r = await page.evaluate((id) => {
+          const e = [...document.getElementById(id).querySelectorAll('form input[type=range]')].find((x) => x.offsetParent);
+          return e && { id: e.id, range: [Number(e.min), Number(e.max), Number(e.step) || 1] };
+        }, d.id);
         if (!r) return null;
+        const [lo, hi, step] = r.range;
         const out = [];
         for (let i = 0; i < 8; i++) {
-          const [lo, hi, step] = [Number(r.min), Number(r.max), Number(r.step) || 1];
-          const v = lo + Math.round((((i % 4) + 1) / 5) * (hi - lo) / step) * step;
-          const t0 = performance.now();
-          r.value = String(v);
-          r.dispatchEvent(new Event('input', { bubbles: true }));
-          await new Promise((res) => {
-            const drawn = () => requestAnimationFrame(() => (document.body.dataset[busy] ? drawn() : requestAnimationFrame(res)));
-            drawn();
-          });
-          out.push(performance.now() - t0);
-          await new Promise((res) => setTimeout(res, pause));
+          out.push(await slideToPaint(page, r.id, d.busy, lo + Math.round((((i % 4) + 1) / 5) * (hi - lo) / step) * step));
+          await page.waitForTimeout(pause);
         }
         return { id: r.id, ms: out.sort((a, b) => a - b) };
-      }, [d.id, pause, d.busy]);
+      };
       const moves = await slide(450);
       const link = await page.evaluate(() => location.hash.length);
       if (!moves) continue; // no slider (LSCR: number fields and a click on the figure)

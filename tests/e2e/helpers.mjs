@@ -47,3 +47,18 @@ export async function shootSection(page, sectionId, screenshotDir, name) {
   await page.$eval(`#${sectionId}`, (e) => e.scrollIntoView());
   await (await page.$(`#${sectionId}`)).screenshot({ path: join(screenshotDir, `${name}.png`) });
 }
+
+// Move a slider to `value` as a user does (an input event) and measure, in the page, the time to
+// the first frame painted after the panel drew it: the panel's busy flag (`busyKey`) is clear on
+// an animation frame, then one more frame.
+export const slideToPaint = (page, sliderId, busyKey, value) => page.evaluate(async ([id, busy, v]) => {
+  const r = document.getElementById(id);
+  const t0 = performance.now();
+  r.value = String(v);
+  r.dispatchEvent(new Event('input', { bubbles: true }));
+  await new Promise((res) => {
+    const drawn = () => requestAnimationFrame(() => (document.body.dataset[busy] ? drawn() : requestAnimationFrame(res)));
+    drawn();
+  });
+  return performance.now() - t0;
+}, [sliderId, busyKey, String(value)]);

@@ -143,16 +143,17 @@ export default async function ubb(env) {
       assert.match(g, /^truth outside the set: 0 \/ 60; outside the KF 99 % ellipse: \d+ \/ 60/, g);
       assert.match(await text(page, '#b-g-status'), /^60 runs at k = 40 in \d+ ms/);
 
-      // The step slider moves the set; the animation steps k.
+      // The step slider moves the set (a redraw: cursor.test.mjs counts the runs); the
+      // animation steps k to the last step, and the share link follows.
       await set(page, 'b-time', '20');
-      assert.match(await text(page, '#b-num-title'), /^At step k = 20:/);
+      assert.match(await text(page, '#b-num-title'), /^At step k = 20: the set of x\(21\) from y\(0\) … y\(20\)/);
       await page.click('#b-animate');
       await page.waitForFunction(() => Number(document.querySelector('#b-time').value) >= 22, null, { timeout: 30_000 });
-      await page.click('#b-animate');
       await idle(page);
       const k = Number(await page.$eval('#b-time', (e) => e.value));
-      assert.ok(k >= 22, `animated to k = ${k}`);
-      assert.match(await text(page, '#b-num-title'), new RegExp(`^At step k = ${k}:`));
+      assert.equal(k, 59, `animated to the last step k = ${k}`);
+      assert.match(await text(page, '#b-num-title'), new RegExp(`^At step k = ${k}: the set of x\\(${k + 1}\\) from`));
+      assert.equal(await text(page, '#b-animate'), '▶ animate');
       await set(page, 'b-time', '40');
 
       // The cursor read-out of both figures.

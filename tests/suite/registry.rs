@@ -157,6 +157,73 @@ fn every_preset_runs_round_trips_and_writes_plain_json() {
 
 // ---------------------------------------------------------------------------------------------
 // 2. Every method is exercised by a preset.
+/// The time cursor, for every preset: a preset whose report keeps one step's detail (an `at`
+/// in its method's block) has a cursor, and no other does. Its detail at step t is, bit for
+/// bit, the `at` of the report run with `<block>.time` = t; put into the report run at the
+/// preset's own time (`Report::set_at`) it makes that whole report; and a time the run
+/// refuses (before the first step, past the last) is the same error. Checked before the first
+/// step, at the cursor's first, middle and last steps, and past them.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn every_cursor_gives_the_detail_of_a_run_at_that_time() {
+    let mut with_cursor = 0;
+    for p in presets::all() {
+        let (name, s) = (&p.name, &p.scenario);
+        let base = run(name, s);
+        let block = s.method.block();
+        let keeps_at = block.is_some_and(|b| report_value(&base)[b].get("at").is_some());
+        let cursor = s.cursor().unwrap_or_else(|e| panic!("{name}: cursor: {e}"));
+        assert_eq!(
+            cursor.is_some(),
+            keeps_at,
+            "{name}: a cursor exactly when the report keeps an `at`"
+        );
+        let (Some(mut cursor), Some(b)) = (cursor, block) else {
+            continue;
+        };
+        with_cursor += 1;
+        let (lo, hi) = (*cursor.steps().start(), *cursor.steps().end());
+        assert!(lo <= hi, "{name}: the cursor has steps ({lo}..={hi})");
+        let mut times = vec![0, lo.saturating_sub(1), lo, (lo + hi) / 2, hi, hi + 1];
+        times.dedup();
+        for t in times {
+            let mut v = serde_json::to_value(s).expect("a scenario serializes");
+            v[b]["time"] = json!(t);
+            let at_t: Scenario = serde_json::from_value(v).expect("the scenario at t");
+            let what = format!("{name} at {b}.time = {t}");
+            match (at_t.run(), cursor.at(t)) {
+                (Ok(want), Ok(got)) => {
+                    let want_at = &report_value(&want)[b]["at"];
+                    if let Some(d) = first_difference(want_at, &got, &format!("{b}.at")) {
+                        panic!("{what}: the cursor's detail differs from the run's: {d}");
+                    }
+                    let mut kept = base.clone();
+                    kept.set_at(got)
+                        .unwrap_or_else(|e| panic!("{what}: set_at: {e}"));
+                    if let Some(d) =
+                        first_difference(&report_value(&want), &report_value(&kept), "")
+                    {
+                        panic!(
+                            "{what}: the kept report with the detail differs from the run's: {d}"
+                        );
+                    }
+                }
+                (Err(want), Err(got)) => assert_eq!(got.to_string(), want.to_string(), "{what}"),
+                (want, got) => panic!(
+                    "{what}: the run gives {:?}, the cursor {:?}",
+                    want.map(|_| "a report"),
+                    got.map(|_| "a detail")
+                ),
+            }
+            assert!(
+                !(lo..=hi).contains(&t) || cursor.at(t).is_ok(),
+                "{what}: every step of the cursor has a detail"
+            );
+        }
+    }
+    assert!(with_cursor > 0, "some preset has a time cursor");
+}
+
 // ---------------------------------------------------------------------------------------------
 
 /// The scenarios that exercise `m`: its presets. "kf" has none of its own (it is SCF without the

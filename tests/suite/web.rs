@@ -5,7 +5,7 @@
 //! figure list the page makes its cards from (`methodPanels`, `Session.usefulPanels`); a study
 //! split over workers (`restrict`, `partial`) and merged on the main thread (`merge`).
 
-use confset::web::{data_shape, method_panels, presets, with_csv_data, Session, Study};
+use confset::web::{data_shape, method_panels, presets, with_csv_data, Cursor, Session, Study};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -144,6 +144,79 @@ fn a_report_set_from_json_draws_as_the_run_one() {
         assert!(drawn.has_report(), "the kept report stays");
     }
     assert!(methods.len() >= 5, "every method: {methods:?}");
+}
+
+/// The worker's time cursor and the page's `setAt`: for the first preset of every method, a
+/// `Cursor` exists exactly when the report keeps an `at`; its detail at another step, set into
+/// the kept report, draws every figure as the report run at that step does; a detail of
+/// another shape is an `at` error and the kept report stays.
+#[wasm_bindgen_test]
+fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
+    let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
+    let mut with_cursor = 0;
+    let mut methods = Vec::new();
+    for p in list.as_array().expect("a list") {
+        let method = p["scenario"]["method"]
+            .as_str()
+            .unwrap_or("scf")
+            .to_string();
+        if methods.contains(&method) {
+            continue;
+        }
+        methods.push(method.clone());
+        let mut kept = Session::new();
+        let report: Value =
+            serde_json::from_str(&kept.run(&p["scenario"].to_string()).expect("runs"))
+                .expect("report JSON");
+        let block = ["ubb", "uniform"]
+            .into_iter()
+            .find(|b| report[*b]["at"].is_object());
+        let cursor = Cursor::new(&p["scenario"].to_string());
+        let (Some(block), Ok(mut cursor)) = (block, cursor) else {
+            assert!(
+                block.is_none(),
+                "{method}: a report with an `at` has a cursor"
+            );
+            let (msg, field) = thrown(
+                Cursor::new(&p["scenario"].to_string())
+                    .err()
+                    .expect("no cursor"),
+            );
+            assert_eq!(field, "method", "{msg}");
+            continue;
+        };
+        with_cursor += 1;
+        let t = cursor.first() as u32;
+        let mut at_t = p["scenario"].clone();
+        at_t[block]["time"] = serde_json::json!(t);
+        let mut ran = Session::new();
+        let want: Value = serde_json::from_str(&ran.run(&at_t.to_string()).expect("runs at t"))
+            .expect("report JSON");
+        let at = cursor.at(t).expect("the detail at t");
+        assert_eq!(
+            serde_json::from_str::<Value>(&at).expect("JSON"),
+            want[block]["at"],
+            "{method}"
+        );
+        kept.set_at(&at).expect("the detail is set");
+        assert_eq!(kept.shown_time(), ran.shown_time(), "{method}");
+        let useful: Vec<String> = serde_json::from_str(&ran.useful_panels()).expect("names");
+        for panel in useful {
+            let view = serde_json::json!({ "panel": panel, "time": t }).to_string();
+            assert_eq!(
+                kept.svg(&view, 640, 480).expect("svg with the detail set"),
+                ran.svg(&view, 640, 480).expect("svg of the run at t"),
+                "{method}: the {panel} figure at {t}"
+            );
+        }
+        let (msg, field) = thrown(kept.set_at(r#"{"k": "no"}"#).expect_err("not a detail"));
+        assert_eq!(field, "at", "{msg}");
+        assert_eq!(kept.shown_time(), Some(t as usize), "the kept report stays");
+    }
+    assert_eq!(
+        with_cursor, 2,
+        "ubb and uniform_lp have a cursor: {methods:?}"
+    );
 }
 
 #[wasm_bindgen_test]
