@@ -56,9 +56,11 @@
 //! replaces it), and a crash (a panic aborts the instance) takes only the worker down: it is
 //! replaced, the panel keeps its last picture and offers the scenario to report. The page runs
 //! under a strict Content-Security-Policy (`index.html`: own files only, `'wasm-unsafe-eval'`,
-//! no inline script, no eval). The chunked studies (`Study`) still run on the main thread, about
-//! 12 ms per task; the binding can already run one shard per Web Worker (`restrict`,
-//! `partial`) and merge their partials on the main thread (`merge`). The number boxes and
+//! no inline script, no eval). Every study runs on all cores (`studypool.js`): one worker per
+//! logical core runs its shard (`Study.restrict`), sends its `partial` after each slice, and the
+//! main thread's `Study` of the same scenario `merge`s the newest partials once per frame (the
+//! counts never depend on the number of workers; Cancel terminates them); a job with no answer
+//! for 60 s is stopped by a watchdog and reported as a bug, like a crash. The number boxes and
 //! their sliders take their ranges from [`scenario::limits`]. The figure cards are made from the
 //! core's list ([`plot::method_panels`], with [`plot::Panel::alt_text`]) and shown as
 //! [`plot::useful_panels`] says for each report; a view's markup only places them
