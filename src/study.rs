@@ -417,24 +417,30 @@ pub fn run_to_end(
     study.result()
 }
 
-/// Run a study as `shards` shards on rayon's threads and merge them: the result is the one
-/// serial run's, bit for bit. `make` builds a fresh study (each thread makes its own).
-#[cfg(not(target_arch = "wasm32"))]
+/// Run a study as one shard per rayon thread and merge them: the result is the one serial
+/// run's, bit for bit (`RAYON_NUM_THREADS=1`: one shard). `make` builds a fresh study (each
+/// thread makes its own). Without threads (wasm32) it is one shard.
 pub fn run_sharded(
     make: &(dyn Fn() -> Result<Box<dyn Study>> + Sync),
-    shards: usize,
     chunk: usize,
 ) -> Result<Value> {
-    use rayon::prelude::*;
-    let parts = (0..shards.max(1))
-        .into_par_iter()
-        .map(|i| {
-            let mut s = make()?;
-            s.restrict(i, shards.max(1))?;
-            run_to_end(s.as_mut(), chunk, |_, _| {})?;
-            s.partial()
-        })
-        .collect::<Result<Vec<Value>>>()?;
+    let shard = |i: usize, n: usize| -> Result<Value> {
+        let mut s = make()?;
+        s.restrict(i, n)?;
+        run_to_end(s.as_mut(), chunk, |_, _| {})?;
+        s.partial()
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    let parts = {
+        use rayon::prelude::*;
+        let n = rayon::current_num_threads().max(1);
+        (0..n)
+            .into_par_iter()
+            .map(|i| shard(i, n))
+            .collect::<Result<Vec<Value>>>()?
+    };
+    #[cfg(target_arch = "wasm32")]
+    let parts = vec![shard(0, 1)?];
     let mut all = make()?;
     all.merge(&parts)?;
     all.complete()?;

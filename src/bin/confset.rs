@@ -314,11 +314,7 @@ fn run(args: &[String]) -> Result<(), Error> {
                 None => None,
             };
             match shard(args)? {
-                None => json(&study::run_sharded(
-                    &|| s.study(runs),
-                    rayon::current_num_threads(),
-                    CHUNK,
-                )?),
+                None => json(&study::run_sharded(&|| s.study(runs), CHUNK)?),
                 Some((i, n)) => {
                     let mut st = s.study(runs)?;
                     st.restrict(i, n)?;
