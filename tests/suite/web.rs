@@ -203,9 +203,11 @@ fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
         let useful: Vec<String> = serde_json::from_str(&ran.useful_panels()).expect("names");
         for panel in useful {
             let view = serde_json::json!({ "panel": panel, "time": t }).to_string();
+            // The page's full-width size: at 640 × 480 Firefox's wider text leaves the uniform
+            // output figure no room (as in the set-report test above).
             assert_eq!(
-                kept.svg(&view, 640, 480).expect("svg with the detail set"),
-                ran.svg(&view, 640, 480).expect("svg of the run at t"),
+                kept.svg(&view, 960, 640).expect("svg with the detail set"),
+                ran.svg(&view, 960, 640).expect("svg of the run at t"),
                 "{method}: the {panel} figure at {t}"
             );
         }
