@@ -31,7 +31,7 @@ const baseUrl = baseArg.endsWith('/') ? baseArg : baseArg + '/';
 const screenshotDir = join(here, 'out');
 mkdirSync(screenshotDir, { recursive: true });
 for (const f of readdirSync(screenshotDir)) if (f.includes('-FAILED-')) rmSync(join(screenshotDir, f));
-const testTimeoutMs = Number(process.env.E2E_TEST_TIMEOUT_MS || 180_000);
+const testTimeoutMs = Number(process.env.E2E_TEST_TIMEOUT_MS || 420_000);
 
 const files = readdirSync(here).filter((f) => f.endsWith('.test.mjs') && f.includes(filter)).sort();
 if (files.length === 0) { console.error(`no tests/e2e/*.test.mjs matching "${filter}"`); process.exit(1); }
