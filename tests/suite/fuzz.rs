@@ -520,7 +520,9 @@ fn long_run() {
             .unwrap_or(default)
     };
     let from = number("CONFSET_FUZZ_FROM", 0);
-    assert_clean(&fuzz_range(from..from + number("CONFSET_FUZZ_CASES", 1_000_000)));
+    assert_clean(&fuzz_range(
+        from..from + number("CONFSET_FUZZ_CASES", 1_000_000),
+    ));
 }
 
 #[test]
