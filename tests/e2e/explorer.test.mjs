@@ -78,7 +78,7 @@ async function moveControls(page, d) {
     }
     return out;
   }, d.id);
-  await idle(page, d.busy);
+  await settled(page);
   return moved;
 }
 
@@ -105,7 +105,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     const page = await newPage({ viewport: { width: 1366, height: 900 } });
     await page.goto(`${baseUrl}#${d.id}`);
     await ready(page);
-    await idle(page, d.busy);
+    await settled(page);
     const before = await snapshot(page, d.id);
     const moved = await moveControls(page, d);
     assert.ok(moved.length > 0, `${d.id}: some slider moved`);
@@ -120,16 +120,12 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     const copy = await newPage({ viewport: { width: 1366, height: 900 } });
     await copy.goto(link);
     await ready(copy);
-    await idle(copy, d.busy);
+    await settled(copy);
     await settled(copy);
     const restored = await snapshot(copy, d.id);
     assert.deepEqual(restored.controls, after.controls, `${d.id}: the link restores the controls`);
     assert.equal(restored.numbers, after.numbers, `${d.id}: the link restores the numbers`);
-    // Known defect (next stop): the GLLS precision figure, drawn when the Monte Carlo that
-    // starts with each scenario reports from its workers, can differ after a burst of control
-    // moves; its canvas is the last one and is left out here until that race is fixed.
-    const drawn = (x) => (d.id === 'glls' ? x.pixels.slice(0, -1) : x.pixels);
-    assert.deepEqual(drawn(restored), drawn(after), `${d.id}: the link restores the picture`);
+    assert.deepEqual(restored.pixels, after.pixels, `${d.id}: the link restores the picture`);
     console.log(`    ${d.id}: moved ${moved.join(', ')}; link ${link.length} characters restores controls, numbers and ${restored.pixels.length} canvases`);
     await copy.close();
 
@@ -145,7 +141,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     const broken = await newPage({ viewport: { width: 1366, height: 900 } });
     await broken.goto(`${baseUrl}#${d.id}/v1/AAAA-not-a-token`);
     await ready(broken);
-    await idle(broken, d.busy);
+    await settled(broken);
     const banner = await broken.$eval(`#${d.id}-section .banner`, (b) => (b.hidden ? '' : b.textContent));
     assert.match(banner, /could not be read.*default scenario/, `${d.id}: corrupt link message: ${banner}`);
     assert.deepEqual((await snapshot(broken, d.id)).controls, before.controls, `${d.id}: a corrupt link shows the default`);
@@ -159,7 +155,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       await custom.goto(`${baseUrl}#${d.id}`);
       await ready(custom);
       await custom.selectOption(`#${d.id} form select[data-field=preset]`, 'custom');
-      await idle(custom, d.busy);
+      await settled(custom);
       const f = `#${d.id} textarea[data-field="model.F"]`;
       const good = await custom.$eval(f, (t) => t.value);
       const n = good.trim().split('\n').length;
@@ -168,7 +164,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       const modelError = () => custom.$$eval(`#${d.id} .err[data-for^="model"]`, (ps) => ps.map((p) => p.textContent).join(' ').trim());
       for (const [bad, what] of [['1 2\n3', /model\.F/], ['0.5 abc', /model\.F/], [Array(n + 1).fill(Array(n + 1).fill('0.1').join(' ')).join('\n'), /model|F|H|column|row|dimension|size|n ?×|shape/i]]) {
         await custom.fill(f, bad);
-        await idle(custom, d.busy);
+        await settled(custom);
         const msg = await modelError();
         assert.match(msg, what, `${d.id}: F = ${JSON.stringify(bad)} gives a message next to the model: "${msg}"`);
         assert.equal(await custom.$eval(`#${d.id} .stale`, (e) => e.hidden), false, `${d.id}: the stale note shows`);
@@ -179,19 +175,19 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
         }
       }
       await custom.fill(f, good);
-      await idle(custom, d.busy);
+      await settled(custom);
       assert.equal(await modelError(), '', `${d.id}: the message goes once F is good again`);
       if (d.id === 'scf') {
         // An unstable F has no stationary prior: the message asks for the prior's box, which is there.
         await custom.fill(f, '1.1 0.1\n0 0.9');
-        await idle(custom, d.busy);
+        await settled(custom);
         assert.match(await custom.$eval('#scf .err[data-for="model.x1_cov"]', (e) => e.textContent), /is needed: no stationary prior/);
         await custom.fill('#m-P1', '1 0\n0 1');
-        await idle(custom, d.busy);
+        await settled(custom);
         assert.equal(await modelError(), '', 'scf: an unstable F runs with a given prior');
         await custom.fill('#m-P1', '');
         await custom.fill(f, good);
-        await idle(custom, d.busy);
+        await settled(custom);
       }
       await custom.close();
     }
@@ -202,7 +198,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       const lim = await newPage();
       await lim.goto(`${baseUrl}#${d.id}`);
       await ready(lim);
-      await idle(lim, d.busy);
+      await settled(lim);
       const ranges = await lim.evaluate(([id, method]) => {
         const limits = JSON.parse(window.confset.limits());
         return [...document.querySelectorAll(`#${id} input[data-limit], #${id} input[type=number][data-field]`)].flatMap((el) => {
@@ -216,7 +212,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
         assert.ok(ranges.some(([id]) => id === 'u-window-range') && ranges.some(([id]) => id === 'u-window'), 'uniform: the window slider and box both take the core\'s range');
         const [, , [, max]] = ranges.find(([id]) => id === 'u-window');
         await lim.fill('#u-window', String(max + 1));
-        await idle(lim, d.busy);
+        await settled(lim);
         assert.match(await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.textContent), new RegExp(`1\\.\\.=${max}`), 'uniform: the message names the same limit');
         await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.scrollIntoView({ block: 'center' }));
         await lim.screenshot({ path: join(screenshotDir, 'error-window-limit.png') });
@@ -228,7 +224,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     const phone = await newPage({ viewport: { width: 390, height: 844 }, deviceScaleFactor: 2 });
     await phone.goto(`${baseUrl}#${d.id}`);
     await ready(phone);
-    await idle(phone, d.busy);
+    await settled(phone);
     assert.equal(await phone.evaluate(() => document.documentElement.scrollWidth), 390, `${d.id}: document width at 390 px`);
     // No legend box over a chart: the core's frames give both rectangles.
     const layouts = await phone.$$eval(`#${d.id} figure.card:not([hidden]) canvas`, (cs) => cs.map((c) => [c.dataset.panel, c.dataset.layout]));
@@ -361,7 +357,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       + `switching to a visited panel ${back[5].toFixed(1)} ms median, ${back[9].toFixed(1)} ms max of 10 (hash change → painted frame)`);
     for (const d of PANELS) {
       await toRoute(d.id);
-      await idle(page, d.busy);
+      await settled(page);
       // With the URL following (450 ms between moves: the debounced update runs between them)
       // and without it (150 ms: the update never fires within the burst).
       // The frame counted is the first one painted after the panel drew the new report (the run
@@ -462,7 +458,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
       const page = await newPage({ viewport: { width: 1366, height: 900 } });
       await page.goto(`${baseUrl}#${d.id}`);
       await ready(page);
-      await idle(page, d.busy);
+      await settled(page);
       await moveControls(page, d);
       const download = async (kind) => {
         const [dl] = await Promise.all([page.waitForEvent('download'),
