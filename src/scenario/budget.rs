@@ -10,8 +10,8 @@
 //! controls their ranges; the combined estimate is what keeps every accepted report within
 //! about 2 s when several fields sit at their limits at once.
 //!
-//! The estimate reads each size at most at its per-field limit (the model's states, the steps,
-//! the windows, the LSCR strings): past it the method refuses with that limit's own message.
+//! A size past its own per-field limit (the steps, the model's states, the windows, the LSCR
+//! strings) is that limit's to refuse, with its own message: the estimate is then empty.
 //!
 //! A refusal names the field of the largest term, the sizes that drive it, its formula, the
 //! limit and what to change; where a Monte Carlo inside the report is the cost, it says that
@@ -134,21 +134,22 @@ impl Work {
 
     /// Within [`MAX_OPERATIONS`] and [`MAX_BYTES`], or an error naming the largest term's field.
     pub fn check(&self, job: Job) -> Result<()> {
-        let refuse = |terms: &[Term], total: f64, limit: f64, unit: &dyn Fn(f64) -> String, what: &str| {
-            if !(total > limit) {
-                return Ok(());
-            }
-            let Some(t) = terms.iter().max_by(|a, b| a.amount.total_cmp(&b.amount)) else {
-                return Ok(());
-            };
-            let share = if t.amount < 0.95 * total {
-                format!(" of the {} in all", unit(total))
-            } else {
-                String::new()
-            };
-            Err(Error::field(
-                t.field.clone(),
-                format!(
+        let refuse =
+            |terms: &[Term], total: f64, limit: f64, unit: &dyn Fn(f64) -> String, what: &str| {
+                if !(total > limit) {
+                    return Ok(());
+                }
+                let Some(t) = terms.iter().max_by(|a, b| a.amount.total_cmp(&b.amount)) else {
+                    return Ok(());
+                };
+                let share = if t.amount < 0.95 * total {
+                    format!(" of the {} in all", unit(total))
+                } else {
+                    String::new()
+                };
+                Err(Error::field(
+                    t.field.clone(),
+                    format!(
                     "{} asks for about {}{share} ({}); {} is limited to about {} ({what}): {}{}",
                     t.sizes,
                     unit(t.amount),
@@ -158,8 +159,8 @@ impl Work {
                     t.advice,
                     if t.study { STUDY_HINT } else { "" }
                 ),
-            ))
-        };
+                ))
+            };
         refuse(
             &self.operations,
             self.total_operations(),
@@ -198,15 +199,13 @@ pub(crate) fn f(x: usize) -> f64 {
 }
 
 impl Scenario {
-    /// The time steps of the scenario as written (data rows or simulated steps; 0 when neither),
-    /// at most the method's limit: past it the step check refuses with its own message.
+    /// The time steps of the scenario as written (data rows or simulated steps; 0 when neither).
     pub(crate) fn written_steps(&self) -> usize {
-        let steps = match (&self.data, &self.simulate) {
+        match (&self.data, &self.simulate) {
             (Some(d), _) => d.y.len(),
             (None, Some(s)) => s.steps,
             (None, None) => 0,
-        };
-        steps.min(*super::make_method(self.method).steps().end())
+        }
     }
 
     /// The field that holds the step count: `data.y` or `simulate.steps`.

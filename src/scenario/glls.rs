@@ -732,13 +732,13 @@ const BYTES_NUMBER: f64 = 60.0;
 /// the simulation (steps · n(n + m + r)) and one estimate per horizon (n·m·s), keeping one
 /// error per run and horizon.
 fn work(s: &Scenario, job: Job) -> Work {
-    let n = shape(&s.model.f).0.clamp(1, glls::MAX_STATES);
+    let n = shape(&s.model.f).0.max(1);
     let m = shape(&s.model.h).0.max(1);
     let r = shape(&s.model.b).1;
     let steps = s.written_steps();
     let steps_field = s.steps_field();
     let mut w = Work::default();
-    let Some(spec) = &s.glls else {
+    let Some(spec) = s.glls.as_ref().filter(|_| n <= glls::MAX_STATES) else {
         return w;
     };
     let cube = f(n * n) * f(n + m);
@@ -769,7 +769,10 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "glls.max_horizon",
-                format!("= {} with n = {n} states and m = {m} outputs", spec.max_horizon),
+                format!(
+                    "= {} with n = {n} states and m = {m} outputs",
+                    spec.max_horizon
+                ),
                 "S · n²(n + m): the singular-value curves s = 0..S",
                 passes * one_horizon(f(spec.max_horizon)),
             )
@@ -863,8 +866,13 @@ fn work(s: &Scenario, job: Job) -> Work {
             .advice("fewer horizons"),
         );
         w.mem(
-            Term::new(field, sizes, "Σ_s m·r·s² + (m(s + 1) + n·s)²: the horizons' matrices", setup_bytes)
-                .advice("fewer horizons"),
+            Term::new(
+                field,
+                sizes,
+                "Σ_s m·r·s² + (m(s + 1) + n·s)²: the horizons' matrices",
+                setup_bytes,
+            )
+            .advice("fewer horizons"),
         );
         let sq = f(s_max) * f(s_max + 1) / 2.0;
         let per_run = f(mc_steps) * (OPS_SIM * f(n * (n + m + r)) + OPS_SIM_STEP)

@@ -776,16 +776,17 @@ const BYTES_T2: f64 = 48.0;
 /// string bits (the 0/1 matrix and the strings' text), the region's M·n·(n + 1) numbers and
 /// the raster's pixels.
 fn work(s: &Scenario, job: Job) -> Work {
-    let n = shape(&s.model.f).0.clamp(1, lscr::MAX_STATES);
+    let n = shape(&s.model.f).0.max(1);
     let t = s.written_steps();
     let steps_field = s.steps_field();
     let mut w = Work::default();
-    let Some(spec) = &s.lscr else {
+    let Some(spec) = s.lscr.as_ref().filter(|_| n <= lscr::MAX_STATES) else {
         return w;
     };
     let m = match (&spec.strings, spec.m, spec.level) {
         (Some(strings), _, _) => strings.len() + 1,
-        (None, Some(m), _) => m.min(lscr::MAX_STRINGS),
+        (None, Some(m), _) if m > lscr::MAX_STRINGS => return w,
+        (None, Some(m), _) => m,
         (None, None, level) => {
             lscr::choose_m_q(level.unwrap_or(0.9), n, spec.construction).map_or(0, |(m, _)| m)
         }

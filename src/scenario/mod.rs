@@ -594,7 +594,12 @@ impl Scenario {
 
     /// The estimated work of this scenario's report or study ([`budget`]), without running it.
     pub fn work(&self, job: Job) -> Work {
-        make_method(self.method).work(self, job)
+        let method = make_method(self.method);
+        // Steps past the method's range are the step check's to refuse ([`Scenario::source`]).
+        if !method.steps().contains(&self.written_steps()) {
+            return Work::default();
+        }
+        method.work(self, job)
     }
 
     /// The one observations step: `data` or `simulate` (exactly one), with the number of

@@ -430,7 +430,11 @@ impl Scenario {
         if spec.norm == Norm::L1 && spec.l1_form == L1Form::Enumerated {
             // The longest window's bounds, before any LP (the steps before it would run first);
             // without process noise every step's LP holds all the data.
-            let longest = if b.ncols() == 0 { steps } else { window.min(steps) };
+            let longest = if b.ncols() == 0 {
+                steps
+            } else {
+                window.min(steps)
+            };
             crate::ubb::check_enumerated("ubb.eps", c[0].nrows() * longest)?;
             crate::ubb::check_enumerated("ubb.tau", b.ncols() * longest)?;
         }
@@ -938,7 +942,10 @@ fn work(s: &Scenario, job: Job) -> Work {
         return w;
     };
     let basis = spec.basis.as_ref().map_or(0, Vec::len);
-    let r = shape(&s.model.f).0.max(basis).clamp(1, MAX_STATES);
+    let r = shape(&s.model.f).0.max(basis).max(1);
+    if r > MAX_STATES {
+        return w;
+    }
     let q = if basis > 0 { 1 } else { shape(&s.model.h).0 };
     let g = s.model.g.as_deref().map_or((0, 0), rows_shape);
     let p = g.1;
@@ -987,8 +994,11 @@ fn work(s: &Scenario, job: Job) -> Work {
             OPS_LP_ROW * f(2 * q * len) * f(r + q)
         } else {
             OPS_LP_STAGE * f(len) * width
-        } * if spec.norm == Norm::L2 { L2_FACTOR } else { 1.0 }
-            + OPS_LP_ENUMERATED * f(enumerated) * f(dim);
+        } * if spec.norm == Norm::L2 {
+            L2_FACTOR
+        } else {
+            1.0
+        } + OPS_LP_ENUMERATED * f(enumerated) * f(dim);
         (lp + OPS_SOLVE, OPS_ENTRY * f(rows) * f(dim))
     };
     let sizes = format!(
@@ -1023,7 +1033,9 @@ fn work(s: &Scenario, job: Job) -> Work {
             "steps · 2r LPs over the window's r(len + 1) + p·len unknowns",
             solves,
         )
-        .advice("fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states"),
+        .advice(
+            "fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states",
+        ),
     );
     w.ops(
         Term::new(

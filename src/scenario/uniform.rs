@@ -661,12 +661,16 @@ const RESOLVE: f64 = 0.15;
 /// the cursor re-solves of the state LP for the optimal face (two per state entry of the window
 /// and per half-width) and the polygon's support LPs (`uniform.directions`).
 fn work(s: &Scenario) -> Work {
-    let n = shape(&s.model.f).0.clamp(1, MAX_STATES);
+    let n = shape(&s.model.f).0.max(1);
     let m = shape(&s.model.h).0.max(1);
     let r = shape(&s.model.b).1;
     let steps = s.written_steps();
     let mut w = Work::default();
-    let Some(spec) = &s.uniform else {
+    let Some(spec) = s
+        .uniform
+        .as_ref()
+        .filter(|u| n <= MAX_STATES && u.window <= uniform::MAX_WINDOW)
+    else {
         return w;
     };
     let lp = |vars: usize, rows: usize| OPS_LP * f(vars + rows) * f(vars) + OPS_SOLVE;
@@ -675,7 +679,7 @@ fn work(s: &Scenario) -> Work {
         Joint::States => 0.0,
         _ => lp(n * n + n * r + m * n + m * r + n + m, 2 * len * (n + m)),
     };
-    let window = spec.window.min(uniform::MAX_WINDOW);
+    let window = spec.window;
     let online: f64 = (1..=steps)
         .map(|t| {
             let len = t.min(window);
@@ -699,7 +703,10 @@ fn work(s: &Scenario) -> Work {
     w.ops(
         Term::new(
             "uniform.directions",
-            format!("= {} with window = {window} and n = {n} states", spec.directions),
+            format!(
+                "= {} with window = {window} and n = {n} states",
+                spec.directions
+            ),
             "(2(∂ + 1)·n + directions) LPs at the cursor: the optimal face and the polygon",
             resolves * RESOLVE * state(len),
         )

@@ -591,7 +591,10 @@ fn powers_that_overflow_are_named_not_written_as_null() {
     let mut g = preset_json("glls-grow");
     g["simulate"]["steps"] = json!(5000);
     // Without its Monte Carlo (2000 runs of 5000 steps is past the work budget).
-    g["glls"].as_object_mut().expect("a glls block").remove("monte_carlo");
+    g["glls"]
+        .as_object_mut()
+        .expect("a glls block")
+        .remove("monte_carlo");
     match run(&g) {
         Ok(r) => panic!(
             "accepted an overflowing run: {}",
@@ -621,7 +624,10 @@ fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
     );
     for (method, base) in first_presets() {
         let ks = knobs(&base);
-        assert!(ks.len() >= 2, "{method}: fewer than two size fields to combine");
+        assert!(
+            ks.len() >= 2,
+            "{method}: fewer than two size fields to combine"
+        );
         let s = at(&base, &ks.iter().collect::<Vec<_>>(), 1.0);
         let sc = Scenario::from_json(&s.to_string())
             .unwrap_or_else(|e| panic!("{method}: every field is within its own limit: {e}"));
@@ -630,7 +636,10 @@ fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
             .check(Job::Report)
             .expect_err("the fields at their limits together exceed the budget");
         let e = sc.run().expect_err("refused");
-        assert_eq!(e, estimate, "{method}: refused by the estimate, before any work");
+        assert_eq!(
+            e, estimate,
+            "{method}: refused by the estimate, before any work"
+        );
         let fields: Vec<String> = ks
             .iter()
             .map(|k| match k {
@@ -638,7 +647,10 @@ fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
                 Knob::Count { .. } => k.name(),
             })
             .collect();
-        assert!(fields.contains(&e.field), "{method}: {e} names none of {fields:?}");
+        assert!(
+            fields.contains(&e.field),
+            "{method}: {e} names none of {fields:?}"
+        );
         let text = e.to_string();
         assert!(
             text.contains(&format!("is limited to about {ops}"))
@@ -664,7 +676,12 @@ fn a_monte_carlo_in_a_report_points_to_the_chunked_study() {
     assert_err(
         &g,
         "glls.monte_carlo.runs",
-        &["operations", "fewer runs", "chunked study", "confset experiment"],
+        &[
+            "operations",
+            "fewer runs",
+            "chunked study",
+            "confset experiment",
+        ],
     );
 }
 
@@ -680,7 +697,8 @@ fn a_study_whose_preparation_is_too_big_is_refused_before_it_is_prepared() {
     let e = s.study(None).err().expect("refused");
     assert_eq!(e.field, "glls.monte_carlo.max_horizon", "{e}");
     assert!(
-        e.message.contains("a study's preparation and one run is limited to about"),
+        e.message
+            .contains("a study's preparation and one run is limited to about"),
         "{e}"
     );
 }

@@ -556,7 +556,8 @@ fn work_at_the_limits() {
             .map_or(0.0, |kb| kb / 1024.0)
     }
     // CONFSET_WORK_ONLY=text: only presets whose name holds it; CONFSET_WORK_SCALE=x: aim the
-    // estimates at x times the budget (calibrating with a raised budget).
+    // estimates at x times the budget (calibrating with a raised budget); CONFSET_WORK_DUMP=dir:
+    // write the slowest accepted scenario of each method there (METHOD.json), to time in wasm.
     /// The thread's CPU time in seconds (Linux): the machine is shared, so wall time overstates.
     fn cpu_seconds() -> f64 {
         std::fs::read_to_string("/proc/thread-self/schedstat")
@@ -570,7 +571,8 @@ fn work_at_the_limits() {
         .unwrap_or(1.0);
     // (seconds, MB, line) of every run, and the slowest accepted per method.
     let mut rows: Vec<(f64, f64, String)> = Vec::new();
-    let mut slowest: std::collections::BTreeMap<String, (f64, f64, String)> = Default::default();
+    let mut slowest: std::collections::BTreeMap<String, (f64, f64, String, String)> =
+        Default::default();
     for p in presets::all() {
         if only.as_deref().is_some_and(|o| !p.name.contains(o)) {
             continue;
@@ -588,11 +590,17 @@ fn work_at_the_limits() {
         for set in &sets {
             let names: Vec<String> = set.iter().map(|k| k.name()).collect();
             if let Some((t, s)) = under_budget(&base, set, scale) {
-                cases.push((format!("{} at {:.0} % of the way", names.join(" + "), 100.0 * t), s));
+                cases.push((
+                    format!("{} at {:.0} % of the way", names.join(" + "), 100.0 * t),
+                    s,
+                ));
             }
         }
         for k in ks.iter().filter(|_| scale == 1.0) {
-            cases.push((format!("{} alone at its limit", k.name()), at(&base, &[k], 1.0)));
+            cases.push((
+                format!("{} alone at its limit", k.name()),
+                at(&base, &[k], 1.0),
+            ));
         }
         for (what, s) in cases {
             let text = s.to_string();
@@ -601,7 +609,10 @@ fn work_at_the_limits() {
                 .unwrap_or_default();
             peak_mb(true);
             let (t0, c0) = (std::time::Instant::now(), cpu_seconds());
-            let r = Scenario::from_json(&text).and_then(|s| s.run().map(|r| serde_json::to_string(&r).map(|j| j.len()).unwrap_or(0)));
+            let r = Scenario::from_json(&text).and_then(|s| {
+                s.run()
+                    .map(|r| serde_json::to_string(&r).map(|j| j.len()).unwrap_or(0))
+            });
             let wall = t0.elapsed().as_secs_f64();
             let secs = cpu_seconds() - c0;
             let mb = peak_mb(false);
@@ -633,9 +644,14 @@ fn work_at_the_limits() {
             );
             eprintln!("{line}");
             if r.is_ok() {
-                let e = slowest.entry(method.clone()).or_insert((0.0, 0.0, String::new()));
+                let e = slowest.entry(method.clone()).or_insert((
+                    0.0,
+                    0.0,
+                    String::new(),
+                    String::new(),
+                ));
                 if secs > e.0 {
-                    *e = (secs, mb, line.clone());
+                    *e = (secs, mb, line.clone(), text.clone());
                 }
             }
             rows.push((secs, mb, line));
@@ -651,7 +667,11 @@ fn work_at_the_limits() {
         eprintln!("{r}");
     }
     eprintln!("\nslowest accepted per method:");
-    for (m, (_, _, line)) in &slowest {
+    let dump = option_env_var("CONFSET_WORK_DUMP");
+    for (m, (_, _, line, text)) in &slowest {
         eprintln!("{m:10} {line}");
+        if let Some(dir) = &dump {
+            std::fs::write(format!("{dir}/{m}.json"), text).expect("the dump directory");
+        }
     }
 }

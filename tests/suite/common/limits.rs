@@ -32,7 +32,8 @@ impl Knob {
 
     /// `s` with this knob moved a fraction `t` of the way (geometrically) to its limit.
     pub fn apply(&self, s: &Value, t: f64) -> Value {
-        let toward = |from: f64, limit: f64| (from.max(1.0) * (limit / from.max(1.0)).powf(t)).round();
+        let toward =
+            |from: f64, limit: f64| (from.max(1.0) * (limit / from.max(1.0)).powf(t)).round();
         match self {
             Knob::Count { path, from, limit } => {
                 let mut s = s.clone();
@@ -127,7 +128,10 @@ pub fn knobs(s: &Value) -> Vec<Knob> {
         out.push(count(vec!["uniform", "directions"], 720.0));
     }
     if block("ubb") {
-        out.push(count(vec!["ubb", "window"], scenario::ubb::MAX_WINDOW as f64));
+        out.push(count(
+            vec!["ubb", "window"],
+            scenario::ubb::MAX_WINDOW as f64,
+        ));
         out.push(count(vec!["ubb", "budget"], 512.0));
     }
     out.into_iter().flatten().collect()
@@ -227,11 +231,18 @@ pub fn grow(s: &Value, n: usize, k: usize) -> Value {
         s["model"][&key] = match key.as_str() {
             "H" if lscr => json!(m
                 .iter()
-                .map(|r| (0..k).flat_map(|b| r.iter().map(move |v| v * 0.5f64.powi(b as i32))).collect::<Vec<f64>>())
+                .map(|r| (0..k)
+                    .flat_map(|b| r.iter().map(move |v| v * 0.5f64.powi(b as i32)))
+                    .collect::<Vec<f64>>())
                 .collect::<Vec<_>>()),
             "F" => blocks(&m, true),
             // LSCR's one noise input drives every block.
-            "G" if lscr => json!(m.iter().cycle().take(m.len() * k).cloned().collect::<Vec<_>>()),
+            "G" if lscr => json!(m
+                .iter()
+                .cycle()
+                .take(m.len() * k)
+                .cloned()
+                .collect::<Vec<_>>()),
             _ => blocks(&m, false),
         };
     }
@@ -253,7 +264,15 @@ pub fn grow(s: &Value, n: usize, k: usize) -> Value {
                 .filter(|(key, _)| {
                     !matches!(
                         key.as_str(),
-                        "model" | "D" | "plot" | "plane" | "components" | "a" | "b" | "window" | "resolution"
+                        "model"
+                            | "D"
+                            | "plot"
+                            | "plane"
+                            | "components"
+                            | "a"
+                            | "b"
+                            | "window"
+                            | "resolution"
                     )
                 })
                 .for_each(|(_, x)| vectors(x, lengths, k)),
