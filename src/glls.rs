@@ -34,6 +34,10 @@ use nalgebra::{DMatrix, DVector};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+/// Most states of a GLLS model (the panel's limit; the work of a report is bounded by the
+/// combined budget of `scenario::budget`).
+pub const MAX_STATES: usize = 20;
+
 /// The model of (7)–(8), with the optional transition noise of (54).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GllsModel {
@@ -65,10 +69,10 @@ impl GllsModel {
                 format!("must be square, found {}×{}", a.nrows(), a.ncols()),
             ));
         }
-        if n > 20 {
+        if n > MAX_STATES {
             return Err(Error::field(
                 "model.F",
-                format!("is {n}×{n}: the GLLS panel supports n ≤ 20"),
+                format!("is {n}×{n}: the GLLS panel supports n ≤ {MAX_STATES}"),
             ));
         }
         let c = ModelSpec::constant("model.H", &spec.h, Method::Glls)?

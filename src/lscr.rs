@@ -82,6 +82,14 @@ pub struct LscrModel {
     pub linear: LinearModel,
 }
 
+/// Most states of an LSCR model (the explorer's limit; the work of a report is bounded by the
+/// combined budget of `scenario::budget`).
+pub const MAX_STATES: usize = 16;
+
+/// Most strings M (the work of a report with many strings is bounded by the combined budget of
+/// `scenario::budget`: the region's boundary grows like (n·M)²).
+pub const MAX_STRINGS: usize = 100_000;
+
 fn rows_of(spec: &Option<MatrixSpec>) -> Option<&Vec<Vec<f64>>> {
     match spec {
         Some(MatrixSpec::Constant(r)) => Some(r),
@@ -135,10 +143,10 @@ impl LscrModel {
                 ),
             ));
         }
-        if n > 16 {
+        if n > MAX_STATES {
             return Err(Error::field(
                 "model.F",
-                format!("is {n}×{n}: the LSCR explorer supports n ≤ 16"),
+                format!("is {n}×{n}: the LSCR explorer supports n ≤ {MAX_STATES}"),
             ));
         }
         let (shape, sigma_v2, sigma_w2) = if let Some(g) = &spec.g {
@@ -804,10 +812,10 @@ impl Estimator {
                 if o.m < 2 * n {
                     return Err(Error::field("lscr.M", format!("must be at least 2n = {} (so that q ≥ 1 fits in [1, M/(2n)]), found {}", 2 * n, o.m)));
                 }
-                if o.m > 100_000 {
+                if o.m > MAX_STRINGS {
                     return Err(Error::field(
                         "lscr.M",
-                        format!("must be at most 100000, found {}", o.m),
+                        format!("must be at most {MAX_STRINGS}, found {}", o.m),
                     ));
                 }
                 match o.construction {

@@ -50,6 +50,22 @@ pub enum L1Form {
 /// The largest m the enumerated form accepts (2^{m−1} = 8192 row pairs).
 pub const MAX_ENUMERATED_M: usize = 14;
 
+/// Whether an l1 bound on m residuals (`field`: `ubb.eps` or `ubb.tau`) fits Theorem 3's
+/// enumerated form, m ≤ [`MAX_ENUMERATED_M`]; the scenario checks its longest window before
+/// any LP, the bound again when it is built.
+pub fn check_enumerated(field: &str, m: usize) -> Result<()> {
+    if m > MAX_ENUMERATED_M {
+        return Err(Error::field(
+            field,
+            format!(
+                "is an l1 bound on m = {m} residuals: Theorem 3's enumerated form needs 2^(m−1) = {} sign rows; use the lifted form (l1_form \"lifted\", 2m + 1 rows) or m ≤ {MAX_ENUMERATED_M}",
+                1u64 << (m - 1).min(63)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// ‖diag(w)(M f − c)‖ ≤ bound.
 #[derive(Debug, Clone)]
 pub struct NormBound {
@@ -240,15 +256,7 @@ impl FeasibleSet {
                     next_slack += m;
                 }
                 (Norm::L1, L1Form::Enumerated) => {
-                    if m > MAX_ENUMERATED_M {
-                        return Err(Error::field(
-                            b.field.clone(),
-                            format!(
-                                "is an l1 bound on m = {m} residuals: Theorem 3's enumerated form needs 2^(m−1) = {} sign rows; use the lifted form (l1_form \"lifted\", 2m + 1 rows) or m ≤ {MAX_ENUMERATED_M}",
-                                1u64 << (m - 1).min(63)
-                            ),
-                        ));
-                    }
+                    check_enumerated(&b.field, m)?;
                     let base: Vec<(Vec<f64>, f64)> = (0..m).map(wrow).collect();
                     // (30): the first sign is +, the others run through all 2^{m−1} patterns.
                     for pattern in 0..(1usize << (m.saturating_sub(1))) {

@@ -16,6 +16,7 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
+use super::budget::{f, shape, Job, Term, Work};
 use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::glls::{
@@ -680,6 +681,9 @@ impl MethodScenario for Glls {
         // m = rows of C (model.H), r = columns of B, as `prepare_glls` reads the data.
         GllsModel::from_spec(&s.model).map(|m| (m.m(), m.r()))
     }
+    fn work(&self, s: &Scenario, job: Job) -> Work {
+        work(s, job)
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let g = s.prepare_glls()?.report()?;
         let mut r = Report::of(s, s.alpha, (g.n, g.m), g.k, g.plane.to_vec(), g.y.clone());
@@ -702,6 +706,210 @@ impl MethodScenario for Glls {
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
+}
+
+/// Operations per horizon step and unit of n²(n + m): the curves' QR updates and small SVDs,
+/// the powers of A, the SVD of Γ_{s+1} (S = 2000, n = 20: about 0.15 s natively).
+const OPS_CUBE: f64 = 10.0;
+/// Operations per entry of Φ_{s+1} (m(s + 1) × r(s + 1)), filled block by block (about 10 ns).
+const OPS_ENTRY: f64 = 10.0;
+/// Operations per unit of (m(s + 1) + n·s)³: the state-noise estimator's square QR, products
+/// and pseudo-inverse, and its QP check (s = 400, n = 5: about 2 s natively).
+const OPS_STATE_NOISE: f64 = 0.35;
+/// Operations per simulated step of a Monte Carlo run, per unit of n(n + m + r) and besides
+/// (a step of a 2-state model: about 0.25 µs natively).
+const OPS_SIM: f64 = 3.0;
+const OPS_SIM_STEP: f64 = 300.0;
+/// Operations per step of a run's window at horizon s: stacking y and u (one small allocation
+/// per step), and per unit of n·m the estimate (Σ_s (s + 1) steps per run: about 41 µs for
+/// horizons 0..30 of a 2-state model natively).
+const OPS_STACK: f64 = 60.0;
+const OPS_ESTIMATE: f64 = 15.0;
+/// Bytes per reported number (the value, its JSON tree).
+const BYTES_NUMBER: f64 = 60.0;
+
+/// The GLLS costs: the curves s = 0..S and the chosen horizon s, each O(s · n²(n + m)), with
+/// Φ_{s+1} of m·r·s² entries; the state-noise estimator O((m(s + 1) + n·s)³); a Monte Carlo
+/// (in the report, or a study's preparation and one run): its horizons 0..S_mc, and per run
+/// the simulation (steps · n(n + m + r)) and one estimate per horizon (n·m·s), keeping one
+/// error per run and horizon.
+fn work(s: &Scenario, job: Job) -> Work {
+    let n = shape(&s.model.f).0.max(1);
+    let m = shape(&s.model.h).0.max(1);
+    let r = shape(&s.model.b).1;
+    let steps = s.written_steps();
+    let steps_field = s.steps_field();
+    let mut w = Work::default();
+    let Some(spec) = s.glls.as_ref().filter(|_| n <= glls::MAX_STATES) else {
+        return w;
+    };
+    let cube = f(n * n) * f(n + m);
+    // The horizon: given, or the best of the curves (at most S), within the data.
+    let horizon = spec
+        .horizon
+        .unwrap_or(spec.max_horizon.max(n.saturating_sub(1)))
+        .min(steps.saturating_sub(1));
+    let horizon_field = if spec.horizon.is_some() {
+        "glls.horizon"
+    } else {
+        "glls.max_horizon"
+    };
+    // Φ_{s+1}, Γ_{s+1} and the SVD of one horizon s; the state-noise estimator's matrices.
+    let one_horizon = |s: f64| OPS_CUBE * s * cube + OPS_ENTRY * f(m * r) * s * s;
+    let state_noise = |s: f64| OPS_STATE_NOISE * (f(m) * (s + 1.0) + f(n) * s).powi(3);
+    let state_noise_bytes = |s: f64| 8.0 * 3.0 * (f(m) * (s + 1.0) + f(n) * s).powi(2);
+    let horizon_bytes = |s: f64| 8.0 * (f(m * r) * s * s + 6.0 * f(m * n) * s);
+    let mc = spec.monte_carlo.as_ref();
+    // A study prepares the scenario too: a worst-case simulation computes its horizon.
+    let worst = spec.noise == GllsNoise::Worst;
+    let passes = if job == Job::Report {
+        1.0 + f64::from(u8::from(worst))
+    } else {
+        f64::from(u8::from(worst))
+    };
+    if passes > 0.0 {
+        w.ops(
+            Term::new(
+                "glls.max_horizon",
+                format!(
+                    "= {} with n = {n} states and m = {m} outputs",
+                    spec.max_horizon
+                ),
+                "S · n²(n + m): the singular-value curves s = 0..S",
+                passes * one_horizon(f(spec.max_horizon)),
+            )
+            .advice("a smaller max_horizon"),
+        );
+        w.ops(
+            Term::new(
+                horizon_field,
+                format!("(s = {horizon}) with n = {n} states, m = {m} outputs, r = {r} inputs"),
+                "s · n²(n + m) + m·r·s²: Γ_{s+1}, its SVD and Φ_{s+1}",
+                passes * one_horizon(f(horizon)),
+            )
+            .advice("a shorter horizon"),
+        );
+        w.mem(
+            Term::new(
+                horizon_field,
+                format!("(s = {horizon}) with m = {m} outputs, r = {r} inputs"),
+                "m·r·s² + m·n·s: Φ_{s+1}, Γ_{s+1} and the gains",
+                horizon_bytes(f(horizon)),
+            )
+            .advice("a shorter horizon"),
+        );
+    }
+    if job == Job::Report {
+        if spec.estimator == GllsEstimator::StateNoise {
+            w.ops(
+                Term::new(
+                    horizon_field,
+                    format!("(s = {horizon}) with n = {n} states and m = {m} outputs"),
+                    "(m(s + 1) + n·s)³: the state-noise estimator and its QP",
+                    state_noise(f(horizon)),
+                )
+                .advice("a shorter horizon"),
+            );
+            w.mem(
+                Term::new(
+                    horizon_field,
+                    format!("(s = {horizon}) with n = {n} states and m = {m} outputs"),
+                    "(m(s + 1) + n·s)²: the state-noise estimator's matrices",
+                    state_noise_bytes(f(horizon)),
+                )
+                .advice("a shorter horizon"),
+            );
+        }
+        let numbers = f(steps) * f(n + m) + f(spec.max_horizon) * f(n + 5);
+        w.mem(
+            Term::new(
+                steps_field,
+                format!("= {steps} with n = {n} states, S = {}", spec.max_horizon),
+                "steps · (n + m) + S · n: the trajectory and the curves in the report",
+                numbers * BYTES_NUMBER,
+            )
+            .advice("fewer steps or a smaller max_horizon"),
+        );
+    }
+    let runs = match job {
+        Job::Report => mc.map(|c| c.runs),
+        Job::Study { runs } => runs.or(mc.map(|c| c.runs)),
+    };
+    if let (Some(mc), Some(runs)) = (mc, runs) {
+        let mc_steps = mc.steps.unwrap_or(steps).max(1);
+        let s_max = mc
+            .max_horizon
+            .unwrap_or(spec.max_horizon.min(mc_steps - 1).min(30))
+            .min(mc_steps - 1);
+        let noise = mc.study == GllsStudyKind::StateNoise;
+        let (field, sizes) = if mc.max_horizon.is_some() {
+            (
+                "glls.monte_carlo.max_horizon",
+                format!("= {s_max} with n = {n}, m = {m}, r = {r}"),
+            )
+        } else {
+            (
+                "glls.max_horizon",
+                format!("(the study's horizons 0..{s_max}) with n = {n}, m = {m}, r = {r}"),
+            )
+        };
+        let (mut setup, mut setup_bytes) = (0.0, 0.0);
+        for h in 0..=s_max {
+            setup += one_horizon(f(h)) + if noise { state_noise(f(h)) } else { 0.0 };
+            setup_bytes += horizon_bytes(f(h)) + if noise { state_noise_bytes(f(h)) } else { 0.0 };
+        }
+        w.ops(
+            Term::new(
+                field,
+                sizes.clone(),
+                "Σ_s s · n²(n + m) (+ (m(s + 1) + n·s)³ comparing the state-noise estimator): the study's horizons",
+                setup,
+            )
+            .advice("fewer horizons"),
+        );
+        w.mem(
+            Term::new(
+                field,
+                sizes,
+                "Σ_s m·r·s² + (m(s + 1) + n·s)²: the horizons' matrices",
+                setup_bytes,
+            )
+            .advice("fewer horizons"),
+        );
+        // Σ_s (s + 1): the steps of every horizon's window.
+        let windows = f(s_max + 1) * f(s_max + 2) / 2.0;
+        let per_run = f(mc_steps) * (OPS_SIM * f(n * (n + m + r)) + OPS_SIM_STEP)
+            + windows
+                * (OPS_STACK + OPS_ESTIMATE * f(n * m) * if noise { f(s_max) } else { 1.0 });
+        let (run_field, run_count) = if job == Job::Report {
+            ("glls.monte_carlo.runs", runs)
+        } else {
+            ("glls.monte_carlo.steps", 1)
+        };
+        w.ops(
+            Term::new(
+                run_field,
+                format!(
+                    "= {} with {mc_steps} steps, horizons 0..{s_max}, n = {n}",
+                    if job == Job::Report { runs } else { mc_steps }
+                ),
+                "runs · (steps · n(n + m + r) + n·m·S²): a simulation and every horizon's estimate per run",
+                f(run_count) * per_run,
+            )
+            .advice(if job == Job::Report { "fewer runs" } else { "fewer steps per run" })
+            .study(),
+        );
+        w.mem(
+            Term::new(
+                "glls.monte_carlo.runs",
+                format!("= {runs} with horizons 0..{s_max}"),
+                "runs · horizons: one error per run and horizon, kept for the quartiles",
+                f(runs) * f(s_max + 1) * if noise { 16.0 } else { 8.0 },
+            )
+            .advice("fewer runs or horizons"),
+        );
+    }
+    w
 }
 
 // ---------------------------------------------------------------------------------------------

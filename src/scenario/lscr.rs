@@ -18,6 +18,7 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
+use super::budget::{f, shape, Job, Term, Work};
 use super::{Condition, MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
@@ -430,7 +431,6 @@ pub fn plane_region(
 /// arrangement contains all cells, so the boundary found there is the full one), plus the
 /// truth and the ellipses.
 fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(BoxSet, Vec<Loop>)> {
-    let mut pts: Vec<[f64; 2]> = Vec::new();
     let lines: Vec<(f64, [f64; 2])> = region
         .groups
         .iter()
@@ -448,16 +448,15 @@ fn fit_window(region: &SignRegion, extra: &[BoxSet], bounded: bool) -> Result<(B
             if det.abs() > 1e-12 * (d1[0].hypot(d1[1]) * d2[0].hypot(d2[1])) {
                 let x = (c1 * d2[1] - c2 * d1[1]) / det;
                 let y = (d1[0] * c2 - d2[0] * c1) / det;
+                // The box of the vertices, kept as they come: (nM)²/2 of them would fill
+                // gigabytes as a list.
                 if x.is_finite() && y.is_finite() {
-                    pts.push([x, y]);
+                    for (k, v) in [x, y].into_iter().enumerate() {
+                        big.lo[k] = big.lo[k].min(v);
+                        big.hi[k] = big.hi[k].max(v);
+                    }
                 }
             }
-        }
-    }
-    for p in &pts {
-        for k in 0..2 {
-            big.lo[k] = big.lo[k].min(p[k]);
-            big.hi[k] = big.hi[k].max(p[k]);
         }
     }
     let mut win: Option<BoxSet> = None;
@@ -688,6 +687,9 @@ impl MethodScenario for Lscr {
         // A scalar output y_t and no inputs (`prepare_lscr` refuses `data.u`).
         LscrModel::from_spec(&s.model).map(|_| (1, 0))
     }
+    fn work(&self, s: &Scenario, job: Job) -> Work {
+        work(s, job)
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let p = s.prepare_lscr()?;
         let mut l = p.report()?;
@@ -745,6 +747,185 @@ impl Runs for LscrStudy {
         let e = &self.0;
         coverage_report(e.estimator(), e.truth(), counts.clone())
     }
+}
+
+/// Operations per unit of t³: the covariance Q″ and its Karhunen–Loève eigenvectors (12)–(15)
+/// (t = 800: about 0.8 s natively).
+const OPS_T3: f64 = 2.0;
+/// Operations per string bit and unit of n²: the correlations d_{i,l} of every group (point 4).
+const OPS_REGION: f64 = 1.5;
+/// Operations per pair of lines and unit of log₂ lines: the boundary sweeps every line against
+/// all others, the fitted window intersects every pair (M = 3000, n = 2: about 6 s natively;
+/// 18 measured, 24 for a margin).
+const OPS_PAIR: f64 = 24.0;
+/// Operations per pixel of the raster (its JSON dominates), and per pixel row and line.
+const OPS_PIXEL: f64 = 260.0;
+const OPS_ROW_LINE: f64 = 10.0;
+/// Operations per pair of strings and 64 bits of the group check (for at most 4096 strings).
+const OPS_GROUP_PAIR: f64 = 100.0;
+/// Operations per run of the coverage experiment, per unit of t² (the data's draw and
+/// transform) and per string bit and group (redrawing the strings, g = H z).
+const OPS_RUN_T2: f64 = 2.0;
+const OPS_RUN_BIT: f64 = 4.0;
+/// Bytes per reported number (the value, its JSON tree), per raster pixel (its u32, its JSON
+/// tree and text: about 51 measured) and per unit of t² (the covariance, its eigenvectors, the
+/// regressors: about 40 measured).
+const BYTES_NUMBER: f64 = 60.0;
+const BYTES_PIXEL: f64 = 55.0;
+const BYTES_T2: f64 = 48.0;
+
+/// The LSCR costs: t³ for the Karhunen–Loève basis, M·t·n² for the region's functions, (nM)²
+/// line pairs (times log₂ nM) for the boundary and the fitted window, pixels and pixel rows ×
+/// lines for the raster, and per coverage run t² + M·t·(n + 1). Bytes: t² of the basis, M·t
+/// string bits (the 0/1 matrix and the strings' text), the region's M·n·(n + 1) numbers and
+/// the raster's pixels.
+fn work(s: &Scenario, job: Job) -> Work {
+    let n = shape(&s.model.f).0.max(1);
+    let t = s.written_steps();
+    let steps_field = s.steps_field();
+    let mut w = Work::default();
+    let Some(spec) = s.lscr.as_ref().filter(|_| n <= lscr::MAX_STATES) else {
+        return w;
+    };
+    let m = match (&spec.strings, spec.m, spec.level) {
+        (Some(strings), _, _) => strings.len() + 1,
+        (None, Some(m), _) if m > lscr::MAX_STRINGS => return w,
+        (None, Some(m), _) => m,
+        (None, None, level) => {
+            lscr::choose_m_q(level.unwrap_or(0.9), n, spec.construction).map_or(0, |(m, _)| m)
+        }
+    };
+    let m_field = if spec.strings.is_some() {
+        "lscr.strings"
+    } else {
+        "lscr.M"
+    };
+    let bits = f(m) * f(t);
+    w.ops(
+        Term::new(
+            steps_field,
+            format!("= {t} measurements"),
+            "t³: the Karhunen–Loève basis of the data's covariance",
+            OPS_T3 * f(t).powi(3),
+        )
+        .advice("fewer measurements"),
+    );
+    w.mem(
+        Term::new(
+            steps_field,
+            format!("= {t} measurements"),
+            "t²: the covariance, its eigenvectors and the regressors",
+            BYTES_T2 * f(t).powi(2),
+        )
+        .advice("fewer measurements"),
+    );
+    let strings = || format!("= {m} with t = {t} measurements and n = {n} states");
+    w.mem(
+        Term::new(
+            m_field,
+            strings(),
+            "M · t: the strings as a 0/1 matrix and as text",
+            bits * (8.0 + 3.0),
+        )
+        .advice("fewer strings or measurements"),
+    );
+    // The group check of point 4a (and of explicit strings that might form one).
+    if spec.construction != Construction::Random && m <= 4096 {
+        w.ops(
+            Term::new(
+                m_field,
+                strings(),
+                "M² · t/64: whether the strings form a group",
+                OPS_GROUP_PAIR * f(m) * f(m) / 2.0 * f(t.div_ceil(64)),
+            )
+            .advice("fewer strings"),
+        );
+    }
+    let per_run = OPS_RUN_T2 * f(t).powi(2) + OPS_RUN_BIT * bits * f(n + 1);
+    if let Job::Study { .. } = job {
+        w.ops(
+            Term::new(
+                m_field,
+                strings(),
+                "t² + M · t · (n + 1) per run: the data's transform and every string's sign",
+                per_run,
+            )
+            .advice("fewer strings or measurements"),
+        );
+        return w;
+    }
+    w.ops(
+        Term::new(
+            m_field,
+            strings(),
+            "M · t · n²: every string's correlation with every group",
+            OPS_REGION * bits * f(n * n),
+        )
+        .advice("fewer strings, measurements or states"),
+    );
+    let lines = f(n) * f(m);
+    w.ops(
+        Term::new(
+            m_field,
+            format!("= {m} with n = {n} states ({lines} lines)"),
+            "(n · M)² · log₂(n · M): the boundary sweeps every line against all others",
+            OPS_PAIR * lines * lines * lines.max(2.0).log2(),
+        )
+        .advice("fewer strings"),
+    );
+    let numbers = lines * f(n + 1) + f(m) + f(t);
+    w.mem(
+        Term::new(
+            m_field,
+            format!("= {m} with n = {n} states"),
+            "M · n · (n + 1): the region's functions in the report",
+            numbers * BYTES_NUMBER,
+        )
+        .advice("fewer strings"),
+    );
+    if let Some([wd, ht]) = spec.resolution {
+        let pixels = f(wd) * f(ht);
+        w.ops(
+            Term::new(
+                "lscr.resolution",
+                format!("= [{wd}, {ht}] with {lines} lines"),
+                "pixels + rows · lines: the raster",
+                OPS_PIXEL * pixels + OPS_ROW_LINE * f(ht) * lines,
+            )
+            .advice("a coarser raster or fewer strings"),
+        );
+        w.mem(
+            Term::new(
+                "lscr.resolution",
+                format!("= [{wd}, {ht}]"),
+                "pixels: the raster in the report",
+                pixels * BYTES_PIXEL,
+            )
+            .advice("a coarser raster"),
+        );
+    }
+    w.ops(
+        Term::new(
+            "lscr.probes",
+            format!("({} points) with {lines} lines", spec.probes.len()),
+            "probes · lines · n: the membership of every probe",
+            f(spec.probes.len()) * lines * f(n),
+        )
+        .advice("fewer probes"),
+    );
+    if let Some(c) = &spec.coverage {
+        w.ops(
+            Term::new(
+                "lscr.coverage.runs",
+                format!("= {} with M = {m}, t = {t}, n = {n}", c.runs),
+                "runs · (t² + M · t · (n + 1)): per run the data's transform and every string's sign",
+                f(c.runs) * per_run,
+            )
+            .advice("fewer runs")
+            .study(),
+        );
+    }
+    w
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -22,6 +22,7 @@ use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
 use std::ops::RangeInclusive;
 
+pub mod budget;
 pub mod csv;
 pub mod glls;
 pub mod lscr;
@@ -30,6 +31,7 @@ pub mod scf;
 pub mod ubb;
 pub mod uniform;
 pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
+pub use budget::{Job, Work};
 pub use csv::data_from_csv;
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
@@ -563,6 +565,11 @@ pub(crate) trait MethodScenario: Sync {
     /// and of each `data.u` row (inputs, 0 when the method takes none), read from the model
     /// fields as the run reads them (so a CSV file can be split into columns before a run).
     fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)>;
+    /// The dominant costs of the report (or of a study's preparation and one run) from the
+    /// scenario's sizes alone, before any validation or heavy work: [`Scenario::run`] and
+    /// [`Scenario::study`] check it against the budget ([`budget`]). Sizes it cannot read count
+    /// as small; the method's validation names those fields.
+    fn work(&self, s: &Scenario, job: Job) -> Work;
     /// Validate and run: the report.
     fn run(&self, s: &Scenario) -> Result<Report>;
     /// The method's Monte Carlo study, not yet run (`runs` overrides the scenario's count).
@@ -629,6 +636,7 @@ impl Scenario {
     /// Validate and run: the report of this scenario.
     pub fn run(&self) -> Result<Report> {
         self.check_method_blocks()?;
+        self.work(Job::Report).check(Job::Report)?;
         let report = make_method(self.method).run(self)?;
         report.check_finite()?;
         Ok(report)
@@ -659,6 +667,8 @@ impl Scenario {
                 ));
             }
         }
+        let job = Job::Study { runs };
+        self.work(job).check(job)?;
         let mut study = make_method(self.method).study(self, runs)?;
         study.set_scenario_digest(&self.digest()?);
         Ok(study)
@@ -676,6 +686,16 @@ impl Scenario {
             h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
         }
         Ok(format!("{h:016x}"))
+    }
+
+    /// The estimated work of this scenario's report or study ([`budget`]), without running it.
+    pub fn work(&self, job: Job) -> Work {
+        let method = make_method(self.method);
+        // Steps past the method's range are the step check's to refuse ([`Scenario::source`]).
+        if !method.steps().contains(&self.written_steps()) {
+            return Work::default();
+        }
+        method.work(self, job)
     }
 
     /// The one observations step: `data` or `simulate` (exactly one), with the number of

@@ -6,6 +6,7 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
+use super::budget::{f, shape, Job, Term, Work};
 use super::{
     Condition, ExperimentSpec, FigureContext, MethodScenario, Report, Scenario, SimulateSpec,
     Source,
@@ -336,6 +337,9 @@ impl MethodScenario for Scf {
         let model = LinearModel::from_spec(&s.model)?;
         Ok((model.q(), model.m()))
     }
+    fn work(&self, s: &Scenario, job: Job) -> Work {
+        work(s, job)
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         s.prepare_scf()?.report()
     }
@@ -351,6 +355,126 @@ impl MethodScenario for Scf {
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
+}
+
+/// Operations per step and unit of n³ + n²q + q³: the Kalman gains, moments, ratio recursion
+/// (38) and the two regions of a step (n = q = 100: about 1 ms a step natively).
+const OPS_STEP_CUBE: f64 = 2.0;
+/// Operations per step besides (small matrices allocated per product; a scalar model takes
+/// about 15 µs a step natively).
+const OPS_STEP: f64 = 15_000.0;
+/// Operations per report number: computing it, its JSON tree in the finiteness check and its
+/// text (about 0.3 µs natively).
+const OPS_NUMBER: f64 = 300.0;
+/// Operations per step of a τ-step prediction and unit of n³ (and its small-matrix overhead).
+const OPS_PREDICT_CUBE: f64 = 3.0;
+const OPS_PREDICT: f64 = 1000.0;
+/// Operations per draw of a Fig. 1 curve point and unit of n² (and per draw besides).
+const OPS_DRAW_SQUARE: f64 = 10.0;
+const OPS_DRAW: f64 = 300.0;
+/// Bytes per reported number (the f64, the gains and moments kept beside it, its JSON tree and
+/// text: 50–110 measured) and per step besides (4 KB measured for a scalar model).
+const BYTES_NUMBER: f64 = 80.0;
+const BYTES_STEP: f64 = 4000.0;
+
+/// The SCF/KF costs: per step the filter and the regions, n³ + n²q + q³; per step and
+/// prediction step of the target region and the collision check, n³; per point of a Fig. 1
+/// curve in n > 1, [`CURVE_DRAWS`](crate::scf::experiment::CURVE_DRAWS) draws of n²; per report
+/// number its JSON. A study: its conditioned simulation and one run of t_c steps.
+fn work(s: &Scenario, job: Job) -> Work {
+    let n = shape(&s.model.f).0.max(shape(&s.model.h).1).max(1);
+    let q = shape(&s.model.h).0;
+    let steps = s.written_steps();
+    let steps_field = s.steps_field();
+    let mut w = Work::default();
+    let model = || format!("({n} states, {q} outputs) with {steps_field} = {steps}");
+    let per_step = OPS_STEP_CUBE * (f(n).powi(3) + f(n * n * q) + f(q).powi(3)) + OPS_STEP;
+    w.ops(
+        Term::new(
+            "model.F",
+            model(),
+            "steps · (n³ + n²q + q³): the Kalman gains, the ratio recursion and both regions at every step",
+            f(steps) * per_step,
+        )
+        .advice("fewer steps or states"),
+    );
+    if let Job::Study { .. } = job {
+        // The conditioned draws: the backward representation, then per run t_c filter steps.
+        let t_c = s
+            .simulate
+            .as_ref()
+            .and_then(|sim| sim.condition.as_ref())
+            .map_or(0, |c| c.t);
+        w.ops(
+            Term::new(
+                "simulate.condition.t",
+                format!("= {t_c} with {n} states"),
+                "t_c · (n³ + n²q + q³): the backward representation, then per run t_c filter steps",
+                f(t_c) * per_step,
+            )
+            .advice("an earlier conditioning time or fewer states"),
+        );
+        return w;
+    }
+    let predicted = s.components.is_some() || s.tau > 0;
+    let predictions = usize::from(predicted) + usize::from(s.collision.is_some());
+    if predictions > 0 && s.tau > 0 {
+        w.ops(
+            Term::new(
+                "tau",
+                format!("= {} with {steps_field} = {steps} and {n} states", s.tau),
+                "steps · τ · n³: a τ-step prediction at every step (target region, collision check)",
+                f(predictions)
+                    * f(steps)
+                    * f(s.tau)
+                    * (OPS_PREDICT_CUBE * f(n).powi(3) + OPS_PREDICT),
+            )
+            .advice("a shorter prediction τ, fewer steps or states"),
+        );
+    }
+    if let Some(c) = &s.coverage_curve {
+        let per_point = if n == 1 {
+            OPS_DRAW
+        } else {
+            f(crate::scf::experiment::CURVE_DRAWS) * (OPS_DRAW_SQUARE * f(n * n) + OPS_DRAW)
+        };
+        w.ops(
+            Term::new(
+                "coverage_curve.points",
+                format!("= {} with {n} states", c.points),
+                "points · draws · n²: a Monte Carlo of the conditional coverage per point (n > 1)",
+                f(c.points) * per_point,
+            )
+            .advice("fewer points or states"),
+        );
+    }
+    // Per step: the KF and SCF ellipsoids and the ratio matrix (3 n²), the target and the
+    // collision regions, y and the truth.
+    let k = s.components.as_ref().map_or(n, Vec::len);
+    let numbers = f(steps)
+        * (3.0 * f(n * n)
+            + f(n + q)
+            + if predicted { 2.0 * f(k * k) } else { 0.0 }
+            + if s.collision.is_some() { 40.0 } else { 0.0 });
+    w.ops(
+        Term::new(
+            "model.F",
+            model(),
+            "steps · n²: the numbers of the report and their JSON",
+            numbers * OPS_NUMBER,
+        )
+        .advice("fewer steps or states"),
+    );
+    w.mem(
+        Term::new(
+            "model.F",
+            model(),
+            "steps · n²: the report's ellipsoids and ratio matrices, the gains kept beside them, their JSON",
+            numbers * BYTES_NUMBER + f(steps) * BYTES_STEP,
+        )
+        .advice("fewer steps or states"),
+    );
+    w
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -19,6 +19,7 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
+use super::budget::{f, rows_shape, shape, Job, Term, Work};
 use super::{detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, Source};
 use crate::error::{quoted, Error, Result};
 use crate::linalg;
@@ -426,39 +427,18 @@ impl Scenario {
             spec.tau,
             spec.alpha,
         );
-        let (j, mut note) = match sm.truncation(spec.gamma, "ubb.gamma") {
-            Ok(j) => (Some(j), None),
-            Err(_) if b.ncols() == 0 => (
-                None,
-                Some("no process noise: the unknowns are x(0) alone, so the LP does not grow with k and needs no truncation".into()),
-            ),
-            Err(e) => (None, Some(format!("Theorem 5 {}", e.message))),
-        };
-        let window = match (spec.window, j) {
-            (Some(w), _) => {
-                if !(1..=MAX_WINDOW).contains(&w) {
-                    return Err(Error::field(
-                        "ubb.window",
-                        format!("must lie in 1..={MAX_WINDOW}"),
-                    ));
-                }
-                w
-            }
-            (None, Some(j)) if j < MAX_WINDOW => j + 1,
-            (None, Some(j)) => {
-                note = Some(format!(
-                    "Theorem 5 asks for j = {j}; the window is capped at {MAX_WINDOW} steps"
-                ));
-                MAX_WINDOW
-            }
-            (None, None) if b.ncols() == 0 => steps,
-            (None, None) => {
-                return Err(Error::field(
-                    "ubb.window",
-                    format!("must be given: {} ", note.unwrap_or_default()),
-                ))
-            }
-        };
+        let (window, j, note) = window_length(&spec, &sm, b.ncols(), steps)?;
+        if spec.norm == Norm::L1 && spec.l1_form == L1Form::Enumerated {
+            // The longest window's bounds, before any LP (the steps before it would run first);
+            // without process noise every step's LP holds all the data.
+            let longest = if b.ncols() == 0 {
+                steps
+            } else {
+                window.min(steps)
+            };
+            crate::ubb::check_enumerated("ubb.eps", c[0].nrows() * longest)?;
+            crate::ubb::check_enumerated("ubb.tau", b.ncols() * longest)?;
+        }
         let smoothing = SmoothingReport {
             a_norm: sm.a_norm,
             b_norm: sm.b_norm,
@@ -508,6 +488,51 @@ impl Scenario {
             data,
         })
     }
+}
+
+/// The window j + 1 of Theorem 5 (58) for the truncation accuracy `ubb.gamma`, capped at
+/// [`MAX_WINDOW`], or `ubb.window` when given; without process noise (p = 0) every step's LP
+/// holds all data. Returns the window, j and a note on how it was chosen.
+fn window_length(
+    spec: &UbbSpec,
+    sm: &Smoothing,
+    p: usize,
+    steps: usize,
+) -> Result<(usize, Option<usize>, Option<String>)> {
+    let (j, mut note) = match sm.truncation(spec.gamma, "ubb.gamma") {
+        Ok(j) => (Some(j), None),
+        Err(_) if p == 0 => (
+            None,
+            Some("no process noise: the unknowns are x(0) alone, so the LP does not grow with k and needs no truncation".into()),
+        ),
+        Err(e) => (None, Some(format!("Theorem 5 {}", e.message))),
+    };
+    let window = match (spec.window, j) {
+        (Some(w), _) => {
+            if !(1..=MAX_WINDOW).contains(&w) {
+                return Err(Error::field(
+                    "ubb.window",
+                    format!("must lie in 1..={MAX_WINDOW}"),
+                ));
+            }
+            w
+        }
+        (None, Some(j)) if j < MAX_WINDOW => j + 1,
+        (None, Some(j)) => {
+            note = Some(format!(
+                "Theorem 5 asks for j = {j}; the window is capped at {MAX_WINDOW} steps"
+            ));
+            MAX_WINDOW
+        }
+        (None, None) if p == 0 => steps,
+        (None, None) => {
+            return Err(Error::field(
+                "ubb.window",
+                format!("must be given: {} ", note.unwrap_or_default()),
+            ))
+        }
+    };
+    Ok((window, j, note))
 }
 
 fn subscript(i: usize) -> String {
@@ -922,6 +947,9 @@ impl MethodScenario for Ubb {
         let r = ModelSpec::constant("model.B", &s.model.b, Method::Ubb)?.map_or(0, |b| b.ncols());
         Ok((q, r))
     }
+    fn work(&self, s: &Scenario, job: Job) -> Work {
+        work(s, job)
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let u = s.prepare_ubb()?.report()?;
         let mut r = Report::of(
@@ -960,6 +988,171 @@ impl MethodScenario for Ubb {
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
+}
+
+/// Operations of one interior-point solve per window step and unit of r + p + q (the
+/// stage-wise KKT system is banded: r = 10, a window of 30 about 5 ms natively).
+const OPS_LP_STAGE: f64 = 14_000.0;
+/// Operations per row and unit of r + q of a solve without process noise (x(0) alone: a tall
+/// LP whose rows grow with k).
+const OPS_LP_ROW: f64 = 400.0;
+/// Operations per entry of the enumerated l1 form's sign rows in one solve (2^{m−1} dense rows:
+/// about 1.3 µs each natively).
+const OPS_LP_ENUMERATED: f64 = 1300.0;
+/// Operations of one solve besides (setting it up, clarabel's start).
+const OPS_SOLVE: f64 = 30_000.0;
+/// Operations per entry of the dense constraint matrices a step builds (and reads into the
+/// solver's sparse form).
+const OPS_ENTRY: f64 = 1.5;
+/// Second-order cones (l2 bounds) against linear rows.
+const L2_FACTOR: f64 = 1.5;
+
+/// The set-membership costs, step by step: the window (Theorem 5's j + 1, `ubb.window`, or all
+/// the data without process noise) sets the LP's size, dim = r(len + 1) + p·len unknowns; each
+/// step builds its dense constraint matrices ((q + p + r)·len × dim entries, the enumerated l1
+/// form 2^{m−1} rows) and solves 2r LPs for the hull; the step shown adds `ubb.budget` support
+/// LPs for the polygon. A study's run: one simulation and the hull at its step.
+fn work(s: &Scenario, job: Job) -> Work {
+    let mut w = Work::default();
+    let Some(spec) = &s.ubb else {
+        return w;
+    };
+    let basis = spec.basis.as_ref().map_or(0, Vec::len);
+    let r = shape(&s.model.f).0.max(basis).max(1);
+    if r > MAX_STATES {
+        return w;
+    }
+    let q = if basis > 0 { 1 } else { shape(&s.model.h).0 };
+    let g = s.model.g.as_deref().map_or((0, 0), rows_shape);
+    let p = g.1;
+    let steps = s.written_steps();
+    let norm = |rows: Option<&Vec<Vec<f64>>>| {
+        rows.map_or(0.0, |rows| {
+            rows.iter()
+                .map(|row| row.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        })
+    };
+    let a_norm = match &s.model.f {
+        Some(crate::model::MatrixSpec::Constant(rows)) => norm(Some(rows)),
+        _ => 1.0,
+    };
+    let sm = Smoothing::new(a_norm, norm(s.model.g.as_ref()), spec.tau, spec.alpha);
+    let window = window_length(spec, &sm, p, steps).map_or(1, |(w, _, _)| w);
+    // Theorem 3's enumerated rows, when the longest window allows them (else refused first).
+    let longest = if p == 0 { steps } else { window.min(steps) };
+    let enumerated_form = spec.norm == Norm::L1
+        && spec.l1_form == L1Form::Enumerated
+        && (q * longest).max(p * longest) <= crate::ubb::MAX_ENUMERATED_M;
+    let window_field = if spec.window.is_some() {
+        "ubb.window"
+    } else if p == 0 {
+        s.steps_field()
+    } else {
+        "ubb.gamma"
+    };
+    let width = f(r + p + q);
+    // One step's solve and its dense matrices, for step k.
+    let solve = |k: usize| {
+        let len = if p == 0 { k + 1 } else { window.min(k + 1) };
+        let dim = if p == 0 { r } else { r * (len + 1) + p * len };
+        let mut rows = 2 * (q + p) * len + r * len + 2 * r;
+        let mut enumerated = 0;
+        if enumerated_form {
+            for m in [q * len, p * len] {
+                if m > 0 {
+                    enumerated += 1 << (m - 1);
+                }
+            }
+        }
+        rows += enumerated;
+        let lp = if p == 0 {
+            OPS_LP_ROW * f(2 * q * len) * f(r + q)
+        } else {
+            OPS_LP_STAGE * f(len) * width
+        } * if spec.norm == Norm::L2 {
+            L2_FACTOR
+        } else {
+            1.0
+        } + OPS_LP_ENUMERATED * f(enumerated) * f(dim);
+        (lp + OPS_SOLVE, OPS_ENTRY * f(rows) * f(dim))
+    };
+    let sizes = format!(
+        "({window}) with {} = {steps}, r = {r} states, p = {p} noise inputs, q = {q} outputs",
+        s.steps_field()
+    );
+    let hull = 2.0 * f(r);
+    if let Job::Study { .. } = job {
+        let k = spec.time.unwrap_or(steps.saturating_sub(1));
+        let (lp, fill) = solve(k);
+        w.ops(
+            Term::new(
+                window_field,
+                sizes,
+                "one run: the window's LP (2r solves for the hull) at the step checked",
+                hull * lp + fill + f(k) * f(r).powi(3),
+            )
+            .advice("a shorter window or an earlier ubb.time"),
+        );
+        return w;
+    }
+    let (mut solves, mut fills) = (0.0, 0.0);
+    for k in 0..steps {
+        let (lp, fill) = solve(k);
+        solves += hull * lp;
+        fills += fill;
+    }
+    w.ops(
+        Term::new(
+            window_field,
+            sizes.clone(),
+            "steps · 2r LPs over the window's r(len + 1) + p·len unknowns",
+            solves,
+        )
+        .advice(
+            "fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states",
+        ),
+    );
+    w.ops(
+        Term::new(
+            window_field,
+            sizes.clone(),
+            "steps · (q + p + r)·len · dim: the dense constraints of every step",
+            fills,
+        )
+        .advice("fewer steps or a shorter window"),
+    );
+    let k = spec.time.unwrap_or(steps.saturating_sub(1));
+    w.ops(
+        Term::new(
+            "ubb.budget",
+            format!("= {} with window {window} and r = {r} states", spec.budget),
+            "budget LPs for the polygon at the step shown",
+            f(spec.budget + 2 * q) * solve(k).0,
+        )
+        .advice("a smaller budget or a shorter window"),
+    );
+    w.ops(
+        Term::new(
+            s.steps_field(),
+            format!("= {steps} with r = {r} states, p = {p} noise inputs"),
+            "steps² · r³(p + 1): the powers of A and the prior box of each window",
+            f(steps) * f(steps) * f(r).powi(3) * f(p + 1),
+        )
+        .advice("fewer steps"),
+    );
+    // The largest step's dense matrices (the solver's copy beside them).
+    let (_, fill) = solve(steps.saturating_sub(1));
+    w.mem(
+        Term::new(
+            window_field,
+            sizes,
+            "(q + p + r)·len · dim: the dense constraints of one step",
+            fill / OPS_ENTRY * 8.0 * 2.0,
+        )
+        .advice("a shorter window or fewer states"),
+    );
+    w
 }
 
 // ---------------------------------------------------------------------------------------------

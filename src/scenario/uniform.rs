@@ -23,6 +23,7 @@
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
 
+use super::budget::{f, shape, Job, Term, Work};
 use super::{
     detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, SimulateSpec, Source,
 };
@@ -710,6 +711,9 @@ impl MethodScenario for Uniform {
         let r = constant("model.B", &s.model.b)?.map_or(0, |b| b.ncols());
         Ok((c.nrows(), r))
     }
+    fn work(&self, s: &Scenario, _: Job) -> Work {
+        work(s)
+    }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let u = s.uniform_report()?;
         let q = u.y.first().map_or(0, |y| y.len());
@@ -752,6 +756,74 @@ impl MethodScenario for Uniform {
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
+}
+
+/// Operations of one interior-point solve per unit of (variables + rows) · variables (the
+/// LPs are dense in the window's states: n = 2, ∂ = 80 about 33 ms natively, 200 measured,
+/// 260 for a margin).
+const OPS_LP: f64 = 260.0;
+/// Operations of one solve besides (building it, clarabel's setup: about 0.35 ms natively).
+const OPS_SOLVE: f64 = 350_000.0;
+/// A re-solve of the loaded state LP at the cursor (optimal face, polygon) against a fresh one.
+const RESOLVE: f64 = 0.15;
+
+/// The uniform-innovation costs: at every step t one state LP over the window's min(t, ∂) + 1
+/// states (and, estimating Θ, one parameter LP), each of (variables + rows) · variables; at
+/// the cursor re-solves of the state LP for the optimal face (two per state entry of the window
+/// and per half-width) and the polygon's support LPs (`uniform.directions`).
+fn work(s: &Scenario) -> Work {
+    let n = shape(&s.model.f).0.max(1);
+    let m = shape(&s.model.h).0.max(1);
+    let r = shape(&s.model.b).1;
+    let steps = s.written_steps();
+    let mut w = Work::default();
+    let Some(spec) = s
+        .uniform
+        .as_ref()
+        .filter(|u| n <= MAX_STATES && u.window <= uniform::MAX_WINDOW)
+    else {
+        return w;
+    };
+    let lp = |vars: usize, rows: usize| OPS_LP * f(vars + rows) * f(vars) + OPS_SOLVE;
+    let state = |len: usize| lp((len + 2) * n + m, 2 * len * (2 * n + m));
+    let parameters = |len: usize| match spec.estimator {
+        Joint::States => 0.0,
+        _ => lp(n * n + n * r + m * n + m * r + n + m, 2 * len * (n + m)),
+    };
+    let window = spec.window;
+    let online: f64 = (1..=steps)
+        .map(|t| {
+            let len = t.min(window);
+            state(len) + parameters(len)
+        })
+        .sum();
+    w.ops(
+        Term::new(
+            "uniform.window",
+            format!(
+                "= {window} with {} = {steps} and n = {n} states, m = {m} outputs",
+                s.steps_field()
+            ),
+            "steps · one LP over the window's ∂·n states, of (variables + rows) · variables",
+            online,
+        )
+        .advice("a shorter window, fewer steps or states"),
+    );
+    let len = window.min(spec.time.unwrap_or(steps)).max(1);
+    let resolves = f(2 * (len + 1) * n + 2 * (n + m) + spec.directions);
+    w.ops(
+        Term::new(
+            "uniform.directions",
+            format!(
+                "= {} with window = {window} and n = {n} states",
+                spec.directions
+            ),
+            "(2(∂ + 1)·n + directions) LPs at the cursor: the optimal face and the polygon",
+            resolves * RESOLVE * state(len),
+        )
+        .advice("fewer directions or a shorter window"),
+    );
+    w
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -590,6 +590,11 @@ fn powers_that_overflow_are_named_not_written_as_null() {
     // An unstable F within the magnitude range: its powers overflow over a long simulation.
     let mut g = preset_json("glls-grow");
     g["simulate"]["steps"] = json!(5000);
+    // Without its Monte Carlo (2000 runs of 5000 steps is past the work budget).
+    g["glls"]
+        .as_object_mut()
+        .expect("a glls block")
+        .remove("monte_carlo");
     match run(&g) {
         Ok(r) => panic!(
             "accepted an overflowing run: {}",
@@ -600,4 +605,100 @@ fn powers_that_overflow_are_named_not_written_as_null() {
             "{e}"
         ),
     }
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
+    // Each size field at its own limit is accepted alone (or nearly); all of a preset's at once
+    // (100 states × 10,000 steps, 100,000 LSCR strings × 800 measurements, an 80-step window
+    // of 8 states over 2000 steps, …) would take minutes. The estimate refuses them before any
+    // work: the run's error is the estimate's, and it names one of those fields, the limit and
+    // what to change.
+    use crate::common::limits::{at, first_presets, knobs, Knob};
+    use confset::scenario::budget::{MAX_BYTES, MAX_OPERATIONS};
+    use confset::scenario::Job;
+    let (ops, bytes) = (
+        format!("{MAX_OPERATIONS:.1e} operations"),
+        format!("{:.0} MB", MAX_BYTES / 1e6),
+    );
+    for (method, base) in first_presets() {
+        let ks = knobs(&base);
+        assert!(
+            ks.len() >= 2,
+            "{method}: fewer than two size fields to combine"
+        );
+        let s = at(&base, &ks.iter().collect::<Vec<_>>(), 1.0);
+        let sc = Scenario::from_json(&s.to_string())
+            .unwrap_or_else(|e| panic!("{method}: every field is within its own limit: {e}"));
+        let estimate = sc
+            .work(Job::Report)
+            .check(Job::Report)
+            .expect_err("the fields at their limits together exceed the budget");
+        let e = sc.run().expect_err("refused");
+        assert_eq!(
+            e, estimate,
+            "{method}: refused by the estimate, before any work"
+        );
+        let fields: Vec<String> = ks
+            .iter()
+            .map(|k| match k {
+                Knob::States { .. } => "model.F".to_string(),
+                Knob::Count { .. } => k.name(),
+            })
+            .collect();
+        assert!(
+            fields.contains(&e.field),
+            "{method}: {e} names none of {fields:?}"
+        );
+        let text = e.to_string();
+        assert!(
+            text.contains(&format!("is limited to about {ops}"))
+                || text.contains(&format!("is limited to about {bytes}")),
+            "{method}: the limit is not named: {text}"
+        );
+        assert!(text.contains("asks for about"), "{method}: {text}");
+        let advice = text.rsplit("): ").next().unwrap_or("");
+        assert!(
+            advice.starts_with("fewer") || advice.starts_with("a "),
+            "{method}: no advice: {text}"
+        );
+    }
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn a_monte_carlo_in_a_report_points_to_the_chunked_study() {
+    // 10⁶ GLLS runs of 5000 steps inside one report: the study runs them in chunks.
+    let mut g = preset_json("glls-saturate");
+    g["simulate"]["steps"] = json!(5000);
+    g["glls"]["monte_carlo"]["runs"] = json!(1_000_000);
+    assert_err(
+        &g,
+        "glls.monte_carlo.runs",
+        &[
+            "operations",
+            "fewer runs",
+            "chunked study",
+            "confset experiment",
+        ],
+    );
+}
+
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn a_study_whose_preparation_is_too_big_is_refused_before_it_is_prepared() {
+    // Section 5.2's comparison over the horizons 0..4000 prepares one state-noise estimator
+    // per horizon, each O(s³): refused by the estimate of the study's preparation and one run.
+    let mut g = preset_json("glls-unstable5");
+    g["simulate"]["steps"] = json!(5000);
+    g["glls"]["monte_carlo"]["max_horizon"] = json!(4000);
+    let s = Scenario::from_json(&g.to_string()).expect("valid");
+    let e = s.study(None).err().expect("refused");
+    assert_eq!(e.field, "glls.monte_carlo.max_horizon", "{e}");
+    assert!(
+        e.message
+            .contains("a study's preparation and one run is limited to about"),
+        "{e}"
+    );
 }

@@ -540,64 +540,150 @@ fn every_method_is_reached() {
     }
 }
 
-/// The work at the limits: each preset with one size field at the largest value the core
-/// accepts, timed (printed, not asserted: timings belong to the machine). The README's table
-/// of limits quotes this run:
-/// `cargo test --release --test suite fuzz::work_at_the_limits -- --ignored --nocapture`.
+/// The work at the limits: every preset with several size fields at their limits at once, right
+/// under the budget (the common fraction of the way to the limits whose estimate fits it), in
+/// pairs and all together, timed (CPU seconds of the thread, and wall) with the process's peak
+/// memory (printed, not asserted:
+/// timings belong to the machine), with the estimate beside each; then each field alone at its
+/// limit, refused or run. The README's Limits section quotes this run:
+/// `cargo test --release --test suite fuzz::work_at_the_limits -- --ignored --nocapture --test-threads 1`.
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
-#[ignore = "a measurement (about a minute): run it by hand"]
+#[ignore = "a measurement (minutes): run it by hand"]
 fn work_at_the_limits() {
-    let limits = confset::scenario::limits();
-    let mut rows = Vec::new();
+    use crate::common::limits::{at, knobs, under_budget};
+    use confset::scenario::{budget, Job};
+    /// The process's peak resident memory since the last reset, in MB (Linux).
+    fn peak_mb(reset: bool) -> f64 {
+        if reset {
+            let _ = std::fs::write("/proc/self/clear_refs", "5");
+        }
+        std::fs::read_to_string("/proc/self/status")
+            .ok()
+            .and_then(|s| {
+                s.lines()
+                    .find(|l| l.starts_with("VmHWM:"))
+                    .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+            })
+            .map_or(0.0, |kb| kb / 1024.0)
+    }
+    // CONFSET_WORK_ONLY=text: only presets whose name holds it; CONFSET_WORK_SCALE=x: aim the
+    // estimates at x times the budget (calibrating with a raised budget); CONFSET_WORK_DUMP=dir:
+    // write the slowest accepted scenario of each method there (METHOD.json), to time in wasm.
+    /// The thread's CPU time in seconds (Linux): the machine is shared, so wall time overstates.
+    fn cpu_seconds() -> f64 {
+        std::fs::read_to_string("/proc/thread-self/schedstat")
+            .ok()
+            .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+            .map_or(0.0, |ns| ns / 1e9)
+    }
+    let only = option_env_var("CONFSET_WORK_ONLY");
+    let scale: f64 = option_env_var("CONFSET_WORK_SCALE")
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0);
+    // (seconds, MB, line) of every run, and the slowest accepted per method.
+    let mut rows: Vec<(f64, f64, String)> = Vec::new();
+    let mut slowest: std::collections::BTreeMap<String, (f64, f64, String, String)> =
+        Default::default();
     for p in presets::all() {
+        if only.as_deref().is_some_and(|o| !p.name.contains(o)) {
+            continue;
+        }
         let base = serde_json::to_value(&p.scenario).expect("JSON");
         let method = base["method"].as_str().unwrap_or("").to_string();
-        let max_steps = limits["simulate.steps"][&method][1].as_u64().unwrap_or(1);
-        let mut cases: Vec<(String, Value)> = Vec::new();
-        if base["simulate"].is_object() {
-            let mut s = base.clone();
-            s["simulate"]["steps"] = json!(max_steps);
-            if s["lscr"]["time"].is_number() {
-                s["lscr"]["time"] = json!(max_steps);
+        let ks = knobs(&base);
+        let mut sets: Vec<Vec<&crate::common::limits::Knob>> = vec![ks.iter().collect()];
+        for i in 0..ks.len() {
+            for j in i + 1..ks.len() {
+                sets.push(vec![&ks[i], &ks[j]]);
             }
-            cases.push((format!("simulate.steps = {max_steps}"), s));
         }
-        for (block, key, v) in [
-            ("uniform", "window", limits["uniform.window"][1].clone()),
-            ("ubb", "window", json!(confset::scenario::ubb::MAX_WINDOW)),
-            ("lscr", "m", json!(100_000)),
-            ("glls", "max_horizon", json!(100_000)),
-        ] {
-            if base[block].is_object() {
-                let mut s = base.clone();
-                s[block][key] = v.clone();
-                cases.push((format!("{block}.{key} = {v}"), s));
+        let mut cases: Vec<(String, Value)> = Vec::new();
+        for set in &sets {
+            let names: Vec<String> = set.iter().map(|k| k.name()).collect();
+            if let Some((t, s)) = under_budget(&base, set, scale) {
+                cases.push((
+                    format!("{} at {:.0} % of the way", names.join(" + "), 100.0 * t),
+                    s,
+                ));
             }
+        }
+        for k in ks.iter().filter(|_| scale == 1.0) {
+            cases.push((
+                format!("{} alone at its limit", k.name()),
+                at(&base, &[k], 1.0),
+            ));
         }
         for (what, s) in cases {
-            let t0 = std::time::Instant::now();
-            let r = Scenario::from_json(&s.to_string()).and_then(|s| s.run());
-            let secs = t0.elapsed().as_secs_f64();
-            rows.push((
-                secs,
-                format!(
-                    "{secs:7.3} s  {} with {what}: {}",
-                    p.name,
-                    match r {
-                        Ok(_) => "report".to_string(),
-                        Err(e) => format!(
-                            "{}: {}",
-                            e.field,
-                            e.message.chars().take(90).collect::<String>()
-                        ),
-                    }
-                ),
-            ));
+            let text = s.to_string();
+            let est = Scenario::from_json(&text)
+                .map(|sc| sc.work(Job::Report))
+                .unwrap_or_default();
+            peak_mb(true);
+            let (t0, c0) = (std::time::Instant::now(), cpu_seconds());
+            let r = Scenario::from_json(&text).and_then(|s| {
+                s.run()
+                    .map(|r| serde_json::to_string(&r).map(|j| j.len()).unwrap_or(0))
+            });
+            let wall = t0.elapsed().as_secs_f64();
+            let secs = cpu_seconds() - c0;
+            let mb = peak_mb(false);
+            let mut terms: Vec<_> = est.operations.iter().collect();
+            terms.sort_by(|a, b| b.amount.total_cmp(&a.amount));
+            let top = terms
+                .iter()
+                .take(3)
+                .map(|t| {
+                    format!(
+                        "{:.0}% {}",
+                        100.0 * t.amount / est.total_operations(),
+                        t.formula.chars().take(30).collect::<String>()
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(" | ");
+            let line = format!(
+                "{secs:7.3} s ({wall:5.2} s wall) {mb:6.0} MB  est {:8.2e} ops {:5.0} MB ({:4.2} ns/op)  {} with {what}: {}  [{}]",
+                est.total_operations(),
+                est.total_bytes() / 1e6,
+                secs * 1e9 / est.total_operations().max(1.0),
+                p.name,
+                match &r {
+                    Ok(len) => format!("report of {:.1} MB JSON", *len as f64 / 1e6),
+                    Err(e) => format!("{} {}", e.field, e.message.chars().take(160).collect::<String>()),
+                },
+                top
+            );
+            eprintln!("{line}");
+            if r.is_ok() {
+                let e = slowest.entry(method.clone()).or_insert((
+                    0.0,
+                    0.0,
+                    String::new(),
+                    String::new(),
+                ));
+                if secs > e.0 {
+                    *e = (secs, mb, line.clone(), text.clone());
+                }
+            }
+            rows.push((secs, mb, line));
         }
     }
     rows.sort_by(|a, b| b.0.total_cmp(&a.0));
-    for (_, r) in rows {
+    eprintln!(
+        "\nslowest runs (budget {:.0e} operations, {:.0} MB):",
+        budget::MAX_OPERATIONS,
+        budget::MAX_BYTES / 1e6
+    );
+    for (_, _, r) in rows.iter().take(12) {
         eprintln!("{r}");
+    }
+    eprintln!("\nslowest accepted per method:");
+    let dump = option_env_var("CONFSET_WORK_DUMP");
+    for (m, (_, _, line, text)) in &slowest {
+        eprintln!("{m:10} {line}");
+        if let Some(dir) = &dump {
+            std::fs::write(format!("{dir}/{m}.json"), text).expect("the dump directory");
+        }
     }
 }
