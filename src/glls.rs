@@ -437,7 +437,7 @@ impl Horizon {
         if p < 1 || p > n {
             return Err(Error::field(
                 "glls.p",
-                format!("must lie in 1..={n} (singular values kept), found {p}"),
+                format!("must be a whole number from 1 to {n} (singular values kept), found {p}"),
             ));
         }
         let p1 = self.gamma.clone() * &self.r; // Γ R = P₁ diag(σ): recover P₁ column by column
@@ -1532,7 +1532,7 @@ impl Precision {
         if runs == 0 || runs > 1_000_000 {
             return Err(Error::field(
                 "glls.monte_carlo.runs",
-                format!("must lie in 1..=1000000, found {runs}"),
+                format!("must be a whole number from 1 to 1000000, found {runs}"),
             ));
         }
         if s_max + 1 > steps {

@@ -163,7 +163,7 @@ pub fn check_time(field: &str, t: usize, steps: usize) -> Result<()> {
     if t < 1 || t > steps {
         return Err(Error::field(
             field,
-            format!("must lie in 1..={steps}, found {t}"),
+            format!("must be a whole number from 1 to {steps}, found {t}"),
         ));
     }
     Ok(())

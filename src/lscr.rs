@@ -272,7 +272,8 @@ impl Regression {
                 return Err(Error::field(
                     "lscr.index",
                     format!(
-                        "must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"
+                        "must be a whole number from 1 to {} (smoothing estimates x_i with i < t = {t}), found {i}",
+                        t - 1
                     ),
                 ));
             }
@@ -970,7 +971,7 @@ impl Experiment {
         if runs == 0 || runs > 1_000_000 {
             return Err(Error::field(
                 "lscr.coverage.runs",
-                format!("must lie in 1..=1000000, found {runs}"),
+                format!("must be a whole number from 1 to 1000000, found {runs}"),
             ));
         }
         let sampler = est.sampler()?;

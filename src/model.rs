@@ -579,7 +579,9 @@ impl ConditionedSampler {
         if t_c < 1 || t_c > steps {
             return Err(Error::field(
                 "condition.t",
-                format!("must lie in 1..={steps} (the simulated horizon), found {t_c}"),
+                format!(
+                    "must be a whole number from 1 to {steps} (the simulated horizon), found {t_c}"
+                ),
             ));
         }
         let moments = model.moments(steps, u);

@@ -628,7 +628,7 @@ impl Online {
         if window == 0 || window > MAX_WINDOW {
             return Err(Error::field(
                 "uniform.window",
-                format!("must lie in 1..={MAX_WINDOW}, found {window}"),
+                format!("must be a whole number from 1 to {MAX_WINDOW}, found {window}"),
             ));
         }
         Ok(Online {

@@ -295,7 +295,7 @@ impl Session {
         if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
             return Err(js_error(&Error::field(
                 "size",
-                "must lie in 16..=8192 pixels",
+                "must be a whole number from 16 to 8192 pixels",
             )));
         }
         plot::report_svg(report, &view, w, h).map_err(|e| js_error(&e))
@@ -318,7 +318,7 @@ impl Session {
         if !(1..=4096).contains(&width) || !(1..=4096).contains(&height) {
             return Err(js_error(&Error::field(
                 "size",
-                format!("{width} × {height}: the raster must have 1..=4096 pixels each way"),
+                format!("{width} × {height}: the raster must have 1 to 4096 pixels each way"),
             )));
         }
         plane_region(&l.region, l.plot, l.slice_at.as_deref())

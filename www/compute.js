@@ -23,7 +23,7 @@ export class ComputeFault extends Error {
 export const workerStarts = [];
 
 // The live clients by panel (the panel root's id), so a browser test can reach one
-// (`testOnlyAbortNextRun`); nothing in the page looks them up.
+// (`testOnlyAbortNextRun`, `testOnlySlowMs`); nothing in the page looks them up.
 export const computeClients = new Map();
 
 const WORKER_URL = new URL('./worker.js', import.meta.url);
@@ -44,12 +44,14 @@ export function computeClient(panel) {
   const client = {
     // Test only: the next job aborts the worker's instance instead of running (worker.js).
     testOnlyAbortNextRun: false,
+    // Test only: every run first holds its worker this long (worker.js), as a long run would.
+    testOnlySlowMs: 0,
     // The watchdog's time for the next jobs (a test shortens it).
     watchdogMs: WATCHDOG_MS,
     run(scenarioJson) {
       const testOnlyAbort = client.testOnlyAbortNextRun;
       client.testOnlyAbortNextRun = false;
-      return post({ scenario: scenarioJson, testOnlyAbort }).then((d) => ({ report: d.report, ms: d.ms, cursor: keyOf(d.cursor) }));
+      return post({ scenario: scenarioJson, testOnlyAbort, testOnlySlowMs: client.testOnlySlowMs }).then((d) => ({ report: d.report, ms: d.ms, cursor: keyOf(d.cursor) }));
     },
     // The detail of step t of a scenario's time cursor (worker.js): a Promise of {t, at (JSON
     // text of the report's `at` at t), cursor (the key of the cursor it comes from, as run()

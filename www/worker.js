@@ -6,6 +6,9 @@
 //
 // Messages in:  {id, scenario: JSON text} — run it; {id, scenario, testOnlyAbort: true} — the
 //               page tests' crash: abort the instance instead (no scenario can ask for it);
+//               {id, scenario, testOnlySlowMs: ms} — the page tests' long run: hold the worker
+//               that long first, as a long wasm call would (the work budget keeps every
+//               accepted scenario to about 2 s, too close to the 1 s Cancel to test with);
 //               {id, cursor: {scenario: JSON text, t}} — the detail of step t of that
 //               scenario's time cursor (the report's `at` there; see "time cursor" below);
 //               {id, study: {scenario, runs, shard: [i, n]}} — run shard i of n of the
@@ -74,11 +77,12 @@ function answerError(id, e) {
   else postMessage({ id, fault: `${e?.name || 'Error'}: ${e?.message || e}` });
 }
 
-function runJob({ id, scenario, testOnlyAbort: abort }) {
+function runJob({ id, scenario, testOnlyAbort: abort, testOnlySlowMs: slow }) {
   // A fresh Session per job: the worker keeps no report (the page's Session keeps the one it draws).
   const session = new Session();
   try {
     if (abort) testOnlyAbort();
+    for (const end = performance.now() + (slow || 0); performance.now() < end;); // blocks, as a long call
     const s0 = performance.now();
     const report = session.run(scenario);
     const ms = performance.now() - s0;

@@ -134,7 +134,7 @@ fn size(args: &[String]) -> Result<(u32, u32), Error> {
     if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
         return Err(Error::field(
             "--size",
-            "must lie in 16..=8192 pixels per side",
+            "must be a whole number from 16 to 8192 pixels per side",
         ));
     }
     Ok((w, h))

@@ -525,7 +525,9 @@ impl<'a> Ctx<'a> {
                 } else {
                     "report.time"
                 },
-                format!("must lie in 1..={steps} (the report's time steps), found {t}"),
+                format!(
+                    "must be a whole number from 1 to {steps} (the report's time steps), found {t}"
+                ),
             ));
         }
         if report.plot.is_empty() || report.plot.len() > 2 {

@@ -180,7 +180,9 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
             } else {
                 "report.uniform.at.time"
             },
-            format!("must lie in 1..={steps} (the report's time steps), found {t}"),
+            format!(
+                "must be a whole number from 1 to {steps} (the report's time steps), found {t}"
+            ),
         ));
     }
     Ok(U {

@@ -15,7 +15,7 @@
 //!
 //! A refusal names the field of the largest term, the sizes that drive it, its formula, the
 //! limit and what to change; where a Monte Carlo inside the report is the cost, it says that
-//! more runs go through the chunked study. `cargo test --release --test suite
+//! more runs go through the chunked study. `cargo test --profile bench --test suite
 //! fuzz::work_at_the_limits -- --ignored --nocapture` measures the slowest accepted scenarios.
 
 use super::Scenario;

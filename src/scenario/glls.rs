@@ -285,7 +285,10 @@ impl Scenario {
         if !(1..=2000).contains(&spec.max_horizon) {
             return Err(Error::field(
                 "glls.max_horizon",
-                format!("must lie in 1..=2000, found {}", spec.max_horizon),
+                format!(
+                    "must be a whole number from 1 to 2000, found {}",
+                    spec.max_horizon
+                ),
             ));
         }
         let default_mu = 3.0 * model.omega.trace().max(0.0).sqrt();
@@ -342,7 +345,7 @@ fn simulate(
     if !(1..=5000).contains(&steps) {
         return Err(Error::field(
             "simulate.steps",
-            format!("must lie in 1..=5000, found {steps}"),
+            format!("must be a whole number from 1 to 5000, found {steps}"),
         ));
     }
     if sim.condition.is_some() {
@@ -431,7 +434,7 @@ impl GllsPrepared {
         if p < 1 || p > n {
             return Err(Error::field(
                 "glls.p",
-                format!("must lie in 1..={n} (singular values kept), found {p}"),
+                format!("must be a whole number from 1 to {n} (singular values kept), found {p}"),
             ));
         }
         let (index_p, best_horizon_p) = if p < n {
@@ -645,7 +648,7 @@ impl GllsPrepared {
         if !(2..=5000).contains(&steps) {
             return Err(Error::field(
                 "glls.monte_carlo.steps",
-                format!("must lie in 2..=5000, found {steps}"),
+                format!("must be a whole number from 2 to 5000, found {steps}"),
             ));
         }
         let s_max = mc
@@ -879,8 +882,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         // Σ_s (s + 1): the steps of every horizon's window.
         let windows = f(s_max + 1) * f(s_max + 2) / 2.0;
         let per_run = f(mc_steps) * (OPS_SIM * f(n * (n + m + r)) + OPS_SIM_STEP)
-            + windows
-                * (OPS_STACK + OPS_ESTIMATE * f(n * m) * if noise { f(s_max) } else { 1.0 });
+            + windows * (OPS_STACK + OPS_ESTIMATE * f(n * m) * if noise { f(s_max) } else { 1.0 });
         let (run_field, run_count) = if job == Job::Report {
             ("glls.monte_carlo.runs", runs)
         } else {

@@ -207,7 +207,8 @@ impl LscrSpec {
                 return Err(Error::field(
                     "lscr.index",
                     format!(
-                        "must lie in 1..{t} (smoothing estimates x_i with i < t = {t}), found {i}"
+                        "must be a whole number from 1 to {} (smoothing estimates x_i with i < t = {t}), found {i}",
+                        t - 1
                     ),
                 ))
             }
@@ -280,7 +281,7 @@ fn simulate(
                 return Err(Error::field(
                     "simulate.condition.t",
                     format!(
-                        "must lie in 1..={steps} (a time of the simulated run: the data length t or the estimated time), found {}",
+                        "must be a whole number from 1 to {steps} (a time of the simulated run: the data length t or the estimated time), found {}",
                         c.t
                     ),
                 ));
@@ -366,7 +367,7 @@ impl Scenario {
             if w == 0 || h == 0 || w > 4096 || h > 4096 {
                 return Err(Error::field(
                     "lscr.resolution",
-                    "must be [width, height] with 1..=4096 pixels each",
+                    "must be [width, height] with 1 to 4096 pixels each",
                 ));
             }
         }

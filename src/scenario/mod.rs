@@ -663,7 +663,7 @@ impl Scenario {
             if !(1..=MAX_STUDY_RUNS).contains(&r) {
                 return Err(Error::field(
                     "runs",
-                    format!("must lie in 1..={MAX_STUDY_RUNS}, found {r}"),
+                    format!("must be a whole number from 1 to {MAX_STUDY_RUNS}, found {r}"),
                 ));
             }
         }
@@ -733,7 +733,7 @@ impl Scenario {
             return Err(Error::field(
                 source.steps_field(),
                 format!(
-                    "{found}: method \"{}\" takes {}..={} {what}",
+                    "{found}: method \"{}\" takes {} to {} {what}",
                     self.method,
                     range.start(),
                     range.end()

@@ -313,7 +313,10 @@ impl Scenario {
             ));
         }
         if !(8..=512).contains(&spec.budget) {
-            return Err(Error::field("ubb.budget", "must lie in 8..=512 LPs"));
+            return Err(Error::field(
+                "ubb.budget",
+                "must be a whole number from 8 to 512 LPs",
+            ));
         }
         let source = self.source(&Ubb)?;
         let (steps, seed) = (source.steps(), source.seed());
@@ -512,7 +515,7 @@ fn window_length(
             if !(1..=MAX_WINDOW).contains(&w) {
                 return Err(Error::field(
                     "ubb.window",
-                    format!("must lie in 1..={MAX_WINDOW}"),
+                    format!("must be a whole number from 1 to {MAX_WINDOW}"),
                 ));
             }
             w
@@ -866,7 +869,10 @@ impl Guarantee {
         if !(1..=super::MAX_STUDY_RUNS).contains(&total) {
             return Err(Error::field(
                 "ubb.guarantee.runs",
-                format!("must lie in 1..={}, found {total}", super::MAX_STUDY_RUNS),
+                format!(
+                    "must be a whole number from 1 to {}, found {total}",
+                    super::MAX_STUDY_RUNS
+                ),
             ));
         }
         let k = prepared

@@ -284,7 +284,7 @@ impl Scenario {
         if !(8..=720).contains(&spec.directions) {
             return Err(Error::field(
                 "uniform.directions",
-                "must lie in 8..=720 (the budget of support LPs of the polygon)",
+                "must be a whole number from 8 to 720 (the budget of support LPs of the polygon)",
             ));
         }
         let joint = spec.estimator;
@@ -454,7 +454,10 @@ impl UniformPrepared {
         } else {
             Err(Error::field(
                 "uniform.time",
-                format!("must lie in 1..={}, found {time}", self.steps),
+                format!(
+                    "must be a whole number from 1 to {}, found {time}",
+                    self.steps
+                ),
             ))
         }
     }

@@ -99,7 +99,7 @@ pub fn coverage_curve(
     if c.points < 2 || c.points > 2001 {
         return Err(Error::field(
             "coverage_curve.points",
-            "must lie in 2..=2001",
+            "must be a whole number from 2 to 2001",
         ));
     }
     let off = Offline::new(model, time, u)?;
@@ -612,7 +612,10 @@ impl ConditionalExperiment {
         collision: Option<&CollisionSpec>,
     ) -> Result<Self> {
         if e.runs == 0 || e.runs > 10_000_000 {
-            return Err(Error::field("experiment.runs", "must lie in 1..=10000000"));
+            return Err(Error::field(
+                "experiment.runs",
+                "must be a whole number from 1 to 10000000",
+            ));
         }
         let (n, q) = (model.n(), model.q());
         let steps = t_c;

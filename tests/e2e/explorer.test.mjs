@@ -10,7 +10,7 @@ import { fileURLToPath } from 'node:url';
 import { PANELS } from '../../www/registry.js';
 import { slideToPaint } from './helpers.mjs';
 
-// The native CLI that `cargo test --release` (the first test layer) builds.
+// The native CLI that `cargo test --profile bench` (the first test layer) builds.
 const CLI = fileURLToPath(new URL('../../target/release/confset', import.meta.url));
 
 // The first place two reports differ beyond 1e-9 relative (numbers) or at all (the rest).
@@ -213,7 +213,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
         const [, , [, max]] = ranges.find(([id]) => id === 'u-window');
         await lim.fill('#u-window', String(max + 1));
         await settled(lim);
-        assert.match(await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.textContent), new RegExp(`1\\.\\.=${max}`), 'uniform: the message names the same limit');
+        assert.match(await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.textContent), new RegExp(`from 1 to ${max}\\b`), 'uniform: the message names the same limit');
         await lim.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.scrollIntoView({ block: 'center' }));
         await lim.screenshot({ path: join(screenshotDir, 'error-window-limit.png') });
       }

@@ -148,7 +148,7 @@ export default async function glls(env) {
       await set(page, 'g-s', 8);
       assert.equal(await text(page, '#glls .err[data-for="glls.horizon"]'), '', 'the error clears once s is valid');
       assert.equal(await page.$eval('#g-stale', (e) => e.hidden), true);
-      await bad('g-p', 4, 'glls.p', /^glls\.p must lie in 1\.\.=3/);
+      await bad('g-p', 4, 'glls.p', /^glls\.p must be a whole number from 1 to 3/);
       await set(page, 'g-p', 2);
       await bad('g-mu', -1, 'glls.mu', /^glls\.mu must be a finite bound ≥ 0/);
       await set(page, 'g-mu', 0.1);
@@ -156,7 +156,7 @@ export default async function glls(env) {
       await set(page, 'g-estimator', 'lls');
       await bad('g-steps', '', 'simulate.steps', /^simulate\.steps must be a whole number/);
       await set(page, 'g-steps', 40);
-      await bad('g-max', 0, 'glls.max_horizon', /^glls\.max_horizon must lie in 1\.\.=2000/);
+      await bad('g-max', 0, 'glls.max_horizon', /^glls\.max_horizon must be a whole number from 1 to 2000/);
       await set(page, 'g-max', 60);
       const again = await allPixels(page);
       for (const p of PANELS) assert.equal(again[p], good[p], `valid again: the same ${p} figure`);

@@ -151,7 +151,7 @@ export default async function lscr(env) {
       await bad('l-sv', -1, 'model.sigma_v2', /^model\.sigma_v2 /);
       await set(page, 'l-sv', 0.005);
       await set(page, 'l-estimate', 'smooth');
-      await bad('l-index', 40, 'lscr.index', /^lscr\.index must lie in 1\.\.30/);
+      await bad('l-index', 40, 'lscr.index', /^lscr\.index must be a whole number from 1 to 29/);
       await set(page, 'l-estimate', 'predict');
       await bad('l-construction', 'group', 'lscr.M', /^lscr\.M must be a power of two/);
       await set(page, 'l-construction', 'random');

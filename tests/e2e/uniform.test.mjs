@@ -140,7 +140,7 @@ export default async function uniform(env) {
         assert.equal(await page.$eval('#u-stale', (e) => e.hidden), true, 'valid again: no stale note');
         assert.equal(await page.$$eval('#uniform .err[data-for]', (es) => es.map((e) => e.textContent).join('')), '');
       };
-      await bad('u-window', 0, 'uniform.window', /^uniform\.window must lie in 1\.\.=80, found 0/);
+      await bad('u-window', 0, 'uniform.window', /^uniform\.window must be a whole number from 1 to 80, found 0/);
       assert.equal(await page.$eval('#u-window', (e) => e.getAttribute('aria-invalid')), 'true');
       await set(page, 'u-window', 5);
       await fine();

@@ -1,5 +1,6 @@
-// The compute worker end to end: a long run (uniform-paper with window ∂ = 80, seconds of wasm)
-// leaves the page responsive, shows Cancel after 1 s, is cancelled or replaced by a newer
+// The compute worker end to end: a long run (uniform-paper, its worker held 3 s first by the
+// test-only `testOnlySlowMs`, as a long wasm call would: the work budget keeps every accepted
+// scenario to about 2 s, too close to the 1 s of Cancel to rely on) leaves the page responsive, shows Cancel after 1 s, is cancelled or replaced by a newer
 // scenario, and the panel stays usable; a crash of the worker's wasm instance is contained (the
 // message, the scenario to download, the last picture, a fresh worker, no console error); the
 // page's Content-Security-Policy holds, and a violation of it is an error the harness fails on.
@@ -55,6 +56,19 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
   {
     const page = await open(newPage, waitReady, `${baseUrl}#uniform`, 'uniformBusy');
     const before = await pixels(page, 'uniform');
+    // Past the work budget: refused before any work, with the field and the limit.
+    await input(page, 'u-window', 80);
+    await idle(page, 'uniformBusy');
+    const refusal = await page.$eval('#uniform .err[data-for="uniform.window"]', (e) => e.textContent);
+    assert.match(refusal, /^uniform\.window = 80 .*operations.*limited to about 2\.0e9 operations/, `∂ = 80: ${refusal}`);
+    console.log(`    ∂ = 80 refused by the work budget: "${refusal}"`);
+    await input(page, 'u-window', 5);
+    await idle(page, 'uniformBusy');
+    assert.deepEqual(await pixels(page, 'uniform'), before, 'back to the first picture');
+    const slow = (ms) => page.evaluate(async (t) => {
+      (await import(new URL('compute.js', document.baseURI).href)).computeClients.get('uniform').testOnlySlowMs = t;
+    }, ms);
+    await slow(3000);
     // Frame gaps and the delay of a real click (its event's time stamp → its handler), with
     // whether the compute was still pending when the handler ran.
     await page.evaluate(() => {
@@ -68,7 +82,7 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
       }, true);
     });
     const t0 = Date.now();
-    await input(page, 'u-window', 80);
+    await input(page, 'u-window', 9);
     await page.waitForFunction(() => document.body.dataset.uniformBusy);
     await page.waitForTimeout(300);
     // Another control while it runs: the toolbar's "Paste data…" opens its box (no compute).
@@ -81,7 +95,7 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     const [click] = await page.evaluate(() => window.probe.clicks);
     assert.ok(click.pending, 'the click was handled while the compute was pending');
     assert.ok(click.delay < 100, `the click's handler ran ${click.delay.toFixed(1)} ms after its event`);
-    console.log(`    long run (∂ = 80): a click handled ${click.delay.toFixed(1)} ms after its event while the run was pending (playwright's click returned in ${clickMs} ms)`);
+    console.log(`    long run (∂ = 9, held 3 s): a click handled ${click.delay.toFixed(1)} ms after its event while the run was pending (playwright's click returned in ${clickMs} ms)`);
 
     // Cancel after 1 s.
     const cancel = '#uniform .compute-note button';
@@ -108,10 +122,11 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     const w10 = await pixels(page, 'uniform');
     assert.notDeepEqual(w10, before, '∂ = 10 draws');
 
-    // A newer scenario replaces a run past 1 s: ∂ = 80, then ∂ = 5 once Cancel shows.
-    await input(page, 'u-window', 80);
+    // A newer scenario replaces a run past 1 s: ∂ = 9, then ∂ = 5 once Cancel shows.
+    await input(page, 'u-window', 9);
     await page.waitForSelector(cancel, { state: 'visible', timeout: 5_000 });
     const r0 = Date.now();
+    await slow(0);
     await input(page, 'u-window', 5);
     await idle(page, 'uniformBusy', 5_000);
     const replacedMs = Date.now() - r0;
@@ -120,17 +135,18 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     console.log(`    a newer scenario replaced the long run: drawn ${replacedMs} ms after its input`);
 
     // The long run to its end, the frames coming all along.
+    await slow(3000);
     await page.evaluate(() => { window.probe.gaps.length = 0; });
     const l0 = Date.now();
-    await input(page, 'u-window', 80);
+    await input(page, 'u-window', 12);
     await idle(page, 'uniformBusy', 120_000);
     const longMs = Date.now() - l0;
-    assert.match(await page.$eval('#u-num-title', (e) => e.textContent), /∂ = 80\)/);
+    assert.match(await page.$eval('#u-num-title', (e) => e.textContent), /∂ = 12\)/);
     assert.equal(await figureErrors(page, 'uniform'), '');
     const gaps = await page.evaluate(() => { window.probe.stop = true; return window.probe.gaps.slice(1); });
     const worst = Math.max(...gaps);
     const timing = await page.$eval('#u-timing', (e) => e.textContent);
-    console.log(`    ∂ = 80 to its end: ${longMs} ms (${timing}); ${gaps.length} frames, longest gap ${worst.toFixed(0)} ms (the report's setReport + draw)`);
+    console.log(`    ∂ = 12, held 3 s, to its end: ${longMs} ms (${timing}); ${gaps.length} frames, longest gap ${worst.toFixed(0)} ms (the report's setReport + draw)`);
     await page.close();
   }
 
@@ -183,17 +199,18 @@ export default async function worker({ newPage, baseUrl, waitReady, assert, scre
     const page = await open(newPage, waitReady, `${baseUrl}#uniform`, 'uniformBusy');
     const before = await pixels(page, 'uniform');
     await page.evaluate(async () => {
-      (await import(new URL('compute.js', document.baseURI).href)).computeClients.get('uniform').watchdogMs = 400;
+      const client = (await import(new URL('compute.js', document.baseURI).href)).computeClients.get('uniform');
+      Object.assign(client, { watchdogMs: 400, testOnlySlowMs: 2000 });
     });
     const w0 = Date.now();
-    await input(page, 'u-window', 80);
+    await input(page, 'u-window', 9);
     await idle(page, 'uniformBusy', 10_000);
     const stoppedMs = Date.now() - w0;
     assert.equal(await note(page, 'uniform'), 'The computation gave no answer within 0.4 s and was stopped — this is a bug. Download the scenario to report it. Download the scenario');
     assert.deepEqual(await pixels(page, 'uniform'), before, 'the last picture stays');
     const restarted = await page.evaluate(async () => {
       const { workerStarts, computeClients } = await import(new URL('compute.js', document.baseURI).href);
-      computeClients.get('uniform').watchdogMs = 60_000;
+      Object.assign(computeClients.get('uniform'), { watchdogMs: 60_000, testOnlySlowMs: 0 });
       return workerStarts.some((s) => s.panel === 'uniform' && s.reason === 'timeout');
     });
     assert.ok(restarted, 'the silent worker was replaced');

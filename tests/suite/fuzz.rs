@@ -7,7 +7,7 @@
 //! the test process, which fails the run).
 //!
 //! `cargo test` runs [`SAMPLE`] cases (in wasm a few per preset); the long run is
-//! `CONFSET_FUZZ_CASES=1000000 cargo test --release --test suite fuzz::long_run -- --ignored --nocapture`,
+//! `CONFSET_FUZZ_CASES=1000000 cargo test --profile bench --test suite fuzz::long_run -- --ignored --nocapture`,
 //! which prints its counts per outcome. Case k of preset p is drawn from its own seed, so any
 //! case is replayed from its number alone (`CONFSET_FUZZ_ONLY=preset:k`), and the long run can
 //! be cut into pieces whose counts add up: `CONFSET_FUZZ_FROM=200000 CONFSET_FUZZ_CASES=100000`
@@ -546,7 +546,7 @@ fn every_method_is_reached() {
 /// memory (printed, not asserted:
 /// timings belong to the machine), with the estimate beside each; then each field alone at its
 /// limit, refused or run. The README's Limits section quotes this run:
-/// `cargo test --release --test suite fuzz::work_at_the_limits -- --ignored --nocapture --test-threads 1`.
+/// `cargo test --profile bench --test suite fuzz::work_at_the_limits -- --ignored --nocapture --test-threads 1`.
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 #[ignore = "a measurement (minutes): run it by hand"]

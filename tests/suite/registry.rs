@@ -322,7 +322,7 @@ fn every_method_is_exercised_by_a_preset() {
 /// in [`golden::LOOSE`] are rounding noise by construction and get a looser tolerance.
 ///
 /// After a deliberate change of the numbers (or a new preset), regenerate natively with
-/// `CONFSET_BLESS_GOLDEN=1 cargo test --release registry::every_preset_report_matches` and review the diff.
+/// `CONFSET_BLESS_GOLDEN=1 cargo test --profile bench registry::every_preset_report_matches` and review the diff.
 mod golden {
     use serde_json::{json, Map, Value};
 
@@ -573,7 +573,7 @@ fn every_preset_report_matches_its_native_golden() {
     assert!(
         problems.is_empty(),
         "{} difference(s) from the native golden (after a deliberate change, regenerate natively \
-         with CONFSET_BLESS_GOLDEN=1 cargo test --release registry::every_preset_report_matches):\n{}",
+         with CONFSET_BLESS_GOLDEN=1 cargo test --profile bench registry::every_preset_report_matches):\n{}",
         problems.len(),
         problems.join("\n")
     );
