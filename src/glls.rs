@@ -251,8 +251,7 @@ fn thin_svd(m: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, DMatrix<f64>) {
     debug_assert!(m.iter().all(|v| v.is_finite()), "callers check finiteness");
     let svd = m.clone().svd(true, true);
     let (u, vt) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
-    let mut idx: Vec<usize> = (0..svd.singular_values.len()).collect();
-    idx.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
+    let idx = linalg::decreasing_order(svd.singular_values.as_slice());
     let p1 = DMatrix::from_columns(
         &idx.iter()
             .map(|&i| u.column(i).into_owned())
@@ -632,7 +631,7 @@ impl ScaledFactor {
         if !work.singular_values(&self.r, &mut sv) {
             sv.clear();
             sv.extend(self.r.clone().svd(false, false).singular_values.iter());
-            sv.sort_by(|a, b| b.total_cmp(a));
+            linalg::sort_decreasing(&mut sv);
         }
         let out = sv.iter().map(|v| v.ln() + self.log_scale).collect();
         work.sv = sv;
@@ -778,7 +777,7 @@ impl SvWork {
         let ok = bidiagonal_singular(&mut self.d, &mut self.e);
         out.clear();
         out.extend(self.d.iter().map(|v| v.abs()));
-        out.sort_by(|a, b| b.total_cmp(a));
+        linalg::sort_decreasing(out);
         ok
     }
 
@@ -1412,7 +1411,7 @@ impl Spread {
         if v.is_empty() {
             return None;
         }
-        v.sort_by(|a, b| a.total_cmp(b));
+        linalg::sort_increasing(&mut v);
         let q = |f: f64| {
             let pos = f * (v.len() - 1) as f64;
             let (lo, hi) = (pos.floor() as usize, pos.ceil() as usize);

@@ -37,6 +37,28 @@ pub fn from_rows(field: &str, rows: &[Vec<f64>]) -> Result<DMatrix<f64>> {
     Ok(DMatrix::from_fn(rows.len(), cols, |i, j| rows[i][j]))
 }
 
+/// Sort numbers increasingly (by `f64::total_cmp`). Every sort of plain numbers in the crate
+/// goes through here, [`sort_decreasing`] or [`decreasing_order`]: each distinct comparison
+/// closure would be another copy of the standard library's sort in the wasm module (~5 KB).
+/// Numbers equal under `total_cmp` are the same bits, so the unstable sort is exact.
+pub fn sort_increasing(v: &mut [f64]) {
+    v.sort_unstable_by(f64::total_cmp);
+}
+
+/// Sort numbers decreasingly (singular values).
+pub fn sort_decreasing(v: &mut [f64]) {
+    sort_increasing(v);
+    v.reverse();
+}
+
+/// The indices of `values` by decreasing value, equal values in index order: the order in
+/// which to take singular vectors.
+pub fn decreasing_order(values: &[f64]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..values.len()).collect();
+    idx.sort_by(|&i, &j| values[j].total_cmp(&values[i]));
+    idx
+}
+
 /// Rows of a matrix, for JSON.
 pub fn to_rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
     (0..m.nrows())

@@ -426,8 +426,7 @@ fn thin_svd_u(a: &DMatrix<f64>) -> Result<(DMatrix<f64>, Vec<f64>, usize)> {
         )
     })?;
     let ur = svd.u.expect("requested");
-    let mut idx: Vec<usize> = (0..n).collect();
-    idx.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
+    let idx = linalg::decreasing_order(svd.singular_values.as_slice());
     let singular: Vec<f64> = idx.iter().map(|&i| svd.singular_values[i]).collect();
     let cols: Vec<DVector<f64>> = idx.iter().map(|&i| &q * ur.column(i)).collect();
     let u_a = DMatrix::from_columns(&cols);

@@ -71,7 +71,7 @@ use plotters_backend::{
     BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind,
 };
 use plotters_canvas::CanvasBackend;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
@@ -135,8 +135,9 @@ pub fn limits() -> String {
 /// from it. An unknown method is a `method` error.
 #[wasm_bindgen(js_name = methodPanels)]
 pub fn method_panels(method: &str) -> Result<String, JsValue> {
-    let m: crate::method::Method = serde_json::from_value(serde_json::Value::from(method))
-        .map_err(|e| js_error(&Error::field("method", e.to_string())))?;
+    let m: crate::method::Method =
+        crate::scenario::parse::from_value(&serde_json::Value::from(method), "method")
+            .map_err(|e| js_error(&e))?;
     let list: Vec<_> = plot::method_panels(m)
         .iter()
         .map(|p| serde_json::json!({"panel": p.name(), "alt": p.alt_text()}))
@@ -197,15 +198,20 @@ impl Session {
     /// in place of the kept one: the page runs its scenarios in a Web Worker (a fault there
     /// cannot take the page down) and draws here, on the main thread, because plotters' text
     /// layout panics inside a worker. JSON that is not a report is a `report` error, and the
-    /// kept report stays.
+    /// kept report stays. The report is read through a `Value`, like scenarios
+    /// (`scenario::parse`): serde's code for reading a `Report` from text would be another
+    /// ~200 KB of the module.
     #[wasm_bindgen(js_name = setReport)]
     pub fn set_report(&mut self, report_json: &str) -> Result<(), JsValue> {
-        let report: Report = serde_json::from_str(report_json).map_err(|e| {
+        let invalid = |why: &str| {
             js_error(&Error::field(
                 "report",
-                format!("is not a valid report: {e}"),
+                format!("is not a valid report: {why}"),
             ))
-        })?;
+        };
+        let value = crate::scenario::parse::read_json(report_json, "report")
+            .map_err(|e| invalid(&e.message))?;
+        let report = Report::deserialize(&value).map_err(|e| invalid(&e.to_string()))?;
         self.report = Some(report);
         Ok(())
     }

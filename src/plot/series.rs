@@ -35,7 +35,7 @@ fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }
-    v.sort_by(|a, b| a.total_cmp(b));
+    crate::linalg::sort_increasing(&mut v);
     v[v.len() / 2]
 }
 

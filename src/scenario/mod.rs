@@ -412,12 +412,11 @@ impl Scenario {
     /// Parse JSON; an error names the JSON path of the offending value and says, in JSON
     /// words, what belongs there ([`parse`]).
     pub fn from_json(text: &str) -> Result<Self> {
+        let v = parse::read_json(text, "")?;
         // Sizes and magnitudes first: a count of 10⁹ or a number of 1e308 is refused before
-        // anything is read, whatever field it is in.
-        if let Ok(v) = serde_json::from_str::<serde_json::Value>(text) {
-            check_sizes_and_magnitudes(&v)?;
-        }
-        parse::from_json(text, "")
+        // any field is read, whatever field it is in.
+        check_sizes_and_magnitudes(&v)?;
+        parse::from_value(&v, "")
     }
 }
 

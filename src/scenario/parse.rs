@@ -9,53 +9,129 @@
 //! the text \"abc\""), unknown keys and names list the accepted ones, and user strings are cut
 //! ([`crate::error::quoted`]). No message names a Rust type.
 //!
-//! A document that is valid JSON but not a valid scenario is re-read from its
-//! `serde_json::Value`: there the path reaches the value itself (the text parser reports an
-//! enum given a number as a JSON syntax error, "expected value"), and the value at the path is
-//! at hand to describe what was found.
+//! The text is read once, into a `serde_json::Value` (refusing a key given twice, which a
+//! `Value` would silently keep one of), and the `T` is read from that value: the path then
+//! reaches the value itself (read straight from text, an enum given a number is a JSON syntax
+//! error, "expected value"), and the value at the path is at hand to describe what was found.
+//! Reading every type from a `&Value` only also keeps one copy of serde's code per type in
+//! the wasm module, not one per reader (text, value): about a third of the module is serde's.
 
 use crate::error::{quoted, Error, Result};
-use serde::de::DeserializeOwned;
+use serde::de::{self, DeserializeOwned, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::Deserialize;
 use serde_json::Value;
 use serde_path_to_error::Segment;
 
 /// Parse `text` as a `T`; errors name the path below `root` (`""` for a scenario, `"view"`,
 /// …). An error about the whole document names `root`, or `"scenario"` when `root` is empty.
 pub fn from_json<T: DeserializeOwned>(text: &str, root: &str) -> Result<T> {
+    from_value(&read_json(text, root)?, root)
+}
+
+/// The JSON document in `text` as a value; errors as [`from_json`]'s: a syntax error names
+/// the path as far as the text got, a key given twice in one object names that key.
+pub fn read_json(text: &str, root: &str) -> Result<Value> {
     let mut de = serde_json::Deserializer::from_str(text);
-    let text_error = match serde_path_to_error::deserialize::<_, T>(&mut de) {
-        Ok(v) => match de.end() {
-            Ok(()) => return Ok(v),
-            Err(e) => return Err(syntax_error(root, &[], &e)),
+    match serde_path_to_error::deserialize::<_, KeysOnce>(&mut de) {
+        Ok(KeysOnce(v)) => match de.end() {
+            Ok(()) => Ok(v),
+            Err(e) => Err(syntax_error(root, &[], &e)),
         },
-        Err(e) => e,
-    };
-    let value: Value = match serde_json::from_str(text) {
-        Ok(v) => v,
-        Err(e) => {
-            // Not JSON at all: the text parser's path is as far as it got.
-            let segments: Vec<Segment> = text_error.path().iter().cloned().collect();
-            return Err(syntax_error(root, &segments, &e));
-        }
-    };
-    match serde_path_to_error::deserialize::<_, T>(&value) {
         Err(e) => {
             let segments: Vec<Segment> = e.path().iter().cloned().collect();
-            Err(schema_error::<T>(
-                root,
-                &value,
-                &segments,
-                &e.into_inner().to_string(),
-            ))
-        }
-        // Only the text can fail where the value does not: a key given twice (a JSON object
-        // in memory keeps one of them).
-        Ok(_) => {
-            let segments: Vec<Segment> = text_error.path().iter().cloned().collect();
-            let message = strip_position(&text_error.into_inner().to_string());
-            Err(schema_error::<T>(root, &value, &segments, &message))
+            let e = e.into_inner();
+            let message = strip_position(&e.to_string());
+            match message.strip_prefix("duplicate field ") {
+                // Only KeysOnce raises a data error; the rest is the text's syntax.
+                Some(rest) if e.is_data() => Err(given_twice(root, &segments, &name_in(rest))),
+                _ => Err(syntax_error(root, &segments, &e)),
+            }
         }
     }
+}
+
+/// A `T` from a document [`read_json`] read; errors as [`from_json`]'s.
+pub fn from_value<T: DeserializeOwned>(value: &Value, root: &str) -> Result<T> {
+    serde_path_to_error::deserialize::<_, T>(value).map_err(|e| {
+        let segments: Vec<Segment> = e.path().iter().cloned().collect();
+        schema_error::<T>(root, value, &segments, &e.into_inner().to_string())
+    })
+}
+
+/// Any JSON value, read from text like serde_json's `Value` except that a key given twice in
+/// one object is an error, as it is for serde's derived structs.
+struct KeysOnce(Value);
+
+impl<'de> Deserialize<'de> for KeysOnce {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        d.deserialize_any(KeysOnceVisitor).map(KeysOnce)
+    }
+}
+
+struct KeysOnceVisitor;
+
+impl<'de> Visitor<'de> for KeysOnceVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any JSON value")
+    }
+    fn visit_bool<E>(self, b: bool) -> std::result::Result<Value, E> {
+        Ok(Value::Bool(b))
+    }
+    fn visit_i64<E>(self, i: i64) -> std::result::Result<Value, E> {
+        Ok(Value::from(i))
+    }
+    fn visit_u64<E>(self, u: u64) -> std::result::Result<Value, E> {
+        Ok(Value::from(u))
+    }
+    fn visit_f64<E>(self, x: f64) -> std::result::Result<Value, E> {
+        // JSON text has no NaN or infinity, so this is always a number.
+        Ok(serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number))
+    }
+    fn visit_str<E>(self, s: &str) -> std::result::Result<Value, E> {
+        Ok(Value::String(s.to_string()))
+    }
+    fn visit_string<E>(self, s: String) -> std::result::Result<Value, E> {
+        Ok(Value::String(s))
+    }
+    fn visit_unit<E>(self) -> std::result::Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> std::result::Result<Value, A::Error> {
+        let mut items = Vec::new();
+        while let Some(KeysOnce(v)) = seq.next_element()? {
+            items.push(v);
+        }
+        Ok(Value::Array(items))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> std::result::Result<Value, A::Error> {
+        let mut object = serde_json::Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            if object.contains_key(&key) {
+                return Err(de::Error::custom(format_args!("duplicate field `{key}`")));
+            }
+            let KeysOnce(v) = map.next_value()?;
+            object.insert(key, v);
+        }
+        Ok(Value::Object(object))
+    }
+}
+
+/// The first name between backticks in serde's message (`` `F` `` in "duplicate field `F`").
+fn name_in(rest: &str) -> String {
+    rest.split_once('`')
+        .map_or(rest, |(_, r)| r.split_once('`').map_or(r, |(n, _)| n))
+        .to_string()
+}
+
+/// The key `key` of the object at `segments`, given twice.
+fn given_twice(root: &str, segments: &[Segment], key: &str) -> Error {
+    let mut at = segments.to_vec();
+    at.push(Segment::Map {
+        key: key.to_string(),
+    });
+    Error::field(field_of(root, &at), "is given twice")
 }
 
 /// serde_json's message without its " at line L column C".
@@ -293,16 +369,12 @@ fn schema_error<T: DeserializeOwned>(
         });
         field_of(root, &s)
     };
-    let name_in = |rest: &str| -> String {
-        rest.split_once('`')
-            .map_or(rest, |(_, r)| r.split_once('`').map_or(r, |(n, _)| n))
-            .to_string()
-    };
     if let Some(rest) = message.strip_prefix("missing field ") {
         return Error::field(below(&name_in(rest)), "is missing");
     }
+    // Two names of one field (a serde alias) in one object.
     if let Some(rest) = message.strip_prefix("duplicate field ") {
-        return Error::field(below(&name_in(rest)), "is given twice");
+        return given_twice(root, segments, &name_in(rest));
     }
     if let Some(rest) = message.strip_prefix("unknown field ") {
         // The path ends at the unknown key itself (as the text names it); the object is its

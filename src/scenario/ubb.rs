@@ -1205,54 +1205,58 @@ pub enum UbbKind {
     Markov,
 }
 
-/// A set-membership preset.
+/// A set-membership preset. Written as scenario JSON (read like a user's, so the defaults
+/// are the scenario's own), not with `serde_json::json!`, whose expansion of these four
+/// documents took ~75 KB of the wasm module; the notes are Rust strings for the line breaks.
 pub fn ubb_preset(kind: UbbKind) -> Scenario {
-    let v = match kind {
-        UbbKind::Track => serde_json::json!({
-            "method": "ubb",
-            "title": "Set-membership state estimation with smoothed bounds (Tempo, Section IV)",
-            "model": {"F": [[0.7, 0.2], [-0.2, 0.7]], "G": [[0.5], [1.0]], "H": [[1.0, 0.0]]},
-            "simulate": {"steps": 60, "seed": 1},
-            "ubb": {"eps": 0.2, "tau": 0.1, "delta": [2.0], "alpha": 50.0, "beta": 50.0, "gamma": 0.1, "time": 40},
-            "notes": "x(k+1) = A x(k) + B u(k), y(k) = C x(k) + η(k) with |u(k)| ≤ τ = 0.1, |η(k)| ≤ ε = 0.2 and |x_i(0)| ≤ δ = 2. \
-                      ‖A‖∞ = 0.9 and α = 50 give ‖A‖e^{1/α} = 0.918 < 1, so Theorem 4 bounds the state and Theorem 5 with γ = 0.1 gives j = 29: \
-                      each step solves LPs in x(k−29 … k+1) and u(k−29 … k) with the dynamics as equalities, a constant 92 unknowns. The window's initial state is bounded by the Theorem 4 series, \
-                      so the set is guaranteed exactly (not only up to γ)."
-        }),
-        UbbKind::Series => serde_json::json!({
-            "method": "ubb",
-            "title": "Time-series prediction with basis functions (Tempo, Example 1)",
-            "model": {"F": [[1.0, 0.0], [0.0, 1.0]]},
-            "simulate": {"steps": 30, "seed": 2, "x0": [1.0, 0.15]},
-            "ubb": {"eps": 0.5, "basis": ["1", "k"], "time": 9},
-            "notes": "f(k) = a₁ + a₂k + u(k), |u(k)| ≤ 0.5, k = 1 … m: the problem element is (a, u), the information f(1 … m) is exact and partial. \
-                      The polygon is the set of coefficients a consistent with the data (the strips |f(k) − a₁ − a₂k| ≤ 0.5 intersected); \
-                      the optimal error predictor of f(m+1) is the midpoint of its prediction interval. True a = (1, 0.15)."
-        }),
-        UbbKind::Leontief => serde_json::json!({
-            "method": "ubb",
-            "title": "Dynamic Leontief model, 3 industries (Tempo, Example 3)",
-            "model": {"F": [[0.2, 0.3, 0.1], [0.1, 0.1, 0.3], [0.3, 0.2, 0.2]],
-                      "G": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                      "H": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                      "B": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]},
-            "simulate": {"steps": 40, "seed": 3, "u": [[1.0, 0.8, 1.2]]},
-            "ubb": {"eps": 0.3, "tau": 0.1, "delta": [1.0], "x0_center": [2.42, 2.14, 2.94], "alpha": 50.0, "beta": 50.0, "gamma": 0.05, "time": 25},
-            "notes": "x(k+1) = A x(k) + v(k) + u(k): production x, known demand v = (1, 0.8, 1.2), uncertain demand |u_i| ≤ 0.1, production measured as y = x + η, |η_i| ≤ 0.3. \
-                      A is nonnegative with column sums 0.6 < 1 (a feasible Leontief model, σ(A) = 0.6); x(0) within ±1 of the steady state (I − A)⁻¹v. \
-                      The polygon shows industries 1 and 2 (a projection of the 3-D set)."
-        }),
-        UbbKind::Markov => serde_json::json!({
-            "method": "ubb",
-            "title": "Absorbing Markov chain with uncertain initial distribution (Tempo, Example 4)",
-            "model": {"F": [[1.0, 0.2, 0.1], [0.0, 0.5, 0.3], [0.0, 0.3, 0.6]]},
-            "simulate": {"steps": 15, "seed": 4, "x0": [0.1, 0.5, 0.4]},
-            "ubb": {"eps": 1.0, "delta": [0.15, 0.4, 0.4], "x0_center": [0.15, 0.4, 0.4], "x0_sum": 1.0, "plane": [1, 2], "time": 2},
-            "notes": "Transition probabilities (row-stochastic, the paper's form [[I, O], [D, G]]) P = [[1, 0, 0], [0.2, 0.5, 0.3], [0.1, 0.3, 0.6]]; \
-                      the distribution evolves as x(k+1) = Pᵀx(k), so model.F = Pᵀ (the paper's x(k+1) = Ax(k) with rows summing to 1 mixes the two conventions). \
-                      0 ≤ x_i(0) ≤ δ = (0.3, 0.8, 0.8) and Σx_i(0) = 1; no measurements. The transient probabilities x₂, x₃ shrink to 0 as G^k → 0; \
-                      Theorem 4 does not apply (ρ(A) = 1, so ‖A‖ ≥ 1 in every norm) but A^k stays bounded."
-        }),
+    let (json, notes) = match kind {
+        UbbKind::Track => (
+            r#"{"method": "ubb",
+                "title": "Set-membership state estimation with smoothed bounds (Tempo, Section IV)",
+                "model": {"F": [[0.7, 0.2], [-0.2, 0.7]], "G": [[0.5], [1.0]], "H": [[1.0, 0.0]]},
+                "simulate": {"steps": 60, "seed": 1},
+                "ubb": {"eps": 0.2, "tau": 0.1, "delta": [2.0], "alpha": 50.0, "beta": 50.0, "gamma": 0.1, "time": 40}}"#,
+            "x(k+1) = A x(k) + B u(k), y(k) = C x(k) + η(k) with |u(k)| ≤ τ = 0.1, |η(k)| ≤ ε = 0.2 and |x_i(0)| ≤ δ = 2. \
+             ‖A‖∞ = 0.9 and α = 50 give ‖A‖e^{1/α} = 0.918 < 1, so Theorem 4 bounds the state and Theorem 5 with γ = 0.1 gives j = 29: \
+             each step solves LPs in x(k−29 … k+1) and u(k−29 … k) with the dynamics as equalities, a constant 92 unknowns. The window's initial state is bounded by the Theorem 4 series, \
+             so the set is guaranteed exactly (not only up to γ).",
+        ),
+        UbbKind::Series => (
+            r#"{"method": "ubb",
+                "title": "Time-series prediction with basis functions (Tempo, Example 1)",
+                "model": {"F": [[1.0, 0.0], [0.0, 1.0]]},
+                "simulate": {"steps": 30, "seed": 2, "x0": [1.0, 0.15]},
+                "ubb": {"eps": 0.5, "basis": ["1", "k"], "time": 9}}"#,
+            "f(k) = a₁ + a₂k + u(k), |u(k)| ≤ 0.5, k = 1 … m: the problem element is (a, u), the information f(1 … m) is exact and partial. \
+             The polygon is the set of coefficients a consistent with the data (the strips |f(k) − a₁ − a₂k| ≤ 0.5 intersected); \
+             the optimal error predictor of f(m+1) is the midpoint of its prediction interval. True a = (1, 0.15).",
+        ),
+        UbbKind::Leontief => (
+            r#"{"method": "ubb",
+                "title": "Dynamic Leontief model, 3 industries (Tempo, Example 3)",
+                "model": {"F": [[0.2, 0.3, 0.1], [0.1, 0.1, 0.3], [0.3, 0.2, 0.2]],
+                          "G": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                          "H": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                          "B": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]},
+                "simulate": {"steps": 40, "seed": 3, "u": [[1.0, 0.8, 1.2]]},
+                "ubb": {"eps": 0.3, "tau": 0.1, "delta": [1.0], "x0_center": [2.42, 2.14, 2.94], "alpha": 50.0, "beta": 50.0, "gamma": 0.05, "time": 25}}"#,
+            "x(k+1) = A x(k) + v(k) + u(k): production x, known demand v = (1, 0.8, 1.2), uncertain demand |u_i| ≤ 0.1, production measured as y = x + η, |η_i| ≤ 0.3. \
+             A is nonnegative with column sums 0.6 < 1 (a feasible Leontief model, σ(A) = 0.6); x(0) within ±1 of the steady state (I − A)⁻¹v. \
+             The polygon shows industries 1 and 2 (a projection of the 3-D set).",
+        ),
+        UbbKind::Markov => (
+            r#"{"method": "ubb",
+                "title": "Absorbing Markov chain with uncertain initial distribution (Tempo, Example 4)",
+                "model": {"F": [[1.0, 0.2, 0.1], [0.0, 0.5, 0.3], [0.0, 0.3, 0.6]]},
+                "simulate": {"steps": 15, "seed": 4, "x0": [0.1, 0.5, 0.4]},
+                "ubb": {"eps": 1.0, "delta": [0.15, 0.4, 0.4], "x0_center": [0.15, 0.4, 0.4], "x0_sum": 1.0, "plane": [1, 2], "time": 2}}"#,
+            "Transition probabilities (row-stochastic, the paper's form [[I, O], [D, G]]) P = [[1, 0, 0], [0.2, 0.5, 0.3], [0.1, 0.3, 0.6]]; \
+             the distribution evolves as x(k+1) = Pᵀx(k), so model.F = Pᵀ (the paper's x(k+1) = Ax(k) with rows summing to 1 mixes the two conventions). \
+             0 ≤ x_i(0) ≤ δ = (0.3, 0.8, 0.8) and Σx_i(0) = 1; no measurements. The transient probabilities x₂, x₃ shrink to 0 as G^k → 0; \
+             Theorem 4 does not apply (ρ(A) = 1, so ‖A‖ ≥ 1 in every norm) but A^k stays bounded.",
+        ),
     };
-    serde_json::from_value(v).expect("ubb presets are valid scenarios")
+    let mut s = Scenario::from_json(json).expect("ubb presets are valid scenarios");
+    s.notes = Some(notes.to_string());
+    s
 }

@@ -631,7 +631,7 @@ impl SignRegion {
         for a in angles.iter_mut() {
             *a = a.rem_euclid(2.0 * std::f64::consts::PI);
         }
-        angles.sort_by(|a, b| a.total_cmp(b));
+        crate::linalg::sort_increasing(&mut angles);
         angles.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
         let mut candidates: Vec<f64> = Vec::new();
         if angles.is_empty() {
@@ -684,7 +684,7 @@ impl SignRegion {
             .filter(|f| f.2 != 0.0)
             .map(|f| f.1 / f.2)
             .collect();
-        roots.sort_by(|a, b| a.total_cmp(b));
+        crate::linalg::sort_increasing(&mut roots);
         let mut probes = Vec::new();
         match (roots.first(), roots.last()) {
             (Some(&a), Some(&b)) => {

@@ -274,6 +274,14 @@ fn non_finite_entries() {
         e.to_string().contains("no NaN") && e.to_string().contains("line 1"),
         "{e}"
     );
+    // A key given twice in one object is named (a JSON value in memory would keep one).
+    let e = Scenario::from_json(r#"{"method": "scf", "model": {"F": [[0.9]], "F": [[0.5]]}}"#)
+        .unwrap_err();
+    assert_eq!(
+        (e.field.as_str(), e.message.as_str()),
+        ("model.F", "is given twice"),
+        "{e}"
+    );
     // Unknown fields are named.
     let e = Scenario::from_json(&with(base(), &["model", "Q"], json!([[1.0]])).to_string())
         .unwrap_err();
