@@ -20,6 +20,7 @@
 //! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why; [`error::quoted`], the one way a message repeats a user's string (cut at [`error::ECHO_CHARS`]) |
 //! | [`method`] | the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`), parsed once from the scenario; its names and its option block |
 //! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
+//! | [`bench`] | the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo, LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and `.ci/bench`'s table beside NumPy |
 //! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on wasm32), merged |
 //! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots, the induced norms ‖·‖₁, ‖·‖₂, ‖·‖∞, the one sort of numbers ([`linalg::sort_increasing`], [`linalg::sort_decreasing`], [`linalg::decreasing_order`]) |
 //! | [`model`] | the scenario's `model` block ([`model::ModelSpec::constant`]: the one matrix of a field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse) and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
@@ -285,6 +286,7 @@
 //!   never forms a tall SVD (QR updates of an n×n factor) and reports the floor
 //!   ε·σ₁·√(m(s+1)) below which σ's are not resolved ([`glls::Curves::log10_floor`]).
 
+pub mod bench;
 pub mod error;
 pub mod glls;
 pub mod kalman;

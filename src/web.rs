@@ -715,3 +715,26 @@ impl DrawingBackend for Scaled {
         }
     }
 }
+
+/// One kernel of the speed comparison ([`crate::bench::Kernel`]: `robot_mc`, `lscr_raster`,
+/// `glls_curves`, `ubb_step`, `uniform_report`), prepared once; `run()` does it once more and
+/// returns what it computed. The page never uses it: `tests/bench/kernels.mjs` times it in
+/// Chromium beside the native and NumPy figures.
+#[wasm_bindgen]
+pub struct BenchKernel {
+    run: Box<dyn FnMut() -> crate::error::Result<String>>,
+}
+
+#[wasm_bindgen]
+impl BenchKernel {
+    #[wasm_bindgen(constructor)]
+    pub fn new(key: &str) -> Result<BenchKernel, JsValue> {
+        let kernel = crate::bench::Kernel::from_key(key).map_err(|e| js_error(&e))?;
+        let run = kernel.prepare().map_err(|e| js_error(&e))?;
+        Ok(BenchKernel { run })
+    }
+
+    pub fn run(&mut self) -> Result<String, JsValue> {
+        (self.run)().map_err(|e| js_error(&e))
+    }
+}

@@ -2,6 +2,10 @@
 //! in Chromium by the end-to-end test (tests/e2e), which prints them.
 //!
 //! Each figure is the median of several repetitions, in milliseconds.
+//!
+//! `cargo bench --bench speed -- kernels` prints only the comparison's kernels
+//! ([`confset::bench::Kernel`]), one `BENCH <key> <median ms> <what ran>` line each, for
+//! `.ci/bench`'s table beside wasm and NumPy.
 
 use confset::lscr::{self, Construction, Estimator, LscrModel, Options, Target};
 use confset::presets;
@@ -21,7 +25,23 @@ fn median_ms(reps: usize, mut f: impl FnMut()) -> f64 {
     v[v.len() / 2]
 }
 
+/// The comparison's kernels: one warm-up, then the median of 11 repetitions each.
+fn kernels() {
+    for kernel in confset::bench::Kernel::ALL {
+        let mut run = kernel.prepare().expect("kernel");
+        let mut what = run().expect("kernel runs");
+        let ms = median_ms(11, || {
+            what = run().expect("kernel runs");
+        });
+        println!("BENCH {} {ms:.3} {what}", kernel.key());
+    }
+}
+
 fn main() {
+    if std::env::args().skip(1).any(|a| a == "kernels") {
+        kernels();
+        return;
+    }
     if std::env::var("SPEED_GLLS_CURVES_REPS").is_ok() {
         glls_figures();
     }

@@ -1,0 +1,97 @@
+// The wasm side of `.ci/bench`, in Debian's Chromium over the served release build:
+//   node tests/bench/kernels.mjs http://127.0.0.1:PORT/
+// 1. The comparison's kernels (src/bench.rs, the same code `cargo bench --bench speed --
+//    kernels` times natively) through the module's `BenchKernel`: one warm-up, then the
+//    median of 11 in the page; one `BENCH <key> <ms> <what ran>` line each.
+// 2. Slider → painted frame for every slider of every panel of the registry: the input event,
+//    the panel's compute (in its worker) or redraw, then the next painted frame; median and max
+//    of 10 moves, one `SLIDER <panel> <slider> <median> <max>` line each.
+// 3. Load → first panel interactive (navigation start → the panel's ready flag), median of 5.
+// It prints; it asserts nothing (timings belong to the machine).
+import { createRequire } from 'node:module';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { PANELS } from '../../www/registry.js';
+import { slideToPaint } from '../e2e/helpers.mjs';
+
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const { chromium } = createRequire(join(root, 'www', 'package.json'))('playwright-core');
+const base = process.argv[2];
+if (!base) {
+  console.error('usage: node tests/bench/kernels.mjs BASE_URL');
+  process.exit(2);
+}
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync', '--no-first-run', '--disable-quic'],
+});
+const ready = (page) => page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
+const settled = (page) => page.waitForFunction(
+  () => !Object.keys(document.body.dataset).some((k) => k === 'busy' || k.endsWith('Busy')), null, { timeout: 60_000 });
+const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+
+// 1. Kernels.
+{
+  const page = await browser.newPage();
+  await page.goto(base);
+  await ready(page);
+  for (const key of ['robot_mc', 'lscr_raster', 'glls_curves', 'ubb_step', 'uniform_report']) {
+    const r = await page.evaluate((k) => {
+      const kernel = new window.confset.BenchKernel(k);
+      let what = kernel.run();
+      const ms = [];
+      for (let i = 0; i < 11; i++) {
+        const t0 = performance.now();
+        what = kernel.run();
+        ms.push(performance.now() - t0);
+      }
+      kernel.free();
+      ms.sort((a, b) => a - b);
+      return { ms: ms[5], what };
+    }, key);
+    console.log(`BENCH ${key} ${r.ms.toFixed(3)} ${r.what}`);
+  }
+  await page.close();
+}
+
+// 2. Every slider of every panel.
+for (const d of PANELS) {
+  const page = await browser.newPage({ viewport: { width: 1366, height: 900 } });
+  await page.goto(`${base}#${d.id}`);
+  await ready(page);
+  await settled(page);
+  const sliders = await page.evaluate((id) => [...document.getElementById(id).querySelectorAll('input[type=range]')]
+    .filter((e) => e.offsetParent && !e.disabled)
+    .map((e) => ({ id: e.id, range: [Number(e.min), Number(e.max), Number(e.step) || 1], value: Number(e.value) })), d.id);
+  for (const s of sliders) {
+    const [lo, hi, step] = s.range;
+    const ms = [];
+    for (let i = 0; i < 10; i++) {
+      const v = lo + Math.round((((i % 5) + 1) / 6) * (hi - lo) / step) * step;
+      ms.push(await slideToPaint(page, s.id, d.busy, v));
+      await settled(page);
+      await page.waitForTimeout(50);
+    }
+    console.log(`SLIDER ${d.id} #${s.id} ${median(ms).toFixed(1)} ${Math.max(...ms).toFixed(1)}`);
+    // Back where it was, for the next slider.
+    await slideToPaint(page, s.id, d.busy, s.value);
+    await settled(page);
+  }
+  await page.close();
+}
+
+// 3. Load → first panel interactive.
+for (const d of PANELS) {
+  const ms = [];
+  for (let i = 0; i < 5; i++) {
+    const page = await browser.newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(`${base}#${d.id}`);
+    await ready(page);
+    ms.push(await page.evaluate(() => performance.now()));
+    await page.close();
+  }
+  console.log(`LOAD ${d.id} ${median(ms).toFixed(0)} ${Math.max(...ms).toFixed(0)}`);
+}
+await browser.close();
