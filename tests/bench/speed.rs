@@ -25,9 +25,13 @@ fn median_ms(reps: usize, mut f: impl FnMut()) -> f64 {
     v[v.len() / 2]
 }
 
-/// The comparison's kernels: one warm-up, then the median of 11 repetitions each.
-fn kernels() {
+/// The comparison's kernels (those named after `kernels`, or all): one warm-up, then the
+/// median of 11 repetitions each.
+fn kernels(only: &[String]) {
     for kernel in confset::bench::Kernel::ALL {
+        if !only.is_empty() && !only.iter().any(|k| k == kernel.key()) {
+            continue;
+        }
         let mut run = kernel.prepare().expect("kernel");
         let mut what = run().expect("kernel runs");
         let ms = median_ms(11, || {
@@ -38,8 +42,14 @@ fn kernels() {
 }
 
 fn main() {
-    if std::env::args().skip(1).any(|a| a == "kernels") {
-        kernels();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(i) = args.iter().position(|a| a == "kernels") {
+        let only: Vec<String> = args[i + 1..]
+            .iter()
+            .filter(|a| !a.starts_with('-'))
+            .cloned()
+            .collect();
+        kernels(&only);
         return;
     }
     if std::env::var("SPEED_GLLS_CURVES_REPS").is_ok() {
