@@ -223,7 +223,7 @@ fn glls_figures() {
     );
 }
 
-/// Tempo: one state-estimation step of ubb-track (2-D, window 30: 32 unknowns, 124 rows).
+/// Tempo: one state-estimation step of ubb-track (2-D, window 30: 92 variables, 184 rows, as it prints).
 fn ubb_figures() {
     let prep = presets::get("ubb-track")
         .expect("preset")
