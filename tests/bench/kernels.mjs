@@ -7,6 +7,9 @@
 //    the panel's compute (in its worker) or redraw, then the next painted frame; median and max
 //    of 10 moves, one `SLIDER <panel> <slider> <median> <max>` line each.
 // 3. Load → first panel interactive (navigation start → the panel's ready flag), median of 5.
+// 4. The page's studies (studypool.js) on one worker and on every core: the robot Monte Carlo
+//    (10,000 runs) and the set-membership guarantee (ubb-track, 2,000 runs), best of 3 wall
+//    times, one `STUDY <preset> <runs> <1 worker ms> <W workers ms> <W>` line each.
 // It prints; it asserts nothing (timings belong to the machine).
 import { createRequire } from 'node:module';
 import { dirname, join } from 'node:path';
@@ -93,5 +96,32 @@ for (const d of PANELS) {
     await page.close();
   }
   console.log(`LOAD ${d.id} ${median(ms).toFixed(0)} ${Math.max(...ms).toFixed(0)}`);
+}
+// 4. Studies on one worker and on every core.
+{
+  const page = await browser.newPage();
+  await page.goto(`${base}#scf`);
+  await ready(page);
+  await settled(page);
+  for (const [name, runs] of [['scf-robots', 10000], ['ubb-track', 2000]]) {
+    const r = await page.evaluate(async ([name, runs]) => {
+      const { runStudy, poolSize } = await import(new URL('studypool.js', document.baseURI).href);
+      const { Study, presets } = window.confset;
+      const json = JSON.stringify(JSON.parse(presets()).find((p) => p.name === name).scenario);
+      const wall = {};
+      for (const w of [1, poolSize()]) {
+        const best = [];
+        for (let i = 0; i < 3; i++) {
+          const merger = new Study(json, runs);
+          best.push((await runStudy({ scenario: json, runs, merger, me: {}, onCounts() {}, workers: w })).wall);
+          merger.free();
+        }
+        wall[w] = Math.min(...best);
+      }
+      return { one: wall[1], all: wall[poolSize()], cores: poolSize() };
+    }, [name, runs]);
+    console.log(`STUDY ${name} ${runs} ${r.one.toFixed(0)} ${r.all.toFixed(0)} ${r.cores}`);
+  }
+  await page.close();
 }
 await browser.close();
