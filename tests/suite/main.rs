@@ -10,6 +10,7 @@ wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 mod common;
 
 mod bad_input;
+mod bench;
 mod coverage;
 mod csv;
 mod determinism;
