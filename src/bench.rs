@@ -140,7 +140,7 @@ fn preset(name: &str) -> Result<crate::scenario::Scenario> {
 }
 
 /// A 10-state, 2-output model with spectral radius 1.02 (seeded): the GLLS curves' test bed.
-fn ten_state_model() -> GllsModel {
+pub fn ten_state_model() -> GllsModel {
     use nalgebra::{DMatrix, DVector};
     use rand::{RngExt, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);

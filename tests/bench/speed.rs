@@ -156,22 +156,7 @@ fn lscr_figures() {
 fn glls_figures() {
     use confset::glls::{Curves, GllsModel, Precision, Study, Weighting};
     use nalgebra::DMatrix;
-    use rand::{RngExt, SeedableRng};
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-    let a = DMatrix::from_fn(10, 10, |_, _| rng.random::<f64>() - 0.5);
-    let rho = a
-        .complex_eigenvalues()
-        .iter()
-        .map(|z| z.norm())
-        .fold(0.0, f64::max);
-    let ten = GllsModel {
-        a: a / rho * 1.02,
-        b: DMatrix::zeros(10, 0),
-        c: DMatrix::from_fn(2, 10, |_, _| rng.random::<f64>() - 0.5),
-        omega: DMatrix::identity(2, 2) * 0.01,
-        xi: DMatrix::zeros(10, 10),
-        x0: nalgebra::DVector::from_element(10, 1.0),
-    };
+    let ten = confset::bench::ten_state_model();
     if let Ok(reps) = std::env::var("SPEED_GLLS_CURVES_REPS") {
         // Profiling aid: only the n = 10 curves, repeated.
         for _ in 0..reps.parse().unwrap_or(1000) {
