@@ -530,11 +530,6 @@ fn components_and_method() {
     }
 }
 
-#[cfg(target_arch = "wasm32")]
-fn run_guarded(s: &Scenario) -> Option<Result<confset::scenario::Report, Error>> {
-    Some(s.run())
-}
-
 // ---------------------------------------------------------------------------------------------
 // One regression test per class of hostile input (the crate docs' three defences): each must
 // be an error naming the field, before any heavy work.
