@@ -20,7 +20,7 @@
 //! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why; [`error::quoted`], the one way a message repeats a user's string (cut at [`error::ECHO_CHARS`]) |
 //! | [`method`] | the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`), parsed once from the scenario; its names and its option block |
 //! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
-//! | [`bench`] | the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo, LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and `.ci/bench`'s table beside NumPy |
+//! | [`bench`](mod@bench) | the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo, LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and `.ci/bench`'s table beside NumPy |
 //! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on wasm32), merged |
 //! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots, the induced norms ‖·‖₁, ‖·‖₂, ‖·‖∞, the one sort of numbers ([`linalg::sort_increasing`], [`linalg::sort_decreasing`], [`linalg::decreasing_order`]) |
 //! | [`model`] | the scenario's `model` block ([`model::ModelSpec::constant`]: the one matrix of a field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse) and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
@@ -104,7 +104,14 @@
 //!   [`linalg::try_symmetric_eigen`] (non-finite input refused, sweeps capped: nalgebra panics
 //!   on NaN and never converges on ∞); [`scenario::Report::check_finite`] turns a non-finite
 //!   report number into an error naming the report field. The fuzzer (`tests/suite/fuzz.rs`)
-//!   holds all three to account; the README's Limits table gives each limit's reason.
+//!   holds all three to account; the README's Limits table gives each limit's reason. Past the
+//!   per-field limits, one work budget ([`scenario::budget`]) bounds what fields multiply into:
+//!   each method's scenario file estimates a report's (or a study's preparation and one run's)
+//!   operations and bytes from the sizes alone, and [`scenario::Scenario::run`] and
+//!   [`scenario::Scenario::study`] refuse past [`scenario::budget::MAX_OPERATIONS`] (about 2 s
+//!   natively) or [`scenario::budget::MAX_BYTES`] before any work, naming the field of the
+//!   largest term, its formula and the limit. Ranges read in words ("a whole number from 1 to
+//!   80"), never Rust's `1..=80`.
 //! * Every error names a field of the scenario schema, by its JSON path (`model.F[1][1]`,
 //!   `glls.monte_carlo.runs`), and says in JSON words what belongs there: parse errors never
 //!   show a Rust type ([`scenario::parse`]; `tests/suite/messages.rs` replaces every leaf of
