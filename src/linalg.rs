@@ -103,7 +103,7 @@ fn scale(m: &DMatrix<f64>) -> f64 {
 const MAX_SWEEPS: usize = 10_000;
 
 /// The SVD of `m`, or `None` when `m` holds a NaN or ±∞ (nalgebra panics with "Singular value
-/// was NaN" or never converges on those) or it does not converge within [`MAX_SWEEPS`]. Every
+/// was NaN" or never converges on those) or it does not converge within `MAX_SWEEPS`. Every
 /// SVD of the core goes through here or checks finiteness first.
 pub fn try_svd(
     m: DMatrix<f64>,

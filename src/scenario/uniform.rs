@@ -428,7 +428,7 @@ impl Scenario {
 }
 
 /// A validated uniform-innovation scenario ([`Scenario::prepare_uniform`]); after
-/// [`UniformPrepared::run_online`], the on-line estimates and the Θ in use after every step,
+/// `UniformPrepared::run_online`, the on-line estimates and the Θ in use after every step,
 /// from which the report and the cursor take the window at any time.
 pub struct UniformPrepared {
     spec: UniformSpec,
