@@ -419,15 +419,21 @@ pub fn run_to_end(
 
 /// Run a study as one shard per rayon thread and merge them: the result is the one serial
 /// run's, bit for bit (`RAYON_NUM_THREADS=1`: one shard). `make` builds a fresh study (each
-/// thread makes its own). Without threads (wasm32) it is one shard.
+/// thread makes its own). Without threads (wasm32) it is one shard. `progress(runs)` is called
+/// from the shards' threads with the runs each chunk just finished (the CLI's progress bar).
 pub fn run_sharded(
     make: &(dyn Fn() -> Result<Box<dyn Study>> + Sync),
     chunk: usize,
+    progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Value> {
     let shard = |i: usize, n: usize| -> Result<Value> {
         let mut s = make()?;
         s.restrict(i, n)?;
-        run_to_end(s.as_mut(), chunk, |_, _| {})?;
+        let mut done = 0;
+        run_to_end(s.as_mut(), chunk, |runs, _| {
+            progress(runs - done);
+            done = runs;
+        })?;
         s.partial()
     };
     #[cfg(not(target_arch = "wasm32"))]

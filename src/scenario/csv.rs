@@ -675,3 +675,70 @@ mod tests {
         );
     }
 }
+
+/// A report as a table: one row per time step (or horizon) of the method's main estimates and
+/// set sizes, what `confset run --format csv` writes. Each method's scenario file says which
+/// columns ([`Report::table`]); a yes/no column holds 1 or 0, and a column the report cannot
+/// fill at a row (no SCF region before t = n, no truth on measured data) is left empty.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<Option<f64>>>,
+}
+
+impl Table {
+    /// A table with these columns and no rows.
+    pub fn new(columns: Vec<String>) -> Table {
+        Table {
+            columns,
+            rows: Vec::new(),
+        }
+    }
+
+    /// `prefix_1 … prefix_n`: the columns of a vector.
+    pub fn numbered(prefix: &str, n: usize) -> Vec<String> {
+        (1..=n).map(|i| format!("{prefix}_{i}")).collect()
+    }
+
+    /// Append a row; a row of another length than the header is a bug of the method's table.
+    pub(crate) fn push(&mut self, row: Vec<Option<f64>>) {
+        debug_assert_eq!(row.len(), self.columns.len(), "{:?}", self.columns);
+        self.rows.push(row);
+    }
+
+    /// Comma-separated text with a header line; whole numbers as integers, others in Rust's
+    /// shortest round-trip form (a value read back is the value written; exponent notation
+    /// for very small and large ones), empty cells where a row has no value.
+    pub fn to_csv(&self) -> String {
+        let mut out = self.columns.join(",");
+        out.push('\n');
+        for row in &self.rows {
+            let cells: Vec<String> = row
+                .iter()
+                .map(|v| v.map(csv_number).unwrap_or_default())
+                .collect();
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        }
+        out
+    }
+}
+
+/// One CSV number: `3`, `-0.25`, `3.396582675734097e-10`.
+fn csv_number(x: f64) -> String {
+    if x == x.trunc() && x.abs() < 1e15 {
+        format!("{}", x as i64)
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// The cells of a vector that may be missing (`n` empty cells then).
+pub(crate) fn cells(v: Option<&[f64]>, n: usize) -> impl Iterator<Item = Option<f64>> + '_ {
+    (0..n).map(move |i| v.and_then(|v| v.get(i).copied()))
+}
+
+/// A yes/no cell: 1 or 0.
+pub(crate) fn flag(b: Option<bool>) -> Option<f64> {
+    b.map(|b| if b { 1.0 } else { 0.0 })
+}

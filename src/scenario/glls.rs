@@ -17,6 +17,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::csv::{cells, Table};
 use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::glls::{
@@ -686,6 +687,40 @@ impl MethodScenario for Glls {
     }
     fn work(&self, s: &Scenario, job: Job) -> Work {
         work(s, job)
+    }
+    fn table(&self, r: &Report) -> Table {
+        // One row per horizon s = 0..S: the curves of Figs. 1–2 (log10) and the index.
+        let Some(g) = &r.glls else {
+            return Table::new(vec!["s".into()]);
+        };
+        let c = &g.curves;
+        let mut columns = vec!["s".to_string()];
+        columns.extend(Table::numbered("log10_sigma", g.n));
+        columns.extend(
+            [
+                "log10_floor",
+                "log10_kappa_lls_current",
+                "log10_kappa_glls_past",
+                "log10_kappa_glls_current",
+                "index",
+            ]
+            .map(String::from),
+        );
+        let mut table = Table::new(columns);
+        for (s, sigma) in c.log10_sigma.iter().enumerate() {
+            let at = |v: &[f64]| v.get(s).copied();
+            let mut row = vec![Some(s as f64)];
+            row.extend(cells(Some(sigma), g.n));
+            row.extend([
+                at(&c.log10_floor),
+                at(&c.log10_kappa_lls_current),
+                at(&c.log10_kappa_glls_past),
+                at(&c.log10_kappa_glls_current),
+                at(&g.index),
+            ]);
+            table.push(row);
+        }
+        table
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let g = s.prepare_glls()?.report()?;

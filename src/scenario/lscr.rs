@@ -19,6 +19,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::csv::{cells, flag, Table};
 use super::{Condition, MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
@@ -690,6 +691,36 @@ impl MethodScenario for Lscr {
     }
     fn work(&self, s: &Scenario, job: Job) -> Work {
         work(s, job)
+    }
+    fn table(&self, r: &Report) -> Table {
+        // One region for one target time: a single row of its size and, when simulated,
+        // whether it holds the true state.
+        let mut columns: Vec<String> = ["time", "M", "q", "level", "area", "bounded"]
+            .map(String::from)
+            .into();
+        let Some(l) = &r.lscr else {
+            return Table::new(columns);
+        };
+        let truth = l.x_true.as_deref();
+        if let Some(x) = truth {
+            columns.extend(Table::numbered("x", x.len()));
+            columns.push("holds".into());
+        }
+        let mut table = Table::new(columns);
+        let mut row = vec![
+            Some(l.time as f64),
+            Some(l.m as f64),
+            Some(l.q as f64),
+            Some(l.level),
+            Some(l.area),
+            flag(Some(l.bounded)),
+        ];
+        if let Some(x) = truth {
+            row.extend(cells(Some(x), x.len()));
+            row.push(flag(l.truth_inside));
+        }
+        table.push(row);
+        table
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
         let p = s.prepare_lscr()?;

@@ -571,6 +571,9 @@ pub(crate) trait MethodScenario: Sync {
     fn work(&self, s: &Scenario, job: Job) -> Work;
     /// Validate and run: the report.
     fn run(&self, s: &Scenario) -> Result<Report>;
+    /// The report as a table of its main estimates and set sizes, one row per time step
+    /// (`confset run --format csv`).
+    fn table(&self, report: &Report) -> csv::Table;
     /// The method's Monte Carlo study, not yet run (`runs` overrides the scenario's count).
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>>;
     /// The method's time cursor over the scenario, prepared once; `None` when its reports
@@ -857,6 +860,12 @@ impl Report {
             None => Ok(()),
             Some(path) => Err(not_finite(&format!("report.{path}"))),
         }
+    }
+
+    /// The report's main estimates and set sizes, one row per time step (horizon for GLLS,
+    /// the one target time for LSCR): what `confset run --format csv` writes.
+    pub fn table(&self) -> csv::Table {
+        make_method(self.method).table(self)
     }
 
     /// Put a detail of the method's [`Cursor`] (its `at(t)`) into this report: its `at` block

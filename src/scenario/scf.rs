@@ -7,6 +7,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::csv::{cells, flag, Table};
 use super::{
     Condition, ExperimentSpec, FigureContext, MethodScenario, Report, Scenario, SimulateSpec,
     Source,
@@ -342,6 +343,61 @@ impl MethodScenario for Scf {
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
         s.prepare_scf()?.report()
+    }
+    fn table(&self, r: &Report) -> Table {
+        // Per time t: the data, each filter's region centre and volume at level α, and, when
+        // simulated, the true state and whether each region holds it.
+        let (n, q) = (r.n, r.q);
+        let scf = r.method == Method::Scf;
+        let truth = r.x_true.is_some();
+        let mut columns = vec!["t".to_string()];
+        columns.extend(Table::numbered("y", q));
+        if truth {
+            columns.extend(Table::numbered("x", n));
+        }
+        columns.extend(Table::numbered("kf", n));
+        columns.push("kf_volume".into());
+        if truth {
+            columns.push("kf_holds".into());
+        }
+        if scf {
+            columns.extend(Table::numbered("scf", n));
+            columns.push("scf_volume".into());
+            if truth {
+                columns.push("scf_holds".into());
+            }
+        }
+        let mut table = Table::new(columns);
+        for st in &r.steps {
+            let x = r
+                .x_true
+                .as_ref()
+                .and_then(|xs| xs.get(st.t.wrapping_sub(1)))
+                .map(|x| x.as_slice());
+            let mut row = vec![Some(st.t as f64)];
+            row.extend(cells(
+                r.y.get(st.t.wrapping_sub(1)).map(|y| y.as_slice()),
+                q,
+            ));
+            if truth {
+                row.extend(cells(x, n));
+            }
+            row.extend(cells(Some(&st.kf.center), n));
+            row.push(Some(st.kf.volume()));
+            if truth {
+                row.push(flag(x.map(|x| st.kf.contains(x))));
+            }
+            if scf {
+                let e = st.scf.as_ref();
+                row.extend(cells(e.map(|e| e.center.as_slice()), n));
+                row.push(e.map(|e| e.volume()));
+                if truth {
+                    row.push(flag(e.zip(x).map(|(e, x)| e.contains(x))));
+                }
+            }
+            table.push(row);
+        }
+        table
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
         let mut s = s.clone();

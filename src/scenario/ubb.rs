@@ -20,6 +20,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, rows_shape, shape, Job, Term, Work};
+use super::csv::{cells, flag, Table};
 use super::{detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, Source};
 use crate::error::{quoted, Error, Result};
 use crate::linalg;
@@ -971,6 +972,41 @@ impl MethodScenario for Ubb {
     }
     fn cursor(&self, s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
         Ok(Some(Box::new(UbbCursor::new(s.prepare_ubb()?)?)))
+    }
+    fn table(&self, r: &Report) -> Table {
+        // One row per step k: the outer box of x(k+1) (31), its centre and local error (5),
+        // the Kalman prediction, and, when simulated, the truth and whether each holds it.
+        let Some(u) = &r.ubb else {
+            return Table::new(vec!["k".into()]);
+        };
+        let n = u.r;
+        let truth = u.x_true.is_some();
+        let mut columns = vec!["k".to_string()];
+        columns.extend(Table::numbered("center", n));
+        columns.extend(Table::numbered("lo", n));
+        columns.extend(Table::numbered("hi", n));
+        columns.push("radius".into());
+        columns.extend(Table::numbered("kf", n));
+        if truth {
+            columns.extend(Table::numbered("x", n));
+            columns.extend(["holds", "kf_holds"].map(String::from));
+        }
+        let mut table = Table::new(columns);
+        for st in &u.track {
+            let mut row = vec![Some(st.k as f64)];
+            row.extend(cells(Some(&st.center), n));
+            row.extend(cells(Some(&st.lo), n));
+            row.extend(cells(Some(&st.hi), n));
+            row.push(Some(st.radius));
+            row.extend(cells(Some(&st.kf_mean), n));
+            if truth {
+                let x = u.x_true.as_ref().and_then(|x| x.get(st.k + 1));
+                row.extend(cells(x.map(|x| x.as_slice()), n));
+                row.extend([flag(st.inside), flag(st.kf_inside)]);
+            }
+            table.push(row);
+        }
+        table
     }
     fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
         let at: UbbStep = detail_of(at)?;

@@ -24,6 +24,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::csv::{cells, Table};
 use super::{
     detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, SimulateSpec, Source,
 };
@@ -737,6 +738,45 @@ impl MethodScenario for Uniform {
         let mut p = s.prepare_uniform()?;
         p.run_online()?;
         Ok(Some(Box::new(UniformCursor(p))))
+    }
+    fn table(&self, r: &Report) -> Table {
+        // One row per time t: the data, the MAP state estimate and the estimated innovation
+        // half-widths (the set sizes of the uniform model), and the truth when simulated.
+        let Some(u) = &r.uniform else {
+            return Table::new(vec!["t".into()]);
+        };
+        let (n, q) = (u.n, u.y.get(1).map_or(0, |y| y.len()));
+        let truth = u.x_true.is_some();
+        let mut columns = vec!["t".to_string()];
+        columns.extend(Table::numbered("y", q));
+        if truth {
+            columns.extend(Table::numbered("x", n));
+        }
+        columns.extend(Table::numbered("x_map", n));
+        columns.extend(Table::numbered("xr", n));
+        columns.extend(Table::numbered("yr", q));
+        columns.extend(Table::numbered("y_pred", q));
+        if u.kf.is_some() {
+            columns.extend(Table::numbered("kf", n));
+        }
+        let mut table = Table::new(columns);
+        for (k, st) in u.steps.iter().enumerate() {
+            let mut row = vec![Some(st.t as f64)];
+            row.extend(cells(u.y.get(st.t).map(|y| y.as_slice()), q));
+            if truth {
+                let x = u.x_true.as_ref().and_then(|x| x.get(st.t));
+                row.extend(cells(x.map(|x| x.as_slice()), n));
+            }
+            row.extend(cells(Some(&st.x), n));
+            row.extend(cells(Some(&st.xr), n));
+            row.extend(cells(Some(&st.yr), q));
+            row.extend(cells(Some(&st.y_pred), q));
+            if let Some(kf) = &u.kf {
+                row.extend(cells(kf.get(k).map(|x| x.as_slice()), n));
+            }
+            table.push(row);
+        }
+        table
     }
     fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
         let at: WindowReport = detail_of(at)?;

@@ -347,13 +347,16 @@ fn cli_shards_and_merge_print_the_unsharded_result() {
         );
         refused(
             &["experiment", "--preset", &name, "--shard", "3/3"],
-            "--shard must read i/N",
+            "for '--shard <i/N>': must read i/N",
         );
         refused(
             &["experiment", "--preset", &name, "--shard", "x"],
-            "--shard must read i/N",
+            "for '--shard <i/N>': must read i/N",
         );
-        refused(&["merge"], "merge needs the part files");
+        refused(
+            &["merge"],
+            "the following required arguments were not provided",
+        );
         let edited = dir.join(format!("{name}-edited.json"));
         let text = std::fs::read_to_string(&files[0]).unwrap();
         std::fs::write(

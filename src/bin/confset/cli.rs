@@ -1,0 +1,555 @@
+//! The command line's arguments (clap) and what each subcommand does with the core.
+//!
+//! Exit status: 0 done; 1 the core refused the input or could not compute (the message names
+//! the field and the limit, as everywhere in confset); 2 a usage error (clap's message).
+
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use confset::method::Method;
+use confset::plot::{self, Panel, View, Zoom};
+use confset::scenario::Scenario;
+use confset::{presets, study, Error};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{IsTerminal, Read};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+const EXIT_STATUS: &str =
+    "Exit status: 0 done; 1 the scenario, data or parts were refused or could \
+not be computed (the message names the field); 2 a usage error.";
+
+/// Guaranteed-set state estimation from the command line: the five papers' methods on a
+/// scenario file, their Monte Carlo studies (on every core, or sharded across machines), their
+/// figures, and the gallery site of the papers' figures.
+#[derive(Parser)]
+#[command(name = "confset", version, after_help = EXIT_STATUS)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the paper presets (their names, labels and what they show)
+    #[command(after_help = "Example:\n  confset presets")]
+    Presets,
+    /// Print a preset's scenario JSON: the starting point for a scenario of one's own
+    #[command(after_help = "Examples:\n  confset preset scf-scalar > mine.json\n  \
+        confset preset ubb-track | confset run -")]
+    Preset {
+        /// The preset (`confset presets` lists them)
+        #[arg(value_parser = preset_names())]
+        name: String,
+    },
+    /// Run a scenario: its report as JSON, or as CSV (one row per time step)
+    #[command(after_help = "Examples:\n  confset run --preset scf-scalar\n  \
+        confset run my-scenario.json --format csv --out steps.csv\n  \
+        confset run --preset ubb-track --data measured.csv\n  \
+        confset preset lscr-ma1 | confset run -")]
+    Run {
+        #[command(flatten)]
+        input: Input,
+        #[command(flatten)]
+        data: DataArg,
+        /// json: the whole report; csv: one row per time step of the main estimates and set
+        /// sizes (the README lists each method's columns)
+        #[arg(long, value_enum, default_value_t = Format::Json)]
+        format: Format,
+        /// Write to FILE instead of standard output
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Run the scenario's Monte Carlo study on every core (or one shard of it): result JSON
+    #[command(after_help = "Examples:\n  confset experiment --preset scf-robots\n  \
+        confset experiment --preset ubb-track --runs 500\n  \
+        confset experiment --preset ubb-track --shard 0/4 > part-0.json\n\n\
+        A progress bar goes to standard error when it is a terminal. RAYON_NUM_THREADS=1 runs \
+        on one core; the result is the same bit for bit.")]
+    Experiment {
+        #[command(flatten)]
+        input: Input,
+        /// Runs of the study (default: the scenario's own count)
+        #[arg(long, value_name = "N")]
+        runs: Option<usize>,
+        /// Only shard i of N (0 ≤ i < N), printed as one JSON line for `confset merge`
+        #[arg(long, value_name = "i/N", value_parser = parse_shard)]
+        shard: Option<(usize, usize)>,
+        /// Write to FILE instead of standard output
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Merge the parts of one sharded study into what `confset experiment` prints
+    #[command(
+        after_help = "Examples:\n  confset merge part-*.json > result.json\n  \
+        confset merge - < parts.jsonl\n\n\
+        The parts must come from the same confset version, scenario, seed and run count, and \
+        cover every run exactly once; otherwise the merge says which part is wrong."
+    )]
+    Merge {
+        /// The part files (`-`: JSON documents on standard input)
+        #[arg(value_name = "PART", required = true)]
+        parts: Vec<String>,
+        /// Write to FILE instead of standard output
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Draw one figure of a scenario as SVG
+    #[command(
+        after_help = "Examples:\n  confset figure --preset scf-robots -o robots.svg\n  \
+        confset figure --preset glls-saturate --panel singular -o glls-fig1.svg\n  \
+        confset figure --preset ubb-track --panel ubbset --time 12 --size 1600x1000 -o set.svg\n\n\
+        Without --panel: the report's first useful panel (region for LSCR, singular for GLLS, \
+        ustates for uniform_lp, ubbset for ubb, state otherwise)."
+    )]
+    Figure {
+        #[command(flatten)]
+        input: Input,
+        #[command(flatten)]
+        data: DataArg,
+        /// The SVG file to write
+        #[arg(short = 'o', long = "out", value_name = "FILE.svg")]
+        out: PathBuf,
+        #[command(flatten)]
+        view: ViewArgs,
+        #[command(flatten)]
+        size: SizeArg,
+    },
+    /// Every useful panel of every preset as SVG: DIR/PRESET-PANEL.svg
+    #[command(after_help = "Example:\n  confset figures -o figures/")]
+    Figures {
+        /// The directory to write into
+        #[arg(short = 'o', long = "out", value_name = "DIR")]
+        out: PathBuf,
+        #[command(flatten)]
+        size: SizeArg,
+    },
+    /// Print a shell completion script
+    #[command(
+        after_help = "Example:\n  confset completions bash > ~/.local/share/bash-completion/completions/confset"
+    )]
+    Completions {
+        /// The shell
+        shell: clap_complete::Shell,
+    },
+}
+
+/// Where the scenario comes from.
+#[derive(Args)]
+struct Input {
+    /// The scenario file (JSON); `-` reads it from standard input
+    #[arg(
+        value_name = "SCENARIO",
+        required_unless_present = "preset",
+        conflicts_with = "preset"
+    )]
+    scenario: Option<String>,
+    /// A paper preset instead of a file (`confset presets` lists them)
+    #[arg(long, value_name = "NAME", value_parser = preset_names())]
+    preset: Option<String>,
+}
+
+#[derive(Args)]
+struct DataArg {
+    /// Measured data from CSV, replacing the scenario's data or simulation: columns y1 … yq,
+    /// then optionally u1 … ur, header optional
+    #[arg(long, value_name = "FILE.csv")]
+    data: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct ViewArgs {
+    /// The panel to draw (one of the scenario's method)
+    #[arg(long, value_parser = panel_names())]
+    panel: Option<String>,
+    /// The time step shown (1, 2, …)
+    #[arg(long, value_name = "T", value_parser = clap::value_parser!(u64).range(1..))]
+    time: Option<u64>,
+    /// How the state plane is framed
+    #[arg(long, value_enum)]
+    zoom: Option<ZoomArg>,
+}
+
+#[derive(Args)]
+struct SizeArg {
+    /// The figure's size in pixels, 16 to 8192 per side
+    #[arg(long, value_name = "WxH", value_parser = parse_size, default_value = "960x640")]
+    size: (u32, u32),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Format {
+    Json,
+    Csv,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ZoomArg {
+    Auto,
+    Regions,
+    Full,
+}
+
+fn preset_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(presets::all().into_iter().map(|p| p.name))
+}
+
+fn panel_names() -> clap::builder::PossibleValuesParser {
+    let mut names: Vec<&'static str> = Vec::new();
+    for m in Method::ALL {
+        for p in plot::method_panels(m) {
+            if !names.contains(&p.name()) {
+                names.push(p.name());
+            }
+        }
+    }
+    clap::builder::PossibleValuesParser::new(names)
+}
+
+/// `WxH` in pixels, 16 to 8192 per side.
+fn parse_size(v: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("must read WIDTHxHEIGHT in pixels, e.g. 960x640, found {v:?}");
+    let (w, h) = v.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err("must be a whole number from 16 to 8192 pixels per side".into());
+    }
+    Ok((w, h))
+}
+
+/// `i/N` with 0 ≤ i < N.
+fn parse_shard(v: &str) -> Result<(usize, usize), String> {
+    let bad = || {
+        format!("must read i/N with 0 ≤ i < N, e.g. 0/4 (shards are counted from 0), found {v:?}")
+    };
+    let (i, n) = v.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (i.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?);
+    if i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn read_text(path: &str, what: &str) -> Result<String, Error> {
+    if path == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| Error::field("", format!("cannot read {what} on standard input: {e}")))?;
+        return Ok(text);
+    }
+    std::fs::read_to_string(path).map_err(|e| Error::field("", format!("cannot read {path}: {e}")))
+}
+
+fn scenario(input: &Input) -> Result<Scenario, Error> {
+    match (&input.preset, &input.scenario) {
+        (Some(name), _) => presets::get(name),
+        (None, Some(path)) => Scenario::from_json(&read_text(path, "the scenario")?),
+        // clap requires one of the two.
+        (None, None) => Err(Error::field(
+            "",
+            "a scenario file or --preset NAME is needed",
+        )),
+    }
+}
+
+/// The scenario with `--data FILE.csv` applied (`Scenario::with_csv_data`: its `data` read
+/// from the file, its `simulate` dropped), or as it is without the flag.
+fn scenario_with_data(input: &Input, data: &DataArg) -> Result<Scenario, Error> {
+    let s = scenario(input)?;
+    let Some(path) = &data.data else {
+        return Ok(s);
+    };
+    let path = path.display().to_string();
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| Error::field("--data", format!("cannot read {path}: {e}")))?;
+    s.with_csv_data(&text).map_err(|e| {
+        // Name the file, so "data.y row 7, …" points into it (a model error is the scenario's).
+        if e.field.starts_with("data") {
+            Error::field(e.field, format!("{} (in {path})", e.message))
+        } else {
+            e
+        }
+    })
+}
+
+/// Runs per chunk of a study on the command line.
+const CHUNK: usize = 1000;
+
+/// A progress bar on standard error when it is a terminal; hidden otherwise (pipes, CI logs).
+fn progress_bar(total: usize) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(total as u64);
+    if let Ok(style) =
+        ProgressStyle::with_template("{elapsed_precise} [{wide_bar}] {pos}/{len} runs, {eta} left")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+/// What `experiment --shard i/N` prints and `merge` reads: the scenario with its digest, the
+/// study's run count, the shard and the core's partial counts.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Part {
+    confset: String,
+    scenario: serde_json::Value,
+    scenario_digest: String,
+    runs: usize,
+    shard: [usize; 2],
+    range: [usize; 2],
+    partial: serde_json::Value,
+}
+
+fn to_value<T: serde::Serialize>(v: &T) -> Result<serde_json::Value, Error> {
+    serde_json::to_value(v).map_err(|e| Error::field("", e.to_string()))
+}
+
+/// `merge PART.json…` or `merge -` (parts as JSON documents on stdin): the parts checked
+/// (same version, scenario, seed and run count; every run exactly once) and merged into the
+/// result `experiment` prints.
+fn merge(paths: &[String]) -> Result<serde_json::Value, Error> {
+    let mut texts = Vec::new();
+    for path in paths {
+        if path == "-" {
+            let mut text = String::new();
+            std::io::Read::read_to_string(&mut std::io::stdin(), &mut text)
+                .map_err(|e| Error::field("", format!("cannot read the parts on stdin: {e}")))?;
+            for (k, v) in serde_json::Deserializer::from_str(&text)
+                .into_iter::<serde_json::Value>()
+                .enumerate()
+            {
+                let v = v.map_err(|e| {
+                    Error::field("", format!("document {} on stdin is not JSON: {e}", k + 1))
+                })?;
+                texts.push((format!("stdin document {}", k + 1), v.to_string()));
+            }
+        } else {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| Error::field("", format!("cannot read {path}: {e}")))?;
+            texts.push((path.clone(), text));
+        }
+    }
+    if texts.is_empty() {
+        return Err(Error::field(
+            "",
+            "merge needs the part files (or - for parts on standard input)",
+        ));
+    }
+    let legend = texts
+        .iter()
+        .enumerate()
+        .map(|(k, (name, _))| format!("part {} = {name}", k + 1))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let with_legend = |e: Error| Error::field(e.field, format!("{} ({legend})", e.message));
+    let mut parts = Vec::new();
+    for (k, (name, text)) in texts.iter().enumerate() {
+        let p: Part = confset::scenario::parse::from_json(text, "").map_err(|e| {
+            Error::field(
+                "",
+                format!("part {} ({name}) is not a part file: {e}", k + 1),
+            )
+        })?;
+        if p.confset != env!("CARGO_PKG_VERSION") {
+            return Err(with_legend(Error::field(
+                "",
+                format!(
+                    "part {} was written by confset {}, this is confset {}: runs may differ between versions",
+                    k + 1,
+                    p.confset,
+                    env!("CARGO_PKG_VERSION")
+                ),
+            )));
+        }
+        parts.push(p);
+    }
+    let first = &parts[0];
+    let s = Scenario::from_json(&first.scenario.to_string()).map_err(with_legend)?;
+    if s.digest()? != first.scenario_digest {
+        return Err(with_legend(Error::field(
+            "",
+            "part 1's scenario does not match its scenario_digest: the file was edited",
+        )));
+    }
+    let mut st = s.study(Some(first.runs)).map_err(with_legend)?;
+    let partials: Vec<serde_json::Value> = parts.iter().map(|p| p.partial.clone()).collect();
+    st.merge(&partials).map_err(with_legend)?;
+    st.complete().map_err(with_legend)?;
+    st.result()
+}
+
+fn json<T: serde::Serialize>(v: &T) -> Result<String, Error> {
+    serde_json::to_string_pretty(v)
+        .map(|s| s + "\n")
+        .map_err(|e| Error::field("", e.to_string()))
+}
+
+/// Write `text` to `out`, or to standard output.
+fn emit(out: Option<&PathBuf>, text: &str) -> Result<(), Error> {
+    match out {
+        Some(path) => std::fs::write(path, text)
+            .map_err(|e| Error::field("--out", format!("cannot write {}: {e}", path.display()))),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}
+
+fn run(command: Command) -> Result<(), Error> {
+    match command {
+        Command::Presets => {
+            for p in presets::all() {
+                println!("{:<22} {}\n{:<22} {}", p.name, p.label, "", p.description);
+            }
+            Ok(())
+        }
+        Command::Preset { name } => emit(None, &json(&presets::get(&name)?)?),
+        Command::Run {
+            input,
+            data,
+            format,
+            out,
+        } => {
+            let report = scenario_with_data(&input, &data)?.run()?;
+            let text = match format {
+                Format::Json => json(&report)?,
+                Format::Csv => report.table().to_csv(),
+            };
+            emit(out.as_ref(), &text)
+        }
+        Command::Experiment {
+            input,
+            runs,
+            shard,
+            out,
+        } => {
+            let s = scenario(&input)?;
+            match shard {
+                None => {
+                    let bar = progress_bar(s.study(runs)?.total());
+                    let result =
+                        study::run_sharded(&|| s.study(runs), CHUNK, &|k| bar.inc(k as u64));
+                    bar.finish_and_clear();
+                    emit(out.as_ref(), &json(&result?)?)
+                }
+                Some((i, n)) => {
+                    let mut st = s.study(runs)?;
+                    st.restrict(i, n)?;
+                    let bar = progress_bar(st.range().len());
+                    let result = study::run_to_end(st.as_mut(), CHUNK, |done, _| {
+                        bar.set_position(done as u64)
+                    });
+                    bar.finish_and_clear();
+                    result?;
+                    let range = st.range();
+                    let part = Part {
+                        confset: env!("CARGO_PKG_VERSION").into(),
+                        scenario: to_value(&s)?,
+                        scenario_digest: s.digest()?,
+                        runs: st.total(),
+                        shard: [i, n],
+                        range: [range.start, range.end],
+                        partial: st.partial()?,
+                    };
+                    let line = serde_json::to_string(&part)
+                        .map_err(|e| Error::field("", e.to_string()))?;
+                    emit(out.as_ref(), &(line + "\n"))
+                }
+            }
+        }
+        Command::Merge { parts, out } => emit(out.as_ref(), &json(&merge(&parts)?)?),
+        Command::Figure {
+            input,
+            data,
+            out,
+            view,
+            size,
+        } => {
+            let s = scenario_with_data(&input, &data)?;
+            // A panel of another method is refused before the report is computed.
+            let panel = view.panel.as_deref().map(Panel::from_name).transpose()?;
+            if let Some(p) = panel {
+                if !plot::method_panels(s.method).contains(&p) {
+                    return Err(Error::field(
+                        "--panel",
+                        format!(
+                            "{} is not a panel of the method \"{}\" (its panels: {})",
+                            p.name(),
+                            s.method,
+                            plot::method_panels(s.method)
+                                .iter()
+                                .map(|p| p.name())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    ));
+                }
+            }
+            let report = s.run()?;
+            let mut v = View::new(panel.unwrap_or_else(|| {
+                plot::useful_panels(&report)
+                    .first()
+                    .copied()
+                    .unwrap_or(Panel::State)
+            }));
+            v.time = view.time.map(|t| t as usize);
+            if let Some(z) = view.zoom {
+                v.zoom = match z {
+                    ZoomArg::Auto => Zoom::Auto,
+                    ZoomArg::Regions => Zoom::Regions,
+                    ZoomArg::Full => Zoom::Full,
+                };
+            }
+            let (w, h) = size.size;
+            let svg = plot::report_svg(&report, &v, w, h).map_err(|e| {
+                if e.field == "panel" && panel.is_some() {
+                    Error::field("--panel", e.message)
+                } else {
+                    e
+                }
+            })?;
+            std::fs::write(&out, svg)
+                .map_err(|e| Error::field("-o", format!("cannot write {}: {e}", out.display())))
+        }
+        Command::Figures { out, size } => {
+            std::fs::create_dir_all(&out)
+                .map_err(|e| Error::field("-o", format!("cannot create {}: {e}", out.display())))?;
+            let (w, h) = size.size;
+            for p in presets::all() {
+                let report = p.scenario.run()?;
+                for panel in plot::useful_panels(&report) {
+                    let path = out.join(format!("{}-{}.svg", p.name, panel.name()));
+                    std::fs::write(&path, plot::report_svg(&report, &View::new(panel), w, h)?)
+                        .map_err(|e| {
+                            Error::field("-o", format!("cannot write {}: {e}", path.display()))
+                        })?;
+                    eprintln!("wrote {}", path.display());
+                }
+            }
+            Ok(())
+        }
+        Command::Completions { shell } => {
+            clap_complete::generate(
+                shell,
+                &mut Cli::command(),
+                "confset",
+                &mut std::io::stdout(),
+            );
+            Ok(())
+        }
+    }
+}
