@@ -141,59 +141,7 @@
 //!   is a JSON number; an ellipsoid is `{"center", "cov", "radius2"}` meaning
 //!   (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2.
 //!
-//! ## Where the papers are wrong, and what the code does
-//!
-//! * SCF robot model (3): row 4 printed (1 − K_u)·Δ; the axes are identical, so 1 − K_uΔ.
-//! * SCF robot noise: (3) adds v·Δ, i.e. covariance Δ²V_A; the `scf-robots` preset uses V_A
-//!   (the paper's "moderate enlargement"), `scf-robots-literal` uses Δ²V_A.
-//! * SCF Example 1: the ρ integrand should read exp(−x²/(2p̄)) (then ρ ≈ 2.00 as printed).
-//! * SCF subset estimation (V-A): the region for components ζ holds α when only ζ_t is fixed;
-//!   with the whole state fixed its coverage can fall far below α. The robot Monte Carlo fixes
-//!   the whole state but counts ζ = robot A's four states, a block independent of robot B; the
-//!   SCF panel's robot hint says so.
-//! * Backward noise covariance: Γ − F^bΓF^bᵀ = Γ − ΓFᵀΓ⁻¹FΓ (the LSCR paper's (7) prints
-//!   Π − FΠFᵀ).
-//! * LSCR V-A: the text says q = 4 but computes 1 − 2·2·2/80 = 0.9; Theorem 3.2 needs q = 2 for
-//!   a 90 % joint level with M = 80, n = 2 — the presets use q = 2.
-//! * LSCR Lemma 3.1: Cov n̄ = σ_v²D + σ_w²I (the paper swaps the variances); used by the BLUE.
-//! * LSCR Fig. 3: the caption says x₂₀; text and data say x₂₁, which the `lscr-ma1` preset
-//!   predicts.
-//! * LSCR smoothing: the Karhunen–Loève eigenvalues come in exact pairs, so the basis is not
-//!   unique; [`lscr::KarhunenLoeve`] fixes it block by block before seeing the data.
-//! * GLLS (34): δ(k,s) stacks s + 1 errors, so ‖δ(k,s)‖₂ ≤ √(s+1)·μ (printed √s); the ball
-//!   of (35) uses √(s+1), and the report adds the exact interval hull μΣ_j‖(∂f)_{i,j}‖₂, which
-//!   the worst-case noise reaches.
-//! * GLLS, end of 3.4: "σ(Γ_{s+1}) and σ(Γ_{s+1}A^{−s}) coincide" is an empirical remark, true
-//!   for orthogonal A only; both curves are computed and the report gives their largest gap.
-//! * GLLS (60) sums norms but (63) is the quadratic form; the estimator minimizes (63).
-//! * Pavelková (12): with its blocks in the order printed, the half-width column block pairs
-//!   the wrong half-width with half of the rows; [`uniform::parameter_lp`] builds the rows per
-//!   time, K, component and gives each its own half-width (tested by swapping half-widths).
-//! * Pavelková's example is not observable (C·A = 0.5·C): the state LP's optimum is a face
-//!   bounded by the ±5 prior along x₁ − x₂; [`uniform::optimal_face`] reports it. The truth need
-//!   not lie in the optimal face (its Σ half-widths is larger than the optimum); it lies in the
-//!   set consistent with the window at half-widths ≥ the true ones, which
-//!   [`uniform::consistent_polygon`] draws.
-//! * Tempo, Theorem 1: "Δ(ε) ⊂ K is equivalent to ‖N⁻¹‖ > ε⁻¹" is reversed: Δ(ε) ⊂ K iff
-//!   sup{‖f‖ : ‖Nf‖ ≤ ε} ≤ 1, i.e. ‖N⁻¹‖ ≤ ε⁻¹ ([`ubb::Hilbert::delta_in_k`]).
-//! * Tempo, Theorem 3: the l1 bound as the 2^{m−1} sign rows of (30) is exact but exponential
-//!   in m; the same set is a polynomial LP with slacks |r_i| ≤ s_i, Σ s_i ≤ ε (2m + 1 rows).
-//!   [`ubb::L1Form::Lifted`] (the default) builds that, [`ubb::L1Form::Enumerated`] the paper's
-//!   rows up to m = [`ubb::MAX_ENUMERATED_M`]; tests check both give the same hull.
-//! * Tempo (37) bounds u(1 … k) but f contains u(0): every u of the window is bounded.
-//! * Tempo (50) reads u(j−i); the sum is Σ_{i=0}^{j} AⁱBu(k−i). The estimator here keeps the
-//!   whole window exactly: its unknowns are x(k−j) and u(k−j … k), and x(k−j)'s a-priori box is
-//!   the image of δ and of the older noise under its smoothed bounds (the tail of the Theorem 4
-//!   series, with the true powers of A), so the set holds the truth exactly, not up to γ; the
-//!   LP size is constant in k as Theorem 5 intends.
-//! * Tempo, after Theorem 4: a pole near the unit circle needs exp(1/α) close to 1 (α large: a
-//!   long memory), not "very small".
-//! * Tempo, Theorem 4: (47) bounds lim sup_{k→∞} ‖x(k+1)‖, not every step: early hulls also
-//!   carry the image of δ (‖A^{k+1}‖δ) and can be wider than the bound.
-//!   [`ubb::Smoothing::limit`] is that lim sup; `tests/suite/ubb.rs` bounds the hull's radius (no
-//!   measurements) by ‖A^{k+1}‖δ + (47).
-//! * Tempo, Example 4: with rows of A summing to 1 (and the absorbing form [[I, O], [D, G]])
-//!   the distribution evolves as x(k+1) = Aᵀx(k); the `ubb-markov` preset's F is Aᵀ.
+#![doc = include_str!("errata.md")]
 //!
 //! ## How the LSCR region is exact and fast
 //!
@@ -295,6 +243,8 @@
 
 pub mod bench;
 pub mod error;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod gallery;
 pub mod glls;
 pub mod kalman;
 pub mod linalg;

@@ -105,6 +105,8 @@ function load(p, s) {
   ui.steps.value = s.simulate ? s.simulate.steps : s.data.y.length;
   ui.seed.value = s.simulate?.seed ?? 0;
   ui.max.value = g.max_horizon ?? 60;
+  // The preset's Monte Carlo size (a link or the gallery then shows the same precision figure).
+  ui['mc-n'].value = g.monte_carlo?.runs ?? 500;
   horizonRange(p);
 }
 

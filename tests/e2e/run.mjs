@@ -1,4 +1,5 @@
 // Browser end-to-end harness: node tests/e2e/run.mjs http://127.0.0.1:PORT/ [name-filter]
+//                         or: node tests/e2e/run.mjs http://127.0.0.1:PORT/explorer/ --site
 //
 // Runs every tests/e2e/*.test.mjs (sorted by name) against Debian's Chromium through
 // playwright-core. A test module exports `default async function (ctx)`, where ctx is
@@ -13,6 +14,8 @@
 //                 provokes one on purpose and checks that it was caught
 // A test fails if it throws or if any of its pages logged a console error, threw a page error or
 // broke its Content-Security-Policy (every securitypolicyviolation event is logged as an error).
+// With --site the base is the explorer inside a site written by `confset gallery`, and the files
+// run are tests/e2e/*.site.mjs (the gallery's tests; the site's root is the base's parent).
 import { createRequire } from 'node:module';
 import { readdirSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -33,7 +36,9 @@ mkdirSync(screenshotDir, { recursive: true });
 for (const f of readdirSync(screenshotDir)) if (f.includes('-FAILED-')) rmSync(join(screenshotDir, f));
 const testTimeoutMs = Number(process.env.E2E_TEST_TIMEOUT_MS || 420_000);
 
-const files = readdirSync(here).filter((f) => f.endsWith('.test.mjs') && f.includes(filter)).sort();
+const site = filter === '--site';
+const files = readdirSync(here)
+  .filter((f) => (site ? f.endsWith('.site.mjs') : f.endsWith('.test.mjs') && f.includes(filter))).sort();
 if (files.length === 0) { console.error(`no tests/e2e/*.test.mjs matching "${filter}"`); process.exit(1); }
 
 // Playwright gives each launch its own fresh temporary profile; keep its temp files apart too.
@@ -58,7 +63,7 @@ async function waitReady(page, timeoutMs = 60_000) {
 
 let passed = 0, failed = 0;
 for (const file of files) {
-  const name = file.replace(/\.test\.mjs$/, '');
+  const name = file.replace(/\.(test|site)\.mjs$/, '');
   const contexts = [], pages = [], errors = [], warnings = [];
   const newPage = async (opts = {}) => {
     const context = await browser.newContext(opts);

@@ -122,6 +122,26 @@ enum Command {
         #[command(flatten)]
         size: SizeArg,
     },
+    /// Write the gallery site of the papers' figures and numbers, with the explorer copied in
+    #[command(
+        after_help = "Example:\n  bash .ci/build && confset gallery -o site/\n  \
+        python3 -m http.server --directory site 8000\n\n\
+        DIR/index.html is a grid of every figure and table of the five papers that a preset \
+        reproduces; each entry has the paper's printed numbers beside ours with a verdict, the \
+        scenario and report JSON, and a link into the explorer (copied from --explorer into \
+        DIR/explorer: it needs the built module, `bash .ci/build`). Relative links only: any \
+        static host serves DIR as it is."
+    )]
+    Gallery {
+        /// The directory to write the site into
+        #[arg(short = 'o', long = "out", value_name = "DIR")]
+        out: PathBuf,
+        /// The explorer to copy into DIR/explorer (the repository's www/, built)
+        #[arg(long, value_name = "DIR", default_value = "www")]
+        explorer: PathBuf,
+        #[command(flatten)]
+        size: SizeArg,
+    },
     /// Print a shell completion script
     #[command(
         after_help = "Example:\n  confset completions bash > ~/.local/share/bash-completion/completions/confset"
@@ -542,6 +562,11 @@ fn run(command: Command) -> Result<(), Error> {
             }
             Ok(())
         }
+        Command::Gallery {
+            out,
+            explorer,
+            size,
+        } => gallery(&out, &explorer, size.size),
         Command::Completions { shell } => {
             clap_complete::generate(
                 shell,
@@ -552,4 +577,76 @@ fn run(command: Command) -> Result<(), Error> {
             Ok(())
         }
     }
+}
+
+/// Files of the explorer's directory that a static site does not serve.
+fn not_served(name: &str) -> bool {
+    matches!(
+        name,
+        "node_modules" | "package.json" | "package-lock.json" | ".gitignore" | "README.md"
+    ) || name.starts_with("screenshot")
+        || name.ends_with(".d.ts")
+}
+
+/// Copy the explorer's served files from `from` into `to`.
+fn copy_explorer(from: &std::path::Path, to: &std::path::Path) -> Result<usize, Error> {
+    let fail = |p: &std::path::Path, e: std::io::Error| {
+        Error::field("--explorer", format!("cannot copy {}: {e}", p.display()))
+    };
+    std::fs::create_dir_all(to).map_err(|e| fail(to, e))?;
+    let mut copied = 0;
+    for item in std::fs::read_dir(from).map_err(|e| fail(from, e))? {
+        let item = item.map_err(|e| fail(from, e))?;
+        let name = item.file_name().to_string_lossy().into_owned();
+        if not_served(&name) {
+            continue;
+        }
+        let path = item.path();
+        if path.is_dir() {
+            copied += copy_explorer(&path, &to.join(&name))?;
+        } else {
+            std::fs::copy(&path, to.join(&name)).map_err(|e| fail(&path, e))?;
+            copied += 1;
+        }
+    }
+    Ok(copied)
+}
+
+/// `confset gallery -o DIR`: the core's site, then the explorer beside it.
+fn gallery(
+    out: &std::path::Path,
+    explorer: &std::path::Path,
+    size: (u32, u32),
+) -> Result<(), Error> {
+    let module = explorer.join("pkg").join("confset_bg.wasm");
+    if !module.is_file() {
+        return Err(Error::field(
+            "--explorer",
+            format!(
+                "{} has no built module ({} is missing): run `bash .ci/build` first, or point \
+                 --explorer at a built copy of www/",
+                explorer.display(),
+                module.display()
+            ),
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let files = confset::gallery::build(size)?;
+    for f in &files {
+        let path = out.join(&f.path);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| Error::field("-o", format!("cannot create {}: {e}", dir.display())))?;
+        }
+        std::fs::write(&path, &f.bytes)
+            .map_err(|e| Error::field("-o", format!("cannot write {}: {e}", path.display())))?;
+    }
+    let copied = copy_explorer(explorer, &out.join("explorer"))?;
+    eprintln!(
+        "wrote {} gallery files and {copied} explorer files into {} in {:.1} s",
+        files.len(),
+        out.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
