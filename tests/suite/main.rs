@@ -16,6 +16,7 @@ mod coverage;
 mod csv;
 mod determinism;
 mod fuzz;
+mod gallery;
 mod glls;
 mod lscr;
 mod messages;

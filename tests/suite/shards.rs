@@ -94,7 +94,7 @@ fn shards_merge_to_the_unsharded_result() {
 }
 
 /// Every leaf `…seed` of the scenario JSON that holds `seed`, moved to seed + 1.
-fn with_other_seed(s: &Scenario, seed: u64) -> Scenario {
+pub(crate) fn with_other_seed(s: &Scenario, seed: u64) -> Scenario {
     fn walk(v: &mut Value, key: &str, seed: u64, hits: &mut usize) {
         match v {
             Value::Object(m) => m.iter_mut().for_each(|(k, w)| walk(w, k, seed, hits)),
