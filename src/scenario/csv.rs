@@ -678,7 +678,7 @@ mod tests {
 
 /// A report as a table: one row per time step (or horizon) of the method's main estimates and
 /// set sizes, what `confset run --format csv` writes. Each method's scenario file says which
-/// columns ([`Report::table`]); a yes/no column holds 1 or 0, and a column the report cannot
+/// columns ([`super::Report::table`]); a yes/no column holds 1 or 0, and a column the report cannot
 /// fill at a row (no SCF region before t = n, no truth on measured data) is left empty.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
