@@ -1,6 +1,6 @@
 //! The papers as a static site (`confset gallery -o DIR`): one entry per figure or table of the
 //! five papers that a preset reproduces ([`printed::Catalogue`]), each with the core's figures
-//! (SVG), the paper's printed numbers beside ours with a computed verdict, the erratum that
+//! (SVG, and PNG at 2× for slides), the paper's printed numbers beside ours with a computed verdict, the erratum that
 //! explains a difference (quoted from the crate docs' list), the scenario, report and study
 //! JSON, a link that opens the same preset in the explorer, and the time the core took.
 //!
@@ -347,6 +347,11 @@ pub fn build(size: (u32, u32)) -> Result<Vec<File>> {
             if !drawn.contains_key(&key) {
                 let path = format!("figures/{}-{}.svg", ch.entry.preset, panel.name());
                 let svg = plot::report_svg(&c.report, &View::new(panel), size.0, size.1)?;
+                // The PNG at 2× for slides, beside the SVG.
+                files.push(File {
+                    path: path.replace(".svg", ".png"),
+                    bytes: plot::svg_to_png(&svg, 2.0)?,
+                });
                 files.push(File {
                     path: path.clone(),
                     bytes: svg.into_bytes(),
@@ -489,9 +494,10 @@ fn entry_page(
         if let Some(f) = drawn.get(&(name.clone(), panel.name())) {
             let _ = write!(
                 b,
-                "<figure><img src=\"../{f}\" alt=\"{}\"><figcaption>{} · <a href=\"../{f}\" download>SVG</a></figcaption></figure>\n",
+                "<figure><img src=\"../{f}\" alt=\"{}\"><figcaption>{} · <a href=\"../{f}\" download>SVG</a> · <a href=\"../{}\" download>PNG (2×)</a></figcaption></figure>\n",
                 esc(panel.alt_text()),
-                esc(panel.alt_text())
+                esc(panel.alt_text()),
+                f.replace(".svg", ".png")
             );
         }
     }

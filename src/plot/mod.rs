@@ -385,6 +385,42 @@ pub fn report_svg(report: &Report, view: &View, w: u32, h: u32) -> Result<String
     Ok(s)
 }
 
+/// A figure as PNG (native only): the SVG of [`report_svg`] at `w`×`h` rasterized by resvg at
+/// `scale` pixels per SVG pixel (2 for slides and hi-DPI screens), its text in the embedded font
+/// the SVG's layout was measured with.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn report_png(report: &Report, view: &View, w: u32, h: u32, scale: f32) -> Result<Vec<u8>> {
+    svg_to_png(&report_svg(report, view, w, h)?, scale)
+}
+
+/// Rasterize an SVG made by this module (see [`report_png`]).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn svg_to_png(svg: &str, scale: f32) -> Result<Vec<u8>> {
+    use resvg::{tiny_skia, usvg};
+    let fail = |what: &str| Error::field("figure", format!("could not be rasterized: {what}"));
+    if !(scale.is_finite() && (0.25..=8.0).contains(&scale)) {
+        return Err(Error::field("scale", "must be a number from 0.25 to 8"));
+    }
+    let mut options = usvg::Options::default();
+    options.fontdb_mut().load_font_data(FONT.to_vec());
+    options.fontdb_mut().set_sans_serif_family("DejaVu Sans");
+    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| fail(&e.to_string()))?;
+    let size = tree
+        .size()
+        .to_int_size()
+        .scale_by(scale)
+        .ok_or_else(|| fail("empty size"))?;
+    let mut pixmap =
+        tiny_skia::Pixmap::new(size.width(), size.height()).ok_or_else(|| fail("no pixmap"))?;
+    pixmap.fill(tiny_skia::Color::WHITE);
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::from_scale(scale, scale),
+        &mut pixmap.as_mut(),
+    );
+    pixmap.encode_png().map_err(|e| fail(&e.to_string()))
+}
+
 /// The scenario's default figure (the first of its [`useful_panels`]) as SVG text.
 pub fn scenario_svg(s: &Scenario, w: u32, h: u32) -> Result<String> {
     let report = s.run()?;
@@ -478,11 +514,15 @@ pub(crate) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>)
     Error::field("figure", format!("could not be drawn: {e}"))
 }
 
+/// The embedded font subset (native only): what plotters measures text with, and what the PNG
+/// export draws it with.
+#[cfg(not(target_arch = "wasm32"))]
+static FONT: &[u8] = include_bytes!("fonts/DejaVuSans-subset.ttf");
+
 /// The embedded font (native only): registered once for the family "sans-serif".
 #[cfg(not(target_arch = "wasm32"))]
 fn ensure_fonts() -> Result<()> {
     use std::sync::OnceLock;
-    static FONT: &[u8] = include_bytes!("fonts/DejaVuSans-subset.ttf");
     static DONE: OnceLock<bool> = OnceLock::new();
     let ok = *DONE.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()

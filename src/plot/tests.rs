@@ -1455,7 +1455,7 @@ fn ubb_panels_say_what_they_show() {
         "Width of the interval hull",
         "width of x₁(k+1)",
         "width of x₂(k+1)",
-        "Theorem 4 bound (2·τ‖B‖/(1−‖A‖·exp(1/α)))",
+        "Theorem 4 bound on lim sup (2·τ‖B‖/(1−‖A‖·exp(1/α)))",
         "k = 40",
         "truth in its hull band",
     ] {
@@ -1475,7 +1475,7 @@ fn ubb_panels_say_what_they_show() {
     let (_, r) = preset("ubb-series");
     let width = svg(&r, Panel::UbbWidth, None);
     assert!(width.contains("no Theorem 4 bound"));
-    assert!(!width.contains("Theorem 4 bound (2"));
+    assert!(!width.contains("Theorem 4 bound on lim sup (2"));
     // An l1 norm is named; a projection of r = 3 says so; a polygon within a gap says so.
     let (s, r) = preset("ubb-leontief");
     let set = svg(&r, Panel::UbbSet, None);

@@ -50,7 +50,7 @@ pub fn draw<DB: DrawingBackend>(
     )];
     match (bound, &u.smoothing.note) {
         (Some(b), _) => notes.push(format!(
-            "Theorem 4: width ≤ 2·τ‖B‖/(1−‖A‖·exp(1/α)) = {} (‖A‖·exp(1/α) = {})",
+            "Theorem 4 (as k → ∞, not at every k): lim sup width ≤ 2·τ‖B‖/(1−‖A‖·exp(1/α)) = {} (‖A‖·exp(1/α) = {})",
             num(b, 3),
             num(u.smoothing.ratio, 3)
         )),
@@ -82,9 +82,9 @@ pub fn draw<DB: DrawingBackend>(
     if bound.is_some() {
         entries.push(Entry::new(
             if short {
-                "Theorem 4 bound".to_string()
+                "Theorem 4 bound on lim sup".to_string()
             } else {
-                "Theorem 4 bound (2·τ‖B‖/(1−‖A‖·exp(1/α)))".to_string()
+                "Theorem 4 bound on lim sup (2·τ‖B‖/(1−‖A‖·exp(1/α)))".to_string()
             },
             line(HULL, true, 2),
         ));

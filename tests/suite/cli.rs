@@ -292,3 +292,45 @@ fn completions_for_bash_name_every_subcommand() {
         assert!(script.contains(sub), "{sub}");
     }
 }
+
+/// `figure -o FILE.png` rasterizes the SVG at `--scale` (default 2): a PNG of twice the size.
+#[test]
+fn figure_writes_png_at_the_scale() {
+    let dir = std::env::temp_dir().join(format!("confset-cli-png-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("fig.png");
+    let o = confset(
+        &[
+            "figure",
+            "--preset",
+            "lscr-ma1",
+            "--size",
+            "480x320",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let png = std::fs::read(&out).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // IHDR: width and height, big-endian, at bytes 16..24.
+    let w = u32::from_be_bytes(png[16..20].try_into().unwrap());
+    let h = u32::from_be_bytes(png[20..24].try_into().unwrap());
+    assert_eq!((w, h), (960, 640));
+    let o = confset(
+        &[
+            "figure",
+            "--preset",
+            "lscr-ma1",
+            "--scale",
+            "9",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("from 0.25 to 8"));
+    std::fs::remove_dir_all(&dir).ok();
+}

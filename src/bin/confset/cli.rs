@@ -105,9 +105,12 @@ enum Command {
         input: Input,
         #[command(flatten)]
         data: DataArg,
-        /// The SVG file to write
-        #[arg(short = 'o', long = "out", value_name = "FILE.svg")]
+        /// The file to write: SVG, or PNG when it ends in .png
+        #[arg(short = 'o', long = "out", value_name = "FILE.svg|FILE.png")]
         out: PathBuf,
+        /// PNG only: pixels per figure pixel (2 for slides and hi-DPI screens)
+        #[arg(long, value_name = "S", default_value_t = 2.0, value_parser = parse_scale)]
+        scale: f32,
         #[command(flatten)]
         view: ViewArgs,
         #[command(flatten)]
@@ -233,6 +236,14 @@ fn parse_size(v: &str) -> Result<(u32, u32), String> {
         return Err("must be a whole number from 16 to 8192 pixels per side".into());
     }
     Ok((w, h))
+}
+
+/// A PNG scale from 0.25 to 8.
+fn parse_scale(v: &str) -> Result<f32, String> {
+    match v.parse::<f32>() {
+        Ok(s) if s.is_finite() && (0.25..=8.0).contains(&s) => Ok(s),
+        _ => Err(format!("must be a number from 0.25 to 8, found {v:?}")),
+    }
 }
 
 /// `i/N` with 0 ≤ i < N.
@@ -496,6 +507,7 @@ fn run(command: Command) -> Result<(), Error> {
             input,
             data,
             out,
+            scale,
             view,
             size,
         } => {
@@ -542,7 +554,15 @@ fn run(command: Command) -> Result<(), Error> {
                     e
                 }
             })?;
-            std::fs::write(&out, svg)
+            let png = out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            let bytes = if png {
+                plot::svg_to_png(&svg, scale)?
+            } else {
+                svg.into_bytes()
+            };
+            std::fs::write(&out, bytes)
                 .map_err(|e| Error::field("-o", format!("cannot write {}: {e}", out.display())))
         }
         Command::Figures { out, size } => {
