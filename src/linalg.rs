@@ -265,6 +265,26 @@ pub fn norm_2(m: &DMatrix<f64>) -> f64 {
     try_svd(m.clone(), false, false).map_or(f64::INFINITY, |s| s.singular_values.max())
 }
 
+/// The eigenvalues of a square `m` as (re, im), largest modulus first, from its real Schur form
+/// with the iteration cap of [`try_svd`]; `None` when `m` holds a NaN or ±∞ or does not converge.
+pub fn try_eigenvalues(m: &DMatrix<f64>) -> Option<Vec<[f64; 2]>> {
+    if !m.is_square() || !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let schur = nalgebra::linalg::Schur::try_new(m.clone(), f64::EPSILON, MAX_SWEEPS)?;
+    let mut e: Vec<[f64; 2]> = schur
+        .complex_eigenvalues()
+        .iter()
+        .map(|c| [c.re, c.im])
+        .collect();
+    e.sort_by(|a, b| {
+        b[0].hypot(b[1])
+            .total_cmp(&a[0].hypot(a[1]))
+            .then(b[1].total_cmp(&a[1]))
+    });
+    Some(e)
+}
+
 /// Spectral radius via the eigenvalues of the (real) Schur form.
 pub fn spectral_radius(m: &DMatrix<f64>) -> f64 {
     m.clone()

@@ -254,7 +254,7 @@ fn verdict_cell(p: &Printed, v: &Verdict) -> String {
     match v {
         Verdict::Reproduced => "<td class=\"ok\">reproduced to the printed digits</td>".into(),
         Verdict::WithinTolerance(t) => {
-            format!("<td class=\"ok\">within ±{} of the value read off the figure</td>", number(*t))
+            format!("<td class=\"ok\">within ±{} of the printed value (which the paper gives roughly, or reads off a figure)</td>", number(*t))
         }
         Verdict::WithinBand { lo, hi } => format!(
             "<td class=\"ok\">within the 99.9 % Monte Carlo band: counts {:.0}–{:.0} agree with the paper's {} of {}</td>",

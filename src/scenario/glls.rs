@@ -199,6 +199,10 @@ pub struct GllsReport {
     /// missing: A is singular.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prime_note: Option<String>,
+    /// The spectrum of A: its singular values (decreasing) and eigenvalues as (re, im), largest
+    /// modulus first (GLLS Section 5.2 prints both for its 5-state system).
+    pub a_singular_values: Vec<f64>,
+    pub a_eigenvalues: Vec<[f64; 2]>,
     pub kappa_past: f64,
     pub kappa_lls_past: f64,
     pub kappa_current: f64,
@@ -607,6 +611,15 @@ impl GllsPrepared {
                     linalg::rcond(&model.a)
                 )
             }),
+            a_singular_values: {
+                let mut sv: Vec<f64> = linalg::try_svd(model.a.clone(), false, false)
+                    .map(|d| d.singular_values.iter().copied().collect())
+                    .ok_or_else(|| Error::field("model.F", "its singular values do not converge"))?;
+                sv.sort_by(|a, b| b.total_cmp(a));
+                sv
+            },
+            a_eigenvalues: linalg::try_eigenvalues(&model.a)
+                .ok_or_else(|| Error::field("model.F", "its eigenvalues do not converge"))?,
             kappa_past: h.kappa_past,
             kappa_lls_past: h.kappa_lls_past,
             kappa_current: h.kappa_current,
