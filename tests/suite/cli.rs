@@ -7,7 +7,8 @@ use serde_json::Value;
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
-fn confset(args: &[&str], stdin: Option<&[u8]>) -> Output {
+/// `confset ARGS` with `stdin` (none: an empty one): its status, stdout and stderr.
+pub(crate) fn confset(args: &[&str], stdin: Option<&[u8]>) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_confset"))
         .args(args)
         .stdin(Stdio::piped())
@@ -299,37 +300,21 @@ fn figure_writes_png_at_the_scale() {
     let dir = std::env::temp_dir().join(format!("confset-cli-png-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("fig.png");
-    let o = confset(
-        &[
-            "figure",
-            "--preset",
-            "lscr-ma1",
-            "--size",
-            "480x320",
-            "-o",
-            out.to_str().unwrap(),
-        ],
-        None,
-    );
+    let out = out.to_str().unwrap();
+    let figure = |extra: &[&str]| {
+        let mut args = vec!["figure", "--preset", "lscr-ma1", "-o", out];
+        args.extend_from_slice(extra);
+        confset(&args, None)
+    };
+    let o = figure(&["--size", "480x320"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let png = std::fs::read(&out).unwrap();
+    let png = std::fs::read(out).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     // IHDR: width and height, big-endian, at bytes 16..24.
     let w = u32::from_be_bytes(png[16..20].try_into().unwrap());
     let h = u32::from_be_bytes(png[20..24].try_into().unwrap());
     assert_eq!((w, h), (960, 640));
-    let o = confset(
-        &[
-            "figure",
-            "--preset",
-            "lscr-ma1",
-            "--scale",
-            "9",
-            "-o",
-            out.to_str().unwrap(),
-        ],
-        None,
-    );
+    let o = figure(&["--scale", "9"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
     assert!(text(&o.stderr).contains("from 0.25 to 8"));
     std::fs::remove_dir_all(&dir).ok();

@@ -237,24 +237,11 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn cli_shards_and_merge_print_the_unsharded_result() {
-    use std::process::{Command, Stdio};
+    use std::process::Command;
     let exe = env!("CARGO_BIN_EXE_confset");
     let dir = std::env::temp_dir().join(format!("confset-shards-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let run = |args: &[&str], stdin: Option<&[u8]>| {
-        let mut c = Command::new(exe)
-            .args(args)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("confset runs");
-        if let Some(b) = stdin {
-            std::io::Write::write_all(c.stdin.as_mut().unwrap(), b).expect("stdin");
-        }
-        drop(c.stdin.take());
-        c.wait_with_output().expect("confset ends")
-    };
+    let run = crate::cli::confset;
     let studies = one_per_method();
     assert!(!studies.is_empty(), "no preset has a study");
     for (name, s) in studies {
