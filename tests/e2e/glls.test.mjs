@@ -47,7 +47,7 @@ export default async function glls(env) {
       assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
       assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
     }
-    assert.match(await text(page, '#g-mc-status'), /^500 runs in \d+ ms/, 'the default 500-run study ran with the scenario');
+    assert.match(await text(page, '#g-mc-status'), /^2,000 runs in \d+ ms/, "the preset's 2000-run study ran with the scenario");
     await drawnWell(page, assert, 'glls-saturate');
     let nb = await numbers(page);
     assert.match(await text(page, '#g-num-title'), /^x\(39\) from y\(31\) … y\(39\): s = 8, k = 39, LLS$/);
@@ -90,7 +90,7 @@ export default async function glls(env) {
       assert.match(nb14, /σ\(Γ15\)/);
       assert.match(nb14, /best horizon s = 8;/);
       assert.match(await text(page, '#g-s-out'), /^= 14$/);
-      assert.match(await text(page, '#g-mc-status'), /^500 runs/, 'the study is kept: it does not depend on the horizon');
+      assert.match(await text(page, '#g-mc-status'), /^2,000 runs/, 'the study is kept: it does not depend on the horizon');
       await set(page, 'g-s', 8);
       const nb0 = await numbers(page);
       const back = await allPixels(page);
