@@ -22,6 +22,11 @@ export default async function ({ baseUrl, newPage, waitReady, assert, screenshot
   // The index: every thumbnail loads; every entry linked.
   await page.goto(`${site}index.html`);
   await page.waitForLoadState('load');
+  // The thumbnails load lazily (as they scroll into view): load them all, then look.
+  await page.evaluate(() => Promise.all([...document.images].map((i) => {
+    i.loading = 'eager';
+    return i.decode().catch(() => {});
+  })));
   const broken = await page.$$eval('img', (imgs) => imgs.filter((i) => !(i.complete && i.naturalWidth > 0)).map((i) => i.src));
   assert.deepEqual(broken, [], 'every thumbnail of the index loads');
   const entries = await page.$$eval('a.card', (as) => as.map((a) => a.href));
