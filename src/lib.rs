@@ -200,7 +200,10 @@
 //!   `wasm-pack test`: without it wasm-pack tries to download a chromedriver.
 //! * `webdriver.json` in the crate root gives Chromium the flags that stop its background
 //!   network calls (`--disable-background-networking`, `--disable-component-update`, …) next
-//!   to `--headless=new` and `--no-sandbox`.
+//!   to `--headless=new` and `--no-sandbox`, and sets the WebDriver script timeout to 300 s.
+//!   The suite's synchronous tests hold the page for about 40 s in one stretch; the runner reads
+//!   their output with `execute/sync`, which otherwise fails after the default 30 s ("Timed out
+//!   receiving message from renderer: 30.000", then "missing field `chunk`").
 //! * Firefox (the fourth test layer): pass `--geckodriver "$(command -v geckodriver)"` (a
 //!   `cargo install`ed geckodriver 0.37.1) or wasm-pack downloads one. Debian's `firefox-esr`
 //!   runs headless as root with no extra settings (no `MOZ_HEADLESS`, no profile, no
