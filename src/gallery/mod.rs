@@ -108,16 +108,7 @@ fn compute(cat: &Catalogue) -> Result<(BTreeMap<String, Computed>, Vec<Checked>)
             let verdicts = e
                 .numbers
                 .iter()
-                .map(|p| {
-                    let json = match p.source {
-                        Source::Report => Some(&c.report_json),
-                        Source::Study => c.studies.get(&p.runs).map(|s| &s.0),
-                    };
-                    let at = |path: &str| json.and_then(|j| printed::lookup(j, path)?.as_f64());
-                    let ours = at(&p.path);
-                    let runs = p.runs_path.as_deref().and_then(at);
-                    (ours, printed::verdict(p, ours, runs))
-                })
+                .map(|p| judge(p, &c.report_json, c.studies.get(&p.runs).map(|s| &s.0)))
                 .collect();
             Checked {
                 entry: e.clone(),
@@ -133,20 +124,28 @@ pub fn check() -> Result<Vec<Checked>> {
     compute(&printed::catalogue()?).map(|(_, c)| c)
 }
 
+/// Our number for `p` (from the report or the study JSON, as the catalogue says) and the
+/// verdict on it.
+fn judge(p: &Printed, report: &Value, study: Option<&Value>) -> (Option<f64>, Verdict) {
+    let json = match p.source {
+        Source::Report => Some(report),
+        Source::Study => study,
+    };
+    let at = |path: &str| json.and_then(|j| printed::lookup(j, path)?.as_f64());
+    let ours = at(&p.path);
+    (
+        ours,
+        printed::verdict(p, ours, p.runs_path.as_deref().and_then(at)),
+    )
+}
+
 /// The verdict on each number of one entry of the catalogue, for a preset whose scenario may
 /// differ from the shipped one (the tests move a seed): `report` and `study` are its JSON.
 pub fn verdicts_of(entry: &Entry, report: &Value, study: Option<&Value>) -> Vec<Verdict> {
     entry
         .numbers
         .iter()
-        .map(|p| {
-            let json = match p.source {
-                Source::Report => Some(report),
-                Source::Study => study,
-            };
-            let at = |path: &str| json.and_then(|j| printed::lookup(j, path)?.as_f64());
-            printed::verdict(p, at(&p.path), p.runs_path.as_deref().and_then(at))
-        })
+        .map(|p| judge(p, report, study).1)
         .collect()
 }
 
