@@ -15,7 +15,7 @@ import { createRequire } from 'node:module';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { PANELS } from '../../www/registry.js';
-import { slideToPaint } from '../e2e/helpers.mjs';
+import { CHROMIUM, slideToPaint } from '../e2e/helpers.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const { chromium } = createRequire(join(root, 'www', 'package.json'))('playwright-core');
@@ -24,12 +24,7 @@ if (!base) {
   console.error('usage: node tests/bench/kernels.mjs BASE_URL');
   process.exit(2);
 }
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking',
-    '--disable-component-update', '--disable-sync', '--no-first-run', '--disable-quic'],
-});
+const browser = await chromium.launch(CHROMIUM);
 const ready = (page) => page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
 const settled = (page) => page.waitForFunction(
   () => !Object.keys(document.body.dataset).some((k) => k === 'busy' || k.endsWith('Busy')), null, { timeout: 60_000 });

@@ -8,6 +8,7 @@
 import { createRequire } from 'node:module';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { CHROMIUM } from '../e2e/helpers.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const { chromium } = createRequire(join(root, 'www', 'package.json'))('playwright-core');
@@ -16,11 +17,7 @@ if (!base) {
   console.error('usage: node tests/bench/wasm-profile.mjs BASE_URL [KERNEL] [RUNS]');
   process.exit(2);
 }
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--no-first-run'],
-});
+const browser = await chromium.launch(CHROMIUM);
 const page = await browser.newPage();
 await page.goto(base);
 await page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });

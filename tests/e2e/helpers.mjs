@@ -2,6 +2,16 @@
 // *.test.mjs).
 import { join } from 'node:path';
 
+// How every script of the repository launches Debian's Chromium through playwright-core (the
+// e2e harness, the benchmarks, the profiler): no sandbox (root in CI), no GPU, and none of the
+// background network calls a machine without internet would stall on.
+export const CHROMIUM = {
+  executablePath: '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync', '--no-first-run', '--disable-quic'],
+};
+
 // Text content with runs of whitespace folded.
 export const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim().replace(/\s+/g, ' '));
 

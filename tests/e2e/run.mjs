@@ -22,6 +22,7 @@ import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import assert from 'node:assert/strict';
+import { CHROMIUM } from './helpers.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = join(here, '..', '..');
@@ -44,12 +45,7 @@ if (files.length === 0) { console.error(`no tests/e2e/*.test.mjs matching "${fil
 // Playwright gives each launch its own fresh temporary profile; keep its temp files apart too.
 const tmp = mkdtempSync(join(tmpdir(), 'confset-e2e-'));
 process.env.TMPDIR = tmp;
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking',
-    '--disable-component-update', '--disable-sync', '--no-first-run', '--disable-quic'],
-});
+const browser = await chromium.launch(CHROMIUM);
 console.log(`e2e: Chromium ${browser.version()}, ${files.length} test file(s), base ${baseUrl}`);
 
 async function waitReady(page, timeoutMs = 60_000) {
