@@ -334,7 +334,12 @@ export function mountPanel(root, spec) {
       }
       p.cursor.show(t);
     }
-    save('report', spec.reportFile ? spec.reportFile(p) : t != null ? JSON.stringify(st.report) : st.reportJson);
+    // A panel whose figures show a time of their own (spec.time: SCF's slider only redraws, and
+    // its scenario leaves the time out): the report's `time` is the one shown.
+    const shown = spec.time?.(p);
+    save('report', spec.reportFile ? spec.reportFile(p)
+      : shown != null ? JSON.stringify({ ...st.report, time: shown })
+        : t != null ? JSON.stringify(st.report) : st.reportJson);
   });
   byId(`${prefix}dl-scenario`).addEventListener('click', () => {
     if (st.scenario) save('scenario', JSON.stringify(spec.scenarioFile ? spec.scenarioFile(p) : st.scenario, null, 2));

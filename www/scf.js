@@ -195,9 +195,6 @@ export const mountScf = async (root, presets) => mountPanel(root, {
     if (id === 'm-F' || id === 'm-H') componentOptions(p);
   },
   stem: ({ st, ui }) => `${st.preset.name}-t${ui.time.value}`,
-  // The report as shown: its `time` is the time slider's (the computed report's is the last
-  // step, since the scenario sent to the worker leaves the view's time out).
-  reportFile: ({ st, ui }) => JSON.stringify({ ...st.report, time: Number(ui.time.value) }),
   init(p) {
     p.resetMonteCarlo = mountMonteCarlo(p.ui.mc, () => studyScenario(p), p.setBusy);
   },
