@@ -10,7 +10,8 @@ use crate::error::{quoted, Error, Result};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// A state-estimation method. JSON: `"scf"`, `"kf"`, `"lscr"`, `"glls"`, `"uniform_lp"`, `"ubb"`.
+/// A state-estimation method. JSON: `"scf"`, `"kf"`, `"lscr"`, `"glls"`, `"uniform_lp"`, `"ubb"`,
+/// and `"compare"` (all of them on one record).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
@@ -26,17 +27,20 @@ pub enum Method {
     UniformLp,
     /// Unknown-but-bounded noise, set-membership estimation (Tempo).
     Ubb,
+    /// Every method above on one record, side by side (`scenario::compare`).
+    Compare,
 }
 
 impl Method {
     /// Every method, in the order the page and the CLI list them.
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Scf,
         Method::Kf,
         Method::Lscr,
         Method::Glls,
         Method::UniformLp,
         Method::Ubb,
+        Method::Compare,
     ];
 
     /// The JSON name.
@@ -48,6 +52,7 @@ impl Method {
             Method::Glls => "glls",
             Method::UniformLp => "uniform_lp",
             Method::Ubb => "ubb",
+            Method::Compare => "compare",
         }
     }
 
@@ -60,6 +65,7 @@ impl Method {
             Method::Glls => Some("glls"),
             Method::UniformLp => Some("uniform"),
             Method::Ubb => Some("ubb"),
+            Method::Compare => Some("compare"),
         }
     }
 
@@ -72,6 +78,7 @@ impl Method {
             Method::Glls => Some("glls.monte_carlo"),
             Method::UniformLp => None,
             Method::Ubb => Some("ubb.guarantee"),
+            Method::Compare => Some("compare.study"),
         }
     }
 

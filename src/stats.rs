@@ -77,3 +77,8 @@ pub fn binomial_band(runs: usize, p: f64, tail: f64) -> (usize, usize) {
 pub fn band(runs: usize, p: f64) -> (usize, usize) {
     binomial_band(runs, p, (1.0 - BAND_LEVEL) / 2.0)
 }
+
+/// The standard normal distribution function Φ(x).
+pub fn normal_cdf(x: f64) -> f64 {
+    0.5 * statrs::function::erf::erfc(-x / std::f64::consts::SQRT_2)
+}

@@ -62,6 +62,7 @@
 //! Nothing here panics on bad input: every drawing failure and every inconsistent view
 //! becomes a crate [`Error`].
 
+mod compare;
 mod coverage;
 mod erase;
 pub mod geom;
@@ -136,6 +137,9 @@ pub enum Panel {
     /// the truth inside its hull bands.
     #[serde(rename = "ubbwidth")]
     UbbWidth,
+    /// Every method's set for the same state on one record, in the state plane, with the truth
+    /// (compare reports only).
+    Compare,
 }
 
 impl Panel {
@@ -156,6 +160,7 @@ impl Panel {
             Panel::UPolygon => "upolygon",
             Panel::UbbSet => "ubbset",
             Panel::UbbWidth => "ubbwidth",
+            Panel::Compare => "compare",
         }
     }
     /// The figure in words: the text alternative of its canvas on the page (the numbers
@@ -176,6 +181,7 @@ impl Panel {
             Panel::UPolygon => "consistent-state polygon at the time cursor with the truth, LP and Kalman estimates and the optimal-face box",
             Panel::UbbSet => "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse",
             Panel::UbbWidth => "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands",
+            Panel::Compare => "every method's set for the same state in the state plane: Kalman, SCF and GLLS ellipses, the LSCR region, Tempo's and the uniform-LP polygons, and the truth",
         }
     }
     /// The method whose reports this panel draws.
@@ -202,9 +208,10 @@ impl Panel {
             "upolygon" => Ok(Panel::UPolygon),
             "ubbset" => Ok(Panel::UbbSet),
             "ubbwidth" => Ok(Panel::UbbWidth),
+            "compare" => Ok(Panel::Compare),
             _ => Err(Error::field(
                 "panel",
-                format!("{} is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams, upolygon, ubbset or ubbwidth", crate::error::quoted(s)),
+                format!("{} is unknown: choose state, series, coverage, region, singular, index, plane, precision, ustates, uoutput, uparams, upolygon, ubbset, ubbwidth or compare", crate::error::quoted(s)),
             )),
         }
     }
@@ -240,6 +247,9 @@ pub struct View {
     /// Window of the state plane and of the series.
     #[serde(default)]
     pub zoom: Zoom,
+    /// Methods whose sets the compare panel leaves out (its toggles).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hide: Vec<Method>,
 }
 
 impl View {
@@ -350,6 +360,10 @@ fn draw_panel<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> 
                 Panel::Plane => glls_plane::draw(root, report, fonts),
                 _ => glls_precision::draw(root, report, fonts),
             });
+        }
+        Panel::Compare => {
+            compare::check(report)?;
+            return draw_erased(backend, |root| compare::draw(root, report, view, fonts));
         }
         Panel::Region => {
             region::lscr_of(report)?;
@@ -471,6 +485,7 @@ pub fn method_panels(m: Method) -> &'static [Panel] {
             Panel::UPolygon,
         ],
         Method::Ubb => &[Panel::UbbSet, Panel::UbbWidth],
+        Method::Compare => &[Panel::Compare],
     }
 }
 
@@ -482,6 +497,7 @@ fn describe(m: Method) -> &'static str {
         Method::Glls => "a GLLS",
         Method::UniformLp => "a uniform-innovation",
         Method::Ubb => "a set-membership",
+        Method::Compare => "a compare",
     }
 }
 

@@ -1090,6 +1090,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
         glls: Some(spec),
         uniform: None,
         ubb: None,
+        compare: None,
         notes: Some(notes.into()),
     }
 }

@@ -1023,6 +1023,7 @@ fn lscr_scenario(
         glls: None,
         uniform: None,
         ubb: None,
+        compare: None,
         notes: Some(notes.into()),
     }
 }

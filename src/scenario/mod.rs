@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use std::ops::RangeInclusive;
 
 pub mod budget;
+pub mod compare;
 pub mod csv;
 pub mod glls;
 pub mod lscr;
@@ -32,6 +33,7 @@ pub mod ubb;
 pub mod uniform;
 pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
 pub use budget::{Job, Work};
+pub use compare::{CompareReport, CompareSpec};
 pub use csv::data_from_csv;
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
@@ -125,6 +127,9 @@ pub struct Scenario {
     /// Set-membership options (method "ubb"): see [`ubb::UbbSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ubb: Option<UbbSpec>,
+    /// Compare options (method "compare"): see [`compare::CompareSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compare: Option<CompareSpec>,
     /// Free text shown with the preset (where the numbers come from, which reading of the paper).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub notes: Option<String>,
@@ -170,6 +175,9 @@ pub struct Report {
     /// The set-membership result (method "ubb").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ubb: Option<UbbReport>,
+    /// Every method's set on one record (method "compare").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compare: Option<CompareReport>,
     /// What the figures take from the scenario besides the numbers (title, axis names, …):
     /// made with the report, so the page and the CLI draw the same figure from it.
     #[serde(default)]
@@ -606,6 +614,7 @@ pub(crate) fn make_method(m: Method) -> &'static dyn MethodScenario {
         Method::Glls => &glls::Glls,
         Method::UniformLp => &uniform::Uniform,
         Method::Ubb => &ubb::Ubb,
+        Method::Compare => &compare::Compare,
     }
 }
 
@@ -766,6 +775,7 @@ impl Scenario {
             ("glls", self.glls.is_some()),
             ("uniform", self.uniform.is_some()),
             ("ubb", self.ubb.is_some()),
+            ("compare", self.compare.is_some()),
         ];
         for (block, is_there) in present {
             if is_there && self.method.block() != Some(block) {
@@ -903,6 +913,7 @@ impl Report {
             glls: None,
             uniform: None,
             ubb: None,
+            compare: None,
             figure: FigureContext::of(s),
         }
     }

@@ -238,6 +238,7 @@ impl ScfPrepared {
             glls: None,
             uniform: None,
             ubb: None,
+            compare: None,
             figure: FigureContext::of(s),
         })
     }
@@ -589,6 +590,7 @@ pub fn scalar() -> Scenario {
         glls: None,
         uniform: None,
         ubb: None,
+        compare: None,
         notes: Some(
             "Γ = 6, p̄ = 3/5, ratio U_tA_t → 0.9: the SCF interval is the KF center / 0.9 with half-width ρ·√(1/0.9). \
              The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed."
@@ -774,6 +776,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
         glls: None,
         uniform: None,
         ubb: None,
+        compare: None,
         notes: Some(format!(
             "Robots start at rest at (∓1, 20) and return to bases (∓1, 0); Δ = 1/20, K_p = K_u = 5, W = 0.05²I, \
              d_min = 0.2. Row 4 of eq. (3) is read as 1 − K_uΔ (erratum). Process-noise covariance: {}. \

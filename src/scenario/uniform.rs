@@ -940,6 +940,7 @@ pub fn uniform_paper() -> Scenario {
             directions: 64,
         }),
         ubb: None,
+        compare: None,
         notes: Some(
             "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \
              along x₁ − x₂ the LP optimum is a whole face bounded by the prior box (±5). The report gives each state's range over the optimal face; \

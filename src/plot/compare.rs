@@ -1,0 +1,225 @@
+//! The compare panel ([`Panel::Compare`]): every method's set for the same state (x_{t+1} or
+//! x_t) in the state plane, on equal axes, with the truth ◇ when simulated. Each method has one
+//! colour ([`color`]), its panel's where the panels' colours differ (Kalman orange dashed, SCF
+//! blue, LSCR black over its yellow tint); the others take the next colours of the palette so
+//! that six sets stay told apart. A method the view hides ([`View::hide`]) is left out of the
+//! picture, the window and the legend.
+
+use super::geom::Win;
+use super::style::{self, Entry, Fonts, Marker, Swatch, KF, LSCR, LSCR_TINT, SCF, TRUTH};
+use super::{Area, Frame, Panel, View};
+use crate::error::{Error, Result};
+use crate::method::Method;
+use crate::scenario::compare::{MethodSet, PlaneSet, Target};
+use crate::scenario::{CompareReport, Report};
+use plotters::prelude::*;
+
+/// Opacity of the LSCR region's tint.
+const TINT: f64 = 0.45;
+/// Points on each drawn ellipse.
+const ELLIPSE_POINTS: usize = 120;
+
+/// The one colour of each compared method.
+pub fn color(m: Method) -> RGBColor {
+    match m {
+        Method::Kf => KF,
+        Method::Scf => SCF,
+        Method::Lscr => LSCR,
+        Method::Glls => RGBColor(204, 121, 167),
+        Method::Ubb => RGBColor(0, 158, 115),
+        _ => RGBColor(86, 150, 233),
+    }
+}
+
+/// The legend's name of a method.
+pub fn label(m: Method) -> &'static str {
+    match m {
+        Method::Kf => "Kalman",
+        Method::Scf => "SCF",
+        Method::Lscr => "LSCR",
+        Method::Glls => "GLLS ball",
+        Method::Ubb => "Tempo set",
+        _ => "uniform LP set",
+    }
+}
+
+pub(crate) fn check(report: &Report) -> Result<&CompareReport> {
+    let c = report.compare.as_ref().ok_or_else(|| {
+        Error::field(
+            "panel",
+            format!(
+                "\"compare\" draws a compare report, but this report is of method \"{}\": run a scenario with \"method\": \"compare\"",
+                report.method
+            ),
+        )
+    })?;
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    for s in &c.at.sets {
+        let ok = match &s.set {
+            Some(PlaneSet::Ellipse(e)) => {
+                e.dim() == 2 && finite(&e.center) && e.cov.iter().all(|r| r.len() == 2 && finite(r))
+            }
+            Some(PlaneSet::Polygon { vertices }) => vertices.iter().all(|v| finite(v)),
+            Some(PlaneSet::Region { loops, .. }) => loops.iter().all(|l| l.points.iter().all(|p| finite(p))),
+            None => true,
+        };
+        if !ok {
+            return Err(Error::field(
+                "report.compare.at.sets",
+                format!("holds a set of \"{}\" that is not a finite 2-D set", s.method),
+            ));
+        }
+    }
+    Ok(c)
+}
+
+/// The drawable outline(s) of a set: closed loops of points.
+fn loops(s: &MethodSet) -> Result<Vec<Vec<(f64, f64)>>> {
+    Ok(match &s.set {
+        Some(PlaneSet::Ellipse(e)) => vec![e.boundary_2d(ELLIPSE_POINTS)?],
+        Some(PlaneSet::Polygon { vertices }) => vec![vertices.iter().map(|p| (p[0], p[1])).collect()],
+        Some(PlaneSet::Region { loops, .. }) => loops
+            .iter()
+            .map(|l| l.points.iter().map(|p| (p[0], p[1])).collect())
+            .collect(),
+        None => Vec::new(),
+    })
+}
+
+/// Panel::Compare.
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, fonts: Fonts) -> Result<Frame> {
+    let c = check(report)?;
+    let at = &c.at;
+    let short = fonts.compact;
+    let shown: Vec<&MethodSet> = at.sets.iter().filter(|s| !view.hide.contains(&s.method)).collect();
+    let mut drawn = Vec::new();
+    let mut w = Win::empty();
+    for s in &shown {
+        let l = loops(s)?;
+        for lp in &l {
+            w.add_points(lp);
+        }
+        drawn.push((*s, l));
+    }
+    let truth = at.truth.map(|p| (p[0], p[1]));
+    if let Some(p) = truth {
+        w.add(p.0, p.1);
+    }
+    if w.is_empty() {
+        // Nothing to draw: the truth or the origin, so the chart still has axes.
+        w.add(-1.0, -1.0);
+        w.add(1.0, 1.0);
+    }
+    let win = w.padded(0.08, 0.08);
+    let which = match c.target {
+        Target::Predict => format!("x{} predicted from y₁ … y{}", sub_num(at.target_time), sub_num(at.t)),
+        Target::Filter => format!("x{} from y₁ … y{}", sub_num(at.target_time), sub_num(at.t)),
+    };
+    let law = match c.noise {
+        crate::scenario::compare::NoiseLaw::Gaussian => "Gaussian",
+        crate::scenario::compare::NoiseLaw::Uniform => "uniform",
+        crate::scenario::compare::NoiseLaw::Truncated => "truncated Gaussian",
+    };
+    let mut notes = vec![format!("{law} noise; bounds b_v = {}, b_w = {}", style::sig(c.bound_v), style::sig(c.bound_w))];
+    let missing: Vec<String> = shown
+        .iter()
+        .filter(|s| s.set.is_none())
+        .map(|s| format!("{}: no set", label(s.method)))
+        .collect();
+    if !missing.is_empty() && !short {
+        notes.push(missing.join("; "));
+    }
+    let mut entries = Vec::new();
+    if truth.is_some() {
+        entries.push(Entry::new(
+            format!("true state x{}", sub_num(at.target_time)),
+            Swatch::Marker {
+                shape: Marker::Diamond,
+                color: TRUTH,
+                size: 5,
+            },
+        ));
+    }
+    for (s, _) in &drawn {
+        if s.set.is_none() {
+            continue;
+        }
+        let name = label(s.method);
+        let text = match s.holds {
+            Some(true) if !short => format!("{name} (holds it)"),
+            Some(false) if !short => format!("{name} (misses it)"),
+            _ => name.to_string(),
+        };
+        let swatch = match s.method {
+            Method::Lscr => Swatch::Tinted {
+                line: LSCR,
+                tint: LSCR_TINT.mix(TINT),
+            },
+            m => Swatch::Region {
+                color: color(m),
+                dashed: m == Method::Kf,
+                fill: matches!(m, Method::Ubb | Method::UniformLp),
+            },
+        };
+        entries.push(Entry::new(text, swatch));
+    }
+    let title = super::ubb::title(&report.figure, &fonts, &format!("Every method's set for {which}"));
+    let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
+    let (xd, yd) = (axis(report, 0), axis(report, 1));
+    let chart = style::equal_chart(&area, &fonts, win, &xd, &yd)?;
+    let mut marks = Vec::new();
+    // Filled sets first, outlines over them.
+    let order = |m: Method| match m {
+        Method::Lscr => 0,
+        Method::Ubb | Method::UniformLp => 1,
+        _ => 2,
+    };
+    let mut sorted: Vec<&(&MethodSet, Vec<Vec<(f64, f64)>>)> = drawn.iter().collect();
+    sorted.sort_by_key(|(s, _)| order(s.method));
+    for (s, l) in sorted {
+        let m = s.method;
+        for lp in l {
+            if m == Method::Lscr {
+                // The tint of X̂ under its black outline, as on the LSCR panel.
+                let (bx, by) = root.get_base_pixel();
+                let tint: Vec<(i32, i32)> = style::marks_of(&chart, lp).into_iter().map(|(x, y)| (x - bx, y - by)).collect();
+                if tint.len() >= 3 {
+                    root.draw(&Polygon::new(tint, LSCR_TINT.mix(TINT).filled())).map_err(super::de)?;
+                }
+                style::region(root, &chart, lp, &LSCR, false, false)?;
+            } else {
+                style::region(root, &chart, lp, &color(m), m == Method::Kf, matches!(m, Method::Ubb | Method::UniformLp))?;
+            }
+            marks.extend(style::marks_of(&chart, lp));
+        }
+        if let Some(o) = &s.outline {
+            let o: Vec<(f64, f64)> = o.iter().map(|p| (p[0], p[1])).collect();
+            style::region(root, &chart, &o, &color(m), true, false)?;
+        }
+    }
+    let points: Vec<((f64, f64), Marker, RGBColor, &'static str)> =
+        truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")).into_iter().collect();
+    let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
+    let mut chart_notes = Vec::new();
+    if drawn.iter().any(|(s, _)| matches!(s.set, Some(PlaneSet::Region { bounded: false, .. }))) {
+        chart_notes.push("the LSCR region is unbounded: drawn within its window".to_string());
+    }
+    if !outside.is_empty() {
+        chart_notes.push(format!("outside the window: {}", outside.join(", ")));
+    }
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    let _ = Panel::Compare;
+    Ok(style::frame_of(&chart, &xd, &yd))
+}
+
+fn sub_num(t: usize) -> String {
+    style::sub(t)
+}
+
+fn axis(report: &Report, c: usize) -> String {
+    match report.figure.names.get(c) {
+        Some(name) if !name.is_empty() => name.clone(),
+        _ => format!("x{}", style::sub(c + 1)),
+    }
+}
