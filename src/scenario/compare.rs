@@ -40,7 +40,7 @@
 //! sampler exists, so the study counts unconditional coverage (x_1 from the model's prior) and
 //! says so in its result.
 
-use super::budget::{Job, Term, Work};
+use super::budget::{Job, Work};
 use super::csv::{flag, Table};
 use super::{detail_of, detail_value, Cursor, DataSpec, MethodScenario, Report, Scenario};
 use crate::error::{Error, Result};
@@ -153,7 +153,7 @@ pub const COMPARED: [Method; 6] = [
 
 /// Most simulated steps or data rows of a compare (each step of the time cursor reruns every
 /// method on the rows up to it).
-pub const MAX_STEPS: usize = 200;
+pub const MAX_STEPS: usize = 150;
 /// Largest window of the set-membership methods.
 pub const MAX_WINDOW: usize = 40;
 /// Bound on every state entry of Pavelková's window LP (her ±5, widened: the compare states are
@@ -202,6 +202,10 @@ pub struct MethodSet {
     /// Seconds the method's run took, by the caller's clock ([`set_clock`]); absent without one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seconds: Option<f64>,
+    /// The method's own scenario on the record up to t: open it in the method's panel to see
+    /// the same set there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scenario: Option<Box<Scenario>>,
 }
 
 /// One method's row of the table: what it assumes, whether the record's law meets it, what
@@ -222,9 +226,6 @@ pub struct CompareRow {
     /// Whether `level` is a lower bound (LSCR) rather than exact.
     #[serde(default)]
     pub at_least: bool,
-    /// The method's own scenario on the record up to the report's time: open it in the
-    /// method's panel to see the same set there.
-    pub scenario: Box<Scenario>,
 }
 
 /// The detail at one time t: every method's set.
@@ -579,13 +580,12 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
             false,
         ),
     };
-    let scenario = derived_scenario(p, m, p.time);
-    // LSCR's level comes from its M and q: the derived run's report says it.
-    let level = match (m, &scenario) {
-        (Method::Lscr, Ok(s)) => s
-            .lscr
-            .as_ref()
-            .and_then(|_| s.run().ok())
+    // LSCR's level comes from its M and q (not from the time): its run on the whole record
+    // says it.
+    let level = match m {
+        Method::Lscr => derived_scenario(p, m, p.y.len())
+            .and_then(|s| s.run())
+            .ok()
             .and_then(|r| r.lscr.map(|l| l.level)),
         _ => level,
     };
@@ -597,7 +597,6 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
         promise: promise.to_string(),
         level,
         at_least,
-        scenario: Box::new(scenario.unwrap_or_else(|_| p.scenario.clone())),
     }
 }
 
@@ -809,6 +808,7 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
         reason: None,
         note: None,
         seconds: None,
+        scenario: None,
     };
     match m {
         Method::Kf | Method::Scf => {
@@ -929,24 +929,23 @@ impl ComparePrepared {
     fn method_set(&self, m: Method, t: usize, truth: Option<[f64; 2]>) -> MethodSet {
         let clock = CLOCK.get();
         let start = clock.map(|c| c());
-        let result = derived_scenario(self, m, t).and_then(|s| s.run()).and_then(|r| extract(self, m, &r, truth));
+        let scenario = derived_scenario(self, m, t);
+        let result = scenario.as_ref().map_err(Clone::clone).and_then(|s| s.run()).and_then(|r| extract(self, m, &r, truth));
         let seconds = clock.zip(start).map(|(c, s)| (c() - s).max(0.0));
-        match result {
-            Ok(mut set) => {
-                set.seconds = seconds;
-                set
-            }
-            Err(e) => MethodSet {
-                method: m,
-                set: None,
-                outline: None,
-                area: None,
-                holds: None,
-                reason: Some(e.to_string()),
-                note: None,
-                seconds,
-            },
-        }
+        let mut set = result.unwrap_or_else(|e| MethodSet {
+            method: m,
+            set: None,
+            outline: None,
+            area: None,
+            holds: None,
+            reason: Some(e.to_string()),
+            note: None,
+            seconds: None,
+            scenario: None,
+        });
+        set.seconds = seconds;
+        set.scenario = scenario.ok().map(Box::new);
+        set
     }
 
     fn at(&self, t: usize) -> Result<CompareAt> {
@@ -1239,31 +1238,34 @@ impl Runs for CompareStudy {
     }
 }
 
-/// One method set per cursor step is a full run of every method: the budget is the sum of
-/// their budgets at the longest record.
+/// The compare's cost is its methods' own: each derived scenario's estimate on the whole record
+/// (what the report and one cursor step cost at most), their terms renamed to the compare's
+/// fields (a method's window is `compare.window`, anything else the record's length). A study's
+/// run reruns them all on a fresh record. A scenario that cannot be prepared costs nothing
+/// here: its validation names the field.
 fn work(s: &Scenario, job: Job) -> Work {
     let mut w = Work::default();
-    let Some(spec) = &s.compare else {
+    let Ok(p) = s.prepare_compare() else {
         return w;
     };
-    let steps = s.written_steps().clamp(2, MAX_STEPS);
-    let methods = spec.methods.clone().unwrap_or_else(|| COMPARED.to_vec());
-    // Each method's report on the record: about 0.3 ms natively per step and method, more for
-    // the LP methods (one window LP per step and 2r + budget support LPs).
-    let per_run: f64 = methods
-        .iter()
-        .map(|m| match m {
-            Method::Ubb | Method::UniformLp => 300_000.0 * (steps as f64) + 30_000.0 * POLYGON_BUDGET as f64,
-            _ => 20_000.0 * steps as f64,
-        })
-        .sum();
-    w.ops(Term::new("simulate.steps", format!("{} methods, {steps} steps", methods.len()), "Σ per method (steps · cost of a step)", per_run));
-    if let Job::Study { runs } = job {
-        let runs = runs.or(spec.study.as_ref().map(|st| st.runs)).unwrap_or(default_study_runs());
-        w.ops(
-            Term::new("compare.study.runs", format!("{runs} runs"), "runs · every method's report", per_run * runs as f64)
-                .study(),
-        );
+    let steps_field = s.steps_field();
+    for &m in &p.methods {
+        let Ok(d) = derived_scenario(&p, m, p.y.len()) else {
+            continue;
+        };
+        let own = d.work(Job::Report);
+        for (terms, into) in [(own.operations, &mut w.operations), (own.bytes, &mut w.bytes)] {
+            for mut t in terms {
+                let field = if t.field.ends_with(".window") { "compare.window" } else { steps_field };
+                t.sizes = format!("(method \"{m}\": {} {})", t.field, t.sizes);
+                t.field = field.to_string();
+                if let Job::Study { .. } = job {
+                    t.field = "compare.study.runs".to_string();
+                    t.advice = "one run of the study reruns every method: fewer steps or methods".into();
+                }
+                into.push(t);
+            }
+        }
     }
     w
 }

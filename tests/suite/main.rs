@@ -11,6 +11,7 @@ mod common;
 
 mod bad_input;
 mod bench;
+mod compare;
 mod cli;
 mod coverage;
 mod csv;

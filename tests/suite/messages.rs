@@ -146,7 +146,7 @@ fn a_wrong_name_lists_the_accepted_names() {
     let e = parse_error(&v);
     assert_eq!(
         e.to_string(),
-        "method must be one of \"scf\", \"kf\", \"lscr\", \"glls\", \"uniform_lp\" or \"ubb\", found the number 5"
+        "method must be one of \"scf\", \"kf\", \"lscr\", \"glls\", \"uniform_lp\", \"ubb\" or \"compare\", found the number 5"
     );
     // A name that takes no options, written as an object.
     let mut v = preset("glls-saturate");

@@ -71,6 +71,8 @@ pub fn max_states(method: &str) -> usize {
         "glls" => confset::glls::MAX_STATES,
         "uniform_lp" => scenario::uniform::MAX_STATES,
         "ubb" => scenario::ubb::MAX_STATES,
+        // Every set is drawn in the state plane.
+        "compare" => 2,
         _ => scenario::MAX_MODEL_DIM,
     }
 }
@@ -114,6 +116,9 @@ pub fn knobs(s: &Value) -> Vec<Knob> {
         if s["lscr"]["coverage"].is_object() {
             out.push(count(vec!["lscr", "coverage", "runs"], 1_000_000.0));
         }
+    }
+    if block("compare") {
+        out.push(count(vec!["compare", "window"], scenario::compare::MAX_WINDOW as f64));
     }
     if block("glls") {
         out.push(count(vec!["glls", "max_horizon"], 2000.0));
