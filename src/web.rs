@@ -108,6 +108,28 @@ pub fn start() {
     console_error_panic_hook::set_once();
 }
 
+/// Time each method of a compare (`sets[i].seconds`) by the worker's clock (`performance.now`):
+/// the compute worker calls it once; the core never reads a clock itself.
+#[wasm_bindgen(js_name = timeCompare)]
+pub fn time_compare() {
+    crate::scenario::compare::set_clock(now_seconds);
+}
+
+/// `performance.now()` of the global scope (window or worker) in seconds; `Date.now()` without it.
+fn now_seconds() -> f64 {
+    use wasm_bindgen::JsCast;
+    let global = js_sys::global();
+    js_sys::Reflect::get(&global, &JsValue::from_str("performance"))
+        .ok()
+        .and_then(|perf| {
+            let now = js_sys::Reflect::get(&perf, &JsValue::from_str("now")).ok()?;
+            let now: js_sys::Function = now.dyn_into().ok()?;
+            now.call0(&perf).ok()?.as_f64()
+        })
+        .unwrap_or_else(js_sys::Date::now)
+        / 1000.0
+}
+
 /// Test only: aborts the module's instance (a wasm trap, as a panic or an allocation failure
 /// does here), so the page's tests can check that a failed computation is contained: the
 /// compute worker is replaced and the panel keeps its picture. No scenario, link or file

@@ -64,6 +64,17 @@ export const PANELS = [
     mount: 'mountUbb',
     busy: 'ubbBusy',
   },
+  {
+    id: 'compare',
+    title: 'Compare every method',
+    methods: ['compare'],
+    promise: 'One system, one record, every method\'s set for the same state in one picture — and, counted at a state '
+      + 'you place, what each promise means: on average, for every state, always (while the bounds hold), or nothing.',
+    module: './compare.js',
+    view: './views/compare.html',
+    mount: 'mountCompare',
+    busy: 'compareBusy',
+  },
 ];
 
 for (const d of PANELS) {

@@ -77,6 +77,29 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
     },
+    /// Every method on one record: the compare report (each method's set, the table) and, when
+    /// the scenario has a compare.study, its counts at the true state, as one JSON
+    #[command(after_help = "Examples:\n  confset compare --preset compare-gaussian\n  \
+        confset preset compare-uniform > mine.json && confset compare mine.json --runs 500\n  \
+        confset compare --preset compare-uniform --data record.csv --no-study\n\n\
+        The scenario's \"method\" must be \"compare\". Each set comes with the method's own \
+        scenario (sets[i].scenario): `confset run` on it gives the same set. Each method's run is \
+        timed (sets[i].seconds).")]
+    Compare {
+        #[command(flatten)]
+        input: Input,
+        #[command(flatten)]
+        data: DataArg,
+        /// Runs of the study (default: compare.study.runs)
+        #[arg(long, value_name = "N")]
+        runs: Option<usize>,
+        /// The report only, without the study's counts
+        #[arg(long)]
+        no_study: bool,
+        /// Write to FILE instead of standard output
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
     /// Merge the parts of one sharded study into what `confset experiment` prints
     #[command(
         after_help = "Examples:\n  confset merge part-*.json > result.json\n  \
@@ -502,6 +525,38 @@ fn run(command: Command) -> Result<(), Error> {
                 }
             }
         }
+        Command::Compare {
+            input,
+            data,
+            runs,
+            no_study,
+            out,
+        } => {
+            let s = scenario_with_data(&input, &data)?;
+            if s.method != confset::Method::Compare {
+                return Err(Error::field(
+                    "method",
+                    format!("is \"{}\": `confset compare` takes a scenario with \"method\": \"compare\" (`confset preset compare-gaussian` is one)", s.method),
+                ));
+            }
+            confset::scenario::compare::set_clock(seconds_since_start);
+            let report = s.run()?;
+            let study = match (&s.compare, no_study) {
+                (Some(c), false) if c.study.is_some() => {
+                    let bar = progress_bar(s.study(runs)?.total());
+                    let result = study::run_sharded(&|| s.study(runs), CHUNK, &|k| bar.inc(k as u64));
+                    bar.finish_and_clear();
+                    Some(result?)
+                }
+                _ => None,
+            };
+            let mut v = serde_json::Map::new();
+            v.insert("report".into(), to_value(&report)?);
+            if let Some(st) = study {
+                v.insert("study".into(), st);
+            }
+            emit(out.as_ref(), &json(&serde_json::Value::Object(v))?)
+        }
         Command::Merge { parts, out } => emit(out.as_ref(), &json(&merge(&parts)?)?),
         Command::Figure {
             input,
@@ -669,4 +724,10 @@ fn gallery(
         t0.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// Seconds since the first call: the compare's clock (the core never reads one).
+fn seconds_since_start() -> f64 {
+    static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+    START.get_or_init(std::time::Instant::now).elapsed().as_secs_f64()
 }
