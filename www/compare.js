@@ -37,7 +37,9 @@ const CUSTOM_PRESET = {
 class CompareFigure extends Figure {
   hide = [];
 
-  view() { return JSON.stringify({ panel: this.panel, time: this.time, hide: this.hide }); }
+  zoom = 'auto';
+
+  view() { return JSON.stringify({ panel: this.panel, time: this.time, hide: this.hide, zoom: this.zoom }); }
 }
 
 // ----- controls ⇄ scenario -----
@@ -110,17 +112,17 @@ function showNumbers(p) {
   const when = c.target === 'predict' ? `x${sub(at.target_time)} predicted from y₁ … y${sub(at.t)}` : `x${sub(at.target_time)} from y₁ … y${sub(at.t)}`;
   ui['num-title'].textContent = `Every method, for ${when}`;
   const counts = p.counts && p.counts.t === at.t ? p.counts : null;
-  const head = ['method', 'assumes', 'promises', 'area', 'holds the truth', 'time',
+  const head = ['method', 'promises', 'assumes', 'area', `holds x${sub(at.target_time)}`, 'time',
     ...(counts ? ['holds x̄ (counted)', '99.9 % band', 'verdict'] : [])];
   const rows = c.rows.map((row, i) => {
     const set = at.sets[i];
-    const assume = `${escapeHtml(row.assumes)}${row.met ? ' <b class="good">✓ met</b>' : `<br><b class="warn">✗ ${escapeHtml(row.violated || 'violated')}</b>`}`;
+    const assume = `${richText(row.assumes)}${row.met ? ' <b class="good">✓ met</b>' : `<br><b class="warn">✗ ${richText(row.violated || 'violated')}</b>`}`;
     const level = row.level == null ? '' : ` <span class="nw">(${row.at_least ? '≥ ' : ''}${pct(row.level)})</span>`;
     const area = set.set ? (set.area == null ? 'unbounded' : fmt(set.area)) : `<span class="warn">no set</span>`;
     const holds = set.set ? verdict(set.holds, 'yes', 'no') : `<span class="hint">${escapeHtml(set.reason || '')}</span>`;
     const time = set.seconds == null ? '–' : `${(1000 * set.seconds).toFixed(1)} ms`;
     const cells = [`<b>${NAMES[row.method] || escapeHtml(row.method)}</b>${set.note ? `<br><span class="hint">${richText(set.note)}</span>` : ''}`,
-      assume, `${escapeHtml(row.promise)}${level}`, area, holds, time];
+      `${escapeHtml(row.promise)}${level}`, assume, area, holds, time];
     if (counts) {
       const k = counts.methods.find((m) => m.method === row.method);
       cells.push(k ? `${int(k.holds)} / ${int(counts.runs)}` : '–',
@@ -205,6 +207,7 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
     // The toggles only redraw: the figure leaves the hidden methods out.
     ui.toggles.addEventListener('change', () => {
       p.figures[0].hide = [...ui.toggles.querySelectorAll('input[data-method]')].filter((b) => !b.checked).map((b) => b.dataset.method);
+      p.figures[0].zoom = ui.toggles.querySelector('#c-zoom').value;
       p.schedule('redraw');
     });
   },

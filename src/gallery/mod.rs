@@ -35,12 +35,13 @@ pub fn explorer_panel(m: Method) -> &'static str {
 }
 
 /// The papers in the order of the index, with their full titles.
-const PAPERS: [(&str, &str); 5] = [
+const PAPERS: [(&str, &str); 6] = [
     ("scf", "A. Carè, M. C. Campi, E. Weyer — State Conditional Filtering"),
     ("lscr", "E. Weyer, M. C. Campi — Prediction, filtering and smoothing using LSCR"),
     ("glls", "V. Gubarev, M. Mishchenko — Interval state estimator for linear systems with known structure"),
     ("pavelkova", "L. Pavelková — State and parameter estimation for linear models with uniform innovations"),
     ("tempo", "R. Tempo — Robust estimation and filtering with unknown but bounded noise"),
+    ("compare", "All five side by side — every method's set on one record, and its promise counted"),
 ];
 
 /// What one preset gave: its report and study JSON and how long the core took.
@@ -90,6 +91,13 @@ fn compute(cat: &Catalogue) -> Result<(BTreeMap<String, Computed>, Vec<Checked>)
             );
         }
         let c = done.get_mut(&e.preset).expect("inserted above");
+        // A compare's page shows its study's counts beside each method's promise.
+        if c.report.compare.is_some() && !c.studies.contains_key(&None) {
+            let t0 = Instant::now();
+            let s = &c.preset.scenario;
+            let v = study::run_sharded(&|| s.study(None), 1000, &|_| {})?;
+            c.studies.insert(None, (v, t0.elapsed().as_secs_f64() * 1e3));
+        }
         for p in e.numbers.iter().filter(|p| p.source == Source::Study) {
             if !c.studies.contains_key(&p.runs) {
                 let t0 = Instant::now();
@@ -455,6 +463,58 @@ pub fn build(size: (u32, u32)) -> Result<Vec<File>> {
     Ok(files)
 }
 
+/// A compare's table: per method what it assumes (met or why not), what it promises, its set's
+/// area, whether it holds the truth, and the study's count with its band and verdict.
+fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> String {
+    let mut b = String::from(
+        "<table class=\"numbers\">\n<thead><tr><th>method</th><th>assumes</th><th>promises</th><th>area</th><th>holds the truth</th><th>counted at the true state</th><th>verdict</th></tr></thead>\n<tbody>\n",
+    );
+    let counts = study.and_then(|s| s["methods"].as_array());
+    for (row, set) in c.rows.iter().zip(&c.at.sets) {
+        let assumes = match &row.violated {
+            None => format!("{} <span class=\"ok\">— met</span>", esc(&row.assumes)),
+            Some(why) => format!("{}<br><span class=\"bad\">{}</span>", esc(&row.assumes), esc(why)),
+        };
+        let level = row.level.map_or(String::new(), |l| {
+            format!(" ({}{} %)", if row.at_least { "≥ " } else { "" }, number(100.0 * l))
+        });
+        let area = match (&set.set, set.area) {
+            (None, _) => format!("no set: {}", esc(set.reason.as_deref().unwrap_or(""))),
+            (Some(_), None) => "unbounded".to_string(),
+            (Some(_), Some(a)) => number(a),
+        };
+        let holds = match set.holds {
+            Some(true) => "yes",
+            Some(false) => "no",
+            None => "—",
+        };
+        let count = counts.and_then(|cs| cs.iter().find(|m| m["method"] == row.method.name()));
+        let (counted, verdict) = match (count, study) {
+            (Some(m), Some(s)) => (
+                format!(
+                    "{} / {}{}",
+                    m["holds"],
+                    s["runs"],
+                    m["band"].as_array().map_or(String::new(), |b| format!(" <small>(99.9 % band {}–{})</small>", b[0], b[1]))
+                ),
+                esc(m["verdict"].as_str().unwrap_or("")),
+            ),
+            _ => ("—".to_string(), String::new()),
+        };
+        let _ = writeln!(
+            b,
+            "<tr><td>{}</td><td>{assumes}</td><td>{}{level}</td><td class=\"num\">{area}</td><td>{holds}</td><td class=\"num\">{counted}</td><td>{verdict}</td></tr>",
+            row.method,
+            esc(&row.promise)
+        );
+    }
+    b.push_str("</tbody>\n</table>\n");
+    if let Some(s) = study {
+        let _ = writeln!(b, "<p class=\"caption\">The study: {} runs; {}.</p>", s["runs"], esc(s["conditioning"].as_str().unwrap_or("")));
+    }
+    b
+}
+
 fn entry_page(
     ch: &Checked,
     c: &Computed,
@@ -499,6 +559,9 @@ fn entry_page(
                 f.replace(".svg", ".png")
             );
         }
+    }
+    if let Some(cmp) = &c.report.compare {
+        b.push_str(&compare_table(cmp, c.studies.get(&None).map(|s| &s.0)));
     }
     if !e.numbers.is_empty() {
         b.push_str(

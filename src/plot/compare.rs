@@ -7,13 +7,16 @@
 
 use super::geom::Win;
 use super::style::{self, Entry, Fonts, Marker, Swatch, KF, LSCR, LSCR_TINT, SCF, TRUTH};
-use super::{Area, Frame, Panel, View};
+use super::geom::{clip_polygon, clip_polyline};
+use super::{Area, Frame, Panel, View, Zoom};
 use crate::error::{Error, Result};
 use crate::method::Method;
 use crate::scenario::compare::{MethodSet, PlaneSet, Target};
 use crate::scenario::{CompareReport, Report};
 use plotters::prelude::*;
 
+/// A set more than this many times the median set's extent is cut at the window (zoom "auto").
+const FOCUS: f64 = 6.0;
 /// Opacity of the LSCR region's tint.
 const TINT: f64 = 0.45;
 /// Points on each drawn ellipse.
@@ -93,13 +96,39 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
     let short = fonts.compact;
     let shown: Vec<&MethodSet> = at.sets.iter().filter(|s| !view.hide.contains(&s.method)).collect();
     let mut drawn = Vec::new();
-    let mut w = Win::empty();
     for s in &shown {
-        let l = loops(s)?;
-        for lp in &l {
+        drawn.push((*s, loops(s)?));
+    }
+    // The window: every set (zoom "full"), or by default the sets of comparable size — a set
+    // more than FOCUS times the median's extent (LSCR's region beside the ellipses) would shrink
+    // the others to dots, so it is cut at the window and the chart says so.
+    let extent = |l: &Vec<Vec<(f64, f64)>>| {
+        let mut w = Win::empty();
+        for lp in l {
             w.add_points(lp);
         }
-        drawn.push((*s, l));
+        w
+    };
+    let mut sizes: Vec<f64> = drawn
+        .iter()
+        .map(|(_, l)| extent(l))
+        .filter(|w| !w.is_empty())
+        .map(|w| w.width().hypot(w.height()))
+        .collect();
+    sizes.sort_by(f64::total_cmp);
+    let median = sizes.get(sizes.len() / 2).copied().unwrap_or(0.0);
+    let mut w = Win::empty();
+    let mut cut = Vec::new();
+    for (s, l) in &drawn {
+        let e = extent(l);
+        if e.is_empty() {
+            continue;
+        }
+        if view.zoom == Zoom::Full || median == 0.0 || e.width().hypot(e.height()) <= FOCUS * median {
+            w = w.union(&e);
+        } else {
+            cut.push(label(s.method));
+        }
     }
     let truth = at.truth.map(|p| (p[0], p[1]));
     if let Some(p) = truth {
@@ -168,6 +197,9 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
     let (xd, yd) = (axis(report, 0), axis(report, 1));
     let chart = style::equal_chart(&area, &fonts, win, &xd, &yd)?;
     let mut marks = Vec::new();
+    // What the chart shows (the equal-aspect window may be wider than asked): every set is cut
+    // to it, filled areas as polygons, outlines as pieces.
+    let shown_win = Win::of_chart(&chart);
     // Filled sets first, outlines over them.
     let order = |m: Method| match m {
         Method::Lscr => 0,
@@ -178,29 +210,49 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
     sorted.sort_by_key(|(s, _)| order(s.method));
     for (s, l) in sorted {
         let m = s.method;
+        let filled = matches!(m, Method::Lscr | Method::Ubb | Method::UniformLp);
         for lp in l {
-            if m == Method::Lscr {
-                // The tint of X̂ under its black outline, as on the LSCR panel.
+            let mut closed = lp.clone();
+            closed.extend(lp.first().copied());
+            let inside = clip_polygon(lp, &shown_win);
+            if filled && inside.len() >= 3 {
+                // The light fill (for LSCR its yellow tint, as on the LSCR panel).
                 let (bx, by) = root.get_base_pixel();
-                let tint: Vec<(i32, i32)> = style::marks_of(&chart, lp).into_iter().map(|(x, y)| (x - bx, y - by)).collect();
-                if tint.len() >= 3 {
-                    root.draw(&Polygon::new(tint, LSCR_TINT.mix(TINT).filled())).map_err(super::de)?;
-                }
-                style::region(root, &chart, lp, &LSCR, false, false)?;
-            } else {
-                style::region(root, &chart, lp, &color(m), m == Method::Kf, matches!(m, Method::Ubb | Method::UniformLp))?;
+                let px: Vec<(i32, i32)> = style::marks_of(&chart, &inside).into_iter().map(|(x, y)| (x - bx, y - by)).collect();
+                let tint = if m == Method::Lscr { LSCR_TINT.mix(TINT).filled() } else { style::fill(&color(m)) };
+                root.draw(&Polygon::new(px, tint)).map_err(super::de)?;
             }
-            marks.extend(style::marks_of(&chart, lp));
+            let dash = (m == Method::Kf).then_some(style::DASH);
+            style::path(root, &chart, &closed, &color(m), 2, dash)?;
+            for piece in clip_polyline(&closed, &shown_win) {
+                marks.extend(style::marks_of(&chart, &piece));
+            }
         }
         if let Some(o) = &s.outline {
-            let o: Vec<(f64, f64)> = o.iter().map(|p| (p[0], p[1])).collect();
-            style::region(root, &chart, &o, &color(m), true, false)?;
+            let mut o: Vec<(f64, f64)> = o.iter().map(|p| (p[0], p[1])).collect();
+            o.extend(o.first().copied());
+            style::path(root, &chart, &o, &color(m), 1, Some(style::DASH))?;
         }
     }
     let points: Vec<((f64, f64), Marker, RGBColor, &'static str)> =
         truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")).into_iter().collect();
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
     let mut chart_notes = Vec::new();
+    if !cut.is_empty() {
+        chart_notes.push(if short {
+            format!("{} cut at the window", cut.join(", "))
+        } else {
+            format!("{} reaches beyond the window (zoom “all” shows it whole)", cut.join(", "))
+        });
+    }
+    // Tempo's set and Pavelková's carried-over polygon are the same consistent set when their
+    // bounds and windows agree: say so, or one looks missing under the other.
+    let area = |m: Method| shown.iter().find(|s| s.method == m && s.set.is_some()).and_then(|s| s.area);
+    if let (Some(a), Some(b)) = (area(Method::Ubb), area(Method::UniformLp)) {
+        if (a - b).abs() <= 1e-6 * a.max(b) && !short {
+            chart_notes.push("Tempo's set and the uniform-LP set coincide".to_string());
+        }
+    }
     if drawn.iter().any(|(s, _)| matches!(s.set, Some(PlaneSet::Region { bounded: false, .. }))) {
         chart_notes.push("the LSCR region is unbounded: drawn within its window".to_string());
     }

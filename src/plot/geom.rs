@@ -212,9 +212,61 @@ pub fn clip_polyline(pts: &[(f64, f64)], w: &Win) -> Vec<Vec<(f64, f64)>> {
     out
 }
 
+/// A closed polygon cut to `w` (Sutherland–Hodgman against the four edges): the filled area
+/// inside the window. A non-convex polygon stays one polygon, with edges along the window
+/// where it left it.
+pub fn clip_polygon(pts: &[(f64, f64)], w: &Win) -> Vec<(f64, f64)> {
+    type Inside = fn(&(f64, f64), &Win) -> bool;
+    type Cross = fn((f64, f64), (f64, f64), &Win) -> (f64, f64);
+    fn at_x(a: (f64, f64), b: (f64, f64), x: f64) -> (f64, f64) {
+        (x, a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0))
+    }
+    fn at_y(a: (f64, f64), b: (f64, f64), y: f64) -> (f64, f64) {
+        (a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1), y)
+    }
+    let edges: [(Inside, Cross); 4] = [
+        (|p, w| p.0 >= w.x0, |a, b, w| at_x(a, b, w.x0)),
+        (|p, w| p.0 <= w.x1, |a, b, w| at_x(a, b, w.x1)),
+        (|p, w| p.1 >= w.y0, |a, b, w| at_y(a, b, w.y0)),
+        (|p, w| p.1 <= w.y1, |a, b, w| at_y(a, b, w.y1)),
+    ];
+    let mut poly: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+    for (inside, cross) in edges {
+        let n = poly.len();
+        let mut out = Vec::with_capacity(n + 4);
+        for i in 0..n {
+            let (a, b) = (poly[(i + n - 1) % n], poly[i]);
+            match (inside(&a, w), inside(&b, w)) {
+                (true, true) => out.push(b),
+                (true, false) => out.push(cross(a, b, w)),
+                (false, true) => {
+                    out.push(cross(a, b, w));
+                    out.push(b);
+                }
+                (false, false) => {}
+            }
+        }
+        poly = out;
+    }
+    poly
+}
+
 #[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::*;
+
+    #[test]
+    fn polygon_clipping_keeps_the_area_inside() {
+        let w = Win::new((0.0, 1.0), (0.0, 1.0));
+        // A square from (0.5, 0.5) to (1.5, 1.5): its quarter inside the window.
+        let cut = clip_polygon(&[(0.5, 0.5), (1.5, 0.5), (1.5, 1.5), (0.5, 1.5)], &w);
+        let area = |p: &[(f64, f64)]| {
+            (0..p.len()).map(|i| { let (a, b) = (p[i], p[(i + 1) % p.len()]); a.0 * b.1 - b.0 * a.1 }).sum::<f64>().abs() / 2.0
+        };
+        assert!((area(&cut) - 0.25).abs() < 1e-12, "{cut:?}");
+        assert!(cut.iter().all(|p| w.contains(p.0, p.1)));
+        assert!(clip_polygon(&[(2.0, 2.0), (3.0, 2.0), (3.0, 3.0)], &w).is_empty());
+    }
 
     #[test]
     fn clipping_keeps_inside_and_cuts_at_the_edges() {

@@ -202,10 +202,10 @@ pub struct MethodSet {
     /// Seconds the method's run took, by the caller's clock ([`set_clock`]); absent without one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seconds: Option<f64>,
-    /// The method's own scenario on the record up to t: open it in the method's panel to see
-    /// the same set there.
+    /// The method's own scenario on the record up to t (its JSON: a report is read without
+    /// reading scenarios): open it in the method's panel to see the same set there.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub scenario: Option<Box<Scenario>>,
+    pub scenario: Option<serde_json::Value>,
 }
 
 /// One method's row of the table: what it assumes, whether the record's law meets it, what
@@ -559,7 +559,7 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
         Method::Glls => (
             "no state noise; ‖w_t‖₂ ≤ μ",
             if state_noise {
-                Some("violated: the system has state noise (GLLS takes x_{t+1} = F x_t)".to_string())
+                Some("violated: the system has state noise (GLLS takes x_{t+1} = F·x_t)".to_string())
             } else {
                 bounds
             },
@@ -850,7 +850,7 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
             out.area = Some(ellipse_area(&ball));
             out.holds = truth.map(|x| ellipse_holds(&ball, x));
             out.note = Some(if predict {
-                format!("horizon s = {}; F·ball: x_(t+1) = F x_t without state noise", g.s)
+                format!("horizon s = {}; F·ball (no state noise)", g.s)
             } else {
                 format!("horizon s = {}", g.s)
             });
@@ -944,7 +944,7 @@ impl ComparePrepared {
             scenario: None,
         });
         set.seconds = seconds;
-        set.scenario = scenario.ok().map(Box::new);
+        set.scenario = scenario.ok().and_then(|s| serde_json::to_value(s).ok());
         set
     }
 
@@ -1336,6 +1336,11 @@ pub fn compare_cascade(noise: NoiseLaw) -> Scenario {
         NoiseLaw::Uniform => "uniform",
         NoiseLaw::Truncated => "truncated",
     };
+    let name = match noise {
+        NoiseLaw::Gaussian => "Gaussian",
+        NoiseLaw::Uniform => "uniform",
+        NoiseLaw::Truncated => "truncated Gaussian",
+    };
     let (condition, study) = match noise {
         // A far-out x₃₁ (about 3.5 prior standard deviations): Kalman's "on average" promise
         // fails here, SCF's and LSCR's "for every state" hold.
@@ -1347,7 +1352,7 @@ pub fn compare_cascade(noise: NoiseLaw) -> Scenario {
     };
     let text = format!(
         r#"{{"method": "compare",
-  "title": "Every method on the LSCR cascade ({law} noise)",
+  "title": "Every method on the LSCR cascade ({name} noise)",
   "model": {{"F": [[0.5, 0.0], [1.0, 0.7]], "H": [[0.0, 1.0]], "G": [[1.0], [0.0]],
             "sigma_v2": 0.005, "sigma_w2": 0.005}},
   "simulate": {{"steps": 30, "seed": 5{condition}}},

@@ -56,7 +56,8 @@ fn check_against_panels(s: &Scenario) {
         let m = set.method;
         assert_eq!(row.method, m);
         assert!(set.reason.is_none(), "{m}: {:?}", set.reason);
-        let own = set.scenario.as_ref().unwrap_or_else(|| panic!("{m}: its own scenario"));
+        let own = Scenario::from_json(&set.scenario.as_ref().unwrap_or_else(|| panic!("{m}: its own scenario")).to_string())
+            .unwrap_or_else(|e| panic!("{m}: its own scenario parses: {e}"));
         assert_eq!(own.method, m);
         assert_eq!(own.data.as_ref().expect("data").y, report.y[..c.at.t].to_vec(), "{m}: the record up to t");
         let panel: Report = own.run().unwrap_or_else(|e| panic!("{m}'s own scenario: {e}"));
