@@ -257,6 +257,16 @@ async function loadScenarioFile(file) {
   } catch (e) {
     return fail(`${file.name} is not a scenario file: ${e.message}`);
   }
+  await openScenario(scenario, file.name);
+}
+
+// A panel asks to show a scenario in the panel of its method (the compare table's "open in its
+// panel": a method's own scenario on the compared record), as a loaded file would be.
+document.addEventListener('confset:open-scenario', (e) => openScenario(e.detail.scenario, e.detail.name));
+
+async function openScenario(scenario, fileName) {
+  const fail = (msg) => (current ? current.say(msg) : homeNote(msg));
+  const file = { name: fileName };
   const d = scenario && typeof scenario === 'object' ? panelOf(scenario.method || 'scf') : null;
   if (!d) return fail(`${file.name}: "method" must be one of ${PANELS.flatMap((p) => p.methods).join(', ')}`);
   await show(d);

@@ -64,7 +64,11 @@ function load(p, s) {
   ui.fix.checked = !!cond;
   ui.xbar.value = (cond?.x || c.study?.x || []).join(' ');
   if (c.study?.runs) ui.runs.value = c.study.runs;
+  // Counts and their wording belong to the scenario they were counted on.
   p.counts = null;
+  p.studyHow ??= ui['study-how'].textContent;
+  ui['study-how'].textContent = p.studyHow;
+  ui['study-truth'].textContent = '';
   showInputs(p);
 }
 
@@ -121,7 +125,8 @@ function showNumbers(p) {
     const area = set.set ? (set.area == null ? 'unbounded' : fmt(set.area)) : `<span class="warn">no set</span>`;
     const holds = set.set ? verdict(set.holds, 'yes', 'no') : `<span class="hint">${escapeHtml(set.reason || '')}</span>`;
     const time = set.seconds == null ? '–' : `${(1000 * set.seconds).toFixed(1)} ms`;
-    const cells = [`<b>${NAMES[row.method] || escapeHtml(row.method)}</b>${set.note ? `<br><span class="hint">${richText(set.note)}</span>` : ''}`,
+    const open = set.scenario ? `<br><button type="button" class="open-panel" data-i="${i}" title="the same scenario and data in the method's own panel">open in its panel</button>` : '';
+    const cells = [`<b>${NAMES[row.method] || escapeHtml(row.method)}</b>${set.note ? `<br><span class="hint">${richText(set.note)}</span>` : ''}${open}`,
       `${escapeHtml(row.promise)}${level}`, assume, area, holds, time];
     if (counts) {
       const k = counts.methods.find((m) => m.method === row.method);
@@ -204,6 +209,16 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
       perRun: (ms, runs) => `${(ms / Math.max(1, runs)).toFixed(1)} ms`,
     });
     p.figures[0].canvas.addEventListener('click', (e) => placeTruth(p, e));
+    // A method's own scenario on this record, opened in its panel (the shell loads it there as a
+    // scenario file): the same set, with everything that panel shows.
+    ui.numbers.addEventListener('click', (e) => {
+      const b = e.target.closest('button.open-panel');
+      const set = b && p.st.report?.compare.at.sets[Number(b.dataset.i)];
+      if (!set?.scenario) return;
+      document.dispatchEvent(new CustomEvent('confset:open-scenario', {
+        detail: { scenario: set.scenario, name: `compare-${set.method}-t${p.st.report.compare.at.t}.json` },
+      }));
+    });
     // The toggles only redraw: the figure leaves the hidden methods out.
     ui.toggles.addEventListener('change', () => {
       p.figures[0].hide = [...ui.toggles.querySelectorAll('input[data-method]')].filter((b) => !b.checked).map((b) => b.dataset.method);

@@ -305,10 +305,13 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
                 let out = report_svg(&r, &v, w, h)
                     .unwrap_or_else(|e| panic!("{} {} {w}×{h}: {e}", p.name, panel.name()));
                 // LSCR reports draw the region (whose legend names X̂, shortly on small figures);
+                // a compare names every method (Kalman first);
                 // GLLS reports mark the horizon in use (the plane: the true state); the others
                 // KF/SCF.
                 let expect = match (r.lscr.is_some(), r.glls.is_some(), panel) {
                     (_, _, Panel::UPolygon) => "true state",
+                    // The compare legend names each method's set.
+                    (_, _, Panel::Compare) => "Kalman",
                     (_, _, p) if p.method() == crate::method::Method::UniformLp => "t = ",
                     (_, _, p) if p.method() == crate::method::Method::Ubb => "k = ",
                     (true, _, _) => "X̂ ",

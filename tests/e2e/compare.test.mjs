@@ -86,6 +86,16 @@ export default async function compare(env) {
   assert.match(await row(page, 'uniform LP'), /no probability promised/);
   await shootSection(page, 'compare-section', screenshotDir, 'compare-study');
 
+  // "open in its panel": Tempo's own scenario on this record opens in the ubb panel, whose
+  // report holds the same polygon; back to compare.
+  await page.click('#c-numbers tbody tr:nth-child(5) button.open-panel');
+  await page.waitForFunction(() => document.body.dataset.route === 'ubb' && !document.body.dataset.ubbBusy, null, { timeout: 60_000 });
+  await page.waitForFunction(() => /loaded compare-ubb-t30\.json/.test(document.querySelector('#ubb-section .share-status')?.textContent || ''), null, { timeout: 30_000 });
+  assert.match(await text(page, '#b-num-title'), /^At step k = 29: the set of x\(30\)/);
+  assert.equal(await text(page, '#fig-ubbset .fig-err'), '');
+  await page.goto(`${baseUrl}#compare`);
+  await idle(page);
+
   // Uniform noise: the bounded methods' assumptions are met and their sets hold the truth.
   await choosePreset(page, 'c-preset', 'compare-uniform', idle);
   await drawnWell(page, assert, 'compare-uniform');

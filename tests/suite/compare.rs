@@ -300,3 +300,21 @@ fn merge(a: &mut serde_json::Value, b: &serde_json::Value) {
         (a, b) => *a = b.clone(),
     }
 }
+
+/// The user's own record (CSV, one column per output): every method runs on it, with no truth.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+fn own_csv_data_runs_every_method_without_truth() {
+    let simulated = preset("compare-uniform").run().expect("report");
+    let csv: String = simulated.y.iter().map(|r| format!("{}\n", r[0])).collect();
+    let s = preset("compare-uniform").with_csv_data(&csv).expect("CSV data");
+    assert!(s.simulate.is_none() && s.data.is_some());
+    let report = s.run().expect("report on data");
+    let c = report.compare.as_ref().expect("compare");
+    assert!(c.x_true.is_none() && c.at.truth.is_none());
+    for (own, sim) in c.at.sets.iter().zip(&simulated.compare.as_ref().expect("c").at.sets) {
+        assert!(own.set.is_some(), "{}: {:?}", own.method, own.reason);
+        assert_eq!(own.holds, None, "{}: no truth, no verdict", own.method);
+        assert_eq!(own.area, sim.area, "{}: the same record, the same set", own.method);
+    }
+}
