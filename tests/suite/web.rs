@@ -168,7 +168,7 @@ fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
         let report: Value =
             serde_json::from_str(&kept.run(&p["scenario"].to_string()).expect("runs"))
                 .expect("report JSON");
-        let block = ["ubb", "uniform"]
+        let block = ["ubb", "uniform", "compare"]
             .into_iter()
             .find(|b| report[*b]["at"].is_object());
         let cursor = Cursor::new(&p["scenario"].to_string());
@@ -216,8 +216,8 @@ fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
         assert_eq!(kept.shown_time(), Some(t as usize), "the kept report stays");
     }
     assert_eq!(
-        with_cursor, 2,
-        "ubb and uniform_lp have a cursor: {methods:?}"
+        with_cursor, 3,
+        "ubb, uniform_lp and compare have a cursor: {methods:?}"
     );
 }
 
