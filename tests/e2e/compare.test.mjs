@@ -66,6 +66,18 @@ export default async function compare(env) {
   console.log(`    compare time cursor, input → painted frame: ${ms.map((v) => v.toFixed(0)).join(', ')} ms`);
   await set(page, 'c-time', '30');
 
+  // "open in its panel": Tempo's own scenario on this record opens in the ubb panel, whose
+  // report holds the same polygon; back to compare.
+  await page.click('#c-numbers tbody tr:nth-child(5) button.open-panel');
+  await page.waitForFunction(() => !document.getElementById('ubb-section').hidden
+    && /loaded compare-ubb-t30\.json/.test(document.querySelector('#ubb-section .share-status')?.textContent || ''), null, { timeout: 60_000 });
+  await page.waitForFunction(() => !document.body.dataset.ubbBusy, null, { timeout: 60_000 });
+  assert.match(await text(page, '#b-num-title'), /^At step k = 29: the set of x\(30\)/);
+  assert.equal(await text(page, '#fig-ubbset .fig-err'), '');
+  await page.goto(`${baseUrl}#compare`);
+  await waitReady(page);
+  await idle(page);
+
   // A click on the figure places the true state; a small study counts every method there.
   const c = await page.$('#fig-compare canvas');
   await c.scrollIntoViewIfNeeded();
@@ -85,16 +97,6 @@ export default async function compare(env) {
   assert.match(await row(page, 'SCF'), /\[\d+, \d+\] (inside|below|above) the 99\.9 % band/);
   assert.match(await row(page, 'uniform LP'), /no probability promised/);
   await shootSection(page, 'compare-section', screenshotDir, 'compare-study');
-
-  // "open in its panel": Tempo's own scenario on this record opens in the ubb panel, whose
-  // report holds the same polygon; back to compare.
-  await page.click('#c-numbers tbody tr:nth-child(5) button.open-panel');
-  await page.waitForFunction(() => document.body.dataset.route === 'ubb' && !document.body.dataset.ubbBusy, null, { timeout: 60_000 });
-  await page.waitForFunction(() => /loaded compare-ubb-t30\.json/.test(document.querySelector('#ubb-section .share-status')?.textContent || ''), null, { timeout: 30_000 });
-  assert.match(await text(page, '#b-num-title'), /^At step k = 29: the set of x\(30\)/);
-  assert.equal(await text(page, '#fig-ubbset .fig-err'), '');
-  await page.goto(`${baseUrl}#compare`);
-  await idle(page);
 
   // Uniform noise: the bounded methods' assumptions are met and their sets hold the truth.
   await choosePreset(page, 'c-preset', 'compare-uniform', idle);
