@@ -16,6 +16,7 @@ const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
   : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(3))));
 const int = (n) => n.toLocaleString('en-US');
 const pct = (p) => `${Number((100 * p).toFixed(1))} %`;
+const LAWS = { gaussian: 'Gaussian', uniform: 'Uniform', truncated: 'Truncated Gaussian' };
 const NAMES = { kf: 'Kalman', scf: 'SCF', lscr: 'LSCR', glls: 'GLLS', ubb: 'Tempo', uniform_lp: 'uniform LP' };
 const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
 
@@ -138,7 +139,7 @@ function showNumbers(p) {
   });
   ui.numbers.innerHTML = `<div class="table-scroll"><table class="est compare-table"><thead><tr>${head.map((h) => `<th>${h}</th>`).join('')}</tr></thead>`
     + `<tbody>${rows.join('')}</tbody></table></div>`
-    + `<p class="hint">${escapeHtml(c.noise)} noise, σ<sub>v</sub> = ${fmt(c.sigma_v)}, σ<sub>w</sub> = ${fmt(c.sigma_w)}; bounds given to the bounded methods: b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}`
+    + `<p class="hint">${LAWS[c.noise] || escapeHtml(c.noise)} noise, σ<sub>v</sub> = ${fmt(c.sigma_v)}, σ<sub>w</sub> = ${fmt(c.sigma_w)}; bounds given to the bounded methods: b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}`
     + `${at.truth ? `; true x${sub(at.target_time)} = (${at.truth.map(fmt).join(', ')})` : '; your data: no truth'}.</p>`;
   ui['bounds-out'].innerHTML = `b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}${c.bound_scale < 1 ? ' <b class="warn">below the noise’s own</b>' : ''}`;
   ui['time-min'].textContent = String(c.first);

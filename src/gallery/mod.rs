@@ -467,7 +467,7 @@ pub fn build(size: (u32, u32)) -> Result<Vec<File>> {
 /// area, whether it holds the truth, and the study's count with its band and verdict.
 fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> String {
     let mut b = String::from(
-        "<table class=\"numbers\">\n<thead><tr><th>method</th><th>assumes</th><th>promises</th><th>area</th><th>holds the truth</th><th>counted at the true state</th><th>verdict</th></tr></thead>\n<tbody>\n",
+        "<table class=\"numbers counts\">\n<thead><tr><th>method</th><th>assumes</th><th>promises</th><th>area</th><th>holds the truth</th><th>counted at the true state</th><th>verdict</th></tr></thead>\n<tbody>\n",
     );
     let counts = study.and_then(|s| s["methods"].as_array());
     for (row, set) in c.rows.iter().zip(&c.at.sets) {

@@ -557,9 +557,9 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
             true,
         ),
         Method::Glls => (
-            "no state noise; ‖w_t‖₂ ≤ μ",
+            "no state noise; ‖w(t)‖₂ ≤ μ",
             if state_noise {
-                Some("violated: the system has state noise (GLLS takes x_{t+1} = F·x_t)".to_string())
+                Some("violated: the system has state noise (GLLS takes x(t+1) = F·x(t))".to_string())
             } else {
                 bounds
             },
@@ -567,7 +567,7 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
             Some(1.0),
             false,
         ),
-        Method::Ubb => ("|v_t| ≤ τ and |w_t| ≤ ε at every t", bounds, "always", Some(1.0), false),
+        Method::Ubb => ("|v(t)| ≤ τ and |w(t)| ≤ ε at every t", bounds, "always", Some(1.0), false),
         _ => (
             "innovations uniform within the half-width bounds",
             match (p.spec.noise, &bounds) {

@@ -55,8 +55,14 @@ export default async function ({ baseUrl, newPage, waitReady, assert, screenshot
     const report = links.find((l) => /\.report\.json$/.test(l.href));
     assert.ok(report, `${url} offers the report JSON`);
     explorerLinks.push({ entry: url, explorer: ex.href, report: report.href });
-    const verdicts = await page.$$eval('table.numbers td:last-child', (tds) => tds.map((t) => t.textContent));
+    const verdicts = await page.$$eval('table.numbers:not(.counts) td:last-child', (tds) => tds.map((t) => t.textContent));
     for (const v of verdicts) assert.match(v, /^(reproduced|within|differs)/, `${url}: a verdict per number`);
+    // A compare page: every method's row with its count at the true state and the core's verdict.
+    const counts = await page.$$eval('table.counts tbody tr', (trs) => trs.map((t) => t.textContent));
+    if (/compare-/.test(url)) {
+      assert.equal(counts.length, 6, `${url}: one row per method`);
+      for (const c of counts) assert.match(c, /\d+ \/ \d+.*(band|failed|promised)/, `${url}: ${c}`);
+    }
   }
 
   // Every explorer link (one per preset) restores the panel; its report download holds the
