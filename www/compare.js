@@ -64,6 +64,9 @@ function load(p, s) {
   const cond = s.simulate?.condition;
   ui.fix.checked = !!cond;
   ui.xbar.value = (cond?.x || c.study?.x || []).join(' ');
+  // The time of the fixed state stays where it was placed: the time slider only redraws the
+  // record drawn given it, so a link or a download gives the same record.
+  ui.ct.value = cond?.t ?? (Number(ui.time.value) + (c.target === 'filter' ? 0 : 1));
   if (c.study?.runs) ui.runs.value = c.study.runs;
   // Counts and their wording belong to the scenario they were counted on.
   p.counts = null;
@@ -98,7 +101,7 @@ function build(p, s) {
     s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
     // The record drawn given the true target state: Gaussian noise only (the core says so
     // otherwise, next to the checkbox).
-    if (ui.fix.checked && x) s.simulate.condition = { t: c.time + (c.target === 'predict' ? 1 : 0), x };
+    if (ui.fix.checked && x) s.simulate.condition = { t: wholeNumber('simulate.condition.t', ui.ct.value), x };
     else delete s.simulate.condition;
   }
   if (x) c.study = { ...(c.study || {}), x };
@@ -154,6 +157,8 @@ function placeTruth(p, e) {
   const span = Math.max(Math.abs(at.chart.x_range[1] - at.chart.x_range[0]), Math.abs(at.chart.y_range[1] - at.chart.y_range[0]));
   const digits = Math.max(0, 3 - Math.floor(Math.log10(span)));
   ui.xbar.value = [at.x, at.y].map((v) => +v.toFixed(digits)).join(' ');
+  // The state drawn is the target of the time shown.
+  ui.ct.value = String(st.report.compare.at.target_time);
   // Gaussian noise: the record itself is drawn given the state (the picture shows it there).
   ui.fix.checked = ui.noise.value === 'gaussian' && !!st.scenario?.simulate;
   p.schedule('compute');
@@ -189,7 +194,7 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
   prose: richText,
   ids: ['time-out', 'time-min', 'time-max', 'scale-out', 'bounds-out', 'num-title', 'toggles',
     'runs', 'go', 'cancel', 'progress', 'status', 'err', 'study-truth', 'study-how'],
-  compute: ['noise', 'target', 'k', 'window', 'scale', 'sv', 'sw', 'alpha', 'seed', 'fix', 'xbar', 'm-F', 'm-G', 'm-H'],
+  compute: ['noise', 'target', 'k', 'window', 'scale', 'sv', 'sw', 'alpha', 'seed', 'fix', 'xbar', 'ct', 'm-F', 'm-G', 'm-H'],
   redraw: ['time'],
   cursor: {
     control: 'time',
