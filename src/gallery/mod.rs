@@ -96,7 +96,8 @@ fn compute(cat: &Catalogue) -> Result<(BTreeMap<String, Computed>, Vec<Checked>)
             let t0 = Instant::now();
             let s = &c.preset.scenario;
             let v = study::run_sharded(&|| s.study(None), 1000, &|_| {})?;
-            c.studies.insert(None, (v, t0.elapsed().as_secs_f64() * 1e3));
+            c.studies
+                .insert(None, (v, t0.elapsed().as_secs_f64() * 1e3));
         }
         for p in e.numbers.iter().filter(|p| p.source == Source::Study) {
             if !c.studies.contains_key(&p.runs) {
@@ -473,10 +474,18 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
     for (row, set) in c.rows.iter().zip(&c.at.sets) {
         let assumes = match &row.violated {
             None => format!("{} <span class=\"ok\">— met</span>", esc(&row.assumes)),
-            Some(why) => format!("{}<br><span class=\"bad\">{}</span>", esc(&row.assumes), esc(why)),
+            Some(why) => format!(
+                "{}<br><span class=\"bad\">{}</span>",
+                esc(&row.assumes),
+                esc(why)
+            ),
         };
         let level = row.level.map_or(String::new(), |l| {
-            format!(" ({}{} %)", if row.at_least { "≥ " } else { "" }, number(100.0 * l))
+            format!(
+                " ({}{} %)",
+                if row.at_least { "≥ " } else { "" },
+                number(100.0 * l)
+            )
         });
         let area = match (&set.set, set.area) {
             (None, _) => format!("no set: {}", esc(set.reason.as_deref().unwrap_or(""))),
@@ -495,7 +504,10 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
                     "{} / {}{}",
                     m["holds"],
                     s["runs"],
-                    m["band"].as_array().map_or(String::new(), |b| format!(" <small>(99.9 % band {}–{})</small>", b[0], b[1]))
+                    m["band"].as_array().map_or(String::new(), |b| format!(
+                        " <small>(99.9 % band {}–{})</small>",
+                        b[0], b[1]
+                    ))
                 ),
                 esc(m["verdict"].as_str().unwrap_or("")),
             ),
@@ -510,7 +522,12 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
     }
     b.push_str("</tbody>\n</table>\n");
     if let Some(s) = study {
-        let _ = writeln!(b, "<p class=\"caption\">The study: {} runs; {}.</p>", s["runs"], esc(s["conditioning"].as_str().unwrap_or("")));
+        let _ = writeln!(
+            b,
+            "<p class=\"caption\">The study: {} runs; {}.</p>",
+            s["runs"],
+            esc(s["conditioning"].as_str().unwrap_or(""))
+        );
     }
     b
 }

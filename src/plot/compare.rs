@@ -6,8 +6,8 @@
 //! picture, the window and the legend.
 
 use super::geom::Win;
-use super::style::{self, Entry, Fonts, Marker, Swatch, KF, LSCR, LSCR_TINT, SCF, TRUTH};
 use super::geom::{clip_polygon, clip_polyline};
+use super::style::{self, Entry, Fonts, Marker, Swatch, KF, LSCR, LSCR_TINT, SCF, TRUTH};
 use super::{Area, Frame, Panel, View, Zoom};
 use crate::error::{Error, Result};
 use crate::method::Method;
@@ -63,13 +63,18 @@ pub(crate) fn check(report: &Report) -> Result<&CompareReport> {
                 e.dim() == 2 && finite(&e.center) && e.cov.iter().all(|r| r.len() == 2 && finite(r))
             }
             Some(PlaneSet::Polygon { vertices }) => vertices.iter().all(|v| finite(v)),
-            Some(PlaneSet::Region { loops, .. }) => loops.iter().all(|l| l.points.iter().all(|p| finite(p))),
+            Some(PlaneSet::Region { loops, .. }) => {
+                loops.iter().all(|l| l.points.iter().all(|p| finite(p)))
+            }
             None => true,
         };
         if !ok {
             return Err(Error::field(
                 "report.compare.at.sets",
-                format!("holds a set of \"{}\" that is not a finite 2-D set", s.method),
+                format!(
+                    "holds a set of \"{}\" that is not a finite 2-D set",
+                    s.method
+                ),
             ));
         }
     }
@@ -80,7 +85,9 @@ pub(crate) fn check(report: &Report) -> Result<&CompareReport> {
 fn loops(s: &MethodSet) -> Result<Vec<Vec<(f64, f64)>>> {
     Ok(match &s.set {
         Some(PlaneSet::Ellipse(e)) => vec![e.boundary_2d(ELLIPSE_POINTS)?],
-        Some(PlaneSet::Polygon { vertices }) => vec![vertices.iter().map(|p| (p[0], p[1])).collect()],
+        Some(PlaneSet::Polygon { vertices }) => {
+            vec![vertices.iter().map(|p| (p[0], p[1])).collect()]
+        }
         Some(PlaneSet::Region { loops, .. }) => loops
             .iter()
             .map(|l| l.points.iter().map(|p| (p[0], p[1])).collect())
@@ -90,11 +97,20 @@ fn loops(s: &MethodSet) -> Result<Vec<Vec<(f64, f64)>>> {
 }
 
 /// Panel::Compare.
-pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, fonts: Fonts) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(
+    root: &Area<DB>,
+    report: &Report,
+    view: &View,
+    fonts: Fonts,
+) -> Result<Frame> {
     let c = check(report)?;
     let at = &c.at;
     let short = fonts.compact;
-    let shown: Vec<&MethodSet> = at.sets.iter().filter(|s| !view.hide.contains(&s.method)).collect();
+    let shown: Vec<&MethodSet> = at
+        .sets
+        .iter()
+        .filter(|s| !view.hide.contains(&s.method))
+        .collect();
     let mut drawn = Vec::new();
     for s in &shown {
         drawn.push((*s, loops(s)?));
@@ -124,7 +140,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
         if e.is_empty() {
             continue;
         }
-        if view.zoom == Zoom::Full || median == 0.0 || e.width().hypot(e.height()) <= FOCUS * median {
+        if view.zoom == Zoom::Full || median == 0.0 || e.width().hypot(e.height()) <= FOCUS * median
+        {
             w = w.union(&e);
         } else {
             cut.push(label(s.method));
@@ -141,7 +158,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
     }
     let win = w.padded(0.08, 0.08);
     let which = match c.target {
-        Target::Predict => format!("x{} predicted from y₁ … y{}", sub_num(at.target_time), sub_num(at.t)),
+        Target::Predict => format!(
+            "x{} predicted from y₁ … y{}",
+            sub_num(at.target_time),
+            sub_num(at.t)
+        ),
         Target::Filter => format!("x{} from y₁ … y{}", sub_num(at.target_time), sub_num(at.t)),
     };
     let law = match c.noise {
@@ -149,7 +170,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
         crate::scenario::compare::NoiseLaw::Uniform => "uniform",
         crate::scenario::compare::NoiseLaw::Truncated => "truncated Gaussian",
     };
-    let mut notes = vec![format!("{law} noise; bounds b_v = {}, b_w = {}", style::sig(c.bound_v), style::sig(c.bound_w))];
+    let mut notes = vec![format!(
+        "{law} noise; bounds b_v = {}, b_w = {}",
+        style::sig(c.bound_v),
+        style::sig(c.bound_w)
+    )];
     let missing: Vec<String> = shown
         .iter()
         .filter(|s| s.set.is_none())
@@ -192,7 +217,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
         };
         entries.push(Entry::new(text, swatch));
     }
-    let title = super::ubb::title(&report.figure, &fonts, &format!("Every method's set for {which}"));
+    let title = super::ubb::title(
+        &report.figure,
+        &fonts,
+        &format!("Every method's set for {which}"),
+    );
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let (xd, yd) = (axis(report, 0), axis(report, 1));
     let chart = style::equal_chart(&area, &fonts, win, &xd, &yd)?;
@@ -218,8 +247,15 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
             if filled && inside.len() >= 3 {
                 // The light fill (for LSCR its yellow tint, as on the LSCR panel).
                 let (bx, by) = root.get_base_pixel();
-                let px: Vec<(i32, i32)> = style::marks_of(&chart, &inside).into_iter().map(|(x, y)| (x - bx, y - by)).collect();
-                let tint = if m == Method::Lscr { LSCR_TINT.mix(TINT).filled() } else { style::fill(&color(m)) };
+                let px: Vec<(i32, i32)> = style::marks_of(&chart, &inside)
+                    .into_iter()
+                    .map(|(x, y)| (x - bx, y - by))
+                    .collect();
+                let tint = if m == Method::Lscr {
+                    LSCR_TINT.mix(TINT).filled()
+                } else {
+                    style::fill(&color(m))
+                };
                 root.draw(&Polygon::new(px, tint)).map_err(super::de)?;
             }
             let dash = (m == Method::Kf).then_some(style::DASH);
@@ -234,27 +270,40 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, view: &View, f
             style::path(root, &chart, &o, &color(m), 1, Some(style::DASH))?;
         }
     }
-    let points: Vec<((f64, f64), Marker, RGBColor, &'static str)> =
-        truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")).into_iter().collect();
+    let points: Vec<((f64, f64), Marker, RGBColor, &'static str)> = truth
+        .map(|p| (p, Marker::Diamond, TRUTH, "true state"))
+        .into_iter()
+        .collect();
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
     let mut chart_notes = Vec::new();
     if !cut.is_empty() {
         chart_notes.push(if short {
             format!("{} cut at the window", cut.join(", "))
         } else {
-            format!("{} reaches beyond the window (zoom “full”: every set whole)", cut.join(", "))
+            format!(
+                "{} reaches beyond the window (zoom “full”: every set whole)",
+                cut.join(", ")
+            )
         });
     }
     // Tempo's set and Pavelková's carried-over polygon are the same consistent set when their
     // bounds and windows agree: say so, or one looks missing under the other.
-    let area = |m: Method| shown.iter().find(|s| s.method == m && s.set.is_some()).and_then(|s| s.area);
+    let area = |m: Method| {
+        shown
+            .iter()
+            .find(|s| s.method == m && s.set.is_some())
+            .and_then(|s| s.area)
+    };
     if let (Some(a), Some(b)) = (area(Method::Ubb), area(Method::UniformLp)) {
         // 10⁻⁴: the LP's floor on a noiseless state's half-width widens its polygon by ~10⁻⁶.
         if (a - b).abs() <= 1e-4 * a.max(b) && !short {
             chart_notes.push("Tempo's set and the uniform-LP set coincide".to_string());
         }
     }
-    if drawn.iter().any(|(s, _)| matches!(s.set, Some(PlaneSet::Region { bounded: false, .. }))) {
+    if drawn
+        .iter()
+        .any(|(s, _)| matches!(s.set, Some(PlaneSet::Region { bounded: false, .. })))
+    {
         chart_notes.push("the LSCR region is unbounded: drawn within its window".to_string());
     }
     if !outside.is_empty() {

@@ -230,7 +230,11 @@ pub fn clip_polygon(pts: &[(f64, f64)], w: &Win) -> Vec<(f64, f64)> {
         (|p, w| p.1 >= w.y0, |a, b, w| at_y(a, b, w.y0)),
         (|p, w| p.1 <= w.y1, |a, b, w| at_y(a, b, w.y1)),
     ];
-    let mut poly: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+    let mut poly: Vec<(f64, f64)> = pts
+        .iter()
+        .copied()
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .collect();
     for (inside, cross) in edges {
         let n = poly.len();
         let mut out = Vec::with_capacity(n + 4);
@@ -261,7 +265,14 @@ mod tests {
         // A square from (0.5, 0.5) to (1.5, 1.5): its quarter inside the window.
         let cut = clip_polygon(&[(0.5, 0.5), (1.5, 0.5), (1.5, 1.5), (0.5, 1.5)], &w);
         let area = |p: &[(f64, f64)]| {
-            (0..p.len()).map(|i| { let (a, b) = (p[i], p[(i + 1) % p.len()]); a.0 * b.1 - b.0 * a.1 }).sum::<f64>().abs() / 2.0
+            (0..p.len())
+                .map(|i| {
+                    let (a, b) = (p[i], p[(i + 1) % p.len()]);
+                    a.0 * b.1 - b.0 * a.1
+                })
+                .sum::<f64>()
+                .abs()
+                / 2.0
         };
         assert!((area(&cut) - 0.25).abs() < 1e-12, "{cut:?}");
         assert!(cut.iter().all(|p| w.contains(p.0, p.1)));

@@ -281,9 +281,12 @@ fn noise_of(model: &ModelSpec, lm: &LinearModel) -> Result<Noise> {
     if let Some(g) = &model.g {
         let g = linalg::from_rows("model.G", g)?;
         let sv2 = model.sigma_v2.unwrap_or(0.0);
-        let sw2 = model
-            .sigma_w2
-            .ok_or_else(|| Error::field("model.sigma_w2", "is missing (the measurement noise variance σ_w²)"))?;
+        let sw2 = model.sigma_w2.ok_or_else(|| {
+            Error::field(
+                "model.sigma_w2",
+                "is missing (the measurement noise variance σ_w²)",
+            )
+        })?;
         return Ok(Noise {
             g,
             sigma_v: sv2.max(0.0).sqrt(),
@@ -343,7 +346,9 @@ fn field_err(field: &str, why: String) -> Error {
 
 impl Scenario {
     pub(crate) fn prepare_compare(&self) -> Result<ComparePrepared> {
-        let spec = self.block(&self.compare, "the noise law and the target")?.clone();
+        let spec = self
+            .block(&self.compare, "the noise law and the target")?
+            .clone();
         let lm = LinearModel::from_spec(&self.model)?;
         if lm.n() != 2 {
             return Err(Error::field(
@@ -370,24 +375,36 @@ impl Scenario {
         if !(0.5..=10.0).contains(&spec.bound_sigmas) {
             return Err(field_err(
                 "compare.bound_sigmas",
-                format!("must be a number from 0.5 to 10, found {}", spec.bound_sigmas),
+                format!(
+                    "must be a number from 0.5 to 10, found {}",
+                    spec.bound_sigmas
+                ),
             ));
         }
         if !(0.01..=100.0).contains(&spec.bound_scale) {
             return Err(field_err(
                 "compare.bound_scale",
-                format!("must be a number from 0.01 to 100, found {}", spec.bound_scale),
+                format!(
+                    "must be a number from 0.01 to 100, found {}",
+                    spec.bound_scale
+                ),
             ));
         }
         if !(1..=MAX_WINDOW).contains(&spec.window) {
             return Err(field_err(
                 "compare.window",
-                format!("must be a whole number from 1 to {MAX_WINDOW}, found {}", spec.window),
+                format!(
+                    "must be a whole number from 1 to {MAX_WINDOW}, found {}",
+                    spec.window
+                ),
             ));
         }
         let methods = spec.methods.clone().unwrap_or_else(|| COMPARED.to_vec());
         if methods.is_empty() {
-            return Err(Error::field("compare.methods", "is empty: name at least one method"));
+            return Err(Error::field(
+                "compare.methods",
+                "is empty: name at least one method",
+            ));
         }
         for (i, m) in methods.iter().enumerate() {
             if !COMPARED.contains(m) {
@@ -397,7 +414,10 @@ impl Scenario {
                 ));
             }
             if methods[..i].contains(m) {
-                return Err(Error::field(format!("compare.methods[{i}]"), format!("names \"{m}\" twice")));
+                return Err(Error::field(
+                    format!("compare.methods[{i}]"),
+                    format!("names \"{m}\" twice"),
+                ));
             }
         }
         let factor = match spec.noise {
@@ -410,13 +430,19 @@ impl Scenario {
             super::Source::Data(d) => {
                 let y = source.measurements(lm.q())?;
                 if !d.u.is_empty() {
-                    return Err(Error::field("data.u", "is given, but a compare takes no inputs"));
+                    return Err(Error::field(
+                        "data.u",
+                        "is given, but a compare takes no inputs",
+                    ));
                 }
                 (y, None)
             }
             super::Source::Simulate(sim) => {
                 if !sim.u.is_empty() {
-                    return Err(Error::field("simulate.u", "is given, but a compare takes no inputs"));
+                    return Err(Error::field(
+                        "simulate.u",
+                        "is given, but a compare takes no inputs",
+                    ));
                 }
                 let mut rng = study::run_stream(sim.seed, 0);
                 let (x, y) = match &sim.condition {
@@ -433,7 +459,9 @@ impl Scenario {
         if !(2..=steps).contains(&time) {
             return Err(Error::field(
                 "compare.time",
-                format!("must be a whole number from 2 to {steps} (the record's steps), found {time}"),
+                format!(
+                    "must be a whole number from 2 to {steps} (the record's steps), found {time}"
+                ),
             ));
         }
         Ok(ComparePrepared {
@@ -531,7 +559,8 @@ fn bounds_violation(p: &ComparePrepared) -> Option<String> {
 /// The table row of one method for the prepared record (its scenario at time t).
 fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
     let gaussian = p.spec.noise == NoiseLaw::Gaussian;
-    let not_gaussian = (!gaussian).then(|| format!("violated: noise not Gaussian ({})", p.spec.noise.name()));
+    let not_gaussian =
+        (!gaussian).then(|| format!("violated: noise not Gaussian ({})", p.spec.noise.name()));
     let bounds = bounds_violation(p);
     let state_noise = p.noise.sigma_v > 0.0 && p.noise.g.iter().any(|&g| g != 0.0);
     let (assumes, violated, promise, level, at_least) = match m {
@@ -559,7 +588,9 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
         Method::Glls => (
             "no state noise; ‖w(t)‖₂ ≤ μ",
             if state_noise {
-                Some("violated: the system has state noise (GLLS takes x(t+1) = F·x(t))".to_string())
+                Some(
+                    "violated: the system has state noise (GLLS takes x(t+1) = F·x(t))".to_string(),
+                )
             } else {
                 bounds
             },
@@ -567,7 +598,13 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
             Some(1.0),
             false,
         ),
-        Method::Ubb => ("|v(t)| ≤ τ and |w(t)| ≤ ε at every t", bounds, "always", Some(1.0), false),
+        Method::Ubb => (
+            "|v(t)| ≤ τ and |w(t)| ≤ ε at every t",
+            bounds,
+            "always",
+            Some(1.0),
+            false,
+        ),
         _ => (
             "innovations uniform within the half-width bounds",
             match (p.spec.noise, &bounds) {
@@ -627,7 +664,9 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
         spec
     };
     let window = c.window.min(t);
-    let block = |v: serde_json::Value, name: &str| -> Result<serde_json::Value> { Ok(serde_json::json!({ name: v })) };
+    let block = |v: serde_json::Value, name: &str| -> Result<serde_json::Value> {
+        Ok(serde_json::json!({ name: v }))
+    };
     let (model, extra) = match m {
         Method::Kf | Method::Scf => (
             s.model.clone(),
@@ -649,7 +688,9 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
             bare(|spec, p| {
                 let w = p.noise.sigma_w * p.noise.sigma_w;
                 let q = p.model.q();
-                spec.w = Some(MatrixSpec::Constant(rows_of(&(DMatrix::identity(q, q) * w))));
+                spec.w = Some(MatrixSpec::Constant(rows_of(
+                    &(DMatrix::identity(q, q) * w),
+                )));
             }),
             block(
                 serde_json::json!({
@@ -751,13 +792,21 @@ fn convex_hull(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     if pts.len() < 3 {
         return pts;
     }
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
     let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
         for &p in iter {
-            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
                 hull.pop();
             }
             hull.push(p);
@@ -768,7 +817,10 @@ fn convex_hull(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
 }
 
 fn map2(f: &DMatrix<f64>, p: [f64; 2]) -> [f64; 2] {
-    [f[(0, 0)] * p[0] + f[(0, 1)] * p[1], f[(1, 0)] * p[0] + f[(1, 1)] * p[1]]
+    [
+        f[(0, 0)] * p[0] + f[(0, 1)] * p[1],
+        f[(1, 0)] * p[0] + f[(1, 1)] * p[1],
+    ]
 }
 
 /// The image F·E of a 2-D ellipse.
@@ -789,16 +841,31 @@ fn polygon_holds(v: &[[f64; 2]], x: [f64; 2]) -> bool {
 }
 
 fn box_corners(b: &BoxSet) -> Vec<[f64; 2]> {
-    vec![[b.lo[0], b.lo[1]], [b.hi[0], b.lo[1]], [b.hi[0], b.hi[1]], [b.lo[0], b.hi[1]]]
+    vec![
+        [b.lo[0], b.lo[1]],
+        [b.hi[0], b.lo[1]],
+        [b.hi[0], b.hi[1]],
+        [b.lo[0], b.hi[1]],
+    ]
 }
 
 /// The set of the target state from one method's own report (the module docs say how each
 /// paper's set becomes the target's). `truth`: the true target state, to say whether it is
 /// inside.
-fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) -> Result<MethodSet> {
+fn extract(
+    p: &ComparePrepared,
+    m: Method,
+    r: &Report,
+    truth: Option<[f64; 2]>,
+) -> Result<MethodSet> {
     let predict = p.spec.target == Target::Predict;
     let f = p.model.f(1);
-    let missing = |what: &str| Error::field(format!("report.{}", m.block().unwrap_or("steps")), format!("has no {what}"));
+    let missing = |what: &str| {
+        Error::field(
+            format!("report.{}", m.block().unwrap_or("steps")),
+            format!("has no {what}"),
+        )
+    };
     let mut out = MethodSet {
         method: m,
         set: None,
@@ -813,7 +880,10 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
     match m {
         Method::Kf | Method::Scf => {
             let step = r.steps.last().ok_or_else(|| missing("steps"))?;
-            let target = step.target.as_ref().ok_or_else(|| missing("target region"))?;
+            let target = step
+                .target
+                .as_ref()
+                .ok_or_else(|| missing("target region"))?;
             let e = if m == Method::Kf {
                 target.kf.clone()
             } else {
@@ -842,7 +912,10 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
         Method::Glls => {
             let g = r.glls.as_ref().ok_or_else(|| missing("glls part"))?;
             let (ball, corners) = if predict {
-                let corners = box_corners(&g.box_current).into_iter().map(|c| map2(f, c)).collect();
+                let corners = box_corners(&g.box_current)
+                    .into_iter()
+                    .map(|c| map2(f, c))
+                    .collect();
                 (map_ellipse(f, &g.ball_current), convex_hull(corners))
             } else {
                 (g.ball_current.clone(), box_corners(&g.box_current))
@@ -868,15 +941,27 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
             let poly = &u.at.polygon;
             out.area = Some(polygon_area(&poly.vertices));
             out.holds = truth.map(|x| poly.contains(x, 1e-9));
-            out.set = Some(PlaneSet::Polygon { vertices: poly.vertices.clone() });
+            out.set = Some(PlaneSet::Polygon {
+                vertices: poly.vertices.clone(),
+            });
             let (lo, hi) = (&u.at.lo, &u.at.hi);
-            out.outline = Some(vec![[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]]);
+            out.outline = Some(vec![
+                [lo[0], lo[1]],
+                [hi[0], lo[1]],
+                [hi[0], hi[1]],
+                [lo[0], hi[1]],
+            ]);
             out.note = Some(format!("window {} steps", u.window));
         }
         _ => {
             let w = r.uniform.as_ref().ok_or_else(|| missing("uniform part"))?;
             let poly = w.at.polygon.as_ref().ok_or_else(|| {
-                Error::field("report.uniform.at.polygon", w.at.polygon_absent.clone().unwrap_or_else(|| "is absent".into()))
+                Error::field(
+                    "report.uniform.at.polygon",
+                    w.at.polygon_absent
+                        .clone()
+                        .unwrap_or_else(|| "is absent".into()),
+                )
             })?;
             let vertices = if predict {
                 // F·P ⊕ G·[−b_v, b_v]^p: the corners of the noise box through G.
@@ -886,7 +971,11 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
                 for mask in 0..(1usize << pcount) {
                     let mut shift = [0.0; 2];
                     for j in 0..pcount {
-                        let s = if mask >> j & 1 == 1 { p.bound_v } else { -p.bound_v };
+                        let s = if mask >> j & 1 == 1 {
+                            p.bound_v
+                        } else {
+                            -p.bound_v
+                        };
                         shift[0] += g[(0, j)] * s;
                         shift[1] += g[(1, j)] * s;
                     }
@@ -900,10 +989,19 @@ fn extract(p: &ComparePrepared, m: Method, r: &Report, truth: Option<[f64; 2]>) 
                 poly.vertices.clone()
             };
             out.area = Some(polygon_area(&vertices));
-            out.holds = truth.map(|x| if predict { polygon_holds(&vertices, x) } else { poly.contains(x, 1e-9) });
+            out.holds = truth.map(|x| {
+                if predict {
+                    polygon_holds(&vertices, x)
+                } else {
+                    poly.contains(x, 1e-9)
+                }
+            });
             let mut note = vec![format!("window ∂ = {}", w.window)];
             if w.at.extended > 0 {
-                note.push(format!("half-width bounds doubled {}× (the data contradicted them)", w.at.extended));
+                note.push(format!(
+                    "half-width bounds doubled {}× (the data contradicted them)",
+                    w.at.extended
+                ));
             }
             if predict {
                 note.push("F·P ⊕ G·[−b_v, b_v]".to_string());
@@ -930,7 +1028,11 @@ impl ComparePrepared {
         let clock = CLOCK.get();
         let start = clock.map(|c| c());
         let scenario = derived_scenario(self, m, t);
-        let result = scenario.as_ref().map_err(Clone::clone).and_then(|s| s.run()).and_then(|r| extract(self, m, &r, truth));
+        let result = scenario
+            .as_ref()
+            .map_err(Clone::clone)
+            .and_then(|s| s.run())
+            .and_then(|r| extract(self, m, &r, truth));
         let seconds = clock.zip(start).map(|(c, s)| (c() - s).max(0.0));
         let mut set = result.unwrap_or_else(|e| MethodSet {
             method: m,
@@ -952,7 +1054,10 @@ impl ComparePrepared {
         if !(2..=self.y.len()).contains(&t) {
             return Err(Error::field(
                 "compare.time",
-                format!("must be a whole number from 2 to {} (the record's steps), found {t}", self.y.len()),
+                format!(
+                    "must be a whole number from 2 to {} (the record's steps), found {t}",
+                    self.y.len()
+                ),
             ));
         }
         let truth = self.truth(t);
@@ -960,7 +1065,11 @@ impl ComparePrepared {
             t,
             target_time: self.target_time(t),
             truth,
-            sets: self.methods.iter().map(|&m| self.method_set(m, t, truth)).collect(),
+            sets: self
+                .methods
+                .iter()
+                .map(|&m| self.method_set(m, t, truth))
+                .collect(),
         })
     }
 
@@ -977,11 +1086,25 @@ impl ComparePrepared {
             bound_scale: self.spec.bound_scale,
             steps: self.y.len(),
             first: 2,
-            x_true: self.x.as_ref().map(|x| x.iter().map(|v| v.iter().copied().collect()).collect()),
-            rows: self.methods.iter().map(|&m| row(self, m, s.alpha)).collect(),
+            x_true: self
+                .x
+                .as_ref()
+                .map(|x| x.iter().map(|v| v.iter().copied().collect()).collect()),
+            rows: self
+                .methods
+                .iter()
+                .map(|&m| row(self, m, s.alpha))
+                .collect(),
             at,
         };
-        let mut r = Report::of(s, s.alpha, (2, self.model.q()), self.time, vec![0, 1], self.y.clone());
+        let mut r = Report::of(
+            s,
+            s.alpha,
+            (2, self.model.q()),
+            self.time,
+            vec![0, 1],
+            self.y.clone(),
+        );
         r.x_true = c.x_true.clone();
         r.compare = Some(c);
         Ok(r)
@@ -1024,7 +1147,11 @@ impl Tally for CompareCounts {
             return Ok(());
         }
         if later.holds.len() != self.holds.len() || later.no_set.len() != self.no_set.len() {
-            return Err(format!("counts of {} methods, not {}", later.holds.len(), self.holds.len()));
+            return Err(format!(
+                "counts of {} methods, not {}",
+                later.holds.len(),
+                self.holds.len()
+            ));
         }
         self.runs += later.runs;
         for (a, b) in self.holds.iter_mut().zip(&later.holds) {
@@ -1079,17 +1206,21 @@ struct CompareStudy {
 
 impl CompareStudy {
     fn new(prepared: ComparePrepared, runs: Option<usize>) -> Result<CompareStudy> {
-        let spec = prepared
-            .spec
-            .study
-            .clone()
-            .ok_or_else(|| Error::field("compare.study", "is missing: give the true state x (and runs, seed) to count"))?;
+        let spec = prepared.spec.study.clone().ok_or_else(|| {
+            Error::field(
+                "compare.study",
+                "is missing: give the true state x (and runs, seed) to count",
+            )
+        })?;
         let x = linalg::vector("compare.study.x", &spec.x, 2)?;
         let total = runs.unwrap_or(spec.runs);
         if !(1..=super::MAX_STUDY_RUNS).contains(&total) {
             return Err(Error::field(
                 "compare.study.runs",
-                format!("must be a whole number from 1 to {}, found {total}", super::MAX_STUDY_RUNS),
+                format!(
+                    "must be a whole number from 1 to {}, found {total}",
+                    super::MAX_STUDY_RUNS
+                ),
             ));
         }
         let t = prepared.time;
@@ -1103,7 +1234,11 @@ impl CompareStudy {
         } else {
             None
         };
-        let rows = prepared.methods.iter().map(|&m| row(&prepared, m, prepared.scenario.alpha)).collect();
+        let rows = prepared
+            .methods
+            .iter()
+            .map(|&m| row(&prepared, m, prepared.scenario.alpha))
+            .collect();
         Ok(CompareStudy {
             x: [x[0], x[1]],
             rows,
@@ -1125,10 +1260,23 @@ impl CompareStudy {
                 let traj = sampler.draw(&p.model, &x_c, &mut rng);
                 (traj.x, traj.y)
             }
-            None => record(&p.model, &p.noise, p.spec.noise, p.spec.bound_sigmas, t, &mut rng),
+            None => record(
+                &p.model,
+                &p.noise,
+                p.spec.noise,
+                p.spec.bound_sigmas,
+                t,
+                &mut rng,
+            ),
         };
         let x = &xs[p.target_time(t) - 1];
-        (ys[..t].iter().map(|v| v.iter().copied().collect()).collect(), [x[0], x[1]])
+        (
+            ys[..t]
+                .iter()
+                .map(|v| v.iter().copied().collect())
+                .collect(),
+            [x[0], x[1]],
+        )
     }
 }
 
@@ -1198,7 +1346,14 @@ impl Runs for CompareStudy {
                         if misses == 0 {
                             "never failed".to_string()
                         } else {
-                            format!("failed {misses} times{}", if row.met { "" } else { " (its assumption is violated)" })
+                            format!(
+                                "failed {misses} times{}",
+                                if row.met {
+                                    ""
+                                } else {
+                                    " (its assumption is violated)"
+                                }
+                            )
                         }
                     }
                     (Some(_), Some([lo, hi])) => {
@@ -1254,14 +1409,22 @@ fn work(s: &Scenario, job: Job) -> Work {
             continue;
         };
         let own = d.work(Job::Report);
-        for (terms, into) in [(own.operations, &mut w.operations), (own.bytes, &mut w.bytes)] {
+        for (terms, into) in [
+            (own.operations, &mut w.operations),
+            (own.bytes, &mut w.bytes),
+        ] {
             for mut t in terms {
-                let field = if t.field.ends_with(".window") { "compare.window" } else { steps_field };
+                let field = if t.field.ends_with(".window") {
+                    "compare.window"
+                } else {
+                    steps_field
+                };
                 t.sizes = format!("(method \"{m}\": {} {})", t.field, t.sizes);
                 t.field = field.to_string();
                 if let Job::Study { .. } = job {
                     t.field = "compare.study.runs".to_string();
-                    t.advice = "one run of the study reruns every method: fewer steps or methods".into();
+                    t.advice =
+                        "one run of the study reruns every method: fewer steps or methods".into();
                 }
                 into.push(t);
             }
@@ -1292,17 +1455,23 @@ impl MethodScenario for Compare {
     }
     fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
         let at: CompareAt = detail_of(at)?;
-        let c = report
-            .compare
-            .as_mut()
-            .ok_or_else(|| Error::field("report.compare", "is missing: the report is not a compare report"))?;
+        let c = report.compare.as_mut().ok_or_else(|| {
+            Error::field(
+                "report.compare",
+                "is missing: the report is not a compare report",
+            )
+        })?;
         report.time = at.t;
         c.at = at;
         Ok(())
     }
     fn table(&self, r: &Report) -> Table {
         // One row per method at the report's time: its set's area and whether it holds the truth.
-        let mut table = Table::new(["method", "area", "holds", "level", "assumption_met"].map(String::from).to_vec());
+        let mut table = Table::new(
+            ["method", "area", "holds", "level", "assumption_met"]
+                .map(String::from)
+                .to_vec(),
+        );
         let Some(c) = &r.compare else {
             return table;
         };
@@ -1319,7 +1488,10 @@ impl MethodScenario for Compare {
         table
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
-        Ok(Box::new(study::Chunked::new(CompareStudy::new(s.prepare_compare()?, runs)?)))
+        Ok(Box::new(study::Chunked::new(CompareStudy::new(
+            s.prepare_compare()?,
+            runs,
+        )?)))
     }
     fn presets(&self) -> Vec<Preset> {
         presets()
@@ -1348,7 +1520,10 @@ pub fn compare_cascade(noise: NoiseLaw) -> Scenario {
             r#", "condition": {"t": 31, "x": [0.35, 1.1]}"#,
             r#", "study": {"x": [0.35, 1.1], "runs": 200, "seed": 1}"#,
         ),
-        _ => ("", r#", "study": {"x": [0.0, 0.0], "runs": 200, "seed": 1}"#),
+        _ => (
+            "",
+            r#", "study": {"x": [0.0, 0.0], "runs": 200, "seed": 1}"#,
+        ),
     };
     let text = format!(
         r#"{{"method": "compare",

@@ -42,7 +42,12 @@ fn assert_ellipse_eq(a: &Ellipsoid, b: &Ellipsoid, what: &str) {
     for (ra, rb) in a.cov.iter().zip(&b.cov) {
         assert_slice_rel(ra, rb, 1e-9, &format!("{what}: covariance"));
     }
-    assert!(rel_close(a.radius2, b.radius2, 1e-9), "{what}: radius² {} vs {}", a.radius2, b.radius2);
+    assert!(
+        rel_close(a.radius2, b.radius2, 1e-9),
+        "{what}: radius² {} vs {}",
+        a.radius2,
+        b.radius2
+    );
 }
 
 /// The compare report's sets against the method panels' reports on the rows' scenarios.
@@ -56,11 +61,22 @@ fn check_against_panels(s: &Scenario) {
         let m = set.method;
         assert_eq!(row.method, m);
         assert!(set.reason.is_none(), "{m}: {:?}", set.reason);
-        let own = Scenario::from_json(&set.scenario.as_ref().unwrap_or_else(|| panic!("{m}: its own scenario")).to_string())
-            .unwrap_or_else(|e| panic!("{m}: its own scenario parses: {e}"));
+        let own = Scenario::from_json(
+            &set.scenario
+                .as_ref()
+                .unwrap_or_else(|| panic!("{m}: its own scenario"))
+                .to_string(),
+        )
+        .unwrap_or_else(|e| panic!("{m}: its own scenario parses: {e}"));
         assert_eq!(own.method, m);
-        assert_eq!(own.data.as_ref().expect("data").y, report.y[..c.at.t].to_vec(), "{m}: the record up to t");
-        let panel: Report = own.run().unwrap_or_else(|e| panic!("{m}'s own scenario: {e}"));
+        assert_eq!(
+            own.data.as_ref().expect("data").y,
+            report.y[..c.at.t].to_vec(),
+            "{m}: the record up to t"
+        );
+        let panel: Report = own
+            .run()
+            .unwrap_or_else(|e| panic!("{m}'s own scenario: {e}"));
         assert_eq!(panel.method, m);
         let what = format!("{m} at t = {}", c.at.t);
         match m {
@@ -69,7 +85,11 @@ fn check_against_panels(s: &Scenario) {
                 assert_eq!(step.t, c.at.t);
                 let target = step.target.as_ref().expect("the x_(t+1) region");
                 assert_eq!(target.time, c.at.target_time);
-                let own = if m == Method::Kf { target.kf.clone() } else { target.scf.clone().expect("SCF region") };
+                let own = if m == Method::Kf {
+                    target.kf.clone()
+                } else {
+                    target.scf.clone().expect("SCF region")
+                };
                 assert_ellipse_eq(&ellipse(&set.set, &what), &own, &what);
             }
             Method::Lscr => {
@@ -98,21 +118,39 @@ fn check_against_panels(s: &Scenario) {
                 let centre = [0.5 * b.center[0], b.center[0] + 0.7 * b.center[1]];
                 assert_slice_rel(&e.center, &centre, 1e-9, &format!("{what}: F·centre"));
                 for i in 0..2 {
-                    assert_slice_rel(&e.cov[i], &[fc[(i, 0)], fc[(i, 1)]], 1e-9, &format!("{what}: F·cov·Fᵀ"));
+                    assert_slice_rel(
+                        &e.cov[i],
+                        &[fc[(i, 0)], fc[(i, 1)]],
+                        1e-9,
+                        &format!("{what}: F·cov·Fᵀ"),
+                    );
                 }
                 assert!(rel_close(e.radius2, b.radius2, 1e-12));
             }
             Method::Ubb => {
                 let u = panel.ubb.as_ref().expect("ubb");
-                assert_eq!(u.at.k + 1, c.at.t, "Tempo's k is 0-based: x(k+1) is x_(t+1)");
-                assert_eq!(vertices(&set.set, &what), u.at.polygon.vertices, "{what}: polygon");
+                assert_eq!(
+                    u.at.k + 1,
+                    c.at.t,
+                    "Tempo's k is 0-based: x(k+1) is x_(t+1)"
+                );
+                assert_eq!(
+                    vertices(&set.set, &what),
+                    u.at.polygon.vertices,
+                    "{what}: polygon"
+                );
             }
             _ => {
                 // F·P ⊕ G·[−b_v, b_v]: every image of a vertex of P shifted by ±G·b_v lies in
                 // the compare polygon, and every compare vertex is one of those images.
                 let w = panel.uniform.as_ref().expect("uniform");
                 assert_eq!(w.at.time, c.at.t);
-                let p = w.at.polygon.as_ref().expect("consistent polygon").vertices.clone();
+                let p =
+                    w.at.polygon
+                        .as_ref()
+                        .expect("consistent polygon")
+                        .vertices
+                        .clone();
                 let v = vertices(&set.set, &what);
                 let images: Vec<[f64; 2]> = p
                     .iter()
@@ -122,11 +160,16 @@ fn check_against_panels(s: &Scenario) {
                     })
                     .collect();
                 for im in &images {
-                    assert!(point_in_convex(&v, *im, 1e-9), "{what}: image {im:?} outside the sum");
+                    assert!(
+                        point_in_convex(&v, *im, 1e-9),
+                        "{what}: image {im:?} outside the sum"
+                    );
                 }
                 for x in &v {
                     assert!(
-                        images.iter().any(|im| (im[0] - x[0]).abs() + (im[1] - x[1]).abs() <= 1e-12),
+                        images
+                            .iter()
+                            .any(|im| (im[0] - x[0]).abs() + (im[1] - x[1]).abs() <= 1e-12),
                         "{what}: vertex {x:?} is no image"
                     );
                 }
@@ -158,12 +201,19 @@ fn the_cursor_detail_is_the_report_at_that_time() {
         at_t.compare.as_mut().expect("compare").time = Some(t);
         let report = at_t.run().expect("report at t");
         let detail = cursor.at(t).expect("detail");
-        assert_eq!(detail, serde_json::to_value(&report.compare.as_ref().expect("compare").at).expect("json"), "t = {t}");
+        assert_eq!(
+            detail,
+            serde_json::to_value(&report.compare.as_ref().expect("compare").at).expect("json"),
+            "t = {t}"
+        );
         // And set into the report of another time, it is that report's detail.
         let mut kept = s.run().expect("report");
         kept.set_at(detail).expect("set_at");
         assert_eq!(kept.time, t);
-        assert_eq!(kept.compare.as_ref().expect("c").at, report.compare.as_ref().expect("c").at);
+        assert_eq!(
+            kept.compare.as_ref().expect("c").at,
+            report.compare.as_ref().expect("c").at
+        );
     }
 }
 
@@ -197,19 +247,39 @@ fn far_out_gaussian_state_counts() {
     c.study.as_mut().expect("study").runs = RUNS;
     let result = run_study(&s);
     assert_eq!(result["runs"], RUNS);
-    assert!(result["conditioning"].as_str().expect("text").starts_with("exact"));
+    assert!(result["conditioning"]
+        .as_str()
+        .expect("text")
+        .starts_with("exact"));
     let holds = |m: &str| count(&result, m)["holds"].as_u64().expect("holds") as usize;
     let (lo, hi) = binomial_interval(RUNS, 0.9, 0.999);
     let scf = holds("scf");
-    assert!((lo..=hi).contains(&scf), "SCF {scf}/{RUNS} outside [{lo}, {hi}] around α = 0.9");
-    assert_eq!(count(&result, "scf")["verdict"], "inside the 99.9 % band of its promise");
-    let level = count(&result, "lscr")["level"].as_f64().expect("LSCR level");
+    assert!(
+        (lo..=hi).contains(&scf),
+        "SCF {scf}/{RUNS} outside [{lo}, {hi}] around α = 0.9"
+    );
+    assert_eq!(
+        count(&result, "scf")["verdict"],
+        "inside the 99.9 % band of its promise"
+    );
+    let level = count(&result, "lscr")["level"]
+        .as_f64()
+        .expect("LSCR level");
     let (llo, _) = binomial_interval(RUNS, level, 0.999);
     let lscr = holds("lscr");
-    assert!(lscr >= llo, "LSCR {lscr}/{RUNS} below the band [{llo}, …] of its level {level}");
+    assert!(
+        lscr >= llo,
+        "LSCR {lscr}/{RUNS} below the band [{llo}, …] of its level {level}"
+    );
     let kf = holds("kf");
-    assert!(kf < RUNS / 2, "Kalman {kf}/{RUNS} at a far-out state: expected far below α = 0.9");
-    assert_eq!(count(&result, "kf")["verdict"], "below the 99.9 % band of its promise");
+    assert!(
+        kf < RUNS / 2,
+        "Kalman {kf}/{RUNS} at a far-out state: expected far below α = 0.9"
+    );
+    assert_eq!(
+        count(&result, "kf")["verdict"],
+        "below the 99.9 % band of its promise"
+    );
 }
 
 /// Uniform noise within the bounds: Tempo's and Pavelková's sets never miss; bounds at half the
@@ -222,24 +292,46 @@ fn uniform_noise_bounds_hold_and_fail() {
     c.methods = Some(vec![Method::Ubb, Method::UniformLp]);
     c.study.as_mut().expect("study").runs = 300;
     let result = run_study(&s);
-    assert!(result["conditioning"].as_str().expect("text").starts_with("unconditional"));
+    assert!(result["conditioning"]
+        .as_str()
+        .expect("text")
+        .starts_with("unconditional"));
     for m in ["ubb", "uniform_lp"] {
         assert_eq!(count(&result, m)["misses"], 0, "{m}: {result}");
     }
     assert_eq!(count(&result, "ubb")["verdict"], "never failed");
     let report = s.run().expect("report");
-    assert!(report.compare.as_ref().expect("c").rows.iter().all(|r| r.met), "uniform noise within its bounds meets both");
+    assert!(
+        report
+            .compare
+            .as_ref()
+            .expect("c")
+            .rows
+            .iter()
+            .all(|r| r.met),
+        "uniform noise within its bounds meets both"
+    );
 
     s.compare.as_mut().expect("compare").bound_scale = 0.5;
     s.compare.as_mut().expect("compare").methods = Some(vec![Method::Ubb]);
     let result = run_study(&s);
     let misses = count(&result, "ubb")["misses"].as_u64().expect("misses");
-    assert!(misses > 0, "bounds at half the noise's: Tempo must miss ({result})");
-    assert!(count(&result, "ubb")["verdict"].as_str().expect("v").contains("violated"));
+    assert!(
+        misses > 0,
+        "bounds at half the noise's: Tempo must miss ({result})"
+    );
+    assert!(count(&result, "ubb")["verdict"]
+        .as_str()
+        .expect("v")
+        .contains("violated"));
     let report = s.run().expect("report");
     let row = &report.compare.as_ref().expect("c").rows[0];
     assert!(!row.met);
-    assert!(row.violated.as_deref().expect("why").starts_with("violated: the bounds are 0.5×"));
+    assert!(row
+        .violated
+        .as_deref()
+        .expect("why")
+        .starts_with("violated: the bounds are 0.5×"));
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
@@ -249,16 +341,36 @@ fn the_table_says_which_assumptions_hold() {
     let rows = &report.compare.as_ref().expect("c").rows;
     let row = |m: Method| rows.iter().find(|r| r.method == m).expect("row");
     assert!(row(Method::Kf).met && row(Method::Scf).met && row(Method::Lscr).met);
-    assert!(row(Method::Ubb).violated.as_deref().expect("why").contains("Gaussian noise is unbounded"));
-    assert!(row(Method::UniformLp).violated.as_deref().expect("why").contains("noise not uniform"));
-    assert!(row(Method::Glls).violated.as_deref().expect("why").contains("state noise"));
+    assert!(row(Method::Ubb)
+        .violated
+        .as_deref()
+        .expect("why")
+        .contains("Gaussian noise is unbounded"));
+    assert!(row(Method::UniformLp)
+        .violated
+        .as_deref()
+        .expect("why")
+        .contains("noise not uniform"));
+    assert!(row(Method::Glls)
+        .violated
+        .as_deref()
+        .expect("why")
+        .contains("state noise"));
     let uniform = preset("compare-uniform").run().expect("report");
     let rows = &uniform.compare.as_ref().expect("c").rows;
     let kf = rows.iter().find(|r| r.method == Method::Kf).expect("kf");
-    assert_eq!(kf.violated.as_deref(), Some("violated: noise not Gaussian (uniform)"));
+    assert_eq!(
+        kf.violated.as_deref(),
+        Some("violated: noise not Gaussian (uniform)")
+    );
     // The far-out preset: Kalman misses, SCF and LSCR hold.
     let c = report.compare.as_ref().expect("c");
-    let holds = |m: Method| c.at.sets.iter().find(|s| s.method == m).and_then(|s| s.holds);
+    let holds = |m: Method| {
+        c.at.sets
+            .iter()
+            .find(|s| s.method == m)
+            .and_then(|s| s.holds)
+    };
     assert_eq!(holds(Method::Kf), Some(false));
     assert_eq!(holds(Method::Scf), Some(true));
     assert_eq!(holds(Method::Lscr), Some(true));
@@ -269,24 +381,50 @@ fn the_table_says_which_assumptions_hold() {
 fn a_compare_refuses_by_field() {
     let base = serde_json::to_value(preset("compare-uniform")).expect("json");
     let cases: Vec<(serde_json::Value, &str)> = vec![
-        (serde_json::json!({"compare": {"bound_scale": 0.0}}), "compare.bound_scale"),
-        (serde_json::json!({"compare": {"bound_sigmas": 1e9}}), "compare.bound_sigmas"),
-        (serde_json::json!({"compare": {"window": 0}}), "compare.window"),
-        (serde_json::json!({"compare": {"methods": ["kf", "compare"]}}), "compare.methods[1]"),
-        (serde_json::json!({"compare": {"methods": []}}), "compare.methods"),
+        (
+            serde_json::json!({"compare": {"bound_scale": 0.0}}),
+            "compare.bound_scale",
+        ),
+        (
+            serde_json::json!({"compare": {"bound_sigmas": 1e9}}),
+            "compare.bound_sigmas",
+        ),
+        (
+            serde_json::json!({"compare": {"window": 0}}),
+            "compare.window",
+        ),
+        (
+            serde_json::json!({"compare": {"methods": ["kf", "compare"]}}),
+            "compare.methods[1]",
+        ),
+        (
+            serde_json::json!({"compare": {"methods": []}}),
+            "compare.methods",
+        ),
         (serde_json::json!({"compare": {"time": 31}}), "compare.time"),
-        (serde_json::json!({"simulate": {"condition": {"t": 31, "x": [0.0, 0.0]}}}), "simulate.condition"),
+        (
+            serde_json::json!({"simulate": {"condition": {"t": 31, "x": [0.0, 0.0]}}}),
+            "simulate.condition",
+        ),
         (
             serde_json::json!({"model": {"F": [[0.5, 0, 0], [1, 0.7, 0], [0, 0, 0.1]], "H": [[0, 1, 0]], "G": [[1], [0], [0]]}}),
             "model.F",
         ),
-        (serde_json::json!({"model": {"B": [[1.0], [0.0]]}}), "model.B"),
+        (
+            serde_json::json!({"model": {"B": [[1.0], [0.0]]}}),
+            "model.B",
+        ),
     ];
     for (patch, field) in cases {
         let mut v = base.clone();
         merge(&mut v, &patch);
-        let err = Scenario::from_json(&v.to_string()).and_then(|s| s.run()).expect_err(&format!("{patch} is refused"));
-        assert!(err.to_string().starts_with(field), "{patch}: expected {field}, got {err}");
+        let err = Scenario::from_json(&v.to_string())
+            .and_then(|s| s.run())
+            .expect_err(&format!("{patch} is refused"));
+        assert!(
+            err.to_string().starts_with(field),
+            "{patch}: expected {field}, got {err}"
+        );
     }
 }
 
@@ -307,14 +445,24 @@ fn merge(a: &mut serde_json::Value, b: &serde_json::Value) {
 fn own_csv_data_runs_every_method_without_truth() {
     let simulated = preset("compare-uniform").run().expect("report");
     let csv: String = simulated.y.iter().map(|r| format!("{}\n", r[0])).collect();
-    let s = preset("compare-uniform").with_csv_data(&csv).expect("CSV data");
+    let s = preset("compare-uniform")
+        .with_csv_data(&csv)
+        .expect("CSV data");
     assert!(s.simulate.is_none() && s.data.is_some());
     let report = s.run().expect("report on data");
     let c = report.compare.as_ref().expect("compare");
     assert!(c.x_true.is_none() && c.at.truth.is_none());
-    for (own, sim) in c.at.sets.iter().zip(&simulated.compare.as_ref().expect("c").at.sets) {
+    for (own, sim) in
+        c.at.sets
+            .iter()
+            .zip(&simulated.compare.as_ref().expect("c").at.sets)
+    {
         assert!(own.set.is_some(), "{}: {:?}", own.method, own.reason);
         assert_eq!(own.holds, None, "{}: no truth, no verdict", own.method);
-        assert_eq!(own.area, sim.area, "{}: the same record, the same set", own.method);
+        assert_eq!(
+            own.area, sim.area,
+            "{}: the same record, the same set",
+            own.method
+        );
     }
 }

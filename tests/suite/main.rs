@@ -11,8 +11,8 @@ mod common;
 
 mod bad_input;
 mod bench;
-mod compare;
 mod cli;
+mod compare;
 mod coverage;
 mod csv;
 mod determinism;

@@ -853,7 +853,10 @@ fn cli_run_prints_every_preset_report() {
 /// `data` has none of them (or null where the field is a [`NULLABLE`] one).
 const TRUTH: [(&str, &str); 24] = [
     ("x_true", "true states (every method)"),
-    ("holds", "compare: whether each method's set holds the true state"),
+    (
+        "holds",
+        "compare: whether each method's set holds the true state",
+    ),
     ("truth", "ubb: the true x(k+1) at the step shown"),
     ("inside", "ubb: whether the truth lies in the hull"),
     (

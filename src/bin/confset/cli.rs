@@ -79,12 +79,14 @@ enum Command {
     },
     /// Every method on one record: the compare report (each method's set, the table) and, when
     /// the scenario has a compare.study, its counts at the true state, as one JSON
-    #[command(after_help = "Examples:\n  confset compare --preset compare-gaussian\n  \
+    #[command(
+        after_help = "Examples:\n  confset compare --preset compare-gaussian\n  \
         confset preset compare-uniform > mine.json && confset compare mine.json --runs 500\n  \
         confset compare --preset compare-uniform --data record.csv --no-study\n\n\
         The scenario's \"method\" must be \"compare\". Each set comes with the method's own \
         scenario (sets[i].scenario): `confset run` on it gives the same set. Each method's run is \
-        timed (sets[i].seconds).")]
+        timed (sets[i].seconds)."
+    )]
     Compare {
         #[command(flatten)]
         input: Input,
@@ -544,7 +546,8 @@ fn run(command: Command) -> Result<(), Error> {
             let study = match (&s.compare, no_study) {
                 (Some(c), false) if c.study.is_some() => {
                     let bar = progress_bar(s.study(runs)?.total());
-                    let result = study::run_sharded(&|| s.study(runs), CHUNK, &|k| bar.inc(k as u64));
+                    let result =
+                        study::run_sharded(&|| s.study(runs), CHUNK, &|k| bar.inc(k as u64));
                     bar.finish_and_clear();
                     Some(result?)
                 }
@@ -729,5 +732,8 @@ fn gallery(
 /// Seconds since the first call: the compare's clock (the core never reads one).
 fn seconds_since_start() -> f64 {
     static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
-    START.get_or_init(std::time::Instant::now).elapsed().as_secs_f64()
+    START
+        .get_or_init(std::time::Instant::now)
+        .elapsed()
+        .as_secs_f64()
 }

@@ -118,7 +118,10 @@ pub fn knobs(s: &Value) -> Vec<Knob> {
         }
     }
     if block("compare") {
-        out.push(count(vec!["compare", "window"], scenario::compare::MAX_WINDOW as f64));
+        out.push(count(
+            vec!["compare", "window"],
+            scenario::compare::MAX_WINDOW as f64,
+        ));
     }
     if block("glls") {
         out.push(count(vec!["glls", "max_horizon"], 2000.0));
