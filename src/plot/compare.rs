@@ -1,4 +1,4 @@
-//! The compare panel ([`Panel::Compare`]): every method's set for the same state (x_{t+1} or
+//! The compare panel ([`super::Panel::Compare`]): every method's set for the same state (x_{t+1} or
 //! x_t) in the state plane, on equal axes, with the truth ◇ when simulated. Each method has one
 //! colour ([`color`]), its panel's where the panels' colours differ (Kalman orange dashed, SCF
 //! blue, LSCR black over its yellow tint); the others take the next colours of the palette so
@@ -8,7 +8,7 @@
 use super::geom::Win;
 use super::geom::{clip_polygon, clip_polyline};
 use super::style::{self, Entry, Fonts, Marker, Swatch, KF, LSCR, LSCR_TINT, SCF, TRUTH};
-use super::{Area, Frame, Panel, View, Zoom};
+use super::{Area, Frame, View, Zoom};
 use crate::error::{Error, Result};
 use crate::method::Method;
 use crate::scenario::compare::{MethodSet, PlaneSet, Target};
@@ -160,10 +160,14 @@ pub fn draw<DB: DrawingBackend>(
     let which = match c.target {
         Target::Predict => format!(
             "x{} predicted from y₁ … y{}",
-            sub_num(at.target_time),
-            sub_num(at.t)
+            style::sub(at.target_time),
+            style::sub(at.t)
         ),
-        Target::Filter => format!("x{} from y₁ … y{}", sub_num(at.target_time), sub_num(at.t)),
+        Target::Filter => format!(
+            "x{} from y₁ … y{}",
+            style::sub(at.target_time),
+            style::sub(at.t)
+        ),
     };
     let law = match c.noise {
         crate::scenario::compare::NoiseLaw::Gaussian => "Gaussian",
@@ -186,7 +190,7 @@ pub fn draw<DB: DrawingBackend>(
     let mut entries = Vec::new();
     if truth.is_some() {
         entries.push(Entry::new(
-            format!("true state x{}", sub_num(at.target_time)),
+            format!("true state x{}", style::sub(at.target_time)),
             Swatch::Marker {
                 shape: Marker::Diamond,
                 color: TRUTH,
@@ -311,12 +315,7 @@ pub fn draw<DB: DrawingBackend>(
     }
     style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
-    let _ = Panel::Compare;
     Ok(style::frame_of(&chart, &xd, &yd))
-}
-
-fn sub_num(t: usize) -> String {
-    style::sub(t)
 }
 
 fn axis(report: &Report, c: usize) -> String {

@@ -340,10 +340,6 @@ pub(crate) struct ComparePrepared {
     time: usize,
 }
 
-fn field_err(field: &str, why: String) -> Error {
-    Error::field(field, why)
-}
-
 impl Scenario {
     pub(crate) fn prepare_compare(&self) -> Result<ComparePrepared> {
         let spec = self
@@ -373,7 +369,7 @@ impl Scenario {
         }
         let noise = noise_of(&self.model, &lm)?;
         if !(0.5..=10.0).contains(&spec.bound_sigmas) {
-            return Err(field_err(
+            return Err(Error::field(
                 "compare.bound_sigmas",
                 format!(
                     "must be a number from 0.5 to 10, found {}",
@@ -382,7 +378,7 @@ impl Scenario {
             ));
         }
         if !(0.01..=100.0).contains(&spec.bound_scale) {
-            return Err(field_err(
+            return Err(Error::field(
                 "compare.bound_scale",
                 format!(
                     "must be a number from 0.01 to 100, found {}",
@@ -391,7 +387,7 @@ impl Scenario {
             ));
         }
         if !(1..=MAX_WINDOW).contains(&spec.window) {
-            return Err(field_err(
+            return Err(Error::field(
                 "compare.window",
                 format!(
                     "must be a whole number from 1 to {MAX_WINDOW}, found {}",
@@ -424,7 +420,7 @@ impl Scenario {
             NoiseLaw::Uniform => 3f64.sqrt(),
             NoiseLaw::Gaussian | NoiseLaw::Truncated => spec.bound_sigmas,
         } * spec.bound_scale;
-        let source = self.source(make())?;
+        let source = self.source(&Compare)?;
         let steps = source.steps();
         let (y, x) = match source {
             super::Source::Data(d) => {
@@ -448,7 +444,7 @@ impl Scenario {
                 let (x, y) = match &sim.condition {
                     Some(c) => {
                         let x_c = linalg::vector("simulate.condition.x", &c.x, 2)?;
-                        record_conditioned(&lm, &noise, spec.noise, steps, c.t, &x_c, &mut rng)?
+                        record_conditioned(&lm, spec.noise, steps, c.t, &x_c, &mut rng)?
                     }
                     None => record(&lm, &noise, spec.noise, spec.bound_sigmas, steps, &mut rng),
                 };
@@ -507,7 +503,6 @@ fn record<R: Rng>(
 /// The record drawn given x_{t_c} = x_c: exact for Gaussian noise (backward representation).
 fn record_conditioned<R: Rng>(
     lm: &LinearModel,
-    _noise: &Noise,
     law: NoiseLaw,
     steps: usize,
     t_c: usize,
@@ -527,14 +522,6 @@ fn record_conditioned<R: Rng>(
     let mut y = traj.y;
     y.truncate(steps);
     Ok((traj.x, y))
-}
-
-fn make() -> &'static dyn MethodScenario {
-    &Compare
-}
-
-fn rows_of(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    linalg::to_rows(m)
 }
 
 /// Whether the bounded methods' bounds hold the record's noise, in words when they do not.
@@ -643,8 +630,8 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
     let s = &p.scenario;
     let c = &p.spec;
     let lm = &p.model;
-    let f = rows_of(lm.f(1));
-    let h = rows_of(lm.h(1));
+    let f = linalg::to_rows(lm.f(1));
+    let h = linalg::to_rows(lm.h(1));
     let q = lm.q();
     let predict = c.target == Target::Predict;
     let bare = |extra: fn(&mut ModelSpec, &ComparePrepared)| {
@@ -664,9 +651,7 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
         spec
     };
     let window = c.window.min(t);
-    let block = |v: serde_json::Value, name: &str| -> Result<serde_json::Value> {
-        Ok(serde_json::json!({ name: v }))
-    };
+    let block = |v: serde_json::Value, name: &str| serde_json::json!({ name: v });
     let (model, extra) = match m {
         Method::Kf | Method::Scf => (
             s.model.clone(),
@@ -682,13 +667,13 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
                     "seed": 1,
                 }),
                 "lscr",
-            )?,
+            ),
         ),
         Method::Glls => (
             bare(|spec, p| {
                 let w = p.noise.sigma_w * p.noise.sigma_w;
                 let q = p.model.q();
-                spec.w = Some(MatrixSpec::Constant(rows_of(
+                spec.w = Some(MatrixSpec::Constant(linalg::to_rows(
                     &(DMatrix::identity(q, q) * w),
                 )));
             }),
@@ -698,10 +683,10 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
                     "max_horizon": (t - 1).clamp(1, 60),
                 }),
                 "glls",
-            )?,
+            ),
         ),
         Method::Ubb => (
-            bare(|spec, p| spec.g = Some(rows_of(&p.noise.g))),
+            bare(|spec, p| spec.g = Some(linalg::to_rows(&p.noise.g))),
             block(
                 serde_json::json!({
                     "norm": "linf",
@@ -717,7 +702,7 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
                     "kf_level": s.alpha,
                 }),
                 "ubb",
-            )?,
+            ),
         ),
         _ => {
             // |(G v)_i| ≤ Σ_j |G_ij|·b_v: the half-width bound of each state's innovation. The
@@ -744,7 +729,7 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
                         "directions": POLYGON_BUDGET,
                     }),
                     "uniform",
-                )?,
+                ),
             )
         }
     };
@@ -765,24 +750,9 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
     super::parse::from_value(&v, "")
 }
 
-/// Area of a convex polygon (shoelace).
+/// Area of a polygon (the LSCR boundary's shoelace).
 fn polygon_area(v: &[[f64; 2]]) -> f64 {
-    let n = v.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (v[i], v[(i + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-        .abs()
-        / 2.0
-}
-
-/// Area of a 2-D ellipse.
-fn ellipse_area(e: &Ellipsoid) -> f64 {
-    let c = &e.cov;
-    let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
-    std::f64::consts::PI * e.radius2 * det.max(0.0).sqrt()
+    crate::sets::sign_region::signed_area(v).abs()
 }
 
 /// Convex hull (counter-clockwise, Andrew's monotone chain).
@@ -829,15 +799,6 @@ fn map_ellipse(f: &DMatrix<f64>, e: &Ellipsoid) -> Ellipsoid {
     let fc = f * c * f.transpose();
     let center = map2(f, [e.center[0], e.center[1]]);
     Ellipsoid::new(&DVector::from_column_slice(&center), &fc, e.radius2)
-}
-
-fn ellipse_holds(e: &Ellipsoid, x: [f64; 2]) -> bool {
-    // Relative slack for the last bits of a Cholesky solve.
-    e.mahalanobis2(&x) <= e.radius2 * (1.0 + 1e-9)
-}
-
-fn polygon_holds(v: &[[f64; 2]], x: [f64; 2]) -> bool {
-    point_in_convex(v, x, 1e-9)
 }
 
 fn box_corners(b: &BoxSet) -> Vec<[f64; 2]> {
@@ -894,8 +855,8 @@ fn extract(
                     )
                 })?
             };
-            out.area = Some(ellipse_area(&e));
-            out.holds = truth.map(|x| ellipse_holds(&e, x));
+            out.area = Some(e.volume());
+            out.holds = truth.map(|x| e.contains(&x));
             out.set = Some(PlaneSet::Ellipse(e));
         }
         Method::Lscr => {
@@ -920,8 +881,8 @@ fn extract(
             } else {
                 (g.ball_current.clone(), box_corners(&g.box_current))
             };
-            out.area = Some(ellipse_area(&ball));
-            out.holds = truth.map(|x| ellipse_holds(&ball, x));
+            out.area = Some(ball.volume());
+            out.holds = truth.map(|x| ball.contains(&x));
             out.note = Some(if predict {
                 format!("horizon s = {}; F·ball (no state noise)", g.s)
             } else {
@@ -991,7 +952,7 @@ fn extract(
             out.area = Some(polygon_area(&vertices));
             out.holds = truth.map(|x| {
                 if predict {
-                    polygon_holds(&vertices, x)
+                    point_in_convex(&vertices, x, 1e-9)
                 } else {
                     poly.contains(x, 1e-9)
                 }
