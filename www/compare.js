@@ -144,7 +144,9 @@ function showNumbers(p) {
     + `<tbody>${rows.join('')}</tbody></table></div>`
     + `<p class="hint">${LAWS[c.noise] || escapeHtml(c.noise)} noise, σ<sub>v</sub> = ${fmt(c.sigma_v)}, σ<sub>w</sub> = ${fmt(c.sigma_w)}; bounds given to the bounded methods: b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}`
     + `${at.truth ? `; true x${sub(at.target_time)} = (${at.truth.map(fmt).join(', ')})` : '; your data: no truth'}.</p>`;
-  ui['bounds-out'].innerHTML = `b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}${c.bound_scale < 1 ? ' <b class="warn">below the noise’s own</b>' : ''}`;
+  // Whether the bounds are below the noise's is the core's verdict (the rows' `violated`).
+  const tight = c.rows.map((r) => r.violated).find((v) => /bounds are/.test(v || ''));
+  ui['bounds-out'].innerHTML = `b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}${tight ? ` <b class="warn">${richText(tight)}</b>` : ''}`;
   ui['time-min'].textContent = String(c.first);
 }
 
