@@ -78,7 +78,6 @@ export default async function ubb(env) {
         return dt;
       });
       console.log(`    ubb-track Session.run in the page: ${ms.toFixed(1)} ms`);
-      assert.ok(ms < 5000, `ubb-track runs in ${ms.toFixed(0)} ms`);
 
       // ε moves the polygon and the numbers.
       const before = { set: await pixels(page, 'ubbset'), nb };

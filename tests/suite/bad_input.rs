@@ -59,14 +59,13 @@ fn with(mut v: Value, path: &[&str], x: Value) -> Value {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn base_scenario_is_valid() {
     let r = run(&base()).unwrap();
     assert_eq!((r.n, r.q, r.steps.len()), (2, 1, 5));
 }
+in_browser!(base_scenario_is_valid);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn wrong_dimensions() {
     let b = base();
     assert_err(
@@ -118,9 +117,9 @@ fn wrong_dimensions() {
     no_h["model"].as_object_mut().unwrap().remove("H");
     assert_err(&no_h, "model.H", &["missing"]);
 }
+in_browser!(wrong_dimensions);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn covariances_must_be_symmetric_semidefinite() {
     let b = base();
     let v = |x: Value| with(b.clone(), &["model", "V"], x);
@@ -183,11 +182,11 @@ fn covariances_must_be_symmetric_semidefinite() {
         &["positive semidefinite"],
     );
 }
+in_browser!(covariances_must_be_symmetric_semidefinite);
 
 /// JSON has no NaN: a Rust-built ModelSpec carries it; in JSON text a string or null where a
 /// number belongs must give a readable parse error that points at the field.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn non_finite_entries() {
     let mut s = Scenario::from_json(&base().to_string()).unwrap();
     s.model.f = Some(MatrixSpec::Constant(vec![
@@ -292,9 +291,9 @@ fn non_finite_entries() {
         "{e}"
     );
 }
+in_browser!(non_finite_entries);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn unstable_f_needs_a_prior() {
     let unstable = with(base(), &["model", "F"], json!([[1.1, 0.1], [0.0, 0.5]]));
     assert_err(
@@ -327,11 +326,11 @@ fn unstable_f_needs_a_prior() {
         &["model.F"],
     );
 }
+in_browser!(unstable_f_needs_a_prior);
 
 /// (F^b, H) not observable (Assumption 3): the ratio matrix stays singular; scf::run and
 /// Scenario::run say so on model.H. The KF alone does not need observability.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn unobservable_pair() {
     let zero_h = with(base(), &["model", "H"], json!([[0.0, 0.0]]));
     assert_err(&zero_h, "model.H", &["observable"]);
@@ -369,9 +368,9 @@ fn unobservable_pair() {
     let a = scf::asymptotic(&m).unwrap_err();
     assert_eq!(a.field, "model.H");
 }
+in_browser!(unobservable_pair);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn alpha_outside_unit_interval() {
     for a in [0.0, 1.0, -0.5, 1.5] {
         assert_err(
@@ -390,9 +389,9 @@ fn alpha_outside_unit_interval() {
         );
     }
 }
+in_browser!(alpha_outside_unit_interval);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn data_problems() {
     let b = base();
     assert_err(
@@ -440,9 +439,9 @@ fn data_problems() {
     );
     assert_err(&with(b.clone(), &["plot"], json!([0, 2])), "plot", &[]);
 }
+in_browser!(data_problems);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn simulate_problems() {
     let mut b = base();
     b.as_object_mut().unwrap().remove("data");
@@ -488,9 +487,9 @@ fn simulate_problems() {
     });
     assert_eq!(s.run().unwrap_err().field, "simulate.condition.x");
 }
+in_browser!(simulate_problems);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn components_and_method() {
     let b = base();
     assert_err(
@@ -529,6 +528,7 @@ fn components_and_method() {
         assert_eq!(e.field, "components");
     }
 }
+in_browser!(components_and_method);
 
 // ---------------------------------------------------------------------------------------------
 // One regression test per class of hostile input (the crate docs' three defences): each must
@@ -623,7 +623,6 @@ fn powers_that_overflow_are_named_not_written_as_null() {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
     // Each size field at its own limit is accepted alone (or nearly); all of a preset's at once
     // (100 states × 10,000 steps, 100,000 LSCR strings × 800 measurements, an 80-step window
@@ -680,9 +679,9 @@ fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
         );
     }
 }
+in_browser!(fields_at_their_limits_together_are_refused_by_the_work_budget);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_monte_carlo_in_a_report_points_to_the_chunked_study() {
     // 10⁶ GLLS runs of 5000 steps inside one report: the study runs them in chunks.
     let mut g = preset_json("glls-saturate");
@@ -699,9 +698,9 @@ fn a_monte_carlo_in_a_report_points_to_the_chunked_study() {
         ],
     );
 }
+in_browser!(a_monte_carlo_in_a_report_points_to_the_chunked_study);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_study_whose_preparation_is_too_big_is_refused_before_it_is_prepared() {
     // Section 5.2's comparison over the horizons 0..4000 prepares one state-noise estimator
     // per horizon, each O(s³): refused by the estimate of the study's preparation and one run.
@@ -717,3 +716,4 @@ fn a_study_whose_preparation_is_too_big_is_refused_before_it_is_prepared() {
         "{e}"
     );
 }
+in_browser!(a_study_whose_preparation_is_too_big_is_refused_before_it_is_prepared);

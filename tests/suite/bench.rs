@@ -5,7 +5,6 @@
 use confset::bench::Kernel;
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_kernel_runs_and_says_what_it_computed() {
     for kernel in Kernel::ALL {
         assert_eq!(Kernel::from_key(kernel.key()).expect("key"), kernel);
@@ -27,3 +26,4 @@ fn every_kernel_runs_and_says_what_it_computed() {
     assert_eq!(e.field, "kernel");
     assert!(e.message.contains("robot_mc, lscr_raster"), "{}", e.message);
 }
+in_browser!(every_kernel_runs_and_says_what_it_computed);

@@ -179,7 +179,6 @@ fn check_against_panels(s: &Scenario) {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn each_set_is_its_own_panels_set() {
     for name in ["compare-gaussian", "compare-uniform"] {
         check_against_panels(&preset(name));
@@ -189,9 +188,9 @@ fn each_set_is_its_own_panels_set() {
         check_against_panels(&s);
     }
 }
+in_browser!(each_set_is_its_own_panels_set);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_cursor_detail_is_the_report_at_that_time() {
     let s = preset("compare-uniform");
     let mut cursor = s.cursor().expect("cursor").expect("a compare has a cursor");
@@ -216,6 +215,7 @@ fn the_cursor_detail_is_the_report_at_that_time() {
         );
     }
 }
+in_browser!(the_cursor_detail_is_the_report_at_that_time);
 
 /// The study's result for one method.
 fn count<'a>(result: &'a serde_json::Value, m: &str) -> &'a serde_json::Value {
@@ -335,7 +335,6 @@ fn uniform_noise_bounds_hold_and_fail() {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_table_says_which_assumptions_hold() {
     let report = preset("compare-gaussian").run().expect("report");
     let rows = &report.compare.as_ref().expect("c").rows;
@@ -375,9 +374,9 @@ fn the_table_says_which_assumptions_hold() {
     assert_eq!(holds(Method::Scf), Some(true));
     assert_eq!(holds(Method::Lscr), Some(true));
 }
+in_browser!(the_table_says_which_assumptions_hold);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_compare_refuses_by_field() {
     let base = serde_json::to_value(preset("compare-uniform")).expect("json");
     let cases: Vec<(serde_json::Value, &str)> = vec![
@@ -427,6 +426,7 @@ fn a_compare_refuses_by_field() {
         );
     }
 }
+in_browser!(a_compare_refuses_by_field);
 
 fn merge(a: &mut serde_json::Value, b: &serde_json::Value) {
     match (a, b) {
@@ -441,7 +441,6 @@ fn merge(a: &mut serde_json::Value, b: &serde_json::Value) {
 
 /// The user's own record (CSV, one column per output): every method runs on it, with no truth.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn own_csv_data_runs_every_method_without_truth() {
     let simulated = preset("compare-uniform").run().expect("report");
     let csv: String = simulated.y.iter().map(|r| format!("{}\n", r[0])).collect();
@@ -466,3 +465,4 @@ fn own_csv_data_runs_every_method_without_truth() {
         );
     }
 }
+in_browser!(own_csv_data_runs_every_method_without_truth);

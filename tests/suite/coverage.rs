@@ -73,7 +73,6 @@ fn assert_in(count: usize, p: f64, runs: usize, what: &str) {
 
 /// Scalar model of Example 1 at α = 0.95 and α = 0.99; x̄ = 1 (typical, 0.4σ) and x̄ = 5σ = 5√6.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn scalar_conditional_coverage() {
     let one = DMatrix::from_element(1, 1, 1.0);
     let f = (5.0f64 / 6.0).sqrt();
@@ -132,13 +131,13 @@ fn scalar_conditional_coverage() {
         }
     }
 }
+in_browser!(scalar_conditional_coverage);
 
 /// The 3-state model of `scf_paper` with two outputs; full-state regions (χ²(α, 3)).
 /// Typical state: Mahalanobis distance 0.5 from the mean; rare state: distance 5 (x̄ = 5·L e,
 /// Γ = LLᵀ, |e| = 1). Expected KF coverage: Monte Carlo of x̂^KF − x̄ ~ N(−PΓ⁻¹x̄, P − PΓ⁻¹P)
 /// with P from the textbook filter and Γ from the Kronecker solve.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn three_state_conditional_coverage() {
     let f = mat(&[&[0.5, 0.4, 0.0], &[-0.3, 0.6, 0.2], &[0.1, 0.0, 0.7]]);
     let l = mat(&[&[1.0, 0.0, 0.0], &[0.5, 0.8, 0.0], &[-0.3, 0.2, 0.6]]);
@@ -209,6 +208,7 @@ fn three_state_conditional_coverage() {
         }
     }
 }
+in_browser!(three_state_conditional_coverage);
 
 /// The robot Monte Carlo of Section II-B on the `scf-robots` preset (realizations drawn
 /// backwards from the colliding state at t = 40, α = 0.95, robot A's full state). Paper:
@@ -221,7 +221,6 @@ fn three_state_conditional_coverage() {
 /// velocities sit at their conditional mean given the positions, so the subset regions of V-C
 /// over-cover), hence P(warning) ≥ 1 − 2(1 − α) = 0.9.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn robot_experiment_counts() {
     let mut s = presets::robots(NoiseReading::Unscaled);
     let runs = RUNS;
@@ -254,3 +253,4 @@ fn robot_experiment_counts() {
         r.scf_warnings
     );
 }
+in_browser!(robot_experiment_counts);

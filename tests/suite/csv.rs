@@ -121,7 +121,6 @@ fn simulating_presets() -> Vec<(String, Scenario, Scenario)> {
 /// preset runs every variant, the others one each in turn (the test stays fast); the exact
 /// scenario equality of every variant makes the runs not made the same run.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_simulating_preset_reads_its_data_back_from_csv() {
     let cases = simulating_presets();
     assert!(!cases.is_empty(), "no preset simulates");
@@ -198,6 +197,7 @@ fn every_simulating_preset_reads_its_data_back_from_csv() {
         cases.len()
     );
 }
+in_browser!(every_simulating_preset_reads_its_data_back_from_csv);
 
 fn error(s: &Scenario, text: &str) -> confset::Error {
     match s.with_csv_data(text) {
@@ -216,7 +216,6 @@ fn preset_of_shape(q: usize, r: usize) -> (String, Scenario) {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn csv_errors_name_the_row_the_column_and_the_counts() {
     let (name, s) = presets::all()
         .into_iter()
@@ -318,6 +317,7 @@ fn csv_errors_name_the_row_the_column_and_the_counts() {
         "{e}"
     );
 }
+in_browser!(csv_errors_name_the_row_the_column_and_the_counts);
 
 /// `confset run --preset NAME --data FILE.csv` prints the report of the core's
 /// `with_csv_data`, for the first simulating preset with inputs (or any, if none has them).

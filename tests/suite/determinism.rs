@@ -94,7 +94,6 @@ const Y_SCALAR: [f64; 10] = [0.3, -1.25, 2.0, 0.75, -0.5, 1.6, 3.1, 2.2, -0.9, 0
 /// Scalar model (Example 1) with explicit data at α = 0.9: χ²(0.9, 1) = z²_{0.95}
 /// = 1.6448536269514722² = 2.705543454095404.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn scalar_fixed_data_report() {
     let f = (5.0f64 / 6.0).sqrt();
     let s = Scenario::from_json(
@@ -133,11 +132,11 @@ fn scalar_fixed_data_report() {
     assert!(rel_close(st.ratio[0][0], 6.0 / 7.0, 1e-14));
     assert!(rel_close(st.scf.as_ref().unwrap().center[0], 0.3, 1e-14));
 }
+in_browser!(scalar_fixed_data_report);
 
 /// A 2-state model with one output, stationary prior (Γ from the Kronecker solve), α = 0.95:
 /// χ²(0.95, 2) = −2 ln 0.05 (closed form for two degrees of freedom).
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn two_state_fixed_data_report() {
     let f = mat(&[&[0.8, 0.3], &[-0.2, 0.6]]);
     let h = mat(&[&[1.0, -0.5]]);
@@ -165,11 +164,11 @@ fn two_state_fixed_data_report() {
     check_report(&r, &reference, -2.0 * 0.05f64.ln(), &[2, 3, 7, 12]);
     check_json(&r);
 }
+in_browser!(two_state_fixed_data_report);
 
 /// Non-stationary prior, measured inputs and a non-zero prior mean (V-D, V-E): 2 states,
 /// 2 outputs, F unstable (so the prior must be given), B u constant.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn inputs_and_given_prior_fixed_data_report() {
     let f = mat(&[&[1.0, 0.1], &[0.0, 1.02]]);
     let h = mat(&[&[1.0, 0.0], &[0.5, 1.0]]);
@@ -216,11 +215,11 @@ fn inputs_and_given_prior_fixed_data_report() {
     check_report(&r, &reference, -2.0 * 0.2f64.ln(), &[1, 2, 4, 9]);
     check_json(&r);
 }
+in_browser!(inputs_and_given_prior_fixed_data_report);
 
 /// Golden: the first draws of ChaCha8Rng::seed_from_u64 (raw u64 and StandardNormal), printed
 /// natively once. The same assertions in wasm prove the stream is the same there.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn golden_chacha8_stream() {
     let cases: [(u64, [u64; 3], [f64; 6]); 2] = [
         (
@@ -265,12 +264,12 @@ fn golden_chacha8_stream() {
         assert_slice_rel(&got, &normals, 1e-15, &format!("normals of seed {seed}"));
     }
 }
+in_browser!(golden_chacha8_stream);
 
 /// Golden: the scalar preset's seeded simulation (seed 1, 50 steps) and its estimates, and the
 /// robot preset's conditioned simulation (drawn backwards from the collision state at t = 40).
 /// Tolerance 1e-12: libm's exp/sin/cos may differ in the last bit between platforms.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn golden_seeded_simulations() {
     let mut s = confset::presets::scalar();
     s.coverage_curve = None;
@@ -364,3 +363,4 @@ fn golden_seeded_simulations() {
         "robot KF center t=36",
     );
 }
+in_browser!(golden_seeded_simulations);

@@ -280,8 +280,9 @@ const SAMPLE: usize = if cfg!(target_arch = "wasm32") {
     20_000
 };
 
-/// A case that has run this long (wall time) is a hang: the watchdog names it and stops the
-/// process.
+/// A case still running after this long (wall time) is named on stderr by the watchdog, once:
+/// a hang is then stopped by the test phase's own limit (.ci/test), with its name in the log.
+/// Nothing fails on the clock: a loaded machine may take any time (issue 24).
 #[cfg(not(target_arch = "wasm32"))]
 const HANG_SECONDS: u64 = 30;
 
@@ -429,8 +430,8 @@ fn option_env_var(name: &str) -> Option<String> {
     }
 }
 
-/// A thread that stops the process when a case runs past [`HANG_SECONDS`], naming it (a hang
-/// cannot be caught any other way).
+/// A thread that names on stderr a case still running past [`HANG_SECONDS`] (a hang cannot
+/// name itself; the phase's time limit stops it).
 #[cfg(not(target_arch = "wasm32"))]
 mod watchdog {
     use std::collections::HashMap;
@@ -444,20 +445,21 @@ mod watchdog {
         RUNNING.get_or_init(|| {
             std::thread::spawn(|| loop {
                 std::thread::sleep(Duration::from_secs(1));
-                let hung = running().lock().ok().and_then(|m| {
-                    m.values()
-                        .find(|(_, t)| t.elapsed() > Duration::from_secs(super::HANG_SECONDS))
-                        .map(|(c, _)| c.clone())
+                let slow = running().lock().ok().and_then(|mut m| {
+                    let id = m
+                        .iter()
+                        .find(|(_, (_, t))| t.elapsed() > Duration::from_secs(super::HANG_SECONDS))
+                        .map(|(id, _)| *id)?;
+                    m.remove(&id).map(|(c, _)| c)
                 });
-                if let Some(c) = hung {
-                    // Past the test harness's capture, which a process exit would swallow.
+                if let Some(c) = slow {
+                    // Past the test harness's capture, which would hold it until the test ends.
                     use std::io::Write;
                     let _ = writeln!(
                         std::io::stderr().lock(),
-                        "fuzz: HANG: {c} has run for over {} s",
+                        "fuzz: still running after {} s: {c}",
                         super::HANG_SECONDS
                     );
-                    std::process::exit(101);
                 }
             });
             Mutex::new(HashMap::new())
@@ -508,10 +510,10 @@ fn assert_clean(t: &Tally) {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn mutated_presets_give_a_finite_report_or_a_field_error() {
     assert_clean(&fuzz(SAMPLE));
 }
+in_browser!(mutated_presets_give_a_finite_report_or_a_field_error);
 
 /// The long run: `CONFSET_FUZZ_CASES` cases (default 1,000,000).
 #[cfg(not(target_arch = "wasm32"))]

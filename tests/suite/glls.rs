@@ -79,7 +79,6 @@ fn preset_json(name: &str) -> Value {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn trajectory_form_matches_a_step_by_step_simulation() {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     for (n, m, r) in [(3, 1, 1), (4, 2, 2), (2, 1, 0)] {
@@ -116,9 +115,9 @@ fn trajectory_form_matches_a_step_by_step_simulation() {
         assert!((cur - &xs[s]).norm() < 1e-9 * xs[s].norm().max(1.0));
     }
 }
+in_browser!(trajectory_form_matches_a_step_by_step_simulation);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn glls_is_weighted_least_squares_and_its_kappa_bounds_lls() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     for case in 0..12 {
@@ -175,9 +174,9 @@ fn glls_is_weighted_least_squares_and_its_kappa_bounds_lls() {
         ));
     }
 }
+in_browser!(glls_is_weighted_least_squares_and_its_kappa_bounds_lls);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn regularized_estimators_are_projection_plus_noise() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for case in 0..8 {
@@ -228,6 +227,7 @@ fn regularized_estimators_are_projection_plus_noise() {
         }
     }
 }
+in_browser!(regularized_estimators_are_projection_plus_noise);
 
 /// log10 σ_i of a full SVD of m, decreasing.
 fn log10_svd(m: &DMatrix<f64>) -> Vec<f64> {
@@ -262,7 +262,6 @@ fn assert_curve_row(curve: &[f64], full: &[f64], floor: f64, tol: f64, what: &st
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn singular_value_curves_match_full_svds() {
     let mut models: Vec<(String, GllsModel, usize)> =
         ["glls-saturate", "glls-grow", "glls-mixed", "glls-unstable5"]
@@ -343,9 +342,9 @@ fn singular_value_curves_match_full_svds() {
         c.log10_sigma[500][0]
     );
 }
+in_browser!(singular_value_curves_match_full_svds);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn kappa_curves_match_the_horizon_estimators() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     for case in 0..4 {
@@ -375,9 +374,9 @@ fn kappa_curves_match_the_horizon_estimators() {
         }
     }
 }
+in_browser!(kappa_curves_match_the_horizon_estimators);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_papers_remark_on_gamma_a_minus_s_holds_only_for_orthogonal_a() {
     // Orthogonal A (a rotation): Γ A^{−s} has rows C A^{p−s}, a reordering up to the orthogonal
     // factor, so the singular values coincide.
@@ -411,9 +410,9 @@ fn the_papers_remark_on_gamma_a_minus_s_holds_only_for_orthogonal_a() {
         );
     }
 }
+in_browser!(the_papers_remark_on_gamma_a_minus_s_holds_only_for_orthogonal_a);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn state_noise_estimator_closed_form_qp_and_kkt_agree() {
     let mut rng = ChaCha8Rng::seed_from_u64(6);
     for case in 0..6 {
@@ -485,11 +484,11 @@ fn state_noise_estimator_closed_form_qp_and_kkt_agree() {
         g.state_noise.as_ref().map(|s| s.qp_difference)
     );
 }
+in_browser!(state_noise_estimator_closed_form_qp_and_kkt_agree);
 
 /// The guaranteed sets, ≥ 10,000 runs: noise uniform in the ball, on the sphere, and the
 /// worst-case patterns of every component (which reach the box faces).
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn guaranteed_ball_and_box_never_miss() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let mut runs = 0;
@@ -591,9 +590,9 @@ fn guaranteed_ball_and_box_never_miss() {
         "the worst cases reach the box faces ({reached_face}): the box is the exact hull"
     );
 }
+in_browser!(guaranteed_ball_and_box_never_miss);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn monte_carlo_mean_error_is_below_the_expected_bound() {
     // (14)/(39): E‖x_est(k) − x(k)‖ ≤ κ·√E‖δ(k,s)‖², per horizon, for Gaussian noise.
     let p = Scenario::from_json(&{
@@ -627,9 +626,9 @@ fn monte_carlo_mean_error_is_below_the_expected_bound() {
             < 0.5 * p.first[0].as_ref().unwrap().median
     );
 }
+in_browser!(monte_carlo_mean_error_is_below_the_expected_bound);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn state_noise_estimator_beats_lls_on_noisy_transitions() {
     // Section 5.2 / Fig. 4 on the preset (2,000 runs at horizons 4..15).
     let g = presets::get("glls-unstable5")
@@ -667,9 +666,9 @@ fn state_noise_estimator_beats_lls_on_noisy_transitions() {
         p.mean_state_norm
     );
 }
+in_browser!(state_noise_estimator_beats_lls_on_noisy_transitions);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn presets_report_guarantees_and_best_horizons() {
     for name in ["glls-saturate", "glls-grow", "glls-mixed", "glls-unstable5"] {
         let g = presets::get(name).unwrap().run().unwrap().glls.unwrap();
@@ -722,9 +721,9 @@ fn presets_report_guarantees_and_best_horizons() {
     // The bounded-noise preset: the noise stayed within μ and the box holds the truth.
     assert!(sat.noise_max.unwrap() <= sat.mu && sat.truth_in_box == Some(true));
 }
+in_browser!(presets_report_guarantees_and_best_horizons);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn bad_input_names_the_field() {
     let base = preset_json("glls-saturate");
     let cases: Vec<(&str, Value)> = vec![
@@ -762,9 +761,9 @@ fn bad_input_names_the_field() {
     ];
     crate::common::patch::assert_refused(&base, &cases);
 }
+in_browser!(bad_input_names_the_field);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn worst_case_noise_puts_the_truth_on_the_box_face_and_singular_a_is_explained() {
     // noise "worst" aligns δ with the plotted component's gain at the horizon in use (here the
     // best one, chosen by the report): that component's error equals the box half-width.
@@ -807,3 +806,4 @@ fn worst_case_noise_puts_the_truth_on_the_box_face_and_singular_a_is_explained()
     );
     assert!(g.kappa_current.is_finite());
 }
+in_browser!(worst_case_noise_puts_the_truth_on_the_box_face_and_singular_a_is_explained);

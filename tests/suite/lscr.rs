@@ -106,7 +106,6 @@ fn preset_json(name: &str) -> Value {
 // The paper's numbers and the regression forms.
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn cascade_backward_representation_is_the_printed_one() {
     let m = cascade();
     let b = m.backward().unwrap();
@@ -137,6 +136,7 @@ fn cascade_backward_representation_is_the_printed_one() {
     assert_eq!((l.m, l.q, l.time, l.t), (80, 2, 31, 30));
     assert!(close(l.level, 0.9, 1e-12) && close(l.level_each, 0.95, 1e-12));
 }
+in_browser!(cascade_backward_representation_is_the_printed_one);
 
 /// Powers M^0..M^k.
 fn powers(m: &DMatrix<f64>, k: usize) -> Vec<DMatrix<f64>> {
@@ -200,7 +200,6 @@ fn stacked_reference(model: &LscrModel, t: usize, target: Target) -> (DMatrix<f6
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn regressions_are_the_papers_stacking() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let models = [
@@ -225,9 +224,9 @@ fn regressions_are_the_papers_stacking() {
         }
     }
 }
+in_browser!(regressions_are_the_papers_stacking);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn karhunen_loeve_whitens_and_the_svd_spans_a() {
     let m = cascade();
     for target in [Target::Predict, Target::Filter, Target::Smooth(15)] {
@@ -275,9 +274,9 @@ fn karhunen_loeve_whitens_and_the_svd_spans_a() {
         assert_eq!(p.kl.rank, 2);
     }
 }
+in_browser!(karhunen_loeve_whitens_and_the_svd_spans_a);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn smoothing_eigenvalues_come_in_pairs() {
     // x_15 from y_1..y_30: the 15 data after τ (forward model) and the 14 before it (backward
     // model) have the same law, time reversed, so their covariance blocks share 14 eigenvalues;
@@ -299,9 +298,9 @@ fn smoothing_eigenvalues_come_in_pairs() {
     let d: Vec<f64> = p.kl.d.iter().copied().collect();
     assert!(d.windows(2).all(|w| w[0] - w[1] > 1e-9 * w[0]), "{d:?}");
 }
+in_browser!(smoothing_eigenvalues_come_in_pairs);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn ma1_region_is_an_unbounded_band_along_one_one() {
     let b = ma1().backward().unwrap();
     // x_t = [v_{t−1}, v_{t−1} + v_{t−2}]: backward, x_{1,t} = x_{2,t+1} − x_{1,t+1} (singular F^b).
@@ -389,9 +388,9 @@ fn ma1_region_is_an_unbounded_band_along_one_one() {
         kf.center
     );
 }
+in_browser!(ma1_region_is_an_unbounded_band_along_one_one);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn choice_of_m_and_q() {
     // 90 %, n = 2: the paper's M = 80, q = 2 (random); 2^7 = 128 strings, q = 3 (group).
     assert_eq!(choose_m_q(0.9, 2, Construction::Random).unwrap(), (80, 2));
@@ -419,6 +418,7 @@ fn choice_of_m_and_q() {
         "lscr.level"
     );
 }
+in_browser!(choice_of_m_and_q);
 
 // ---------------------------------------------------------------------------------------------
 // Exactness of the region.
@@ -444,7 +444,6 @@ fn g_by_definition(
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn region_membership_is_the_definition() {
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     for case in 0..6 {
@@ -493,6 +492,7 @@ fn region_membership_is_the_definition() {
         assert!(checked > 350, "{checked}");
     }
 }
+in_browser!(region_membership_is_the_definition);
 
 fn random_window(center: [f64; 2], scale: f64, rng: &mut ChaCha8Rng) -> BoxSet {
     let w = scale * (0.05 + 3.0 * rng.random::<f64>());
@@ -535,7 +535,6 @@ fn random_plane_regions(count: usize, seed: u64) -> Vec<(SignRegion, [f64; 2], f
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn fast_raster_equals_brute_force() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut nonempty = 0;
@@ -568,9 +567,9 @@ fn fast_raster_equals_brute_force() {
         "only {nonempty} windows showed a region boundary"
     );
 }
+in_browser!(fast_raster_equals_brute_force);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn boundary_area_agrees_with_the_raster() {
     let mut regions: Vec<(SignRegion, BoxSet)> = ["lscr-predict", "lscr-smooth", "lscr-ma1"]
         .iter()
@@ -610,12 +609,12 @@ fn boundary_area_agrees_with_the_raster() {
         assert!(exact >= 0.0 && exact <= (w.hi[0] - w.lo[0]) * (w.hi[1] - w.lo[1]) * (1.0 + 1e-12));
     }
 }
+in_browser!(boundary_area_agrees_with_the_raster);
 
 // ---------------------------------------------------------------------------------------------
 // Invariances.
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn sign_flips_of_eigenvectors_and_singular_vectors_leave_the_region() {
     let model = cascade();
     let mut rng = ChaCha8Rng::seed_from_u64(17);
@@ -686,6 +685,7 @@ fn sign_flips_of_eigenvectors_and_singular_vectors_leave_the_region() {
         );
     }
 }
+in_browser!(sign_flips_of_eigenvectors_and_singular_vectors_leave_the_region);
 
 // ---------------------------------------------------------------------------------------------
 // Guarantees (Theorem 3.2), statistically.
@@ -715,7 +715,6 @@ fn stationary_sd(m: &LscrModel) -> Vec<f64> {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn coverage_holds_at_a_typical_and_a_far_state() {
     let model = cascade();
     let sd = stationary_sd(&model);
@@ -769,9 +768,9 @@ fn coverage_holds_at_a_typical_and_a_far_state() {
         }
     }
 }
+in_browser!(coverage_holds_at_a_typical_and_a_far_state);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn coverage_through_the_full_region_construction() {
     // Independent of the experiment's shortcut (membership from g at x̄ only): the region of
     // each run built in full, group strings (fixed, so the theorem holds given them), far out.
@@ -811,9 +810,9 @@ fn coverage_through_the_full_region_construction() {
     );
     assert_in(blue, binomial_interval(RUNS, level, CONF), "BLUE");
 }
+in_browser!(coverage_through_the_full_region_construction);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn ma1_coverage_holds_where_the_kalman_ellipse_fails() {
     let model = ma1();
     // x_{1,21} = v_20: σ_v = 0.316, so 3.0 is 9.5σ out.
@@ -847,6 +846,7 @@ fn ma1_coverage_holds_where_the_kalman_ellipse_fails() {
         }
     }
 }
+in_browser!(ma1_coverage_holds_where_the_kalman_ellipse_fails);
 
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
@@ -880,7 +880,6 @@ fn scenario_pipeline_coverage_at_a_placed_state() {
 // Strings, scenarios, bad input.
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn string_constructions() {
     let r = Strings::random(80, 30, 1).unwrap();
     assert_eq!(r.m(), 80);
@@ -939,9 +938,9 @@ fn string_constructions() {
     };
     assert!(!l.guaranteed && l.m == 4);
 }
+in_browser!(string_constructions);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn reports_are_deterministic_and_probes_agree_with_the_region() {
     let mut s = preset_json("lscr-predict");
     s["lscr"]["probes"] = json!([[0.0, 0.0], [0.5, 0.5], [10.0, -10.0]]);
@@ -969,9 +968,9 @@ fn reports_are_deterministic_and_probes_agree_with_the_region() {
         "another seed, other strings"
     );
 }
+in_browser!(reports_are_deterministic_and_probes_agree_with_the_region);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn bad_input_names_the_field() {
     let base = preset_json("lscr-predict");
     let cases: Vec<(&str, Value)> = vec![
@@ -1070,11 +1069,11 @@ fn bad_input_names_the_field() {
         "lscr.coverage.runs"
     );
 }
+in_browser!(bad_input_names_the_field);
 
 /// The LSCR presets have no coverage block: with one (at the estimated time), each coverage
 /// study shards and merges to its unsharded result exactly (`shards::check_shards`).
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_lscr_preset_coverage_study_shards() {
     let mut seen = 0;
     for p in presets::all()
@@ -1094,3 +1093,4 @@ fn every_lscr_preset_coverage_study_shards() {
     }
     assert!(seen > 0, "no LSCR preset");
 }
+in_browser!(every_lscr_preset_coverage_study_shards);

@@ -7,6 +7,29 @@
 #[cfg(target_arch = "wasm32")]
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
+/// `in_browser!(name)` after a test function `name` runs it in the browser too, as the test
+/// `module::name::run`: an async test that first hands the page's event loop one turn
+/// (`setTimeout(0)`), then calls `name`.
+///
+/// Why: the runner learns a test's outcome by WebDriver `execute/sync` scripts that read the
+/// page, and such a script waits until the page's main thread is free. Synchronous tests run
+/// back to back in one task, so the whole suite held the page for minutes; a slower machine
+/// passed the WebDriver script timeout (300 s) and failed with "execute/sync timed out", though
+/// every test passed (issue 24). With the turn, the page is busy for one test at a time, the
+/// runner prints each result as it comes, and no time limit scales with the suite's length.
+macro_rules! in_browser {
+    ($name:ident) => {
+        #[cfg(target_arch = "wasm32")]
+        mod $name {
+            #[wasm_bindgen_test::wasm_bindgen_test]
+            async fn run() {
+                crate::common::event_loop_turn().await;
+                super::$name();
+            }
+        }
+    };
+}
+
 mod common;
 
 mod bad_input;

@@ -44,7 +44,6 @@ fn parse_error(v: &Value) -> Error {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_wrong_type_deep_inside_names_its_path() {
     let mut v = preset("glls-saturate");
     v["glls"]["monte_carlo"] = json!({"runs": "abc", "seed": 1});
@@ -103,9 +102,9 @@ fn a_wrong_type_deep_inside_names_its_path() {
         "{e}"
     );
 }
+in_browser!(a_wrong_type_deep_inside_names_its_path);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn an_unknown_key_lists_the_known_ones() {
     let mut block = preset("glls-saturate");
     block["glls"]["horizonn"] = json!(3);
@@ -128,9 +127,9 @@ fn an_unknown_key_lists_the_known_ones() {
         assert!(e.message.starts_with(start), "{e}");
     }
 }
+in_browser!(an_unknown_key_lists_the_known_ones);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_wrong_name_lists_the_accepted_names() {
     let mut v = preset("glls-saturate");
     v["glls"]["estimator"] = json!("gls");
@@ -155,9 +154,9 @@ fn a_wrong_name_lists_the_accepted_names() {
     assert_eq!(e.field, "glls.noise");
     assert!(e.message.contains("\"bounded\" alone"), "{e}");
 }
+in_browser!(a_wrong_name_lists_the_accepted_names);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn long_user_strings_are_cut() {
     let long = "x".repeat(500);
     let cut = format!("\"{}…\"", "x".repeat(40));
@@ -196,9 +195,9 @@ fn long_user_strings_are_cut() {
         );
     }
 }
+in_browser!(long_user_strings_are_cut);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn contradictory_bounds_name_the_bound() {
     // The measurement-noise bound far below the simulated noise: no state fits the data.
     let mut v = preset("ubb-track");
@@ -215,9 +214,9 @@ fn contradictory_bounds_name_the_bound() {
         "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta)"
     );
 }
+in_browser!(contradictory_bounds_name_the_bound);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_study_block_of_another_method_is_refused() {
     let experiment = json!({"runs": 10, "components": [0]});
     let mut v = preset("lscr-predict");
@@ -253,6 +252,7 @@ fn a_study_block_of_another_method_is_refused() {
         "{e}"
     );
 }
+in_browser!(a_study_block_of_another_method_is_refused);
 
 /// Every leaf of `v` (numbers, strings, booleans) as (field path, JSON pointer), keeping of
 /// each list its first two entries and its last (the others repeat their fields).
@@ -281,7 +281,6 @@ fn leaves(v: &Value, path: &str, pointer: &str, out: &mut Vec<(String, String)>)
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_leaf_of_every_preset_replaced_by_text_names_its_path() {
     let mut refused = 0;
     for p in presets::all() {
@@ -316,3 +315,4 @@ fn every_leaf_of_every_preset_replaced_by_text_names_its_path() {
     }
     assert!(refused > 200, "only {refused} leaves refused");
 }
+in_browser!(every_leaf_of_every_preset_replaced_by_text_names_its_path);

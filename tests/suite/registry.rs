@@ -117,7 +117,6 @@ pub(crate) fn check_report_json(r: &Report) -> Result<(), String> {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_preset_runs_round_trips_and_writes_plain_json() {
     let all = presets::all();
     assert!(!all.is_empty());
@@ -154,6 +153,7 @@ fn every_preset_runs_round_trips_and_writes_plain_json() {
         check_report_json(&r).unwrap_or_else(|e| panic!("{}: {e}", p.name));
     }
 }
+in_browser!(every_preset_runs_round_trips_and_writes_plain_json);
 
 // ---------------------------------------------------------------------------------------------
 // 2. Every method is exercised by a preset.
@@ -164,7 +164,6 @@ fn every_preset_runs_round_trips_and_writes_plain_json() {
 /// refuses (before the first step, past the last) is the same error. Checked before the first
 /// step, at the cursor's first, middle and last steps, and past them.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_cursor_gives_the_detail_of_a_run_at_that_time() {
     let mut with_cursor = 0;
     for p in presets::all() {
@@ -223,6 +222,7 @@ fn every_cursor_gives_the_detail_of_a_run_at_that_time() {
     }
     assert!(with_cursor > 0, "some preset has a time cursor");
 }
+in_browser!(every_cursor_gives_the_detail_of_a_run_at_that_time);
 
 // ---------------------------------------------------------------------------------------------
 
@@ -250,7 +250,6 @@ fn scenarios_of(m: Method) -> Vec<(String, Scenario)> {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_method_is_exercised_by_a_preset() {
     let blocks: Vec<&str> = Method::ALL.iter().filter_map(|m| m.block()).collect();
     for m in Method::ALL {
@@ -304,6 +303,7 @@ fn every_method_is_exercised_by_a_preset() {
         }
     }
 }
+in_browser!(every_method_is_exercised_by_a_preset);
 
 // ---------------------------------------------------------------------------------------------
 // 3. Native = wasm: every preset's report against a digest pinned natively.
@@ -528,7 +528,6 @@ mod golden {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_preset_report_matches_its_native_golden() {
     let reports: Vec<(String, Value)> = presets::all()
         .into_iter()
@@ -578,6 +577,7 @@ fn every_preset_report_matches_its_native_golden() {
         problems.join("\n")
     );
 }
+in_browser!(every_preset_report_matches_its_native_golden);
 
 // ---------------------------------------------------------------------------------------------
 // 5. Every useful panel of every preset draws at the page's sizes.
@@ -742,7 +742,6 @@ pub(crate) fn run_study(name: &str, s: &Scenario, runs: usize, chunk: usize) -> 
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn chunking_never_changes_a_study() {
     let studies = study_presets();
     assert!(!studies.is_empty(), "no preset has a study");
@@ -754,10 +753,10 @@ fn chunking_never_changes_a_study() {
         }
     }
 }
+in_browser!(chunking_never_changes_a_study);
 
 /// The one wasm `Study` class returns, chunk by chunk, the JSON of the core's study.
 #[cfg(target_arch = "wasm32")]
-#[wasm_bindgen_test::wasm_bindgen_test]
 fn the_wasm_study_class_returns_the_core_result() {
     let studies = study_presets();
     assert!(!studies.is_empty(), "no preset has a study");
@@ -786,6 +785,7 @@ fn the_wasm_study_class_returns_the_core_result() {
         assert_eq!(own.total(), core.total(), "{name}: runs = 0");
     }
 }
+in_browser!(the_wasm_study_class_returns_the_core_result);
 
 // ---------------------------------------------------------------------------------------------
 // 7. The command line prints the core's results.
@@ -1037,19 +1037,18 @@ fn data_gives_the_simulated_estimates(m: Method) {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn every_method_on_data_gives_the_simulated_estimates() {
     for m in Method::ALL {
         data_gives_the_simulated_estimates(m);
     }
 }
+in_browser!(every_method_on_data_gives_the_simulated_estimates);
 
 // ---------------------------------------------------------------------------------------------
 // 9. The limits the page's controls take from the core are the ones its checks apply.
 // ---------------------------------------------------------------------------------------------
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn exported_limits_are_the_checked_ones() {
     let limits = confset::scenario::limits();
     let mut checked = 0;
@@ -1091,3 +1090,4 @@ fn exported_limits_are_the_checked_ones() {
     assert_eq!(e.field, "uniform.window");
     assert!(e.message.contains(&window.to_string()), "{e}");
 }
+in_browser!(exported_limits_are_the_checked_ones);

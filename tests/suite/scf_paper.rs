@@ -35,7 +35,6 @@ fn scalar_model() -> LinearModel {
 /// V^b = Γ − F^bΓF^b = 6 − (5/6)·6 = 1. Riccati fixed point: P⁻ = (5/6)P + 1, P = P⁻/(P⁻ + 1)
 /// ⇒ P̄ = 3/5, P̄⁻ = 3/2, K̄ = 3/5. Ratio 1 − P̄/Γ = 0.9; Π̄ = P̄/0.9 = 2/3.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn scalar_example_gamma_backward_steady_state() {
     let m = scalar_model();
     let g = m.stationary_covariance().unwrap();
@@ -63,13 +62,13 @@ fn scalar_example_gamma_backward_steady_state() {
     assert!(close(a.f_b[0][0], (5.0f64 / 6.0).sqrt(), 1e-12));
     assert!(close(a.v_b[0][0], 1.0, 1e-12));
 }
+in_browser!(scalar_example_gamma_backward_steady_state);
 
 /// ρ of Example 1 (with the integrand exp(−x²/(2p̄)), crate docs: errata): ρ = √(χ²(0.99,1)·3/5)
 /// ≈ 1.995, "≈ 2" in the paper. The KF interval at the end of a long run is x̂ ± ρ, the SCF
 /// interval x̂/0.9 ± ρ·√(1/0.9) — both for the recursive filter (last step of 200) and for the
 /// asymptotic filter (every step).
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn scalar_example_intervals_long_run_and_asymptotic() {
     let rho = (CHI2_99_1 * 0.6).sqrt();
     assert!((rho - 2.0).abs() < 0.01, "ρ = {rho}");
@@ -138,6 +137,7 @@ fn scalar_example_intervals_long_run_and_asymptotic() {
         }
     }
 }
+in_browser!(scalar_example_intervals_long_run_and_asymptotic);
 
 /// Footnote 1: given x_t = x̄, the KF estimate has mean c·x̄ with c = 1 − p_t/E[x_t²] → 0.9 and
 /// variance p_t(1 − p_t/E[x_t²]) → 0.54. Checked two independent ways:
@@ -147,7 +147,6 @@ fn scalar_example_intervals_long_run_and_asymptotic() {
 /// (b) by simulating realizations conditioned on x_t = x̄ (backward representation,
 ///     footnote 2) and filtering them with the crate's Kalman filter.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn scalar_footnote1_conditional_mean_and_variance() {
     let t = 40usize;
     let f = (5.0f64 / 6.0).sqrt();
@@ -232,6 +231,7 @@ fn scalar_footnote1_conditional_mean_and_variance() {
         4.5 * se_var
     );
 }
+in_browser!(scalar_footnote1_conditional_mean_and_variance);
 
 /// A stable, non-symmetric 3-state F with a full V (= LLᵀ) and one output.
 pub fn three_state() -> (
@@ -256,7 +256,6 @@ pub fn three_state() -> (
 /// v^b ⟂ x_t gives E[x_{t−1}x_tᵀ] = F^bΓ, which must equal (E[x_t x_{t−1}ᵀ])ᵀ = (FΓ)ᵀ = ΓFᵀ,
 /// and Cov(x_{t−1}) = F^bΓF^bᵀ + V^b = Γ.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn three_state_gamma_and_backward_representation() {
     let (f, _h, v, _w, m) = three_state();
     // Stability of the chosen F, checked without the crate: F^200 → 0.
@@ -305,13 +304,13 @@ fn three_state_gamma_and_backward_representation() {
         assert_mat_close(&st.v_b, &vb_ref, 1e-10, &format!("V^b_{t} (45)"));
     }
 }
+in_browser!(three_state_gamma_and_backward_representation);
 
 /// U_tA_t by brute force from the batch form (31)–(32): the KF is linear in the data,
 /// x̂^KF_t = U_t [y]_1^t, so U_t's column for y_k is the filter's response to a unit impulse at
 /// time k (a textbook filter written in `common`); A_t stacks H(F^b)^{t−k}. Their product
 /// must equal the crate's recursion (38) — and the closed form (41) — at every t.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn ratio_matrix_equals_batch_u_times_a() {
     let (f, h, v, w, m) = three_state();
     let n = 3;
@@ -345,11 +344,11 @@ fn ratio_matrix_equals_batch_u_times_a() {
         }
     }
 }
+in_browser!(ratio_matrix_equals_batch_u_times_a);
 
 /// (38) ≡ (41) along the recursion for the stationary 3-state example: the crate's recursion
 /// against I − P_tΓ⁻¹ with P_t from the textbook filter and Γ from the Kronecker solve.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn recursion_38_equals_closed_form_41_stationary() {
     let (f, h, v, w, m) = three_state();
     let steps = 60;
@@ -379,13 +378,13 @@ fn recursion_38_equals_closed_form_41_stationary() {
     let a = scf::asymptotic(&m).unwrap();
     assert_mat_close(&rec[steps - 1], &from_rows(&a.ratio), 1e-9, "R_60 vs R̄");
 }
+in_browser!(recursion_38_equals_closed_form_41_stationary);
 
 /// (38) ≡ (41) for the non-stationary robot model (known x_1, Γ_1 = 0, inputs; V-D/V-E): the
 /// recursion with F^b_t of (45) against I − P_tΓ_t⁻¹, Γ_t propagated here by
 /// Γ_{t+1} = FΓ_tFᵀ + V from Γ_1 = 0 and P_t from the textbook filter; from t = 2 (Γ_1 = 0).
 /// Both noise readings of the preset.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn recursion_38_equals_closed_form_41_robots() {
     for reading in [NoiseReading::Unscaled, NoiseReading::Literal] {
         let (spec, u) = presets::robot_model(reading);
@@ -425,11 +424,11 @@ fn recursion_38_equals_closed_form_41_robots() {
         }
     }
 }
+in_browser!(recursion_38_equals_closed_form_41_robots);
 
 /// The CLI's scalar numbers through the JSON path: a scenario parsed from text, with the data
 /// given explicitly, reports ratio → 0.9 and the SCF center = KF center / ratio.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn scalar_example_from_json() {
     let y: Vec<Vec<f64>> = (0..30).map(|k| vec![((k * 7) % 11) as f64 - 5.0]).collect();
     let text = serde_json::json!({
@@ -466,3 +465,4 @@ fn scalar_example_from_json() {
         ));
     }
 }
+in_browser!(scalar_example_from_json);

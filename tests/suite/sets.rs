@@ -18,7 +18,6 @@ fn ell(c: &[f64], cov: &[&[f64]], r2: f64) -> Ellipsoid {
 /// det Σ = 7. For d = (1, 1): dᵀΣ⁻¹d = (2 − 1 − 1 + 4)/7 = 4/7. Box half-widths √(3·4), √(3·2).
 /// Area π·r²·√det Σ = 3π√7.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn ellipse_2d_by_hand() {
     let e = ell(&[1.0, 2.0], &[&[4.0, 1.0], &[1.0, 2.0]], 3.0);
     assert_eq!(e.dim(), 2);
@@ -86,6 +85,7 @@ fn ellipse_2d_by_hand() {
     assert!(close(seg.volume(), 2.0 * (2.25f64 * 4.0).sqrt(), 1e-14));
     assert!(seg.contains(&[6.0]) && !seg.contains(&[6.0 + 1e-9]) && seg.contains(&[0.0]));
 }
+in_browser!(ellipse_2d_by_hand);
 
 /// 3-D: Σ = [[2, 1, 0], [1, 2, 0], [0, 0, 3]], det 9, r² = 2, c = (0, 1, −1).
 /// Volume (4/3)π r³ √det = (4/3)π·2√2·3 = 8√2π.
@@ -95,7 +95,6 @@ fn ellipse_2d_by_hand() {
 /// var 2 − 1/2 = 3/2, r² 2 − 1/2 = 3/2, i.e. x₀ ∈ [1/2 − 3/2, 1/2 + 3/2] = [−1, 2]; by hand from
 /// the quadratic: (2x² − 2x + 2)/3 = 2 ⇔ x² − x − 2 = 0 ⇔ x ∈ {−1, 2}.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn ellipsoid_3d_project_slice_by_hand() {
     let e = ell(
         &[0.0, 1.0, -1.0],
@@ -152,6 +151,7 @@ fn ellipsoid_3d_project_slice_by_hand() {
     }
     assert!(e.boundary_2d(10).is_err());
 }
+in_browser!(ellipsoid_3d_project_slice_by_hand);
 
 /// Points of a planar ellipse's boundary at angles θ: c + L(cos θ, sin θ), LLᵀ = S (S = r²Σ),
 /// L from a hand-written 2×2 Cholesky.
@@ -251,7 +251,6 @@ fn check_distance(a: &PlanarEllipse, b: &PlanarEllipse, k: usize, what: &str) {
 /// PlanarEllipse::distance against brute force on random pairs (overlapping, near, far,
 /// eccentric), plus hand cases.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn planar_distance_against_brute_force() {
     // Hand: two discs of radius 1 and 2 with centers 5 apart: 2. Nested: 0. Touching: 0.
     let disc = |c: [f64; 2], r: f64| PlanarEllipse {
@@ -302,13 +301,13 @@ fn planar_distance_against_brute_force() {
         "{disjoint}/{pairs} disjoint pairs"
     );
 }
+in_browser!(planar_distance_against_brute_force);
 
 /// Long thin ellipses side by side with a small gap: the directions that separate them form an
 /// arc narrower than a 5° grid. Two copies of the same ellipse translated across their long
 /// axis by `off` are off − 2·(short semi-axis) apart, whatever the rotation: semi-axes 10 and
 /// 0.1 shifted by 0.3 → 0.1; semi-axes 100 and 0.01 shifted by 0.021 → 0.001.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn planar_distance_thin_parallel_ellipses() {
     // (semi-axes², offset across, expected distance): 10 × 0.1 with gap 0.1, and 100 × 0.01
     // with gap 0.001 (separating directions within ≈ 1e-5 rad).
@@ -335,11 +334,11 @@ fn planar_distance_thin_parallel_ellipses() {
         }
     }
 }
+in_browser!(planar_distance_thin_parallel_ellipses);
 
 /// χ²(α, k): tables; the closed form for k = 2 (−2 ln(1 − α)); even k by the closed-form CDF
 /// 1 − e^{−x/2} Σ_{j<k/2} (x/2)^j / j! solved here by bisection; round trips; α ∉ (0, 1) rejected.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn chi2_quantiles() {
     let table = [
         (0.95, 1, 3.841_458_820_694_124),
@@ -411,3 +410,4 @@ fn chi2_quantiles() {
     let e = Ellipsoid::at_level(&DVector::zeros(2), &DMatrix::identity(2, 2), 0.95).unwrap();
     assert!(rel_close(e.radius2, -2.0 * 0.05f64.ln(), 1e-12));
 }
+in_browser!(chi2_quantiles);

@@ -4,12 +4,26 @@
 //! LSCR presets have no coverage block, so `lscr.rs` runs [`check_shards`] on them with one.
 
 use crate::registry::{first_difference, run_study, study_presets};
-use confset::scenario::Scenario;
+use confset::scenario::{Job, Scenario};
 use confset::study::{run_to_end, Study};
 use serde_json::Value;
 
 /// Runs of every sharded study here: small, and not a multiple of the SCF batch of 8.
 const RUNS: usize = 37;
+
+/// The work (the core's estimate, [`Job::Study`]) one preset's sharding check may spend on its
+/// runs. Each check runs its study seven times over (unsharded, twice chunked, 1 + 2 + 3 + 7
+/// shards); a compare run calls every method, 150 M estimated operations, about 70 ms
+/// natively, so its 37 runs cost 18 s natively and 40 s in a browser: the budget gives it 9.
+const CHECK_WORK: f64 = 1.5e9;
+
+/// Runs of the sharding check of `s`: [`RUNS`], fewer where one run is costly by the core's
+/// own estimate (no clock: the same count on every machine), never below 9 (7 shards each
+/// hold a run, not a multiple of 8).
+fn check_runs(s: &Scenario) -> usize {
+    let per_run = s.work(Job::Study { runs: Some(RUNS) }).total_operations();
+    ((CHECK_WORK / per_run.max(1.0)) as usize).clamp(9, RUNS)
+}
 
 /// A fresh study of `s` with `runs` runs.
 fn study(name: &str, s: &Scenario, runs: usize) -> Box<dyn Study> {
@@ -61,30 +75,30 @@ fn same(name: &str, what: &str, got: &Value, want: &Value) {
 /// Unsharded, sharded in 1, 2, 3 and 7 shards merged in shuffled order, and chunked with odd
 /// chunk sizes: all the same result, exactly.
 pub(crate) fn check_shards(name: &str, s: &Scenario) {
-    let want = run_study(name, s, RUNS, 1000);
+    let runs = check_runs(s);
+    let want = run_study(name, s, runs, 1000);
     for chunk in [3, 11] {
         same(
             name,
             &format!("chunks of {chunk}"),
-            &run_study(name, s, RUNS, chunk),
+            &run_study(name, s, runs, chunk),
             &want,
         );
     }
     for n in [1, 2, 3, 7] {
         let mut parts: Vec<Value> = (0..n)
-            .map(|i| shard_part(name, s, RUNS, (i, n), 3))
+            .map(|i| shard_part(name, s, runs, (i, n), 3))
             .collect();
         // Shuffled: reversed, then the last moved first.
         parts.reverse();
         parts.rotate_right(1);
         let got =
-            merged(name, s, RUNS, &parts).unwrap_or_else(|e| panic!("{name}: {n} shards: {e}"));
+            merged(name, s, runs, &parts).unwrap_or_else(|e| panic!("{name}: {n} shards: {e}"));
         same(name, &format!("{n} shards merged"), &got, &want);
     }
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn shards_merge_to_the_unsharded_result() {
     let studies = study_presets();
     assert!(!studies.is_empty(), "no preset has a study");
@@ -92,6 +106,7 @@ fn shards_merge_to_the_unsharded_result() {
         check_shards(name, s);
     }
 }
+in_browser!(shards_merge_to_the_unsharded_result);
 
 /// Every leaf `…seed` of the scenario JSON that holds `seed`, moved to seed + 1.
 pub(crate) fn with_other_seed(s: &Scenario, seed: u64) -> Scenario {
@@ -129,16 +144,16 @@ fn one_per_method() -> Vec<(String, Scenario)> {
 /// Overlapping, missing and foreign parts are refused, in words that name the problem; a merge
 /// replaces the counts (the page merges its workers' latest partials after every slice).
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn merge_refuses_overlapping_missing_and_foreign_parts() {
     let studies = one_per_method();
     assert!(!studies.is_empty(), "no preset has a study");
     for (name, s) in &studies {
-        let part = |i, n| shard_part(name, s, RUNS, (i, n), 7);
+        let runs = check_runs(s);
+        let part = |i, n| shard_part(name, s, runs, (i, n), 7);
         let (a, b, c) = (part(0, 3), part(1, 3), part(2, 3));
         let range = |p: &Value| format!("{}..{}", p["range"][0], p["range"][1]);
 
-        let e = merged(name, s, RUNS, &[a.clone(), b.clone(), c.clone(), b.clone()])
+        let e = merged(name, s, runs, &[a.clone(), b.clone(), c.clone(), b.clone()])
             .expect_err("overlap");
         let want = format!("part 4 covers runs {} which part 2 also covers", range(&b));
         assert!(e.contains(&want), "{name}: {e}\n(wanted: {want})");
@@ -146,7 +161,7 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
         let e = merged(
             name,
             s,
-            RUNS,
+            runs,
             &[a.clone(), b.clone(), c.clone(), part(0, 2)],
         )
         .expect_err("overlap");
@@ -155,9 +170,9 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
             "{name}: {e}"
         );
 
-        let e = merged(name, s, RUNS, &[c.clone(), a.clone()]).expect_err("missing");
+        let e = merged(name, s, runs, &[c.clone(), a.clone()]).expect_err("missing");
         assert_eq!(e, format!("runs {} are missing", range(&b)), "{name}");
-        let e = merged(name, s, RUNS, &[b.clone()]).expect_err("missing");
+        let e = merged(name, s, runs, &[b.clone()]).expect_err("missing");
         assert_eq!(
             e,
             format!("runs {} and {} are missing", range(&a), range(&c)),
@@ -166,8 +181,8 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
 
         let seed = a["seed"].as_u64().expect("seed");
         let other = with_other_seed(s, seed);
-        let foreign = shard_part(name, &other, RUNS, (1, 3), 7);
-        let e = merged(name, s, RUNS, &[a.clone(), foreign, c.clone()]).expect_err("seed");
+        let foreign = shard_part(name, &other, runs, (1, 3), 7);
+        let e = merged(name, s, runs, &[a.clone(), foreign, c.clone()]).expect_err("seed");
         let want = format!(
             "part 2 was drawn with seed {}, this study with seed {seed}",
             seed + 1
@@ -176,30 +191,30 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
 
         let mut other = s.clone();
         other.alpha = if s.alpha == 0.9 { 0.95 } else { 0.9 };
-        let foreign = shard_part(name, &other, RUNS, (1, 3), 7);
-        let e = merged(name, s, RUNS, &[a.clone(), foreign, c.clone()]).expect_err("scenario");
+        let foreign = shard_part(name, &other, runs, (1, 3), 7);
+        let e = merged(name, s, runs, &[a.clone(), foreign, c.clone()]).expect_err("scenario");
         assert!(
             e.contains("part 2 is of another scenario (digest "),
             "{name}: {e}"
         );
 
         let e =
-            merged(name, s, RUNS, &[shard_part(name, s, RUNS + 1, (0, 1), 50)]).expect_err("total");
+            merged(name, s, runs, &[shard_part(name, s, runs + 1, (0, 1), 50)]).expect_err("total");
         assert!(
             e.contains(&format!(
-                "part 1 is a shard of a study of {} runs, this study has {RUNS}",
-                RUNS + 1
+                "part 1 is a shard of a study of {} runs, this study has {runs}",
+                runs + 1
             )),
             "{name}: {e}"
         );
 
         let mut bent = b.clone();
         bent["range"][0] = Value::from(b["range"][0].as_u64().unwrap() + 1);
-        let e = merged(name, s, RUNS, &[a.clone(), bent, c.clone()]).expect_err("range");
+        let e = merged(name, s, runs, &[a.clone(), bent, c.clone()]).expect_err("range");
         assert!(e.contains("part 2 covers runs"), "{name}: {e}");
 
         // merge replaces: first a part, then all three, then one again.
-        let mut st = study(name, s, RUNS);
+        let mut st = study(name, s, runs);
         st.merge(std::slice::from_ref(&a)).expect("one part");
         let one = st.result().expect("result");
         assert_eq!(
@@ -215,21 +230,22 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
             name,
             "merged after a partial merge",
             &st.result().unwrap(),
-            &run_study(name, s, RUNS, 1000),
+            &run_study(name, s, runs, 1000),
         );
         st.merge(std::slice::from_ref(&a)).expect("one part again");
         same(name, "merged again", &st.result().unwrap(), &one);
         assert!(st.step(5).is_err(), "{name}: a merged study steps");
 
         // A shard is chosen before the first step.
-        let mut st = study(name, s, RUNS);
+        let mut st = study(name, s, runs);
         st.step(1).expect("step");
         let e = st.restrict(0, 2).expect_err("restrict after a step");
         assert_eq!(e.field, "shard", "{name}: {e}");
-        let e = study(name, s, RUNS).restrict(3, 3).expect_err("3/3");
+        let e = study(name, s, runs).restrict(3, 3).expect_err("3/3");
         assert!(e.message.contains("0 ≤ i < N"), "{name}: {e}");
     }
 }
+in_browser!(merge_refuses_overlapping_missing_and_foreign_parts);
 
 /// `confset experiment --shard i/3` three times, then `confset merge` of the parts (in
 /// another order, and on stdin), prints what plain `confset experiment` prints; bad merges exit

@@ -113,7 +113,6 @@ impl Boxy {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn interval_hull_and_polygon_match_vertex_enumeration() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut nonempty = 0;
@@ -208,6 +207,7 @@ fn interval_hull_and_polygon_match_vertex_enumeration() {
     }
     assert_eq!(nonempty, 12);
 }
+in_browser!(interval_hull_and_polygon_match_vertex_enumeration);
 
 /// An l1 measurement bound on m residuals.
 fn l1_set(rng: &mut ChaCha8Rng, n: usize, m: usize, form: L1Form) -> (FeasibleSet, DMatrix<f64>) {
@@ -243,7 +243,6 @@ fn l1_set(rng: &mut ChaCha8Rng, n: usize, m: usize, form: L1Form) -> (FeasibleSe
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn l1_enumerated_rows_and_lifted_lp_agree() {
     for seed in 0..8u64 {
         let m = 2 + seed as usize;
@@ -280,9 +279,9 @@ fn l1_enumerated_rows_and_lifted_lp_agree() {
         err.message
     );
 }
+in_browser!(l1_enumerated_rows_and_lifted_lp_agree);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let n = 3;
@@ -401,9 +400,9 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     assert_eq!(th2.case, HilbertCase::Between);
     assert!(th2.delta_in_k.is_infinite() && th2.estimate.is_none());
 }
+in_browser!(l2_bounds_give_the_ellipsoid_hull_and_theorem_1);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn theorem_2_linear_algorithm_attains_the_intrinsic_error() {
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     for case in 0..8 {
@@ -466,9 +465,9 @@ fn theorem_2_linear_algorithm_attains_the_intrinsic_error() {
     .unwrap_err();
     assert_eq!(err.field, "ubb.eps");
 }
+in_browser!(theorem_2_linear_algorithm_attains_the_intrinsic_error);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn theorems_4_and_5_bound_the_series_they_truncate() {
     let mut rng = ChaCha8Rng::seed_from_u64(8);
     for case in 0..10 {
@@ -543,9 +542,9 @@ fn theorems_4_and_5_bound_the_series_they_truncate() {
     assert_eq!(prep.smoothing.j, Some(29));
     assert_eq!(prep.problem.window, 30);
 }
+in_browser!(theorems_4_and_5_bound_the_series_they_truncate);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
     for kind in [
         UbbKind::Track,
@@ -634,6 +633,7 @@ fn state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4() {
         );
     }
 }
+in_browser!(state_map_reproduces_the_simulation_and_the_a_priori_set_obeys_theorem_4);
 
 /// The guarantee: in every run the true x(k+1) lies in the interval hull (and so in the
 /// polygon, which the hull's axis supports bound). Tolerance `TOL·(1 + |x|)` for the solver.
@@ -660,7 +660,6 @@ fn guarantee(norm: Norm, noise: NoiseMode, runs: usize, seed: u64) -> usize {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_true_state_never_leaves_the_set() {
     // 10,400 runs natively (1,040 in the browser, where the same code runs 10× fewer times).
     let scale = if cfg!(target_arch = "wasm32") { 10 } else { 1 };
@@ -686,9 +685,9 @@ fn the_true_state_never_leaves_the_set() {
         assert!(kf_out > 0, "the KF never missed in {runs} runs");
     }
 }
+in_browser!(the_true_state_never_leaves_the_set);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn presets_report_exact_polygons_and_hold_the_truth() {
     for kind in [
         UbbKind::Track,
@@ -755,9 +754,9 @@ fn presets_report_exact_polygons_and_hold_the_truth() {
     let y_next = later.y[26][0];
     assert!(later.at.prediction[0][0] <= y_next && y_next <= later.at.prediction[0][1]);
 }
+in_browser!(presets_report_exact_polygons_and_hold_the_truth);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn contradictory_data_and_bad_input_name_their_field() {
     // Bounds 10× below the simulated measurement noise: the data contradict them.
     let mut sc = presets::ubb_preset(UbbKind::Track);
@@ -822,9 +821,9 @@ fn contradictory_data_and_bad_input_name_their_field() {
     sc.method = confset::Method::Kf;
     assert_eq!(sc.run().unwrap_err().field, "ubb");
 }
+in_browser!(contradictory_data_and_bad_input_name_their_field);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn l2_and_l1_state_sets_are_consistent_with_linf() {
     // The stacked l1 and l2 balls lie inside the l∞ ball of the same radius (per sample), so
     // with the same data their sets are never larger than the l∞ one: hulls nest.
@@ -857,3 +856,4 @@ fn l2_and_l1_state_sets_are_consistent_with_linf() {
         );
     }
 }
+in_browser!(l2_and_l1_state_sets_are_consistent_with_linf);

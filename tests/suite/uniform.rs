@@ -121,7 +121,6 @@ fn direct_state_lp_objective(
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn noise_free_observable_states_are_recovered_and_the_layout_matches_4() {
     let th = observable();
     let zero2 = DVector::zeros(2);
@@ -174,9 +173,9 @@ fn noise_free_observable_states_are_recovered_and_the_layout_matches_4() {
         }
     }
 }
+in_browser!(noise_free_observable_states_are_recovered_and_the_layout_matches_4);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_papers_example_has_an_optimal_face_along_x1_minus_x2() {
     let (th, xr, yr) = paper();
     // C·A = 0.5·C: [C; CA] has rank 1.
@@ -234,9 +233,9 @@ fn the_papers_example_has_an_optimal_face_along_x1_minus_x2() {
         "the face is wide along an entry in only {wide} of 11 windows"
     );
 }
+in_browser!(the_papers_example_has_an_optimal_face_along_x1_minus_x2);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn parameter_lp_recovers_theta_and_pairs_half_widths_with_their_rows() {
     let th = observable();
     let prior_of = |th: &Theta, hw: f64| ThetaPrior {
@@ -309,9 +308,9 @@ fn parameter_lp_recovers_theta_and_pairs_half_widths_with_their_rows() {
         "swapped half-widths must violate rows of the first component"
     );
 }
+in_browser!(parameter_lp_recovers_theta_and_pairs_half_widths_with_their_rows);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_true_state_lies_in_the_consistent_polygon_every_time() {
     let (th, xr, yr) = paper();
     let p = prior(5.0, 1.0);
@@ -346,9 +345,9 @@ fn the_true_state_lies_in_the_consistent_polygon_every_time() {
     assert!(runs >= 1000);
     assert!(area_seen, "the polygons have area");
 }
+in_browser!(the_true_state_lies_in_the_consistent_polygon_every_time);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn tight_half_width_bounds_are_extended_and_reported() {
     let (th, xr, yr) = paper();
     let tr = simulate(&th, &xr, &yr, &DVector::zeros(2), 0.5, 30, 5);
@@ -364,13 +363,13 @@ fn tight_half_width_bounds_are_extended_and_reported() {
     );
     assert!(est.objective > 0.0);
 }
+in_browser!(tight_half_width_bounds_are_extended_and_reported);
 
 fn preset_json() -> Value {
     serde_json::to_value(presets::get("uniform-paper").unwrap()).unwrap()
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_preset_runs_swapping_and_the_known_theta_baseline() {
     let u = presets::get("uniform-paper")
         .unwrap()
@@ -451,9 +450,9 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
         .unwrap();
     assert!(e.rms_prediction.is_finite());
 }
+in_browser!(the_preset_runs_swapping_and_the_known_theta_baseline);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn bad_input_names_the_field() {
     let base = preset_json();
     let cases: Vec<(&str, Value)> = vec![
@@ -491,6 +490,7 @@ fn bad_input_names_the_field() {
         json!("swapping")
     );
 }
+in_browser!(bad_input_names_the_field);
 
 /// The state LP's set at fixed half-widths (lo = hi) as the solver's rows 𝒜X ≤ ℬ with the
 /// bounds as rows: an independent route to the polygon's set (the crate eliminates the
@@ -518,7 +518,6 @@ fn fixed_half_width_rows(
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_polygon_is_exact_its_vertices_feasible_and_its_support_that_of_the_lp() {
     use rand::{RngExt, SeedableRng};
     let (pth, xr, yr) = paper();
@@ -592,6 +591,7 @@ fn the_polygon_is_exact_its_vertices_feasible_and_its_support_that_of_the_lp() {
     }
     assert_eq!(directions_checked, 48);
 }
+in_browser!(the_polygon_is_exact_its_vertices_feasible_and_its_support_that_of_the_lp);
 
 /// The report fields that only a simulation may have.
 fn truth_fields(u: &Value) -> Vec<&'static str> {
@@ -624,7 +624,6 @@ fn close(a: &[f64], b: &[f64], what: &str) {
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn the_same_data_passed_as_data_give_the_same_estimates_and_no_truth() {
     for estimator in ["swapping", "states", "expansion"] {
         let mut s = preset_json();
@@ -696,9 +695,9 @@ fn the_same_data_passed_as_data_give_the_same_estimates_and_no_truth() {
         .unwrap_err();
     assert_eq!(e.field, "uniform.xr", "{e}");
 }
+in_browser!(the_same_data_passed_as_data_give_the_same_estimates_and_no_truth);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 fn a_scalar_state_runs_without_a_polygon() {
     let base = json!({
         "method": "uniform_lp",
@@ -751,6 +750,7 @@ fn a_scalar_state_runs_without_a_polygon() {
         .unwrap_err();
     assert_eq!(e.field, "uniform.plane", "{e}");
 }
+in_browser!(a_scalar_state_runs_without_a_polygon);
 
 /// Native timing of one uniform report and of the window's polygon (printed with
 /// `--nocapture`; the clock is read here, never in the core).

@@ -8,7 +8,6 @@
 use confset::web::{data_shape, method_panels, presets, with_csv_data, Cursor, Session, Study};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
-use wasm_bindgen_test::*;
 
 fn preset(name: &str) -> Value {
     let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
@@ -45,7 +44,6 @@ fn canvas(w: u32, h: u32) -> web_sys::HtmlCanvasElement {
     c
 }
 
-#[wasm_bindgen_test]
 fn presets_are_listed() {
     let list: Value = serde_json::from_str(&presets().expect("presets")).expect("JSON");
     let names: Vec<&str> = list
@@ -58,8 +56,8 @@ fn presets_are_listed() {
         assert!(names.contains(&n), "{n} missing from {names:?}");
     }
 }
+in_browser!(presets_are_listed);
 
-#[wasm_bindgen_test]
 fn session_runs_a_preset_and_keeps_it_on_error() {
     let mut s = Session::new();
     assert!(!s.has_report());
@@ -97,11 +95,11 @@ fn session_runs_a_preset_and_keeps_it_on_error() {
     let (_, field) = thrown(s.svg("{}", 0, 300).expect_err("zero width is refused"));
     assert_eq!(field, "size");
 }
+in_browser!(session_runs_a_preset_and_keeps_it_on_error);
 
 /// The page's compute worker runs a scenario and the main thread draws its report: a Session
 /// given the report's JSON (`setReport`) draws what the Session that ran it draws, for the first
 /// preset of every method; JSON that is not a report is a `report` error and the kept one stays.
-#[wasm_bindgen_test]
 fn a_report_set_from_json_draws_as_the_run_one() {
     let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
     let mut methods = Vec::new();
@@ -145,12 +143,12 @@ fn a_report_set_from_json_draws_as_the_run_one() {
     }
     assert!(methods.len() >= 5, "every method: {methods:?}");
 }
+in_browser!(a_report_set_from_json_draws_as_the_run_one);
 
 /// The worker's time cursor and the page's `setAt`: for the first preset of every method, a
 /// `Cursor` exists exactly when the report keeps an `at`; its detail at another step, set into
 /// the kept report, draws every figure as the report run at that step does; a detail of
 /// another shape is an `at` error and the kept report stays.
-#[wasm_bindgen_test]
 fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
     let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
     let mut with_cursor = 0;
@@ -220,8 +218,8 @@ fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
         "ubb, uniform_lp and compare have a cursor: {methods:?}"
     );
 }
+in_browser!(a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step);
 
-#[wasm_bindgen_test]
 fn session_draws_on_a_canvas_and_as_svg() {
     let mut s = Session::new();
     let robots = preset("scf-robots");
@@ -260,8 +258,8 @@ fn session_draws_on_a_canvas_and_as_svg() {
         );
     }
 }
+in_browser!(session_draws_on_a_canvas_and_as_svg);
 
-#[wasm_bindgen_test]
 fn experiment_runs_in_chunks() {
     let mut robots = preset("scf-robots");
     robots["experiment"]["runs"] = serde_json::json!(300);
@@ -290,12 +288,12 @@ fn experiment_runs_in_chunks() {
     );
     assert_eq!(field, "experiment", "{msg}");
 }
+in_browser!(experiment_runs_in_chunks);
 
 fn num(v: &Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
 }
 
-#[wasm_bindgen_test]
 fn lscr_session_runs_the_fig1_preset() {
     let mut s = Session::new();
     let report: Value = serde_json::from_str(
@@ -332,8 +330,8 @@ fn lscr_session_runs_the_fig1_preset() {
         }
     }
 }
+in_browser!(lscr_session_runs_the_fig1_preset);
 
-#[wasm_bindgen_test]
 fn lscr_raster_of_the_kept_region() {
     let mut s = Session::new();
     let (_, field) = thrown(s.raster(64, 48).expect_err("no report yet"));
@@ -381,8 +379,8 @@ fn lscr_raster_of_the_kept_region() {
         .any(|k| r[k] == 0 || r[99 * 100 + k] == 0 || r[k * 100] == 0 || r[k * 100 + 99] == 0);
     assert!(border, "the band crosses the window's border");
 }
+in_browser!(lscr_raster_of_the_kept_region);
 
-#[wasm_bindgen_test]
 fn lscr_experiment_steps_to_completion() {
     let mut sc = preset("lscr-predict");
     sc["simulate"]["condition"] = serde_json::json!({"t": 31, "x": [0.1, 0.2]});
@@ -473,8 +471,8 @@ fn lscr_experiment_steps_to_completion() {
     );
     assert_eq!(field, "simulate.condition.t", "{msg}");
 }
+in_browser!(lscr_experiment_steps_to_completion);
 
-#[wasm_bindgen_test]
 fn lscr_errors_name_the_field() {
     let mut s = Session::new();
     let good = preset("lscr-predict");
@@ -525,11 +523,11 @@ fn lscr_errors_name_the_field() {
     assert!(s.has_report(), "the last good report is kept");
     assert_eq!(s.raster(8, 8).expect("raster of the kept report").len(), 64);
 }
+in_browser!(lscr_errors_name_the_field);
 
 /// The LSCR issue's wasm speed figures, printed (not asserted: timings on a shared machine are
 /// no test). `wasm-pack test --headless --chrome --release -- --test suite -- --nocapture lscr_wasm`
 /// shows them.
-#[wasm_bindgen_test]
 fn lscr_wasm_timings() {
     use confset::lscr::{Construction, Estimator, LscrModel, Options, Target};
     let model = LscrModel::from_spec(&confset::presets::get("lscr-predict").expect("preset").model)
@@ -567,9 +565,9 @@ fn lscr_wasm_timings() {
     });
     wasm_bindgen_test::console_log!("[wasm timing] LSCR raster 512x512: {ms:.3} ms (mean of 50)");
 }
+in_browser!(lscr_wasm_timings);
 
 /// The GLLS issue's wasm speed figures, printed like the LSCR ones.
-#[wasm_bindgen_test]
 fn glls_wasm_timings() {
     use confset::glls::{Curves, GllsModel};
     use nalgebra::DMatrix;
@@ -608,9 +606,9 @@ fn glls_wasm_timings() {
         assert!(ms.is_finite());
     }
 }
+in_browser!(glls_wasm_timings);
 
 /// The uniform-innovation issue's wasm speed figures, printed like the others.
-#[wasm_bindgen_test]
 fn uniform_wasm_timings() {
     use confset::uniform::{estimate_states, simulate, StatePrior, Window};
     use nalgebra::DVector;
@@ -648,9 +646,9 @@ fn uniform_wasm_timings() {
     wasm_bindgen_test::console_log!("[wasm timing] uniform window LP (∂ = 5, 2 states): {window:.3} ms; uniform-paper report (120 samples, swapping, faces, polygon, KF): {run:.0} ms");
     assert_eq!(u.steps.len(), 120);
 }
+in_browser!(uniform_wasm_timings);
 
 /// The set-membership issue's wasm speed figures: one step of ubb-track (window 30).
-#[wasm_bindgen_test]
 fn ubb_wasm_timings() {
     let prep = confset::presets::get("ubb-track")
         .expect("preset")
@@ -687,9 +685,9 @@ fn ubb_wasm_timings() {
     wasm_bindgen_test::console_log!("[wasm timing] ubb step, window 30 ({} variables, {} rows): hull + exact polygon ({calls} LPs) {exact:.2} ms; support in 64 directions {fan:.2} ms; ubb-track report (60 steps) {report:.0} ms", size.variables, size.rows);
     assert!(exact.is_finite() && fan.is_finite());
 }
+in_browser!(ubb_wasm_timings);
 
 /// The set-membership guarantee in chunks: every run's truth inside the set, the counts merge.
-#[wasm_bindgen_test]
 fn ubb_guarantee_steps_to_completion() {
     let mut sc = preset("ubb-track");
     sc["ubb"]["window"] = serde_json::json!(8);
@@ -721,8 +719,8 @@ fn ubb_guarantee_steps_to_completion() {
         "{message}"
     );
 }
+in_browser!(ubb_guarantee_steps_to_completion);
 
-#[wasm_bindgen_test]
 fn csv_data_is_read_as_the_core_reads_it() {
     let scenario = preset("scf-scalar").to_string();
     let shape: Value = serde_json::from_str(&data_shape(&scenario).expect("shape")).expect("JSON");
@@ -742,11 +740,11 @@ fn csv_data_is_read_as_the_core_reads_it() {
     let (_, field) = thrown(data_shape("{}").expect_err("no scenario"));
     assert!(!field.is_empty(), "the error names a field");
 }
+in_browser!(csv_data_is_read_as_the_core_reads_it);
 
 /// The page's figure cards come from `methodPanels`: every figure of every method, named as the
 /// core names them, with a text alternative; `usefulPanels` is the core's choice for the kept
 /// report; an unknown method is a `method` error.
-#[wasm_bindgen_test]
 fn figure_lists_are_the_cores() {
     use confset::method::Method;
     use confset::plot;
@@ -773,11 +771,11 @@ fn figure_lists_are_the_cores() {
     let useful: Vec<String> = serde_json::from_str(&s.useful_panels()).expect("JSON");
     assert_eq!(useful, ["state", "series", "coverage"]);
 }
+in_browser!(figure_lists_are_the_cores);
 
 /// One `Study` per worker on its shard, the main thread's `Study` merging the latest partials
 /// after every slice (each merge replaces its counts): at the end, the unsharded result, the
 /// same JSON text. For the first preset of each method that has a study.
-#[wasm_bindgen_test]
 fn shards_in_workers_merge_on_the_main_thread() {
     let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
     let mut methods = Vec::new();
@@ -846,3 +844,4 @@ fn shards_in_workers_merge_on_the_main_thread() {
     }
     assert!(!methods.is_empty(), "no preset has a study");
 }
+in_browser!(shards_in_workers_merge_on_the_main_thread);

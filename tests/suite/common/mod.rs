@@ -138,3 +138,22 @@ pub fn assert_slice_rel(a: &[f64], b: &[f64], tol: f64, what: &str) {
         );
     }
 }
+
+/// One turn of the browser's event loop: a promise resolved by `setTimeout(0)`, so the tasks
+/// queued meanwhile (the test runner's WebDriver scripts) run before the caller goes on.
+#[cfg(target_arch = "wasm32")]
+pub async fn event_loop_turn() {
+    use wasm_bindgen::JsCast;
+    let turn = js_sys::Promise::new(&mut |resolve, _| {
+        let set_timeout: js_sys::Function =
+            js_sys::Reflect::get(&js_sys::global(), &"setTimeout".into())
+                .expect("setTimeout")
+                .unchecked_into();
+        set_timeout
+            .call2(&wasm_bindgen::JsValue::UNDEFINED, &resolve, &0.into())
+            .expect("setTimeout(resolve, 0)");
+    });
+    wasm_bindgen_futures::JsFuture::from(turn)
+        .await
+        .expect("a setTimeout promise resolves");
+}
