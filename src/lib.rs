@@ -19,6 +19,7 @@
 //! |---|---|
 //! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why; [`error::quoted`], the one way a message repeats a user's string (cut at [`error::ECHO_CHARS`]) |
 //! | [`method`] | the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`, and `compare`: all of them on one record), parsed once from the scenario; its names and its option block |
+//! | [`precision`] | where double precision stops resolving a method's sets: the one bound 0.8·√N·δ(Y)/σ·T on the probability that rounding flips a verdict (δ(Y) the spacing of doubles at the data's magnitude, σ the noise scale), checked by each method's scenario file before any work ([`precision::Resolution`]); refused past 10⁻⁴ naming the field |
 //! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
 //! | [`bench`](mod@bench) | the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo, LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and `.ci/bench`'s table beside NumPy |
 //! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on wasm32), merged |
@@ -261,6 +262,7 @@ pub mod lscr;
 pub mod method;
 pub mod model;
 pub mod plot;
+pub mod precision;
 pub mod presets;
 pub mod scenario;
 pub mod scf;

@@ -104,6 +104,23 @@ pub struct Problem {
     /// Second-order cones: each (G, g) asks that s = g − Gx has ‖(s₁, …, s_d)‖₂ ≤ s₀.
     pub soc: Vec<(DMatrix<f64>, DVector<f64>)>,
     pub blame: Blame,
+    /// Solve an LP (no `p`) in the unit of its right-hand sides: x = β x̃ with β the power of two
+    /// at or below the largest |b|, so that the solver's absolute tolerances (10⁻⁸) are
+    /// relative to the problem's own scale. The constraints are homogeneous in (x, b), so the
+    /// answer is the same in exact arithmetic, and β is a power of two, so b/β and β x̃ are
+    /// exact. Without it a set-membership hull scaled by 10⁻⁶ came back 6.3·10⁻⁵ off.
+    pub scale_to_rhs: bool,
+}
+
+/// The power of two at or below |v| (1 for 0, a subnormal or a non-finite v), read from the
+/// exponent bits so that native and wasm agree to the bit (no libm `log2`).
+pub fn power_of_two_below(v: f64) -> f64 {
+    let exponent = v.abs().to_bits() & 0x7ff0_0000_0000_0000;
+    if exponent == 0 || exponent == 0x7ff0_0000_0000_0000 {
+        1.0
+    } else {
+        f64::from_bits(exponent)
+    }
 }
 
 /// An optimal point.
@@ -148,6 +165,8 @@ pub struct Family {
     /// The smallest and largest nonzero |coefficient| of the loaded problem: the first thing
     /// to look at when the solver does not converge.
     span: (f64, f64),
+    /// β of [`Problem::scale_to_rhs`] (1 when not scaled).
+    unit: f64,
 }
 
 impl Family {
@@ -188,13 +207,23 @@ impl Family {
             };
             blocks.push((a, rhs, cone));
         }
+        let unit = if problem.scale_to_rhs && problem.p.is_none() {
+            power_of_two_below(
+                blocks
+                    .iter()
+                    .flat_map(|(_, rhs, _)| rhs.iter())
+                    .fold(0.0_f64, |m, v| m.max(v.abs())),
+            )
+        } else {
+            1.0
+        };
         let rows: usize = blocks.iter().map(|(a, _, _)| a.nrows()).sum();
         let mut a = DMatrix::zeros(rows, n);
         let mut b = Vec::with_capacity(rows);
         let mut at = 0;
         for (blk, rhs, _) in &blocks {
             a.view_mut((at, 0), (blk.nrows(), n)).copy_from(*blk);
-            b.extend(rhs.iter());
+            b.extend(rhs.iter().map(|v| v / unit));
             at += blk.nrows();
         }
         let cones: Vec<SupportedConeT<f64>> = blocks.into_iter().map(|(_, _, c)| c).collect();
@@ -209,9 +238,14 @@ impl Family {
             }
             None => CscMatrix::zeros((n, n)),
         };
-        // No presolve and no dropped zeros, so that `update_q` is allowed.
+        // No presolve and no dropped zeros, so that `update_q` is allowed. A problem in its own
+        // unit (`scale_to_rhs`) can ask for 10⁻¹⁰ of it: a hull to that relative accuracy.
+        let tolerance = if problem.scale_to_rhs { 1e-10 } else { 1e-8 };
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
+            .tol_gap_abs(tolerance)
+            .tol_gap_rel(tolerance)
+            .tol_feas(tolerance)
             .max_iter(MAX_ITERATIONS)
             .time_limit(TIME_LIMIT_SECONDS)
             .presolve_enable(false)
@@ -243,6 +277,7 @@ impl Family {
             blame: problem.blame.clone(),
             n,
             span,
+            unit,
         })
     }
 
@@ -338,8 +373,8 @@ impl Family {
             }
         };
         Ok(Some(Solution {
-            x: DVector::from_vec(sol.x.clone()),
-            objective: sol.obj_val,
+            x: DVector::from_vec(sol.x.clone()) * self.unit,
+            objective: sol.obj_val * self.unit,
             duals: DVector::from_vec(sol.z.clone()),
             iterations: sol.iterations,
             status,
@@ -371,12 +406,24 @@ pub fn linear(
         le,
         soc: Vec::new(),
         blame: blame.into(),
+        scale_to_rhs: false,
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn power_of_two_below_reads_the_exponent() {
+        assert_eq!(power_of_two_below(1.0), 1.0);
+        assert_eq!(power_of_two_below(-3.0), 2.0);
+        assert_eq!(power_of_two_below(1e-6), 2f64.powi(-20));
+        assert_eq!(power_of_two_below(1e15), 2f64.powi(49));
+        for v in [0.0, 5e-324, f64::INFINITY, f64::NAN] {
+            assert_eq!(power_of_two_below(v), 1.0, "{v}");
+        }
+    }
 
     #[test]
     fn qp_with_equality_matches_the_closed_form() {
@@ -393,6 +440,7 @@ mod tests {
             le: None,
             soc: Vec::new(),
             blame: "t".into(),
+            scale_to_rhs: false,
         })
         .unwrap();
         assert!(

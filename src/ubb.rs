@@ -328,6 +328,7 @@ impl FeasibleSet {
                 le,
                 soc,
                 blame: self.blame(),
+                scale_to_rhs: true,
             },
             size,
         ))
@@ -881,13 +882,22 @@ impl StateProblem {
             }
             if half.iter().all(|v| v.is_finite()) {
                 let map = state_map(s);
-                // |z_i| ≤ half_i as a unit l∞ ball with weights 1/half_i (half_i = 0 pins z_i).
+                // |z_i| ≤ half_i as an l∞ ball of radius h = max half_i with weights h/half_i
+                // (half_i = 0 pins z_i): the bound keeps the problem's unit, so scaling the
+                // data, ε, τ and δ by s scales every right-hand side by s (a unit ball here
+                // put 1 beside data of 10⁻⁶ and the LP's tolerances decided the hull).
+                let radius = half.amax();
+                let weights = if radius > 0.0 {
+                    half.map(|v| if v > 0.0 { radius / v } else { 1e12 })
+                } else {
+                    DVector::from_element(r, 1.0)
+                };
                 bounds.push(NormBound {
                     map,
                     center: DVector::zeros(r),
-                    weights: half.map(|v| if v > 0.0 { 1.0 / v } else { 1e12 }),
+                    weights,
                     norm: Norm::Linf,
-                    bound: 1.0,
+                    bound: radius,
                     field: "ubb.delta".into(),
                 });
             }

@@ -244,6 +244,7 @@ impl Lp {
             le: Some((a, b)),
             soc: Vec::new(),
             blame: blame.into(),
+            scale_to_rhs: false,
         }
     }
 }

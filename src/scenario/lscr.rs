@@ -303,6 +303,51 @@ fn simulate(
     Ok((y, traj.x[tau - 1].iter().copied().collect()))
 }
 
+/// LSCR's precision boundary ([`crate::precision`]): each of the M·n sign tests of (17) is a
+/// combination of the t Karhunen–Loève components s_k = u_kᵀ(y − Φx), whose noise standard
+/// deviations are √λ_k, λ_k = σ_v² D_k + σ_w² (Lemma 3.1). The data y (and the true state x̄ a
+/// study conditions on) set the magnitude; the smallest √λ_k of a noisy component sets the scale.
+fn lscr_resolution(
+    scenario: &Scenario,
+    estimator: &Estimator,
+    y: &[f64],
+    x_true: Option<&[f64]>,
+) -> Result<()> {
+    let lam = estimator
+        .problem
+        .noise_variances(estimator.model.sigma_v2, estimator.model.sigma_w2);
+    let top = lam.max();
+    let smallest = lam
+        .iter()
+        .copied()
+        .filter(|&v| v > 1e-12 * top)
+        .fold(f64::INFINITY, f64::min);
+    let data = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let truth = x_true.map_or(0.0, |x| x.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
+    let field = if scenario.data.is_some() {
+        "data.y"
+    } else if scenario
+        .simulate
+        .as_ref()
+        .is_some_and(|s| s.condition.is_some())
+    {
+        "simulate.condition.x"
+    } else {
+        "simulate.steps"
+    };
+    crate::precision::Resolution {
+        field,
+        what: "the data y",
+        magnitude: data.max(truth),
+        noise: smallest.sqrt(),
+        noise_name: "σ, the smallest noise standard deviation of a Karhunen–Loève component",
+        combined: y.len(),
+        tests: estimator.strings.m() * estimator.problem.n(),
+        method: "LSCR",
+    }
+    .check()
+}
+
 impl Scenario {
     /// Validate an LSCR scenario and produce its data.
     pub fn prepare_lscr(&self) -> Result<LscrPrepared> {
@@ -349,6 +394,7 @@ impl Scenario {
             }
         };
         let estimator = Estimator::new(&model, t, &options)?;
+        lscr_resolution(self, &estimator, &y, x_true.as_deref())?;
         for (k, p) in spec.probes.iter().enumerate() {
             linalg::vector(&format!("lscr.probes[{k}]"), p, n)?;
         }
@@ -578,10 +624,21 @@ impl LscrPrepared {
                 }
             }
         };
-        let area = loops
+        let area: f64 = loops
             .iter()
             .map(|l| crate::sets::sign_region::signed_area(&l.points))
             .sum();
+        // Outer loops run counter-clockwise and holes clockwise, so the sum is X̂'s area: a
+        // negative sum means rounding broke the loops, and is never shown as an area.
+        if area < 0.0 || !area.is_finite() {
+            return Err(Error::field(
+                "lscr.window",
+                format!(
+                    "holds a region whose boundary double precision cannot resolve (its loops sum to an area of {area:.3e}): \
+                     choose a window nearer the region or data nearer the origin"
+                ),
+            ));
+        }
         let raster = match self.spec.resolution {
             Some([w, h]) => Some(plane.raster(&window, w, h)?),
             None => None,

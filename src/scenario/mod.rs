@@ -309,19 +309,24 @@ pub const COUNT_KEYS: [&str; 22] = [
     "directions",
 ];
 
+/// Fields named like a count that hold a real number: Tempo's process-noise bound `ubb.tau`
+/// (the top-level `tau` is SCF's prediction steps).
+const REAL_VALUED_PATHS: [&str; 2] = ["ubb.tau", "ubb.sim_tau"];
+
 /// The first leaf of a JSON value (depth first) that `hit` picks, with its path: `hit` sees
-/// the leaf, the object key it stands under (for the entries of a list, the list's key) and
-/// whether it is an entry of a list. The one walker of the scenario and report checks.
+/// the leaf, the object key it stands under (for the entries of a list, the list's key),
+/// whether it is an entry of a list, and its path. The one walker of the scenario and report
+/// checks.
 pub(crate) fn first_leaf<T>(
     v: &serde_json::Value,
-    hit: &dyn Fn(&serde_json::Value, &str, bool) -> Option<T>,
+    hit: &dyn Fn(&serde_json::Value, &str, bool, &str) -> Option<T>,
 ) -> Option<(String, T)> {
     fn walk<T>(
         v: &serde_json::Value,
         key: &str,
         in_list: bool,
         path: &str,
-        hit: &dyn Fn(&serde_json::Value, &str, bool) -> Option<T>,
+        hit: &dyn Fn(&serde_json::Value, &str, bool, &str) -> Option<T>,
     ) -> Option<(String, T)> {
         use serde_json::Value;
         match v {
@@ -337,7 +342,7 @@ pub(crate) fn first_leaf<T>(
                 };
                 walk(x, k, false, &p, hit)
             }),
-            leaf => hit(leaf, key, in_list).map(|t| (path.to_string(), t)),
+            leaf => hit(leaf, key, in_list, path).map(|t| (path.to_string(), t)),
         }
     }
     walk(v, "", false, "", hit)
@@ -345,9 +350,10 @@ pub(crate) fn first_leaf<T>(
 
 /// The first size or count in `v` over [`MAX_COUNT`]: (path, value).
 fn oversized_count(v: &serde_json::Value) -> Option<(String, f64)> {
-    first_leaf(v, &|x, key, _| {
-        x.as_f64()
-            .filter(|&f| COUNT_KEYS.contains(&key) && f > MAX_COUNT as f64)
+    first_leaf(v, &|x, key, _, path| {
+        x.as_f64().filter(|&f| {
+            COUNT_KEYS.contains(&key) && !REAL_VALUED_PATHS.contains(&path) && f > MAX_COUNT as f64
+        })
     })
 }
 
@@ -361,7 +367,7 @@ pub const MIN_MAGNITUDE: f64 = 1e-100;
 
 /// The first number in `v` outside the magnitudes a scenario may hold: (path, value).
 fn out_of_range_number(v: &serde_json::Value) -> Option<(String, f64)> {
-    first_leaf(v, &|x, _, _| {
+    first_leaf(v, &|x, _, _, _| {
         x.as_f64()
             .filter(|f| f.abs() > MAX_MAGNITUDE || (*f != 0.0 && f.abs() < MIN_MAGNITUDE))
     })
@@ -821,7 +827,7 @@ impl Scenario {
 /// The path of the first null in a report's JSON that stands for a non-finite number (a null
 /// under a nullable key is an absent region; an entry of a list never is one).
 fn first_null(v: &serde_json::Value) -> Option<String> {
-    first_leaf(v, &|x, key, in_list| {
+    first_leaf(v, &|x, key, in_list, _| {
         (x.is_null() && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
             .then_some(())
     })

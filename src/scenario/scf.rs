@@ -159,6 +159,7 @@ impl Scenario {
                 "needs a stable time-invariant model with the stationary prior and no inputs",
             ));
         }
+        scf_resolution(self, &model, &y, x_true.as_deref())?;
         Ok(ScfPrepared {
             scenario: self.clone(),
             model,
@@ -168,6 +169,50 @@ impl Scenario {
             options,
         })
     }
+}
+
+/// SCF's and the Kalman filter's precision boundary ([`crate::precision`]): a region's verdict
+/// is one membership test of x − x̂_t, x̂_t a combination of every measurement so far, against
+/// an ellipsoid no thinner than the filtering covariance P_t (35c) (the SCF regions contain the
+/// Kalman one at the same level). So the noise scale is the smallest √λ_min(P_t).
+fn scf_resolution(
+    scenario: &Scenario,
+    model: &LinearModel,
+    y: &[DVector<f64>],
+    x_true: Option<&[DVector<f64>]>,
+) -> Result<()> {
+    let largest = |v: &[DVector<f64>]| {
+        v.iter()
+            .flat_map(|x| x.iter())
+            .fold(0.0_f64, |m, e| m.max(e.abs()))
+    };
+    let magnitude = largest(y).max(x_true.map_or(0.0, largest));
+    let gains = crate::kalman::KalmanGains::new(model, y.len())?;
+    let thinnest = gains
+        .steps
+        .iter()
+        .map(|g| linalg::min_eigenvalue(&g.p))
+        .fold(f64::INFINITY, f64::min);
+    let field = match &scenario.simulate {
+        None => "data.y",
+        Some(s) if s.condition.is_some() => "simulate.condition.x",
+        Some(_) => "simulate.steps",
+    };
+    crate::precision::Resolution {
+        field,
+        what: "the states and data",
+        magnitude,
+        noise: thinnest.max(0.0).sqrt(),
+        noise_name: "the thinnest filtering standard deviation √λ_min(P_t)",
+        combined: y.len() * model.q(),
+        tests: 1,
+        method: if scenario.method == Method::Kf {
+            "the Kalman filter"
+        } else {
+            "the SCF"
+        },
+    }
+    .check()
 }
 
 impl ScfPrepared {

@@ -466,6 +466,14 @@ impl Scenario {
             Source::Data(_) => Some(source.measurements(c[0].nrows())?),
             Source::Simulate(_) => None,
         };
+        ubb_resolution(
+            self,
+            &spec,
+            window,
+            x0.as_ref(),
+            &x0_center,
+            data.as_deref(),
+        )?;
         Ok(UbbPrepared {
             problem: StateProblem {
                 system: System { a, b, c, v },
@@ -492,6 +500,48 @@ impl Scenario {
             data,
         })
     }
+}
+
+/// Set-membership's precision boundary ([`crate::precision`]): each constraint of T(h) (3) is
+/// one datum y(t) against its bound ε, and the hull of a window combines its j + 1 steps' data.
+/// A bound below the spacing of the data leaves a strip a double cannot represent. The
+/// magnitude is the data's, or before a simulation the true x(0) and the centre of its box.
+fn ubb_resolution(
+    scenario: &Scenario,
+    spec: &UbbSpec,
+    window: usize,
+    x0: Option<&DVector<f64>>,
+    x0_center: &DVector<f64>,
+    data: Option<&[DVector<f64>]>,
+) -> Result<()> {
+    let data_magnitude = data.map_or(0.0, |d| {
+        d.iter()
+            .flat_map(|y| y.iter())
+            .fold(0.0_f64, |m, e| m.max(e.abs()))
+    });
+    let states = x0.map_or(0.0, |x| x.amax()).max(x0_center.amax());
+    let field = if data_magnitude >= states {
+        if scenario.data.is_some() {
+            "data.y"
+        } else {
+            "ubb.x0_center"
+        }
+    } else if x0.is_some_and(|x| x.amax() >= x0_center.amax()) {
+        "simulate.x0"
+    } else {
+        "ubb.x0_center"
+    };
+    crate::precision::Resolution {
+        field,
+        what: "the states and data",
+        magnitude: data_magnitude.max(states),
+        noise: spec.eps,
+        noise_name: "the noise bound ε (ubb.eps)",
+        combined: window.max(1),
+        tests: 1,
+        method: "the set-membership estimator",
+    }
+    .check()
 }
 
 /// The window j + 1 of Theorem 5 (58) for the truncation accuracy `ubb.gamma`, capped at

@@ -344,6 +344,14 @@ impl Scenario {
                 (data_trajectory(&source, m, r)?, None)
             }
         };
+        uniform_resolution(
+            self,
+            &traj,
+            truth
+                .as_ref()
+                .map_or((&xr_max, &yr_max), |t| (&t.xr, &t.yr)),
+            spec.window,
+        )?;
         // Θ's prior box: ±rel·|θ| around the model's Θ, then the overrides.
         let tv = theta.to_vec();
         let mut lo = tv.map(|v| v - spec.prior_rel * v.abs());
@@ -426,6 +434,47 @@ impl Scenario {
         let at = p.window_at(time)?;
         p.report(at)
     }
+}
+
+/// The uniform model's precision boundary ([`crate::precision`]): every constraint of the LP
+/// (6)–(10) is one datum against the half-width of a uniform innovation, |y − Cx − Du| ≤ yr and
+/// |x⁺ − Ax − Bu| ≤ xr, and a window combines (n + m) such data per step. The noise scale is the
+/// smallest half-width: the simulation's true xr, yr, or with data the bounds xr_max, yr_max.
+/// (The uniform density puts at most δ/ε of its mass within δ of a bound ε, below the Gaussian
+/// factor 0.8/σ the check uses.)
+fn uniform_resolution(
+    scenario: &Scenario,
+    traj: &uniform::Trajectory,
+    (xr, yr): (&DVector<f64>, &DVector<f64>),
+    window: usize,
+) -> Result<()> {
+    let largest = |v: &[DVector<f64>]| {
+        v.iter()
+            .flat_map(|x| x.iter())
+            .fold(0.0_f64, |m, e| m.max(e.abs()))
+    };
+    let magnitude = largest(&traj.x).max(largest(&traj.y)).max(largest(&traj.u));
+    let noise = xr
+        .iter()
+        .chain(yr.iter())
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let n_m = traj.x.first().map_or(0, |x| x.len()) + traj.y.first().map_or(0, |y| y.len());
+    crate::precision::Resolution {
+        field: if scenario.data.is_some() {
+            "data.y"
+        } else {
+            "model.x1_mean"
+        },
+        what: "the states and data",
+        magnitude,
+        noise,
+        noise_name: "the smallest innovation half-width",
+        combined: window.max(1) * n_m,
+        tests: 1,
+        method: "the uniform-innovation LP",
+    }
+    .check()
 }
 
 /// A validated uniform-innovation scenario ([`Scenario::prepare_uniform`]); after

@@ -771,11 +771,18 @@ fn clip_line(p: [f64; 2], dir: [f64; 2], lo: [f64; 2], hi: [f64; 2]) -> Option<(
 }
 
 /// Shoelace area, positive counter-clockwise.
+///
+/// The cross products are taken about the first vertex, not the origin: a small polygon far from
+/// the origin (a region around x̄ = 10⁶) would otherwise sum products of size |x̄|² that cancel
+/// to its area, losing its digits.
 pub fn signed_area(pts: &[[f64; 2]]) -> f64 {
-    let n = pts.len();
-    (0..n)
-        .map(|k| {
-            let (a, b) = (pts[k], pts[(k + 1) % n]);
+    let Some(&o) = pts.first() else { return 0.0 };
+    pts.windows(2)
+        .map(|w| {
+            let (a, b) = (
+                [w[0][0] - o[0], w[0][1] - o[1]],
+                [w[1][0] - o[0], w[1][1] - o[1]],
+            );
             a[0] * b[1] - b[0] * a[1]
         })
         .sum::<f64>()

@@ -158,6 +158,11 @@ export default async function lscr(env) {
       await set(page, 'l-fix', true);
       await bad('l-xbar', '0.1', 'simulate.condition.x', /^simulate\.condition\.x must have 2 entries/);
       await bad('l-xbar', 'a b', 'simulate.condition.x', /^simulate\.condition\.x must be numbers/);
+      // Issue 25: at x̄ = (1e15, 0) a double cannot represent the noise (spacing 0.125 > σ): refused
+      // with the reason beside the field, never a study of rounding with ✗ verdicts.
+      await bad('l-xbar', '1e15 0', 'simulate.condition.x', /^simulate\.condition\.x makes the data y as large as 1\.000e15: there the spacing of doubles is 1\.250e-1/);
+      await set(page, 'l-xbar', '1e6 0');
+      assert.equal(await text(page, '#lscr .err[data-for="simulate.condition.x"]'), '', 'x̄ = (1e6, 0) is resolved');
       await set(page, 'l-fix', false);
       assert.equal(await pixels(page), good, 'valid again: the same picture');
       assert.equal(await page.$eval('#l-stale', (e) => e.hidden), true);

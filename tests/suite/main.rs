@@ -44,6 +44,7 @@ mod gallery;
 mod glls;
 mod lscr;
 mod messages;
+mod precision;
 mod registry;
 mod scf_paper;
 mod sets;
