@@ -316,7 +316,12 @@ fn number(cell: &str, line: usize, column: Column) -> Result<f64> {
         return err("the cell is empty".into());
     }
     match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
+        // The one range of scenario numbers (`magnitude_problem`): 1e308 or 5e-324 in a CSV
+        // cell would break the same products and reciprocals as in `data.y`.
+        Ok(v) if v.is_finite() => match super::magnitude_problem(v) {
+            None => Ok(v),
+            Some(why) => err(format!("{} {why}", echo(cell))),
+        },
         Ok(v) if v.is_nan() || cell.to_lowercase().contains("inf") => err(format!(
             "{} is not a number (NaN and infinity are refused: JSON has neither, and the methods take finite data)",
             echo(cell)
