@@ -55,6 +55,35 @@ pub fn cut(s: &str, max: usize) -> String {
     }
 }
 
+/// Most characters of a user's text (a title, an axis name) that a figure shows: a title
+/// is one line above the plot, and laying out a pasted file there took minutes (issue 25).
+pub const DISPLAY_CHARS: usize = 200;
+
+/// A user's text as a figure shows it: control characters dropped (tabs and line breaks
+/// become spaces), since XML 1.0 forbids most of them and an SVG holding one is not
+/// well-formed; the noncharacters U+FFFE and U+FFFF likewise; then cut at [`DISPLAY_CHARS`]
+/// with "…". Every user text is made so before any layout ([`crate::scenario::FigureContext`]),
+/// so the cost of a figure never grows with the text given.
+pub fn displayed(s: &str) -> String {
+    let mut out = String::new();
+    let mut kept = 0;
+    for c in s.chars() {
+        let c = match c {
+            '\t' | '\n' | '\r' => ' ',
+            '\u{FFFE}' | '\u{FFFF}' => continue,
+            c if c.is_control() => continue,
+            c => c,
+        };
+        if kept == DISPLAY_CHARS {
+            out.push('…');
+            break;
+        }
+        out.push(c);
+        kept += 1;
+    }
+    out
+}
+
 /// A user's string in double quotes, cut at [`ECHO_CHARS`]: `"gls"`, `"aaaaaaaa…"`.
 pub fn quoted(s: &str) -> String {
     format!("\"{}\"", cut(s, ECHO_CHARS))
@@ -62,3 +91,25 @@ pub fn quoted(s: &str) -> String {
 
 /// Result with the crate's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn displayed_text_is_xml_safe_and_cut() {
+        assert_eq!(
+            displayed("a\u{0}b\u{7}c\td\ne\u{1b}[0m\u{FFFF}"),
+            "abc d e[0m"
+        );
+        let long = "x".repeat(1_000_000);
+        let d = displayed(&long);
+        assert_eq!(d.chars().count(), DISPLAY_CHARS + 1);
+        assert!(d.ends_with('…'));
+        // Exactly the limit is kept whole.
+        assert_eq!(
+            displayed(&"y".repeat(DISPLAY_CHARS)),
+            "y".repeat(DISPLAY_CHARS)
+        );
+    }
+}

@@ -407,18 +407,45 @@ pub fn report_png(report: &Report, view: &View, w: u32, h: u32, scale: f32) -> R
     svg_to_png(&report_svg(report, view, w, h)?, scale)
 }
 
-/// Rasterize an SVG made by this module (see [`report_png`]).
+/// Most pixels of a PNG: 8192 × 8192 (256 MiB of RGBA while it is drawn). Each of size and
+/// scale is bounded on its own (16 … 8192 pixels a side, scale 0.25 … 8), but together they
+/// asked the allocator for 17 GB and aborted; this bounds their product, before any pixel is
+/// allocated.
+pub const MAX_PNG_PIXELS: u64 = 8192 * 8192;
+
+/// Whether a `w`×`h` figure at `scale` fits [`MAX_PNG_PIXELS`]: `Err` names `scale` and says
+/// the pixels asked and the limit in words.
+pub fn check_png_pixels(w: u32, h: u32, scale: f32) -> Result<()> {
+    if !(scale.is_finite() && (0.25..=8.0).contains(&scale)) {
+        return Err(Error::field("scale", "must be a number from 0.25 to 8"));
+    }
+    let side = |p: u32| (f64::from(p) * f64::from(scale)).ceil();
+    let (pw, ph) = (side(w), side(h));
+    if pw * ph > MAX_PNG_PIXELS as f64 {
+        return Err(Error::field(
+            "scale",
+            format!(
+                "is {scale} with a figure of {w} × {h} pixels: the PNG would have {pw} × {ph} = {:.3e} pixels, and a PNG has at most {MAX_PNG_PIXELS} (8192 × 8192, 256 MB while drawn)",
+                pw * ph
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Rasterize an SVG made by this module (see [`report_png`]); its size times `scale` is held
+/// to [`MAX_PNG_PIXELS`] before the pixels are allocated.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn svg_to_png(svg: &str, scale: f32) -> Result<Vec<u8>> {
     use resvg::{tiny_skia, usvg};
     let fail = |what: &str| Error::field("figure", format!("could not be rasterized: {what}"));
-    if !(scale.is_finite() && (0.25..=8.0).contains(&scale)) {
-        return Err(Error::field("scale", "must be a number from 0.25 to 8"));
-    }
+    check_png_pixels(1, 1, scale)?;
     let mut options = usvg::Options::default();
     options.fontdb_mut().load_font_data(FONT.to_vec());
     options.fontdb_mut().set_sans_serif_family("DejaVu Sans");
     let tree = usvg::Tree::from_str(svg, &options).map_err(|e| fail(&e.to_string()))?;
+    let drawn = tree.size().to_int_size();
+    check_png_pixels(drawn.width(), drawn.height(), scale)?;
     let size = tree
         .size()
         .to_int_size()

@@ -744,8 +744,10 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
             o.insert(k.clone(), x.clone());
         }
     }
+    // The title as its figures would show it (cut at `error::DISPLAY_CHARS`): each derived
+    // scenario keeps a copy, and a long title must not be copied six times into the report.
     if let Some(title) = &s.title {
-        v["title"] = serde_json::Value::String(format!("{title} — {m}"));
+        v["title"] = serde_json::Value::String(format!("{} — {m}", crate::error::displayed(title)));
     }
     super::parse::from_value(&v, "")
 }

@@ -316,7 +316,12 @@ fn number(cell: &str, line: usize, column: Column) -> Result<f64> {
         return err("the cell is empty".into());
     }
     match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
+        // The one range of scenario numbers (`magnitude_problem`): 1e308 or 5e-324 in a CSV
+        // cell would break the same products and reciprocals as in `data.y`.
+        Ok(v) if v.is_finite() => match super::magnitude_problem(v) {
+            None => Ok(v),
+            Some(why) => err(format!("{} {why}", echo(cell))),
+        },
         Ok(v) if v.is_nan() || cell.to_lowercase().contains("inf") => err(format!(
             "{} is not a number (NaN and infinity are refused: JSON has neither, and the methods take finite data)",
             echo(cell)
@@ -497,8 +502,9 @@ mod tests {
             ok("1\n2\n-3.5\n", 1, 0),
             data(&[&[1.0], &[2.0], &[-3.5]], &[])
         );
-        // Large numbers are read (the methods decide later).
-        assert_eq!(ok("1e308\n", 1, 0), data(&[&[1e308]], &[]));
+        // Numbers have the range of JSON's (`magnitude_problem`): 1e100 is read, 1e308 is not.
+        assert_eq!(ok("1e100\n", 1, 0), data(&[&[1e100]], &[]));
+        assert_eq!(err("1e308\n", 1, 0).field, "data.y");
     }
 
     #[cfg_attr(not(target_arch = "wasm32"), test)]

@@ -866,8 +866,8 @@ const BYTES_T2: f64 = 48.0;
 /// The LSCR costs: t³ for the Karhunen–Loève basis, M·t·n² for the region's functions, (nM)²
 /// line pairs (times log₂ nM) for the boundary and the fitted window, pixels and pixel rows ×
 /// lines for the raster, and per coverage run t² + M·t·(n + 1). Bytes: t² of the basis, M·t
-/// string bits (the 0/1 matrix and the strings' text), the region's M·n·(n + 1) numbers and
-/// the raster's pixels.
+/// string bits (the 0/1 matrix and the strings' text), the region's M·n·(n + 1) numbers, the
+/// raster's pixels and the probes' points and memberships.
 fn work(s: &Scenario, job: Job) -> Work {
     let n = shape(&s.model.f).0.max(1);
     let t = s.written_steps();
@@ -999,6 +999,17 @@ fn work(s: &Scenario, job: Job) -> Work {
             format!("({} points) with {lines} lines", spec.probes.len()),
             "probes · lines · n: the membership of every probe",
             f(spec.probes.len()) * lines * f(n),
+        )
+        .advice("fewer probes"),
+    );
+    // Each probe is written back with its point and one membership flag per group (n + 1
+    // groups at most): its bytes count toward the report's like the region's numbers.
+    w.mem(
+        Term::new(
+            "lscr.probes",
+            format!("({} points) with n = {n} states", spec.probes.len()),
+            "probes · (2n + 2): each probe's point and memberships in the report",
+            f(spec.probes.len()) * f(2 * n + 2) * BYTES_NUMBER,
         )
         .advice("fewer probes"),
     );

@@ -241,9 +241,12 @@ impl FigureContext {
             }
             None => Vec::new(),
         };
+        // The one place user text enters a figure: cut and made XML-safe here, before any
+        // layout (a 10⁶-character title took minutes to lay out in a PNG; a NUL in it made
+        // the SVG ill-formed).
         FigureContext {
-            title: s.title.clone(),
-            names,
+            title: s.title.as_deref().map(crate::error::displayed),
+            names: names.iter().map(|n| crate::error::displayed(n)).collect(),
             measured: direct_measurements(&s.model),
             collision: s.collision.clone(),
         }
@@ -365,14 +368,6 @@ pub const MAX_MAGNITUDE: f64 = 1e100;
 /// like 1e-300 would make reciprocals and condition numbers overflow).
 pub const MIN_MAGNITUDE: f64 = 1e-100;
 
-/// The first number in `v` outside the magnitudes a scenario may hold: (path, value).
-fn out_of_range_number(v: &serde_json::Value) -> Option<(String, f64)> {
-    first_leaf(v, &|x, _, _, _| {
-        x.as_f64()
-            .filter(|f| f.abs() > MAX_MAGNITUDE || (*f != 0.0 && f.abs() < MIN_MAGNITUDE))
-    })
-}
-
 /// Most rows or columns of any model matrix (states, outputs, inputs, noise inputs): the
 /// work budget of a report (≤ 2 s natively) at the methods' step limits. Each method may
 /// hold its state dimension lower (its `steps` and messages say so).
@@ -392,9 +387,72 @@ fn oversized_model_matrix(v: &serde_json::Value) -> Option<(String, usize, usize
     })
 }
 
-/// Sizes and magnitudes, checked on the JSON before it is read into a scenario: a count of
-/// 10⁹ or a number of 1e308 is refused here, whatever field it is in.
+/// Most bytes of a scenario's JSON text: the largest preset is about 30 kB, and 20 MB holds
+/// far more data than any method's step limit takes (`data.y` of 10,000 steps of 100 outputs
+/// at 20 characters a number). Checked before the text is parsed; the command line reads at
+/// most this many bytes of a file.
+pub const MAX_SCENARIO_BYTES: usize = 20_000_000;
+
+/// Most characters of any text field (`title`, `notes`, a name): a figure shows at most
+/// [`crate::error::DISPLAY_CHARS`] of a text, and a longer one only costs memory and
+/// copies (a 30 MB title made a compare report of 220 MB).
+pub const MAX_TEXT_CHARS: usize = 10_000;
+
+/// The lists whose length no other limit bounds, with their most entries: each entry is one
+/// small piece of work and of report, so only their number is at stake (10⁶ probes took 3.4 s
+/// and 1.09 GB; 10⁶ overrides 2.6 s and 1 GB).
+pub const LIST_LIMITS: [(&str, usize); 2] =
+    [("lscr.probes", 10_000), ("uniform.prior_overrides", 10_000)];
+
+/// The first text over [`MAX_TEXT_CHARS`]: (path, characters).
+fn overlong_text(v: &serde_json::Value) -> Option<(String, usize)> {
+    first_leaf(v, &|x, _, _, _| {
+        // Bytes bound characters from above: count only a text that may be too long.
+        x.as_str()
+            .filter(|t| t.len() > MAX_TEXT_CHARS)
+            .map(|t| t.chars().count())
+            .filter(|&c| c > MAX_TEXT_CHARS)
+    })
+}
+
+/// The first list of [`LIST_LIMITS`] over its limit: (path, entries, limit).
+fn overlong_list(v: &serde_json::Value) -> Option<(&'static str, usize, usize)> {
+    LIST_LIMITS.iter().find_map(|&(path, limit)| {
+        let pointer = format!("/{}", path.replace('.', "/"));
+        let len = v.pointer(&pointer)?.as_array()?.len();
+        (len > limit).then_some((path, len, limit))
+    })
+}
+
+/// Why a number may not stand in a scenario or its data, in words (`None` when it may): the
+/// one range of JSON numbers and CSV cells alike.
+pub fn magnitude_problem(x: f64) -> Option<String> {
+    (!x.is_finite() || x.abs() > MAX_MAGNITUDE || (x != 0.0 && x.abs() < MIN_MAGNITUDE)).then(|| {
+        format!(
+            "is {x:e}: every number in a scenario is 0 or between {MIN_MAGNITUDE:e} and {MAX_MAGNITUDE:e} in magnitude, so that products and reciprocals stay within double precision"
+        )
+    })
+}
+
+/// Sizes, lengths and magnitudes, checked on the JSON before it is read into a scenario: a
+/// count of 10⁹, a list of 10⁶ probes, a text of 10⁶ characters or a number of 1e308 is
+/// refused here, whatever field it is in.
 fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
+    if let Some((field, chars)) = overlong_text(v) {
+        return Err(Error::field(
+            field,
+            format!(
+                "has {chars} characters: a text field holds at most {MAX_TEXT_CHARS} (a figure shows the first {})",
+                crate::error::DISPLAY_CHARS
+            ),
+        ));
+    }
+    if let Some((field, len, limit)) = overlong_list(v) {
+        return Err(Error::field(
+            field,
+            format!("has {len} entries: at most {limit} are taken"),
+        ));
+    }
     if let Some((field, rows, cols)) = oversized_model_matrix(v) {
         return Err(Error::field(
             field,
@@ -411,13 +469,10 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
             ),
         ));
     }
-    if let Some((field, x)) = out_of_range_number(v) {
-        return Err(Error::field(
-            field,
-            format!(
-                "is {x:e}: every number in a scenario is 0 or between {MIN_MAGNITUDE:e} and {MAX_MAGNITUDE:e} in magnitude, so that products and reciprocals stay within double precision"
-            ),
-        ));
+    if let Some((field, message)) =
+        first_leaf(v, &|x, _, _, _| x.as_f64().and_then(magnitude_problem))
+    {
+        return Err(Error::field(field, message));
     }
     Ok(())
 }
@@ -426,6 +481,15 @@ impl Scenario {
     /// Parse JSON; an error names the JSON path of the offending value and says, in JSON
     /// words, what belongs there ([`parse`]).
     pub fn from_json(text: &str) -> Result<Self> {
+        if text.len() > MAX_SCENARIO_BYTES {
+            return Err(Error::field(
+                "",
+                format!(
+                    "the scenario is {} bytes: a scenario file holds at most {MAX_SCENARIO_BYTES} bytes (20 MB)",
+                    text.len()
+                ),
+            ));
+        }
         let v = parse::read_json(text, "")?;
         // Sizes and magnitudes first: a count of 10⁹ or a number of 1e308 is refused before
         // any field is read, whatever field it is in.
@@ -754,6 +818,26 @@ impl Scenario {
                     self.method,
                     range.start(),
                     range.end()
+                ),
+            ));
+        }
+        // Inputs past the last time a run uses would be read, kept and silently ignored (10⁶
+        // rows of `simulate.u` cost a second and a gigabyte for nothing): one row per step,
+        // up to the simulated or measured end (or the conditioning time, if later) and τ
+        // predicted steps beyond it; fewer rows hold the last one.
+        let (u_field, u_rows) = source.input_rows();
+        let end = match source {
+            Source::Simulate(sim) => steps.max(sim.condition.as_ref().map_or(0, |c| c.t)),
+            Source::Data(_) => steps,
+        };
+        let used = end.saturating_add(self.tau);
+        if u_rows.len() > used {
+            return Err(Error::field(
+                u_field,
+                format!(
+                    "has {} rows, but the run uses u_1 … u_{used} (one row per step{}; fewer rows hold the last one): give at most {used} rows",
+                    u_rows.len(),
+                    if self.tau > 0 { ", and one per predicted step of tau" } else { "" }
                 ),
             ));
         }

@@ -42,6 +42,7 @@ mod determinism;
 mod fuzz;
 mod gallery;
 mod glls;
+mod limits_io;
 mod lscr;
 mod messages;
 mod precision;

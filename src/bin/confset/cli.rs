@@ -6,7 +6,8 @@
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use confset::method::Method;
 use confset::plot::{self, Panel, View, Zoom};
-use confset::scenario::Scenario;
+use confset::scenario::csv::MAX_CSV_BYTES;
+use confset::scenario::{budget, Scenario, MAX_SCENARIO_BYTES};
 use confset::{presets, study, Error};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Read};
@@ -295,21 +296,71 @@ pub fn main() -> ExitCode {
     }
 }
 
-fn read_text(path: &str, what: &str) -> Result<String, Error> {
-    if path == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|e| Error::field("", format!("cannot read {what} on standard input: {e}")))?;
-        return Ok(text);
+/// Most bytes of a `merge` part, derived from what a part can hold: the scenario (at most
+/// [`MAX_SCENARIO_BYTES`] as given, at most twice that as written back: `1` becomes `1.0`)
+/// and the study's partial counts, whose per-run numbers (the GLLS errors) the work budget
+/// holds to [`budget::MAX_BYTES`] at 8 bytes each, written as at most 25 characters each
+/// (`-2.2250738585072014e-308,`), with 1 MB for the rest: about 666 MB.
+const MAX_PART_BYTES: usize =
+    (budget::MAX_BYTES as usize / 8) * 25 + 2 * MAX_SCENARIO_BYTES + 1_000_000;
+
+/// An input's text, read through one bounded reader: at most `limit` bytes of `path` (`-`:
+/// standard input) are read, and one byte more means the input is refused, naming `field`, the
+/// file and the limit. `/dev/zero` given as a scenario was read until memory ran out.
+fn read_bounded(path: &str, limit: usize, what: &str, field: &str) -> Result<String, Error> {
+    let name = if path == "-" {
+        "standard input".to_string()
+    } else {
+        path.to_string()
+    };
+    let fail = |e: std::io::Error| Error::field(field, format!("cannot read {what} {name}: {e}"));
+    let too_large = || {
+        Error::field(
+            field,
+            format!(
+                "{what} {name} is larger than {limit} bytes ({} MB), the most {what} may hold",
+                limit / 1_000_000
+            ),
+        )
+    };
+    // A file that says it is too large is refused unread; devices and pipes (`/dev/zero`)
+    // say nothing, so every read stops one byte past the limit.
+    if path != "-" && std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.len() > limit as u64) {
+        return Err(too_large());
     }
-    std::fs::read_to_string(path).map_err(|e| Error::field("", format!("cannot read {path}: {e}")))
+    let mut bytes = Vec::new();
+    if path == "-" {
+        std::io::stdin()
+            .lock()
+            .take(limit as u64 + 1)
+            .read_to_end(&mut bytes)
+    } else {
+        std::fs::File::open(path)
+            .map_err(fail)?
+            .take(limit as u64 + 1)
+            .read_to_end(&mut bytes)
+    }
+    .map_err(fail)?;
+    if bytes.len() > limit {
+        return Err(too_large());
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        Error::field(
+            field,
+            format!(
+                "{what} {name} is not UTF-8 text (byte {} is not)",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
 }
 
 fn scenario(input: &Input) -> Result<Scenario, Error> {
     match (&input.preset, &input.scenario) {
         (Some(name), _) => presets::get(name),
-        (None, Some(path)) => Scenario::from_json(&read_text(path, "the scenario")?),
+        (None, Some(path)) => {
+            Scenario::from_json(&read_bounded(path, MAX_SCENARIO_BYTES, "the scenario", "")?)
+        }
         // clap requires one of the two.
         (None, None) => Err(Error::field(
             "",
@@ -326,8 +377,7 @@ fn scenario_with_data(input: &Input, data: &DataArg) -> Result<Scenario, Error> 
         return Ok(s);
     };
     let path = path.display().to_string();
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| Error::field("--data", format!("cannot read {path}: {e}")))?;
+    let text = read_bounded(&path, MAX_CSV_BYTES, "the CSV data", "--data")?;
     s.with_csv_data(&text).map_err(|e| {
         // Name the file, so "data.y row 7, …" points into it (a model error is the scenario's).
         if e.field.starts_with("data") {
@@ -337,9 +387,6 @@ fn scenario_with_data(input: &Input, data: &DataArg) -> Result<Scenario, Error> 
         }
     })
 }
-
-/// Runs per chunk of a study on the command line.
-const CHUNK: usize = 1000;
 
 /// A progress bar on standard error when it is a terminal; hidden otherwise (pipes, CI logs).
 fn progress_bar(total: usize) -> ProgressBar {
@@ -353,6 +400,19 @@ fn progress_bar(total: usize) -> ProgressBar {
         bar.set_style(style.progress_chars("=> "));
     }
     bar
+}
+
+/// A whole study on every core with its progress bar: the one runner of `experiment` and
+/// `compare`. Chunks of [`study::progress_chunk`] runs, so the bar moves about every 0.5 %
+/// of the runs, whatever their number.
+fn run_study(s: &Scenario, runs: Option<usize>) -> Result<serde_json::Value, Error> {
+    let total = s.study(runs)?.total();
+    let bar = progress_bar(total);
+    let result = study::run_sharded(&|| s.study(runs), study::progress_chunk(total), &|k| {
+        bar.inc(k as u64)
+    });
+    bar.finish_and_clear();
+    result
 }
 
 /// What `experiment --shard i/N` prints and `merge` reads: the scenario with its digest, the
@@ -380,9 +440,9 @@ fn merge(paths: &[String]) -> Result<serde_json::Value, Error> {
     let mut texts = Vec::new();
     for path in paths {
         if path == "-" {
-            let mut text = String::new();
-            std::io::Read::read_to_string(&mut std::io::stdin(), &mut text)
-                .map_err(|e| Error::field("", format!("cannot read the parts on stdin: {e}")))?;
+            // All parts on standard input together are held to one part's limit (the runs'
+            // numbers split between the shards); larger parts go as files.
+            let text = read_bounded(path, MAX_PART_BYTES, "the parts' text on", "")?;
             for (k, v) in serde_json::Deserializer::from_str(&text)
                 .into_iter::<serde_json::Value>()
                 .enumerate()
@@ -393,8 +453,7 @@ fn merge(paths: &[String]) -> Result<serde_json::Value, Error> {
                 texts.push((format!("stdin document {}", k + 1), v.to_string()));
             }
         } else {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| Error::field("", format!("cannot read {path}: {e}")))?;
+            let text = read_bounded(path, MAX_PART_BYTES, "the part", "")?;
             texts.push((path.clone(), text));
         }
     }
@@ -495,18 +554,13 @@ fn run(command: Command) -> Result<(), Error> {
         } => {
             let s = scenario(&input)?;
             match shard {
-                None => {
-                    let bar = progress_bar(s.study(runs)?.total());
-                    let result =
-                        study::run_sharded(&|| s.study(runs), CHUNK, &|k| bar.inc(k as u64));
-                    bar.finish_and_clear();
-                    emit(out.as_ref(), &json(&result?)?)
-                }
+                None => emit(out.as_ref(), &json(&run_study(&s, runs)?)?),
                 Some((i, n)) => {
                     let mut st = s.study(runs)?;
                     st.restrict(i, n)?;
                     let bar = progress_bar(st.range().len());
-                    let result = study::run_to_end(st.as_mut(), CHUNK, |done, _| {
+                    let chunk = study::progress_chunk(st.range().len());
+                    let result = study::run_to_end(st.as_mut(), chunk, |done, _| {
                         bar.set_position(done as u64)
                     });
                     bar.finish_and_clear();
@@ -544,13 +598,7 @@ fn run(command: Command) -> Result<(), Error> {
             confset::scenario::compare::set_clock(seconds_since_start);
             let report = s.run()?;
             let study = match (&s.compare, no_study) {
-                (Some(c), false) if c.study.is_some() => {
-                    let bar = progress_bar(s.study(runs)?.total());
-                    let result =
-                        study::run_sharded(&|| s.study(runs), CHUNK, &|k| bar.inc(k as u64));
-                    bar.finish_and_clear();
-                    Some(result?)
-                }
+                (Some(c), false) if c.study.is_some() => Some(run_study(&s, runs)?),
                 _ => None,
             };
             let mut v = serde_json::Map::new();
@@ -569,6 +617,22 @@ fn run(command: Command) -> Result<(), Error> {
             view,
             size,
         } => {
+            let png = out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            // The PNG's pixels (size × scale) are checked before the scenario is even read.
+            if png {
+                let (w, h) = size.size;
+                plot::check_png_pixels(w, h, scale).map_err(|e| {
+                    Error::field(
+                        "--scale",
+                        format!(
+                            "{} (--size {w}x{h}): give a smaller --scale or --size",
+                            e.message
+                        ),
+                    )
+                })?;
+            }
             let s = scenario_with_data(&input, &data)?;
             // A panel of another method is refused before the report is computed.
             let panel = view.panel.as_deref().map(Panel::from_name).transpose()?;
@@ -612,9 +676,6 @@ fn run(command: Command) -> Result<(), Error> {
                     e
                 }
             })?;
-            let png = out
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
             let bytes = if png {
                 plot::svg_to_png(&svg, scale)?
             } else {
