@@ -8,7 +8,8 @@
 //!     [--from N] [--minutes M] [--kinds lscr,csv,merge,…] [--replay FILE]
 //! ```
 //!
-//! Case i is a pure function of i and the kinds selected (kind = kinds[i mod #kinds], its
+//! Case i is a pure function of i and the kinds selected (the kinds in turn, `cli` in one
+//! round of four: `cases::kind_of`; its
 //! mutation drawn from a seed of (kind, i)), so a run is resumable with `--from` and any case
 //! is replayed from its reproducer. A supervisor (`supervisor.rs`) runs the cases in one
 //! long-lived worker process (this binary with `--worker`, `worker.rs`: in-process calls as the
@@ -87,7 +88,10 @@ impl Args {
     fn confset(&self) -> PathBuf {
         self.confset.clone().unwrap_or_else(|| {
             let exe = std::env::current_exe().expect("the campaign's own path");
-            let dir = exe.parent().and_then(|d| d.parent()).expect("target/<profile>");
+            let dir = exe
+                .parent()
+                .and_then(|d| d.parent())
+                .expect("target/<profile>");
             dir.join("confset")
         })
     }
@@ -98,7 +102,10 @@ fn main() -> std::process::ExitCode {
     let args = Args::parse();
     for k in &args.kinds {
         if !cases::KINDS.contains(&k.as_str()) {
-            eprintln!("--kinds: unknown kind {k:?} (kinds: {})", cases::KINDS.join(", "));
+            eprintln!(
+                "--kinds: unknown kind {k:?} (kinds: {})",
+                cases::KINDS.join(", ")
+            );
             return std::process::ExitCode::from(2);
         }
     }

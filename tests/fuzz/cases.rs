@@ -118,7 +118,10 @@ impl Bases {
         let all = match cached {
             Some((v, all)) if v == version => all,
             _ => {
-                eprintln!("campaign: lightening the presets (once; cached in {})", file.display());
+                eprintln!(
+                    "campaign: lightening the presets (once; cached in {})",
+                    file.display()
+                );
                 let all: Vec<Base> = presets::all()
                     .into_iter()
                     .map(|p| {
@@ -145,7 +148,10 @@ impl Bases {
 
     /// The genuine partials of shards 0 … n − 1 of base `b`'s light study of `runs` runs.
     fn parts(&mut self, b: usize, runs: usize, n: usize) -> Vec<Value> {
-        self.shards(b, runs, n).into_iter().map(|(p, _)| p).collect()
+        self.shards(b, runs, n)
+            .into_iter()
+            .map(|(p, _)| p)
+            .collect()
     }
 
     fn shards(&mut self, b: usize, runs: usize, n: usize) -> Vec<(Value, [usize; 2])> {
@@ -184,49 +190,62 @@ impl Bases {
     }
 }
 
-/// The base with every whole number of 8 or more that sizes the work (steps, runs, grid …)
-/// cut to an eighth, one field at a time, kept where the core's work estimate falls and the
-/// scenario still runs: the same code paths in a fraction of the time. Deterministic (the
+/// The base with every whole number of 4 or more that sizes the work (steps, runs, grid …)
+/// cut to an eighth, a quarter or a half, one field at a time, kept where the core's work
+/// estimate falls and the scenario still runs: the same code paths in a fraction of the time. Deterministic (the
 /// estimate, not the clock, decides).
 fn lighten(full: &Value) -> Value {
     let work = |v: &Value| -> Option<f64> {
         let s = Scenario::from_json(&v.to_string()).ok()?;
         Some(s.work(Work::Report).total_operations())
     };
-    let runs = |v: &Value| Scenario::from_json(&v.to_string()).and_then(|s| s.run()).is_ok();
+    let runs = |v: &Value| {
+        Scenario::from_json(&v.to_string())
+            .and_then(|s| s.run())
+            .is_ok()
+    };
     let mut light = full.clone();
     let Some(mut best) = work(&light) else {
         return light;
     };
-    for (path, v) in nodes(full) {
-        let Some(n) = v.as_u64().filter(|&n| n >= 8) else {
-            continue;
-        };
-        let mut trial = light.clone();
-        *crate::mutate::at(&mut trial, &path) = json!((n / 8).max(2));
-        match work(&trial) {
-            Some(w) if w < 0.9 * best && runs(&trial) => {
-                best = w;
-                light = trial;
+    // Two passes: a field bound by another (a time within the steps) is cut once the other is.
+    for _ in 0..2 {
+        for (path, v) in nodes(&light.clone()) {
+            let Some(n) = v.as_u64().filter(|&n| n >= 4) else {
+                continue;
+            };
+            for cut in [n / 8, n / 4, n / 2] {
+                let mut trial = light.clone();
+                *crate::mutate::at(&mut trial, &path) = json!(cut.max(2));
+                match work(&trial) {
+                    Some(w) if w < 0.9 * best && runs(&trial) => {
+                        best = w;
+                        light = trial;
+                        break;
+                    }
+                    _ => {}
+                }
             }
-            _ => {}
         }
     }
-    // Studies of the light base: a handful of runs.
     light
 }
 
 /// The seed of case `index` of `kind`: the campaign's own (issue 25), the kind, the index.
 fn rng_of(kind: &str, index: u64) -> ChaCha8Rng {
-    let h = kind
-        .bytes()
-        .fold(0xca3a_1e5e_ed00_0025_u64, |h, b| h.rotate_left(9) ^ u64::from(b));
+    let h = kind.bytes().fold(0xca3a_1e5e_ed00_0025_u64, |h, b| {
+        h.rotate_left(9) ^ u64::from(b)
+    });
     ChaCha8Rng::seed_from_u64(h ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15))
 }
 
-/// The kind of case `index` when `kinds` are run: in turn.
+/// The kind of case `index` when `kinds` are run: in turn, four rounds at a time, with the
+/// binary (a process per case, ~45 ms) in one round of the four.
 pub fn kind_of(kinds: &[String], index: u64) -> &str {
-    &kinds[(index % kinds.len() as u64) as usize]
+    let cycle: Vec<&String> = (0..4)
+        .flat_map(|round| kinds.iter().filter(move |k| round == 0 || *k != "cli"))
+        .collect();
+    cycle[(index % cycle.len() as u64) as usize]
 }
 
 /// Case `index` of `kind`.
@@ -251,16 +270,31 @@ pub fn make(bases: &mut Bases, kind: &str, index: u64) -> Case {
 
 /// Base indices matching `keep`.
 fn indices(bases: &Bases, keep: impl Fn(&Base) -> bool) -> Vec<usize> {
-    (0..bases.all.len()).filter(|&i| keep(&bases.all[i])).collect()
+    (0..bases.all.len())
+        .filter(|&i| keep(&bases.all[i]))
+        .collect()
 }
 
 /// A base (light fifteen times in sixteen), mutated one to three times: its text and what was
 /// done.
-fn mutated(bases: &Bases, b: usize, method: Option<&str>, rng: &mut ChaCha8Rng) -> (String, String) {
+fn mutated(
+    bases: &Bases,
+    b: usize,
+    method: Option<&str>,
+    rng: &mut ChaCha8Rng,
+) -> (String, String) {
     let base = &bases.all[b];
     let full = rng.random_ratio(1, 16);
-    let mut v = if full { base.full.clone() } else { base.light.clone() };
-    let mut what = vec![format!("{}{}", base.name, if full { "" } else { " (light)" })];
+    let mut v = if full {
+        base.full.clone()
+    } else {
+        base.light.clone()
+    };
+    let mut what = vec![format!(
+        "{}{}",
+        base.name,
+        if full { "" } else { " (light)" }
+    )];
     if let Some(m) = method {
         if base.method != m {
             v["method"] = json!(m);
@@ -287,11 +321,14 @@ fn run(bases: &mut Bases, method: &str, rng: &mut ChaCha8Rng) -> (String, Job) {
         csv_data: None,
         figure,
     };
-    (format!("{what}{}", if figure { ", figure" } else { "" }), job)
+    (
+        format!("{what}{}", if figure { ", figure" } else { "" }),
+        job,
+    )
 }
 
 /// Run counts at the edges of the SCF batch of 8 and of the shards.
-const RUN_COUNTS: [usize; 9] = [0, 1, 2, 3, 7, 8, 9, 37, 1_000_000_000];
+const RUN_COUNTS: [usize; 9] = [0, 1, 2, 3, 7, 8, 9, 17, 1_000_000_000];
 
 /// A mutated preset's study, with an edge run count or its own.
 fn study(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
@@ -310,8 +347,18 @@ fn study(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
 /// Shard (i, N) at the edges for a study of `runs` runs.
 fn edge_shard(runs: usize, rng: &mut ChaCha8Rng) -> (usize, usize) {
     let n = pick(rng, &[0, 1, 2, 3, 7, 8, runs, runs + 1, usize::MAX]).expect("counts");
-    let i = pick(rng, &[0, 1, n.saturating_sub(1), n, n.saturating_add(1), usize::MAX])
-        .expect("indices");
+    let i = pick(
+        rng,
+        &[
+            0,
+            1,
+            n.saturating_sub(1),
+            n,
+            n.saturating_add(1),
+            usize::MAX,
+        ],
+    )
+    .expect("indices");
     (i, n)
 }
 
@@ -332,19 +379,31 @@ fn shard(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
         return (format!("{name} (light), {runs} runs, shard {i}/{n}"), job);
     }
     let n = rng.random_range(1..=9.min(runs.max(1)));
-    let mut parts: Vec<String> = bases.parts(b, runs, n).iter().map(Value::to_string).collect();
+    let mut parts: Vec<String> = bases
+        .parts(b, runs, n)
+        .iter()
+        .map(Value::to_string)
+        .collect();
     parts.rotate_left(rng.random_range(0..n));
     let job = Job::Merge {
         scenario,
         runs: Some(runs),
         parts,
     };
-    (format!("{name} (light), {runs} runs, its {n} shards merged, rotated"), job)
+    (
+        format!("{name} (light), {runs} runs, its {n} shards merged, rotated"),
+        job,
+    )
 }
 
 /// The genuine parts of a light study, one tampered with (or dropped, repeated, inflated,
 /// foreign).
-fn tampered_parts(bases: &mut Bases, b: usize, runs: usize, rng: &mut ChaCha8Rng) -> (Vec<Value>, String) {
+fn tampered_parts(
+    bases: &mut Bases,
+    b: usize,
+    runs: usize,
+    rng: &mut ChaCha8Rng,
+) -> (Vec<Value>, String) {
     let n = rng.random_range(1..=4.min(runs));
     let mut parts = bases.parts(b, runs, n);
     let k = rng.random_range(0..n);
@@ -371,7 +430,10 @@ fn tampered_parts(bases: &mut Bases, b: usize, runs: usize, rng: &mut ChaCha8Rng
             // A count at 2⁶⁴ − 1 in every part: the sum wraps unless checked.
             let mut at = String::new();
             for part in parts.iter_mut() {
-                let ns: Vec<_> = nodes(part).into_iter().filter(|(_, v)| v.is_u64()).collect();
+                let ns: Vec<_> = nodes(part)
+                    .into_iter()
+                    .filter(|(_, v)| v.is_u64())
+                    .collect();
                 if let Some((p, _)) = ns.last() {
                     *crate::mutate::at(part, p) = json!(u64::MAX);
                     at = path_text(p);
@@ -406,7 +468,10 @@ fn merge(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
         runs: Some(runs),
         parts: parts.iter().map(Value::to_string).collect(),
     };
-    (format!("{} (light), {runs} runs, {what}", bases.all[b].name), job)
+    (
+        format!("{} (light), {runs} runs, {what}", bases.all[b].name),
+        job,
+    )
 }
 
 /// CSV data for a preset (mutated now and then), itself mutated (`csv_mutate`).
@@ -415,7 +480,10 @@ fn csv(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
     let (scenario, what) = if rng.random_ratio(1, 4) {
         mutated(bases, b, None, rng)
     } else {
-        (bases.all[b].light.to_string(), format!("{} (light)", bases.all[b].name))
+        (
+            bases.all[b].light.to_string(),
+            format!("{} (light)", bases.all[b].name),
+        )
     };
     let (text, did) = csv_text(&scenario, rng);
     let job = Job::Run {
@@ -429,7 +497,10 @@ fn csv(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
 /// CSV text of the shape the scenario reads (2 × 1 if it has none), mutated.
 fn csv_text(scenario: &str, rng: &mut ChaCha8Rng) -> (String, String) {
     let s = Scenario::from_json(scenario).ok();
-    let (q, r) = s.as_ref().and_then(|s| s.data_shape().ok()).unwrap_or((2, 1));
+    let (q, r) = s
+        .as_ref()
+        .and_then(|s| s.data_shape().ok())
+        .unwrap_or((2, 1));
     let steps = s.map_or(20, |s| s.simulate.as_ref().map_or(20, |m| m.steps.min(400)));
     csv_mutate::mutated(q, r, steps, rng)
 }
@@ -474,8 +545,18 @@ fn file(name: &str, text: String) -> File {
 
 /// `--shard` values at the edges, as text (clap reads them).
 const SHARD_TEXTS: [&str; 12] = [
-    "0/1", "0/0", "1/1", "3/2", "-1/2", "1/18446744073709551616", "18446744073709551615/18446744073709551615",
-    "a/b", "1/2/3", "1", "6/7", " 0/2",
+    "0/1",
+    "0/0",
+    "1/1",
+    "3/2",
+    "-1/2",
+    "1/18446744073709551616",
+    "18446744073709551615/18446744073709551615",
+    "a/b",
+    "1/2/3",
+    "1",
+    "6/7",
+    " 0/2",
 ];
 
 /// The real binary: run (JSON, CSV, with --data), figure (SVG or PNG, sizes and scales at
@@ -496,16 +577,39 @@ fn cli(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
         1 => {
             let (text, did) = csv_text(&scenario, rng);
             (
-                vec!["run".into(), sc, "--data".into(), "{dir}/data.csv".into(), "--format".into(), "csv".into()],
+                vec![
+                    "run".into(),
+                    sc,
+                    "--data".into(),
+                    "{dir}/data.csv".into(),
+                    "--format".into(),
+                    "csv".into(),
+                ],
                 vec![file("scenario.json", scenario), file("data.csv", text)],
                 format!("run --data with CSV {did}"),
             )
         }
         2 | 3 => {
             let png = rng.random_ratio(1, 3);
-            let size = pick(rng, &["960x640", "1x1", "64x48", "4000x100", "8192x8192", "100x8192"]).expect("sizes");
+            let size = pick(
+                rng,
+                &[
+                    "960x640",
+                    "1x1",
+                    "64x48",
+                    "4000x100",
+                    "8192x8192",
+                    "100x8192",
+                ],
+            )
+            .expect("sizes");
             let scale = pick(rng, &["2", "0.25", "1", "8", "4"]).expect("scales");
-            let mut args = vec!["figure".into(), sc, "-o".into(), format!("{{dir}}/f.{}", if png { "png" } else { "svg" })];
+            let mut args = vec![
+                "figure".into(),
+                sc,
+                "-o".into(),
+                format!("{{dir}}/f.{}", if png { "png" } else { "svg" }),
+            ];
             args.extend(["--size".into(), size.to_string()]);
             if png {
                 args.extend(["--scale".into(), scale.to_string()]);
@@ -519,13 +623,24 @@ fn cli(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
                 args.extend(["--zoom".into(), z.into()]);
             }
             let did = args[3..].join(" ").replace("{dir}/", "");
-            (args, vec![file("scenario.json", scenario)], format!("figure {did}"))
+            (
+                args,
+                vec![file("scenario.json", scenario)],
+                format!("figure {did}"),
+            )
         }
         4 => {
             let shard = pick(rng, &SHARD_TEXTS).expect("shards");
             let runs = pick(rng, &["1", "8", "9", "37", "0"]).expect("runs");
             (
-                vec!["experiment".into(), sc, "--runs".into(), runs.into(), "--shard".into(), shard.into()],
+                vec![
+                    "experiment".into(),
+                    sc,
+                    "--runs".into(),
+                    runs.into(),
+                    "--shard".into(),
+                    shard.into(),
+                ],
                 vec![file("scenario.json", scenario)],
                 format!("experiment --runs {runs} --shard {shard:?}"),
             )
@@ -542,9 +657,16 @@ fn cli(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
             let names: Vec<String> = (0..n).map(|i| format!("part-{i}.json")).collect();
             let mut args = vec!["merge".to_string()];
             args.extend(names.iter().map(|n| format!("{{dir}}/{n}")));
-            let files = names.iter().zip(&parts).map(|(n, p)| file(n, p.to_string())).collect();
+            let files = names
+                .iter()
+                .zip(&parts)
+                .map(|(n, p)| file(n, p.to_string()))
+                .collect();
             return (
-                format!("{} (light), {runs} runs: merge of {n} part files, part {k} with {did}", bases.all[s].name),
+                format!(
+                    "{} (light), {runs} runs: merge of {n} part files, part {k} with {did}",
+                    bases.all[s].name
+                ),
                 Job::Cli { args, files },
             );
         }
@@ -556,22 +678,38 @@ fn cli(bases: &mut Bases, rng: &mut ChaCha8Rng) -> (String, Job) {
             if rng.random::<bool>() {
                 args.push("--no-study".into());
             } else {
-                args.extend(["--runs".into(), pick(rng, &["1", "3", "9"]).expect("runs").into()]);
+                args.extend([
+                    "--runs".into(),
+                    pick(rng, &["1", "3", "9"]).expect("runs").into(),
+                ]);
             }
             let did = args[2..].join(" ");
-            return (format!("{what}: compare {did}"), Job::Cli { args, files: vec![file("scenario.json", scenario)] });
+            return (
+                format!("{what}: compare {did}"),
+                Job::Cli {
+                    args,
+                    files: vec![file("scenario.json", scenario)],
+                },
+            );
         }
         _ => {
             let (text, g) = csv_mutate::garbage(&scenario, rng);
             let raw = rng.random_ratio(1, 4);
             let (args, name): (Vec<String>, &str) = match rng.random_range(0..3u32) {
                 0 => (vec!["run".into(), "{dir}/g".into()], "g"),
-                1 => (vec!["run".into(), sc, "--data".into(), "{dir}/g".into()], "g"),
+                1 => (
+                    vec!["run".into(), sc, "--data".into(), "{dir}/g".into()],
+                    "g",
+                ),
                 _ => (vec!["merge".into(), "{dir}/g".into()], "g"),
             };
             let mut files = vec![file("scenario.json", scenario), file(name, text)];
             files[1].raw = raw;
-            let did = format!("{} with a garbage file ({g}{})", args[0], if raw { ", raw bytes" } else { "" });
+            let did = format!(
+                "{} with a garbage file ({g}{})",
+                args[0],
+                if raw { ", raw bytes" } else { "" }
+            );
             (args, files, did)
         }
     };

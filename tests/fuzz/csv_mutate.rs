@@ -9,8 +9,8 @@ use rand_chacha::ChaCha8Rng;
 /// Cells put in place of a number: what JSON `data.y` refuses or what f64 cannot hold, and
 /// words.
 const CELLS: [&str; 22] = [
-    "1e308", "-1e308", "5e-324", "1e-101", "1e101", "1e999", "-1e999", "nan", "NaN", "inf",
-    "-inf", "infinity", "", " ", "0x10", "1,5", "１", "1e", "--1", "+1", "0.5.5", "\"1\"",
+    "1e308", "-1e308", "5e-324", "1e-101", "1e101", "1e999", "-1e999", "nan", "NaN", "inf", "-inf",
+    "infinity", "", " ", "0x10", "1,5", "１", "1e", "--1", "+1", "0.5.5", "\"1\"",
 ];
 
 /// A CSV file of `steps` rows of q outputs then r inputs (header now and then, a delimiter of
@@ -57,13 +57,18 @@ pub fn mutated(q: usize, r: usize, steps: usize, rng: &mut ChaCha8Rng) -> (Strin
         }
         _ => {}
     }
-    (text, format!("{delimiter:?}-delimited, {}", what.join(", ")))
+    (
+        text,
+        format!("{delimiter:?}-delimited, {}", what.join(", ")),
+    )
 }
 
 /// One mutation of the rows; what it did.
 fn mutate_rows(rows: &mut Vec<Vec<String>>, columns: usize, rng: &mut ChaCha8Rng) -> String {
-    let n = rows.len();
-    let i = rng.random_range(0..n);
+    if rows.is_empty() {
+        rows.push(vec!["0".into(); columns]);
+    }
+    let i = rng.random_range(0..rows.len());
     match rng.random_range(0..10u32) {
         0..=3 => {
             let j = rng.random_range(0..rows[i].len().max(1));
@@ -125,7 +130,10 @@ pub fn garbage(base: &str, rng: &mut ChaCha8Rng) -> (String, String) {
             while !base.is_char_boundary(cut) {
                 cut -= 1;
             }
-            (base[..cut].to_string(), format!("the base cut at byte {cut}"))
+            (
+                base[..cut].to_string(),
+                format!("the base cut at byte {cut}"),
+            )
         }
         2 => {
             let mut bytes = base.as_bytes().to_vec();
@@ -138,26 +146,58 @@ pub fn garbage(base: &str, rng: &mut ChaCha8Rng) -> (String, String) {
         }
         3 => {
             let d = pick(rng, &[100usize, 129, 10_000, 1_000_000]).expect("depths");
-            (format!("{}{}", "[".repeat(d), "]".repeat(d)), format!("{d} nested lists"))
+            (
+                format!("{}{}", "[".repeat(d), "]".repeat(d)),
+                format!("{d} nested lists"),
+            )
         }
         4 => {
-            let n = pick(rng, &["1e999", "-1e400", "1e-400", "123456789012345678901234567890", "-0", "NaN"])
-                .expect("numbers");
-            (format!("{{\"method\": \"scf\", \"alpha\": {n}}}"), format!("alpha {n}"))
+            let n = pick(
+                rng,
+                &[
+                    "1e999",
+                    "-1e400",
+                    "1e-400",
+                    "123456789012345678901234567890",
+                    "-0",
+                    "NaN",
+                ],
+            )
+            .expect("numbers");
+            (
+                format!("{{\"method\": \"scf\", \"alpha\": {n}}}"),
+                format!("alpha {n}"),
+            )
         }
         5 => {
             let text = base.replacen('{', "{\"method\": \"kf\", ", 1);
             (text, "the method key given twice".into())
         }
         6 => {
-            let t = pick(rng, &["", " ", "\n", "null", "[]", "{}", "0", "\"scf\"", "\u{feff}"]).expect("texts");
+            let t = pick(
+                rng,
+                &[
+                    "", " ", "\n", "null", "[]", "{}", "0", "\"scf\"", "\u{feff}",
+                ],
+            )
+            .expect("texts");
             (t.to_string(), format!("the text {t:?}"))
         }
         7 => {
             let n = pick(rng, &[1000usize, 100_000, 3_000_000]).expect("lengths");
-            let text = base.replacen('{', &format!("{{\"title\": \"{}\", ", "ä\\u0000<".repeat(n / 8)), 1);
-            (text, format!("a title of about {n} characters with NUL and <"))
+            let text = base.replacen(
+                '{',
+                &format!("{{\"title\": \"{}\", ", "ä\\u0000<".repeat(n / 8)),
+                1,
+            );
+            (
+                text,
+                format!("a title of about {n} characters with NUL and <"),
+            )
         }
-        _ => (format!("{{\"a\":{}}}", "1,".repeat(10_000)), "a list of 10,000 commas".into()),
+        _ => (
+            format!("{{\"a\":{}}}", "1,".repeat(10_000)),
+            "a list of 10,000 commas".into(),
+        ),
     }
 }

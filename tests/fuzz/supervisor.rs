@@ -20,7 +20,13 @@ struct Worker {
 fn start(args: &Args, from: u64, to: u64) -> Worker {
     let exe = std::env::current_exe().expect("the campaign's own path");
     let mut child = Command::new(exe)
-        .args(["--worker", "--from", &from.to_string(), "--cases", &(to - from).to_string()])
+        .args([
+            "--worker",
+            "--from",
+            &from.to_string(),
+            "--cases",
+            &(to - from).to_string(),
+        ])
         .args(["--kinds", &args.kinds.join(",")])
         .arg("--out")
         .arg(&args.out)
@@ -34,7 +40,10 @@ fn start(args: &Args, from: u64, to: u64) -> Worker {
     let stdout = child.stdout.take().expect("the worker's stdout");
     let (send, lines) = channel();
     std::thread::spawn(move || {
-        for line in std::io::BufReader::new(stdout).lines().map_while(Result::ok) {
+        for line in std::io::BufReader::new(stdout)
+            .lines()
+            .map_while(Result::ok)
+        {
             if send.send(line).is_err() {
                 break;
             }
@@ -55,7 +64,9 @@ pub fn main(args: &Args) -> ExitCode {
     // here to write its reproducer.
     let mut bases = Bases::load(&args.out);
     let started = Instant::now();
-    let deadline = args.minutes.map(|m| started + Duration::from_secs_f64(m * 60.0));
+    let deadline = args
+        .minutes
+        .map(|m| started + Duration::from_secs_f64(m * 60.0));
     let limit = Duration::from_secs(args.case_seconds);
     let end = args.from + args.cases;
     let mut tally = Tally::default();
@@ -74,7 +85,11 @@ pub fn main(args: &Args) -> ExitCode {
         let charge = match worker.lines.recv_timeout(limit.min(Duration::from_secs(1))) {
             Ok(line) => {
                 let mut w = line.split_whitespace();
-                match (w.next(), w.next().and_then(|i| i.parse::<u64>().ok()), w.next()) {
+                match (
+                    w.next(),
+                    w.next().and_then(|i| i.parse::<u64>().ok()),
+                    w.next(),
+                ) {
                     (Some("start"), Some(i), _) => {
                         in_flight = Some(i);
                         case_start = Instant::now();
@@ -83,7 +98,8 @@ pub fn main(args: &Args) -> ExitCode {
                     }
                     (Some("end"), Some(i), Some(class)) => {
                         let class = Class::from_name(class).unwrap_or(Class::BadMessage);
-                        tally.add(cases::kind_of(&args.kinds, i), class);
+                        let ms = w.next().and_then(|t| t.parse().ok()).unwrap_or(0.0);
+                        tally.add(cases::kind_of(&args.kinds, i), class, ms);
                         if class.is_failure() {
                             tally.failures.push(w.collect::<Vec<_>>().join(" "));
                         }
@@ -98,7 +114,11 @@ pub fn main(args: &Args) -> ExitCode {
                 Some(i) if case_start.elapsed() > limit => {
                     let _ = worker.child.kill();
                     let _ = worker.child.wait();
-                    Some((i, Class::Hang, format!("still running after {} s", limit.as_secs())))
+                    Some((
+                        i,
+                        Class::Hang,
+                        format!("still running after {} s", limit.as_secs()),
+                    ))
                 }
                 _ => continue,
             },
@@ -109,7 +129,9 @@ pub fn main(args: &Args) -> ExitCode {
                     // Finished its range (or died between cases).
                     None if next >= end => None,
                     None => {
-                        eprintln!("campaign: the worker ended between cases ({status:?}); restarting");
+                        eprintln!(
+                            "campaign: the worker ended between cases ({status:?}); restarting"
+                        );
                         worker = start(args, next, end);
                         continue;
                     }
@@ -123,7 +145,7 @@ pub fn main(args: &Args) -> ExitCode {
         let case = cases::make(&mut bases, &kind, i);
         let line = write_repro(&args.out, &case, class, &detail);
         eprintln!("campaign: {line}");
-        tally.add(&kind, class);
+        tally.add(&kind, class, limit.as_secs_f64() * 1e3);
         tally.failures.push(line);
         in_flight = None;
         next = i + 1;

@@ -62,11 +62,14 @@ impl Class {
 #[derive(Default)]
 pub struct Tally {
     counts: BTreeMap<String, [u64; CLASSES.len()]>,
+    /// Wall milliseconds per kind (the worker's clock; a hang or crash counts the limit).
+    millis: BTreeMap<String, f64>,
     pub failures: Vec<String>,
 }
 
 impl Tally {
-    pub fn add(&mut self, kind: &str, class: Class) {
+    pub fn add(&mut self, kind: &str, class: Class, ms: f64) {
+        *self.millis.entry(kind.to_string()).or_default() += ms;
         let row = self.counts.entry(kind.to_string()).or_default();
         row[CLASSES.iter().position(|&c| c == class).unwrap_or(0)] += 1;
     }
@@ -81,14 +84,16 @@ impl Tally {
         for c in CLASSES {
             out.push_str(&format!(" {} |", c.name()));
         }
-        out.push_str("\n|---|---:|");
-        out.push_str(&"---:|".repeat(CLASSES.len()));
+        out.push_str(" ms/case |\n|---|---:|");
+        out.push_str(&"---:|".repeat(CLASSES.len() + 1));
         let mut total = [0u64; CLASSES.len()];
-        let row = |name: &str, r: &[u64; CLASSES.len()]| {
-            let mut line = format!("\n| {name} | {} |", r.iter().sum::<u64>());
+        let row = |name: &str, r: &[u64; CLASSES.len()], ms: f64| {
+            let cases = r.iter().sum::<u64>();
+            let mut line = format!("\n| {name} | {cases} |");
             for n in r {
                 line.push_str(&format!(" {n} |"));
             }
+            line.push_str(&format!(" {:.1} |", ms / cases.max(1) as f64));
             line
         };
         for k in kinds {
@@ -96,9 +101,9 @@ impl Tally {
             for (t, n) in total.iter_mut().zip(r) {
                 *t += n;
             }
-            out.push_str(&row(k, &r));
+            out.push_str(&row(k, &r, self.millis.get(k).copied().unwrap_or(0.0)));
         }
-        out.push_str(&row("**all**", &total));
+        out.push_str(&row("**all**", &total, self.millis.values().sum()));
         out.push('\n');
         out
     }

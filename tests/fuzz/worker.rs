@@ -26,32 +26,38 @@ pub fn main(args: &Args) -> ExitCode {
     for i in args.from..args.from + args.cases {
         let kind = cases::kind_of(&args.kinds, i);
         let _ = writeln!(out, "start {i}").and_then(|_| out.flush());
-        let (class, line) = match catch_unwind(AssertUnwindSafe(|| cases::make(&mut bases, kind, i))) {
-            Ok(case) => {
-                let (class, detail) = execute(&case, args, &dir);
-                let line = if class.is_failure() {
-                    write_repro(&args.out, &case, class, &detail)
-                } else {
-                    case.id
-                };
-                (class, line)
-            }
-            Err(p) => {
-                let case = Case {
-                    id: format!("{kind}:{i}"),
-                    kind: kind.into(),
-                    what: "(the generator panicked)".into(),
-                    job: Job::Cli {
-                        args: vec![],
-                        files: vec![],
-                    },
-                };
-                (Class::Panic, write_repro(&args.out, &case, Class::Panic, &panic_text(p)))
-            }
-        };
+        let started = Instant::now();
+        let (class, line) =
+            match catch_unwind(AssertUnwindSafe(|| cases::make(&mut bases, kind, i))) {
+                Ok(case) => {
+                    let (class, detail) = execute(&case, args, &dir);
+                    let line = if class.is_failure() {
+                        write_repro(&args.out, &case, class, &detail)
+                    } else {
+                        case.id
+                    };
+                    (class, line)
+                }
+                Err(p) => {
+                    let case = Case {
+                        id: format!("{kind}:{i}"),
+                        kind: kind.into(),
+                        what: "(the generator panicked)".into(),
+                        job: Job::Cli {
+                            args: vec![],
+                            files: vec![],
+                        },
+                    };
+                    (
+                        Class::Panic,
+                        write_repro(&args.out, &case, Class::Panic, &panic_text(p)),
+                    )
+                }
+            };
         // One line: the description may hold newlines.
         let line = line.replace('\n', " ");
-        let _ = writeln!(out, "end {i} {} {line}", class.name()).and_then(|_| out.flush());
+        let ms = started.elapsed().as_secs_f64() * 1e3;
+        let _ = writeln!(out, "end {i} {} {ms:.3} {line}", class.name()).and_then(|_| out.flush());
     }
     let _ = std::fs::remove_dir_all(&dir);
     ExitCode::SUCCESS
@@ -125,7 +131,10 @@ fn rust_in(text: &str) -> Option<&'static str> {
 fn refusal(e: &confset::Error) -> (Class, String) {
     let text = e.to_string();
     if e.field.is_empty() || e.message.trim().is_empty() {
-        (Class::BadMessage, format!("an error without a field: {text}"))
+        (
+            Class::BadMessage,
+            format!("an error without a field: {text}"),
+        )
     } else if let Some(w) = rust_in(&text) {
         (Class::BadMessage, format!("{w:?} in the message: {text}"))
     } else {
@@ -146,7 +155,12 @@ fn nulls_in(v: &Value, what: &str) -> (Class, String) {
         let first: Vec<&str> = bad.iter().take(5).map(String::as_str).collect();
         (
             Class::Null,
-            format!("null in the {what} at {} of {} paths: {}", bad.len(), bad.len(), first.join(", ")),
+            format!(
+                "null in the {what} at {} of {} paths: {}",
+                bad.len(),
+                bad.len(),
+                first.join(", ")
+            ),
         )
     }
 }
@@ -155,7 +169,10 @@ fn nulls_in(v: &Value, what: &str) -> (Class, String) {
 fn non_finite_cell(csv: &str) -> Option<String> {
     csv.lines().enumerate().find_map(|(i, line)| {
         line.split(',').find_map(|cell| {
-            let c = cell.trim().trim_start_matches(['+', '-']).to_ascii_lowercase();
+            let c = cell
+                .trim()
+                .trim_start_matches(['+', '-'])
+                .to_ascii_lowercase();
             matches!(c.as_str(), "inf" | "infinity" | "nan")
                 .then(|| format!("line {} has the cell {cell:?}", i + 1))
         })
@@ -223,7 +240,9 @@ fn in_process(job: &Job) -> (Class, String) {
                     match serde_json::from_str::<Value>(t) {
                         Ok(v) => values.push(v),
                         // The binary refuses a part that is not JSON before the library sees it.
-                        Err(e) => return Ok((Class::Refused, format!("part {k} is not JSON: {e}"))),
+                        Err(e) => {
+                            return Ok((Class::Refused, format!("part {k} is not JSON: {e}")))
+                        }
                     }
                 }
                 st.merge(&values)?;
@@ -249,7 +268,10 @@ pub fn file_bytes(f: &File) -> Vec<u8> {
 fn cli(a: &[String], files: &[File], args: &Args, dir: &Path) -> (Class, String) {
     let _ = std::fs::remove_dir_all(dir);
     if let Err(e) = std::fs::create_dir_all(dir) {
-        return (Class::Abort, format!("the campaign cannot write {}: {e}", dir.display()));
+        return (
+            Class::Abort,
+            format!("the campaign cannot write {}: {e}", dir.display()),
+        );
     }
     for f in files {
         let _ = std::fs::write(dir.join(&f.name), file_bytes(f));
@@ -269,7 +291,12 @@ fn cli(a: &[String], files: &[File], args: &Args, dir: &Path) -> (Class, String)
         .spawn();
     let mut child = match child {
         Ok(c) => c,
-        Err(e) => return (Class::Abort, format!("cannot start {}: {e}", args.confset().display())),
+        Err(e) => {
+            return (
+                Class::Abort,
+                format!("cannot start {}: {e}", args.confset().display()),
+            )
+        }
     };
     let limit = Duration::from_secs(args.case_seconds.saturating_sub(1).max(1));
     let started = Instant::now();
@@ -279,18 +306,30 @@ fn cli(a: &[String], files: &[File], args: &Args, dir: &Path) -> (Class, String)
             Ok(None) if started.elapsed() > limit => {
                 let _ = child.kill();
                 let _ = child.wait();
-                return (Class::Hang, format!("confset {} still running after {} s", a.join(" "), limit.as_secs()));
+                return (
+                    Class::Hang,
+                    format!(
+                        "confset {} still running after {} s",
+                        a.join(" "),
+                        limit.as_secs()
+                    ),
+                );
             }
             Ok(None) => std::thread::sleep(Duration::from_millis(2)),
             Err(e) => return (Class::Abort, format!("cannot wait for confset: {e}")),
         }
     };
-    let read = |name: &str| String::from_utf8_lossy(&std::fs::read(dir.join(name)).unwrap_or_default()).into_owned();
+    let read = |name: &str| {
+        String::from_utf8_lossy(&std::fs::read(dir.join(name)).unwrap_or_default()).into_owned()
+    };
     let err = read("stderr");
     let tail: String = err.chars().take(400).collect();
     use std::os::unix::process::ExitStatusExt;
     if let Some(sig) = status.signal() {
-        return (Class::Abort, format!("confset killed by signal {sig}: {tail}"));
+        return (
+            Class::Abort,
+            format!("confset killed by signal {sig}: {tail}"),
+        );
     }
     match status.code() {
         Some(0) => {}
