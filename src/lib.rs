@@ -118,7 +118,9 @@
 //!   [`linalg::try_symmetric_eigen`] (non-finite input refused, sweeps capped: nalgebra panics
 //!   on NaN and never converges on ∞); [`scenario::Report::check_finite`] turns a non-finite
 //!   report number into an error naming the report field. The fuzzer (`tests/suite/fuzz.rs`)
-//!   holds all three to account; the README's Limits table gives each limit's reason. Past the
+//!   holds all three to account, and at length the campaign (`cargo run --profile bench
+//!   --example campaign`, `tests/fuzz/`: a million cases of every method, CSV files, merge
+//!   parts, shard edges, garbage and the binary itself; README "Long fuzz campaign"); the README's Limits table gives each limit's reason. Past the
 //!   per-field limits, one work budget ([`scenario::budget`]) bounds what fields multiply into:
 //!   each method's scenario file estimates a report's (or a study's preparation and one run's)
 //!   operations and bytes from the sizes alone, and [`scenario::Scenario::run`] and

@@ -9,18 +9,7 @@ use confset::scenario::Scenario;
 use confset::{presets, Error};
 use serde_json::{json, Value};
 
-/// Words of Rust, not of JSON: no message may contain them.
-const RUST_WORDS: [&str; 9] = [
-    "struct ",
-    "enum ",
-    "usize",
-    "u64",
-    "f64",
-    "Vec<",
-    "variant identifier",
-    "MatrixSpec",
-    "`",
-];
+use crate::common::contract::RUST_WORDS;
 
 #[track_caller]
 fn assert_plain(e: &Error) {

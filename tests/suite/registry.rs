@@ -67,54 +67,7 @@ fn cut(v: &Value) -> String {
 // 1. Every preset runs, round-trips, and writes plain JSON.
 // ---------------------------------------------------------------------------------------------
 
-/// The core's list of report keys that may be null.
-use confset::scenario::NULLABLE_REPORT_KEYS as NULLABLE;
-
-/// The report's JSON contract (crate docs, Invariants: every number in a report is a JSON
-/// number): null only under a [`NULLABLE`] key, and the text parses back to an equal report.
-/// The round trip is what catches every non-finite number: serde_json writes NaN and ±∞ as
-/// null, which does not parse as an f64 and comes back as `None` in an `Option` (and
-/// NaN ≠ NaN). (serde_json's `Value` cannot hold a non-finite number, so there is no separate
-/// finiteness check to make on the parsed JSON.)
-pub(crate) fn check_report_json(r: &Report) -> Result<(), String> {
-    fn nulls(v: &Value, key: &str, path: &str, out: &mut Vec<(String, bool)>) {
-        match v {
-            Value::Null => out.push((path.into(), NULLABLE.iter().any(|(k, _)| *k == key))),
-            Value::Array(a) => a
-                .iter()
-                .enumerate()
-                .for_each(|(i, x)| nulls(x, key, &format!("{path}[{i}]"), out)),
-            Value::Object(o) => o
-                .iter()
-                .for_each(|(k, x)| nulls(x, k, &format!("{path}.{k}"), out)),
-            _ => {}
-        }
-    }
-    let list = |paths: Vec<&String>| {
-        let n = paths.len();
-        let first: Vec<&str> = paths.into_iter().take(5).map(|p| p.as_str()).collect();
-        format!("{n}: {}", first.join(", "))
-    };
-    let text = serde_json::to_string(r).map_err(|e| format!("the report is not JSON: {e}"))?;
-    let v: Value = serde_json::from_str(&text).map_err(|e| format!("unreadable JSON: {e}"))?;
-    let mut found = Vec::new();
-    nulls(&v, "", "", &mut found);
-    let unexpected: Vec<&String> = found.iter().filter(|(_, ok)| !ok).map(|(p, _)| p).collect();
-    if !unexpected.is_empty() {
-        return Err(format!(
-            "null where a number belongs (a non-finite f64?), {}",
-            list(unexpected)
-        ));
-    }
-    let back: Option<Report> = serde_json::from_str(&text).ok();
-    if back.as_ref() != Some(r) {
-        return Err(format!(
-            "the report does not survive its JSON: a NaN or ±∞ behind one of the nulls, {}",
-            list(found.iter().map(|(p, _)| p).collect())
-        ));
-    }
-    Ok(())
-}
+use crate::common::contract::check_report_json;
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn every_preset_runs_round_trips_and_writes_plain_json() {

@@ -5,7 +5,9 @@
 
 #![allow(dead_code)]
 
+pub mod contract;
 pub mod limits;
+pub mod mutate;
 pub mod patch;
 
 use nalgebra::{DMatrix, DVector};
