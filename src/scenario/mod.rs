@@ -723,7 +723,8 @@ impl Scenario {
     /// The Monte Carlo study of this scenario's method, not yet run: the SCF conditional
     /// experiment (`experiment`), the LSCR coverage experiment (`lscr.coverage`), the GLLS
     /// study (`glls.monte_carlo`) or the set-membership guarantee (`ubb.guarantee`). `runs`
-    /// overrides the scenario's run count (the CLI's `--runs`, the page's field).
+    /// overrides the scenario's run count (the CLI's `--runs`, the page's field). Its results,
+    /// plain or merged, pass [`check_finite`] (`study.<field>`).
     pub fn study(&self, runs: Option<usize>) -> Result<Box<dyn Study>> {
         self.check_method_blocks()?;
         if let Some(r) = runs {

@@ -43,6 +43,7 @@ mod fuzz;
 mod gallery;
 mod glls;
 mod lscr;
+mod merge_checks;
 mod messages;
 mod registry;
 mod scf_paper;
