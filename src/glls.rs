@@ -1470,6 +1470,10 @@ impl crate::study::Tally for PrecisionRuns {
     fn runs(&self) -> usize {
         self.state_norms.0.len()
     }
+    /// No counts: one number per run and horizon, whose lengths `add` checks.
+    fn counts(&self) -> Vec<(String, usize)> {
+        Vec::new()
+    }
     fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
         let runs = later.runs();
         if later.first.len() != self.first.len() || later.second.len() != self.second.len() {

@@ -22,7 +22,7 @@
 //! | [`precision`] | where double precision stops resolving a method's sets: the one bound 0.8·√N·δ(Y)/σ·T on the probability that rounding flips a verdict (δ(Y) the spacing of doubles at the data's magnitude, σ the noise scale), checked by each method's scenario file before any work ([`precision::Resolution`]); refused past 10⁻⁴ naming the field |
 //! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
 //! | [`bench`](mod@bench) | the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo, LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and `.ci/bench`'s table beside NumPy |
-//! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on wasm32), merged |
+//! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add, by checked sums, and which of them are counts of runs, none above its runs: what a merge checks on every part); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on wasm32), merged |
 //! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots, the induced norms ‖·‖₁, ‖·‖₂, ‖·‖∞, the one sort of numbers ([`linalg::sort_increasing`], [`linalg::sort_decreasing`], [`linalg::decreasing_order`]) |
 //! | [`model`] | the scenario's `model` block ([`model::ModelSpec::constant`]: the one matrix of a field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse) and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
 //! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q affine functions are > 0 and ≥ q are < 0) with its exact pixel raster [`sets::GridRegion`], line pieces, boundary polygons, 2-D slices and recession directions; in [`sets::support_polygon`] the exact polygon of a planar convex set known only through its support function (one LP per call: each unsettled stretch between two boundary points is closed by a support call normal to it; used by `ubb` and `uniform`), and [`sets::point_in_convex`] |
@@ -116,11 +116,17 @@
 //!   line reads every file through one bounded reader that stops a byte past its limit); every SVD and
 //!   symmetric eigendecomposition goes through [`linalg::try_svd`] /
 //!   [`linalg::try_symmetric_eigen`] (non-finite input refused, sweeps capped: nalgebra panics
-//!   on NaN and never converges on ∞); [`scenario::Report::check_finite`] turns a non-finite
-//!   report number into an error naming the report field. The fuzzer (`tests/suite/fuzz.rs`)
+//!   on NaN and never converges on ∞); [`scenario::check_finite`], the one finiteness check of every
+//!   output, turns a non-finite number of a report, a cursor's detail or a study's result
+//!   (plain or merged) into an error naming its field (`report.…`, `study.…`), and the CSV
+//!   table refuses a non-finite cell as `csv.<column> at t=…`; no output holds a `null` that
+//!   stands for a number or an absent comparison (an absent count is an absent key). A merge
+//!   checks every part before adding: no count above its runs ([`study::Tally::counts`]),
+//!   every sum checked ([`study::add_count`]), ranges in the study, disjoint and, to complete,
+//!   tiling it. The fuzzer (`tests/suite/fuzz.rs`)
 //!   holds all three to account, and at length the campaign (`cargo run --profile bench
-//!   --example campaign`, `tests/fuzz/`: a million cases of every method, CSV files, merge
-//!   parts, shard edges, garbage and the binary itself; README "Long fuzz campaign"); the README's Limits table gives each limit's reason. Past the
+//!   --example campaign`, `tests/fuzz/`: every method, CSV files, merge parts, shard edges,
+//!   garbage and the binary itself; README "Long fuzz campaign"); the README's Limits table gives each limit's reason. Past the
 //!   per-field limits, one work budget ([`scenario::budget`]) bounds what fields multiply into:
 //!   each method's scenario file estimates a report's (or a study's preparation and one run's)
 //!   operations and bytes from the sizes alone, and [`scenario::Scenario::run`] and

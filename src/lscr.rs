@@ -909,9 +909,11 @@ pub struct Coverage {
     pub inside_each: Vec<usize>,
     /// Runs with x̄ ∈ X̂.
     pub inside: usize,
-    /// Runs with x̄ in the BLUE ellipsoid (when there is one).
+    /// Runs with x̄ in the BLUE ellipsoid (when there is one; absent, never null, when not).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blue: Option<usize>,
-    /// Runs with x̄ in the Kalman ellipsoid (prediction and filtering).
+    /// Runs with x̄ in the Kalman ellipsoid (prediction and filtering; absent for smoothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kf: Option<usize>,
 }
 
@@ -919,10 +921,19 @@ impl crate::study::Tally for Coverage {
     fn runs(&self) -> usize {
         self.runs
     }
+    fn counts(&self) -> Vec<(String, usize)> {
+        let mut c = crate::study::listed_counts("inside_each", &self.inside_each);
+        c.push(("inside".into(), self.inside));
+        c.extend(self.blue.map(|n| ("blue".into(), n)));
+        c.extend(self.kf.map(|n| ("kf".into(), n)));
+        c
+    }
     fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
+        use crate::study::add_count;
         crate::study::add_counts(
             &mut self.inside_each,
             &later.inside_each,
+            "inside_each",
             "counts in inside_each",
         )?;
         for (a, b, what) in [
@@ -930,13 +941,13 @@ impl crate::study::Tally for Coverage {
             (&mut self.kf, later.kf, "kf"),
         ] {
             match (a.as_mut(), b) {
-                (Some(a), Some(b)) => *a += b,
+                (Some(a), Some(b)) => add_count(a, b, what)?,
                 (None, None) => {}
                 _ => return Err(format!("{what} is counted in one and not the other")),
             }
         }
-        self.runs += later.runs;
-        self.inside += later.inside;
+        add_count(&mut self.runs, later.runs, "runs")?;
+        add_count(&mut self.inside, later.inside, "inside")?;
         Ok(())
     }
 }

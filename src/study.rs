@@ -48,8 +48,19 @@ pub trait Study {
     /// Replace this study's counts by the sum of `parts` (each a [`Study::partial`] of the same
     /// scenario, seed and total, their ranges disjoint; gaps are allowed, see
     /// [`Study::complete`]). Afterwards [`Study::result`] is what one study over those runs
-    /// gives, and the study only reports (it no longer steps).
-    fn merge(&mut self, parts: &[Value]) -> Result<()>;
+    /// gives, and the study only reports (it no longer steps). Messages call the parts
+    /// "part 1", "part 2", … ([`Study::merge_named`] names them otherwise).
+    fn merge(&mut self, parts: &[Value]) -> Result<()> {
+        let names: Vec<String> = (1..=parts.len()).map(|k| format!("part {k}")).collect();
+        let named: Vec<(&str, &Value)> = names.iter().map(String::as_str).zip(parts).collect();
+        self.merge_named(&named)
+    }
+    /// [`Study::merge`] with each part's name for the messages (the CLI's "part 2 (b.json)").
+    /// Every part is checked before any is added: its shape, seed, total and scenario digest;
+    /// its range (a range of this study's runs, on batch edges, as many runs as its counts
+    /// say); no count above its runs ([`Tally::counts`]); no two parts overlapping; and every
+    /// sum is checked for overflow.
+    fn merge_named(&mut self, parts: &[(&str, &Value)]) -> Result<()>;
     /// Ok when the counts cover every run of the study; else an error naming the missing runs.
     fn complete(&self) -> Result<()>;
     /// The digest of the scenario the study was made from ([`crate::scenario::Scenario::digest`]),
@@ -61,9 +72,15 @@ pub trait Study {
 pub trait Tally: Clone + Serialize + DeserializeOwned {
     /// Runs counted.
     fn runs(&self) -> usize;
+    /// Every count of runs with its field path in the counts' JSON (`kf_inside`,
+    /// `inside_each[1]`, `holds[2] + no_set[2]` for a count of runs that is a sum): none may
+    /// exceed [`Tally::runs`], which a merge checks on every part. Per-run numbers that are
+    /// not counts (the GLLS errors) are not listed; their shape is [`Tally::add`]'s to check.
+    fn counts(&self) -> Vec<(String, usize)>;
     /// Add the counts of the runs that come right after these (the sum is the count of both
     /// ranges, exactly, whatever the order the ranges were run in). `Err` says, in words, why
-    /// `later` cannot be counts of the same study (another shape).
+    /// `later` cannot be counts of the same study (another shape), or which sum overflows
+    /// (every sum is checked: [`add_count`]).
     fn add(&mut self, later: &Self) -> std::result::Result<(), String>;
 }
 
@@ -174,13 +191,13 @@ impl<R: Runs> Chunked<R> {
         }
     }
 
-    /// Parse part `k` (1-based in messages) and check it belongs to this study.
-    fn read_part(&self, k: usize, part: &Value) -> Result<(Range<usize>, R::Tally)> {
+    /// Parse part `k` (named `k` in messages: "part 2") and check it belongs to this study.
+    fn read_part(&self, k: &str, part: &Value) -> Result<(Range<usize>, R::Tally)> {
         let p: Partial<R::Tally> = serde_path_to_error::deserialize(part).map_err(|e| {
             Error::field(
                 "",
                 format!(
-                    "part {k} is not a study's partial counts: at {}: {}",
+                    "{k} is not a study's partial counts: at {}: {}",
                     e.path(),
                     e.inner()
                 ),
@@ -191,7 +208,7 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "",
                 format!(
-                    "part {k} is a shard of a study of {} runs, this study has {total}",
+                    "{k} is a shard of a study of {} runs, this study has {total}",
                     p.total
                 ),
             ));
@@ -200,7 +217,7 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "",
                 format!(
-                    "part {k} was drawn with seed {}, this study with seed {}",
+                    "{k} was drawn with seed {}, this study with seed {}",
                     p.seed,
                     self.runs.seed()
                 ),
@@ -210,7 +227,7 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "",
                 format!(
-                    "part {k} is of another scenario (digest {}, this study's {})",
+                    "{k} is of another scenario (digest {}, this study's {})",
                     p.scenario_digest, self.scenario_digest
                 ),
             ));
@@ -225,7 +242,7 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "",
                 format!(
-                    "part {k} covers runs {a}..{b}, which is not a range of this study's runs 0..{total} in batches of {batch}"
+                    "{k} covers runs {a}..{b}, which is not a range of this study's runs 0..{total} in batches of {batch}"
                 ),
             ));
         }
@@ -233,8 +250,19 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "",
                 format!(
-                    "part {k} covers runs {a}..{b} but counts {} runs",
+                    "{k} covers runs {a}..{b} but counts {} runs",
                     p.counts.runs()
+                ),
+            ));
+        }
+        // A count above its runs is no count of these runs: it would make a rate above 100 %
+        // and a miss count below zero (runs − hits) in the result.
+        let runs = p.counts.runs();
+        if let Some((field, n)) = p.counts.counts().into_iter().find(|(_, n)| *n > runs) {
+            return Err(Error::field(
+                "",
+                format!(
+                    "{k}'s counts.{field} is {n}, more than the {runs} runs it counts (runs {a}..{b}): a count of runs is a whole number from 0 to its runs"
                 ),
             ));
         }
@@ -322,11 +350,11 @@ impl<R: Runs> Study for Chunked<R> {
             counts: &self.counts,
         })
     }
-    fn merge(&mut self, parts: &[Value]) -> Result<()> {
+    fn merge_named(&mut self, parts: &[(&str, &Value)]) -> Result<()> {
         let mut read = parts
             .iter()
             .enumerate()
-            .map(|(i, p)| self.read_part(i + 1, p).map(|(r, c)| (i + 1, r, c)))
+            .map(|(i, (name, p))| self.read_part(name, p).map(|(r, c)| (i, r, c)))
             .collect::<Result<Vec<_>>>()?;
         read.retain(|(_, r, _)| !r.is_empty());
         read.sort_by_key(|(k, r, _)| (r.start, *k));
@@ -334,20 +362,21 @@ impl<R: Runs> Study for Chunked<R> {
         let mut reach: Option<(usize, Range<usize>)> = None;
         let mut counts = self.runs.zero();
         for (k, r, c) in &read {
+            let name = parts[*k].0;
             if let Some((j, prev)) = &reach {
                 if r.start < prev.end {
                     return Err(Error::field(
                         "",
                         format!(
-                            "part {k} covers runs {}..{} which part {j} also covers",
-                            r.start, r.end
+                            "{name} covers runs {}..{} which {} also covers",
+                            r.start, r.end, parts[*j].0
                         ),
                     ));
                 }
             }
             counts
                 .add(c)
-                .map_err(|e| Error::field("", format!("part {k} does not fit this study: {e}")))?;
+                .map_err(|e| Error::field("", format!("{name} does not fit this study: {e}")))?;
             reach = Some((*k, r.clone()));
         }
         self.counts = counts;
@@ -484,17 +513,41 @@ pub(crate) fn to_value<T: serde::Serialize>(v: &T) -> Result<Value> {
         .map_err(|e| Error::field("", format!("the study result could not be written: {e}")))
 }
 
-/// Add counts element-wise; `what` names one entry in the message when the lengths differ.
+/// `*a += b` for a count named `what`, or the words of the overflow: sums of counts are
+/// checked, never wrapped (a wrapped sum is a small, plausible, false count).
+pub fn add_count(a: &mut usize, b: usize, what: &str) -> std::result::Result<(), String> {
+    *a = a.checked_add(b).ok_or_else(|| {
+        format!(
+            "{what} overflows: {a} + {b} is past the largest count, {}",
+            usize::MAX
+        )
+    })?;
+    Ok(())
+}
+
+/// Add counts element-wise ([`add_count`], named `field[i]`); `what` names one entry in the
+/// message when the lengths differ.
 pub(crate) fn add_counts(
     a: &mut [usize],
     b: &[usize],
+    field: &str,
     what: &str,
 ) -> std::result::Result<(), String> {
     if a.len() != b.len() {
         return Err(format!("{} {what}, this study {}", b.len(), a.len()));
     }
-    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+    for (i, (x, y)) in a.iter_mut().zip(b).enumerate() {
+        add_count(x, *y, &format!("{field}[{i}]"))?;
+    }
     Ok(())
+}
+
+/// The counts of a list field, named `field[i]`, for [`Tally::counts`].
+pub(crate) fn listed_counts(field: &str, v: &[usize]) -> Vec<(String, usize)> {
+    v.iter()
+        .enumerate()
+        .map(|(i, n)| (format!("{field}[{i}]"), *n))
+        .collect()
 }
 
 /// Per-run numbers in run order, for counts that keep each run's value (the GLLS errors, whose

@@ -947,11 +947,13 @@ impl StateProblem {
             0
         } else {
             let m = DMatrix::from_rows(&rows);
-            // nalgebra's SVD panics on a NaN; overflowing powers of A must be an error.
+            // nalgebra's SVD panics on a NaN; overflowing powers of A must be an error. The
+            // outputs' rows (model.H, or ubb.basis) are checked finite when prepared, so a
+            // non-finite entry here is A's powers, or their product with those rows.
             if m.iter().any(|x| !x.is_finite()) {
                 return Err(Error::field(
                     "model.F",
-                    format!("its powers overflow double precision over the window y({s} … {k})"),
+                    format!("has powers that overflow double precision over the window y({s} … {k}): A^{} times the output rows passes 1.8e308; shorten ubb.window or scale the model", k - s),
                 ));
             }
             let tol = 1e-9 * m.amax().max(1e-300);
@@ -959,7 +961,7 @@ impl StateProblem {
                 .ok_or_else(|| {
                     Error::field(
                         "model.F",
-                        format!("its observability matrix over y({s} … {k}) has no SVD (an entry is not finite)"),
+                        format!("has an observability matrix over y({s} … {k}) without an SVD (an entry is not finite)"),
                     )
                 })?
                 .rank(tol)

@@ -1101,14 +1101,22 @@ impl Tally for CompareCounts {
     fn runs(&self) -> usize {
         self.runs
     }
+    /// Each method's hits and runs without a set, and their sum: a run either held the
+    /// state, missed it or gave no set, so the sum is a count of runs too.
+    fn counts(&self) -> Vec<(String, usize)> {
+        let mut c = crate::study::listed_counts("holds", &self.holds);
+        c.extend(crate::study::listed_counts("no_set", &self.no_set));
+        c.extend(
+            self.holds
+                .iter()
+                .zip(&self.no_set)
+                .enumerate()
+                .map(|(j, (h, n))| (format!("holds[{j}] + no_set[{j}]"), h.saturating_add(*n))),
+        );
+        c
+    }
     fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
-        if later.runs == 0 {
-            return Ok(());
-        }
-        if self.runs == 0 {
-            *self = later.clone();
-            return Ok(());
-        }
+        // The shape is checked even against no runs: the zero counts have the study's.
         if later.holds.len() != self.holds.len() || later.no_set.len() != self.no_set.len() {
             return Err(format!(
                 "counts of {} methods, not {}",
@@ -1116,13 +1124,9 @@ impl Tally for CompareCounts {
                 self.holds.len()
             ));
         }
-        self.runs += later.runs;
-        for (a, b) in self.holds.iter_mut().zip(&later.holds) {
-            *a += b;
-        }
-        for (a, b) in self.no_set.iter_mut().zip(&later.no_set) {
-            *a += b;
-        }
+        crate::study::add_count(&mut self.runs, later.runs, "runs")?;
+        crate::study::add_counts(&mut self.holds, &later.holds, "holds", "methods' holds")?;
+        crate::study::add_counts(&mut self.no_set, &later.no_set, "no_set", "methods' no_set")?;
         Ok(())
     }
 }

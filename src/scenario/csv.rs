@@ -712,6 +712,27 @@ impl Table {
         self.rows.push(row);
     }
 
+    /// Every cell is a finite number or empty: else an error naming the first other cell,
+    /// `csv.<column> at <first column>=<its value>` (`csv.volume_kf at t=3`), with the reason
+    /// every output's finiteness check gives ([`super::check_finite`]).
+    pub fn check_finite(&self) -> crate::error::Result<()> {
+        for row in &self.rows {
+            let Some(col) = row.iter().position(|v| v.is_some_and(|x| !x.is_finite())) else {
+                continue;
+            };
+            let at = match (self.columns.first(), row.first().copied().flatten()) {
+                (Some(name), Some(v)) if col > 0 => format!(" at {name}={}", csv_number(v)),
+                _ => String::new(),
+            };
+            let name = self.columns.get(col).map_or("", String::as_str);
+            return Err(super::not_finite(
+                &format!("csv.{name}{at}"),
+                " (the JSON report holds no such column: it may still be written)",
+            ));
+        }
+        Ok(())
+    }
+
     /// Comma-separated text with a header line; whole numbers as integers, others in Rust's
     /// shortest round-trip form (a value read back is the value written; exponent notation
     /// for very small and large ones), empty cells where a row has no value.

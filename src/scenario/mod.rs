@@ -608,10 +608,66 @@ impl Cursor for CheckedCursor {
     }
     fn at(&mut self, t: usize) -> Result<serde_json::Value> {
         let v = self.inner.at(t)?;
-        match first_null(&v) {
-            None => Ok(v),
-            Some(path) => Err(not_finite(&format!("report.{}.at.{path}", self.block))),
+        check_finite(&v, &format!("report.{}.at", self.block), "")?;
+        Ok(v)
+    }
+}
+
+/// A method's study with the outputs' last defence ([`check_finite`] on every result, plain
+/// or merged): a number that overflowed is an error naming its field (`study.mean_state_norm`),
+/// never a `null` in the JSON. The result of no run (an empty shard's, before its first
+/// step) is not checked: GLLS's spreads are `null` there until a run gives an error to
+/// spread, and it holds no computed count.
+struct CheckedStudy {
+    inner: Box<dyn Study>,
+    /// Whether the counts are a merge of parts (whose numbers the message then mentions).
+    merged: bool,
+}
+
+impl Study for CheckedStudy {
+    fn step(&mut self, runs: usize) -> Result<()> {
+        self.inner.step(runs)
+    }
+    fn runs(&self) -> usize {
+        self.inner.runs()
+    }
+    fn total(&self) -> usize {
+        self.inner.total()
+    }
+    fn finished(&self) -> bool {
+        self.inner.finished()
+    }
+    fn result(&self) -> Result<serde_json::Value> {
+        let v = self.inner.result()?;
+        if self.inner.runs() > 0 {
+            let merged = if self.merged {
+                "; after a merge, the parts' own numbers may be the cause (a part holding numbers near 1.8e308)"
+            } else {
+                ""
+            };
+            check_finite(&v, "study", merged)?;
         }
+        Ok(v)
+    }
+    fn range(&self) -> std::ops::Range<usize> {
+        self.inner.range()
+    }
+    fn restrict(&mut self, shard: usize, shards: usize) -> Result<()> {
+        self.inner.restrict(shard, shards)
+    }
+    fn partial(&self) -> Result<serde_json::Value> {
+        self.inner.partial()
+    }
+    fn merge_named(&mut self, parts: &[(&str, &serde_json::Value)]) -> Result<()> {
+        self.inner.merge_named(parts)?;
+        self.merged = true;
+        Ok(())
+    }
+    fn complete(&self) -> Result<()> {
+        self.inner.complete()
+    }
+    fn set_scenario_digest(&mut self, digest: &str) {
+        self.inner.set_scenario_digest(digest)
     }
 }
 
@@ -737,7 +793,8 @@ impl Scenario {
     /// The Monte Carlo study of this scenario's method, not yet run: the SCF conditional
     /// experiment (`experiment`), the LSCR coverage experiment (`lscr.coverage`), the GLLS
     /// study (`glls.monte_carlo`) or the set-membership guarantee (`ubb.guarantee`). `runs`
-    /// overrides the scenario's run count (the CLI's `--runs`, the page's field).
+    /// overrides the scenario's run count (the CLI's `--runs`, the page's field). Its results,
+    /// plain or merged, pass [`check_finite`] (`study.<field>`).
     pub fn study(&self, runs: Option<usize>) -> Result<Box<dyn Study>> {
         self.check_method_blocks()?;
         if let Some(r) = runs {
@@ -752,7 +809,10 @@ impl Scenario {
         self.work(job).check(job)?;
         let mut study = make_method(self.method).study(self, runs)?;
         study.set_scenario_digest(&self.digest()?);
-        Ok(study)
+        Ok(Box::new(CheckedStudy {
+            inner: study,
+            merged: false,
+        }))
     }
 
     /// A stable digest of the scenario: FNV-1a (64 bits, 16 hex digits) of its canonical JSON
@@ -918,11 +978,30 @@ fn first_null(v: &serde_json::Value) -> Option<String> {
     .map(|(path, ())| path)
 }
 
-/// The error of a report field that is not a finite number.
-fn not_finite(field: &str) -> Error {
+/// The one finiteness check of every output: a report ([`Report::check_finite`]), a
+/// cursor's detail, a study's result, plain or merged (`root` `"study"`). serde_json writes a
+/// NaN or ±∞ as `null`, so a `null` where a number belongs (anywhere but under a
+/// [`NULLABLE_REPORT_KEYS`] key; never in a list) is an error naming its field under `root`
+/// (`study.mean_state_norm`). `also` is added to the reason (what else may cause it). The CSV
+/// table has its own cells and the same message ([`csv::Table::check_finite`]).
+pub fn check_finite(v: &serde_json::Value, root: &str, also: &str) -> Result<()> {
+    match first_null(v) {
+        None => Ok(()),
+        Some(path) if path.is_empty() => Err(not_finite(root, also)),
+        Some(path) => Err(not_finite(&format!("{root}.{path}"), also)),
+    }
+}
+
+/// The error of an output field that is not a finite number: why it happens and what to lower.
+pub(crate) fn not_finite(field: &str, also: &str) -> Error {
     Error::field(
         field,
-        "is not a finite number: the computation overflowed or divided by zero — an input is too large, too small or too ill-conditioned for double precision (try smaller noise, bounds or horizons, or a better-conditioned model)",
+        format!(
+            "is not a finite number: the computation overflowed (past 1.8e308) or divided by zero. \
+             An input is too large, too small or too ill-conditioned for double precision, or an \
+             unstable model ran over so many steps that its states overflowed: lower the steps or \
+             horizons, the noise, bounds or data, or use a better-conditioned model{also}"
+        ),
     )
 }
 
@@ -956,16 +1035,18 @@ impl Report {
     pub fn check_finite(&self) -> Result<()> {
         let v = serde_json::to_value(self)
             .map_err(|e| Error::field("report", format!("could not be written as JSON: {e}")))?;
-        match first_null(&v) {
-            None => Ok(()),
-            Some(path) => Err(not_finite(&format!("report.{path}"))),
-        }
+        check_finite(&v, "report", "")
     }
 
     /// The report's main estimates and set sizes, one row per time step (horizon for GLLS,
-    /// the one target time for LSCR): what `confset run --format csv` writes.
-    pub fn table(&self) -> csv::Table {
-        make_method(self.method).table(self)
+    /// the one target time for LSCR): what `confset run --format csv` writes. A cell that is
+    /// not a finite number (a set's volume that overflowed, which the JSON report does not
+    /// hold) is an error naming `csv.<column> at <first column>=<row>`
+    /// ([`csv::Table::check_finite`]), never an `inf` in the file.
+    pub fn table(&self) -> Result<csv::Table> {
+        let table = make_method(self.method).table(self);
+        table.check_finite()?;
+        Ok(table)
     }
 
     /// Put a detail of the method's [`Cursor`] (its `at(t)`) into this report: its `at` block

@@ -245,6 +245,11 @@ pub struct UbbPrepared {
     pub data: Option<Vec<DVector<f64>>>,
 }
 
+/// Largest phase 2πk/P of a `sin:P` or `cos:P` basis function, in radians: a double's spacing
+/// there is 1.2e-4, so the phase, and the function's value, keep about four digits.
+const MAX_PHASE: f64 = 1e12;
+
+/// The value at time k of basis function `g`, the entry `field` (`ubb.basis[1]`) of the list.
 fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
     let period = |s: &str| -> Result<f64> {
         s.parse::<f64>()
@@ -257,13 +262,40 @@ fn basis_value(field: &str, g: &str, k: f64) -> Result<f64> {
                 )
             })
     };
+    // The phase 2πk/P of a sine or cosine. Past MAX_PHASE radians the spacing of doubles
+    // (1.2e-4 at 1e12) leaves the phase, and so the function's value, with few digits; at a
+    // period like 1e-308 it is ∞ and the value NaN. The period is the cause, so it is named
+    // here, not the model whose matrices the NaN would reach.
+    let phase = |p: &str| -> Result<f64> {
+        let period = period(p)?;
+        let phase = 2.0 * std::f64::consts::PI * k / period;
+        if phase.is_finite() && phase.abs() <= MAX_PHASE {
+            return Ok(phase);
+        }
+        let reached = if phase.is_finite() {
+            format!("{phase:.3e} radians")
+        } else {
+            "∞ (past the largest double)".into()
+        };
+        Err(Error::field(
+            field,
+            format!(
+                "{}: the period {period:e} is too short for double precision: the phase 2πk/P \
+                 reaches {reached} by k = {k}, and past {MAX_PHASE:e} radians a double keeps too \
+                 few digits of it (its spacing there is 1.2e-4); the period must be at least \
+                 {:.3e} for times up to k = {k}",
+                quoted(g),
+                2.0 * std::f64::consts::PI * k / MAX_PHASE
+            ),
+        ))
+    };
     Ok(match g {
         "1" => 1.0,
         "k" => k,
         "k2" => k * k,
         _ => match g.split_once(':') {
-            Some(("sin", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).sin(),
-            Some(("cos", p)) => (2.0 * std::f64::consts::PI * k / period(p)?).cos(),
+            Some(("sin", p)) => phase(p)?.sin(),
+            Some(("cos", p)) => phase(p)?.cos(),
             _ => {
                 let known = "\"1\", \"k\", \"k2\", \"sin:P\", \"cos:P\"";
                 return Err(Error::field(
@@ -357,11 +389,17 @@ impl Scenario {
                     "must be absent when ubb.basis gives the outputs",
                 ));
             }
+            // Each function's phase grows with k: checked once at the last time, so an error
+            // names the period that every step needs.
+            for (i, g) in basis.iter().enumerate() {
+                basis_value(&format!("ubb.basis[{i}]"), g, (steps + 1) as f64)?;
+            }
             (0..=steps)
                 .map(|t| {
                     let row = basis
                         .iter()
-                        .map(|g| basis_value("ubb.basis", g, (t + 1) as f64))
+                        .enumerate()
+                        .map(|(i, g)| basis_value(&format!("ubb.basis[{i}]"), g, (t + 1) as f64))
                         .collect::<Result<Vec<f64>>>()?;
                     Ok(DMatrix::from_row_slice(1, r, &row))
                 })
@@ -820,6 +858,12 @@ impl study::Tally for GuaranteeCount {
     fn runs(&self) -> usize {
         self.runs
     }
+    fn counts(&self) -> Vec<(String, usize)> {
+        vec![
+            ("outside".into(), self.outside),
+            ("kf_outside".into(), self.kf_outside),
+        ]
+    }
     /// The sum; the worst excess of no run (0 here, −∞ in truth, which JSON cannot hold) is
     /// replaced by the first counted run's.
     fn add(&mut self, later: &GuaranteeCount) -> std::result::Result<(), String> {
@@ -827,9 +871,9 @@ impl study::Tally for GuaranteeCount {
             (_, 0) => {}
             (0, _) => *self = *later,
             _ => {
-                self.runs += later.runs;
-                self.outside += later.outside;
-                self.kf_outside += later.kf_outside;
+                study::add_count(&mut self.runs, later.runs, "runs")?;
+                study::add_count(&mut self.outside, later.outside, "outside")?;
+                study::add_count(&mut self.kf_outside, later.kf_outside, "kf_outside")?;
                 self.worst_excess = self.worst_excess.max(later.worst_excess);
             }
         }

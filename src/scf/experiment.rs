@@ -526,12 +526,23 @@ impl crate::study::Tally for ConditionalCounts {
     fn runs(&self) -> usize {
         self.runs
     }
+    fn counts(&self) -> Vec<(String, usize)> {
+        [
+            ("kf_inside", self.kf_inside),
+            ("scf_inside", self.scf_inside),
+            ("kf_warnings", self.kf_warnings),
+            ("scf_warnings", self.scf_warnings),
+        ]
+        .map(|(k, n)| (k.to_string(), n))
+        .to_vec()
+    }
     fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
-        self.runs += later.runs;
-        self.kf_inside += later.kf_inside;
-        self.scf_inside += later.scf_inside;
-        self.kf_warnings += later.kf_warnings;
-        self.scf_warnings += later.scf_warnings;
+        use crate::study::add_count;
+        add_count(&mut self.runs, later.runs, "runs")?;
+        add_count(&mut self.kf_inside, later.kf_inside, "kf_inside")?;
+        add_count(&mut self.scf_inside, later.scf_inside, "scf_inside")?;
+        add_count(&mut self.kf_warnings, later.kf_warnings, "kf_warnings")?;
+        add_count(&mut self.scf_warnings, later.scf_warnings, "scf_warnings")?;
         Ok(())
     }
 }

@@ -44,6 +44,7 @@ mod gallery;
 mod glls;
 mod limits_io;
 mod lscr;
+mod merge_checks;
 mod messages;
 mod precision;
 mod registry;

@@ -463,47 +463,128 @@ fn merge(paths: &[String]) -> Result<serde_json::Value, Error> {
             "merge needs the part files (or - for parts on standard input)",
         ));
     }
-    let legend = texts
+    // Each part is named by its number and file in every message: "part 2 (b.json)".
+    let names: Vec<String> = texts
         .iter()
         .enumerate()
-        .map(|(k, (name, _))| format!("part {} = {name}", k + 1))
-        .collect::<Vec<_>>()
-        .join(", ");
-    let with_legend = |e: Error| Error::field(e.field, format!("{} ({legend})", e.message));
+        .map(|(k, (name, _))| format!("part {} ({name})", k + 1))
+        .collect();
     let mut parts = Vec::new();
-    for (k, (name, text)) in texts.iter().enumerate() {
-        let p: Part = confset::scenario::parse::from_json(text, "").map_err(|e| {
-            Error::field(
-                "",
-                format!("part {} ({name}) is not a part file: {e}", k + 1),
-            )
-        })?;
+    for (name, (_, text)) in names.iter().zip(&texts) {
+        let p: Part = confset::scenario::parse::from_json(text, "")
+            .map_err(|e| Error::field("", format!("{name} is not a part file: {e}")))?;
         if p.confset != env!("CARGO_PKG_VERSION") {
-            return Err(with_legend(Error::field(
+            return Err(Error::field(
                 "",
                 format!(
-                    "part {} was written by confset {}, this is confset {}: runs may differ between versions",
-                    k + 1,
+                    "{name} was written by confset {}, this is confset {}: runs may differ between versions",
                     p.confset,
                     env!("CARGO_PKG_VERSION")
                 ),
-            )));
+            ));
         }
         parts.push(p);
     }
     let first = &parts[0];
-    let s = Scenario::from_json(&first.scenario.to_string()).map_err(with_legend)?;
+    let s = Scenario::from_json(&first.scenario.to_string()).map_err(|e| {
+        Error::field(
+            e.field,
+            format!("{} (in {}'s scenario)", e.message, names[0]),
+        )
+    })?;
     if s.digest()? != first.scenario_digest {
-        return Err(with_legend(Error::field(
+        return Err(Error::field(
             "",
-            "part 1's scenario does not match its scenario_digest: the file was edited",
-        )));
+            format!(
+                "{}'s scenario does not match its scenario_digest: the file was edited",
+                names[0]
+            ),
+        ));
     }
-    let mut st = s.study(Some(first.runs)).map_err(with_legend)?;
-    let partials: Vec<serde_json::Value> = parts.iter().map(|p| p.partial.clone()).collect();
-    st.merge(&partials).map_err(with_legend)?;
-    st.complete().map_err(with_legend)?;
+    for (name, p) in names.iter().zip(&parts) {
+        check_part_fields(name, p, first)?;
+    }
+    let mut st = s.study(Some(first.runs))?;
+    let named: Vec<(&str, &serde_json::Value)> = names
+        .iter()
+        .map(String::as_str)
+        .zip(parts.iter().map(|p| &p.partial))
+        .collect();
+    st.merge_named(&named)?;
+    st.complete().map_err(|e| {
+        Error::field(
+            e.field,
+            format!("{} (the parts: {})", e.message, names.join(", ")),
+        )
+    })?;
     st.result()
+}
+
+/// The fields a part file holds beside the core's partial counts agree with them and with
+/// part 1: the same scenario (and digest) and run count, `range` the partial's, and `shard`
+/// i/N the runs that `study::shard_range` gives shard i of N. A file whose fields were edited
+/// apart is refused, naming the file and the field.
+fn check_part_fields(name: &str, p: &Part, first: &Part) -> Result<(), Error> {
+    let refuse =
+        |field: &str, why: String| Err(Error::field("", format!("{name}'s {field} {why}")));
+    let partial = &p.partial;
+    if p.scenario_digest != first.scenario_digest || p.scenario != first.scenario {
+        return refuse(
+            "scenario",
+            "is not part 1's: parts of one study come from one scenario".into(),
+        );
+    }
+    if partial.get("scenario_digest") != Some(&serde_json::Value::from(p.scenario_digest.as_str()))
+    {
+        return refuse(
+            "partial.scenario_digest",
+            format!(
+                "is not the file's scenario_digest {}: the file was edited",
+                p.scenario_digest
+            ),
+        );
+    }
+    if p.runs != first.runs {
+        return refuse(
+            "runs",
+            format!(
+                "is {}, part 1's is {}: the parts of one study have one run count",
+                p.runs, first.runs
+            ),
+        );
+    }
+    if partial.get("total") != Some(&serde_json::Value::from(p.runs)) {
+        return refuse(
+            "partial.total",
+            format!("is not the file's runs {}: the file was edited", p.runs),
+        );
+    }
+    if partial.get("range") != Some(&serde_json::json!(p.range)) {
+        return refuse(
+            "range",
+            format!(
+                "{}..{} is not the partial's range: the file was edited",
+                p.range[0], p.range[1]
+            ),
+        );
+    }
+    let [i, n] = p.shard;
+    // The batch is the partial's (the core checks it is the study's when merging).
+    let batch = partial.get("batch").and_then(serde_json::Value::as_u64);
+    if let Some(batch) = batch {
+        let want = study::shard_range(p.runs, batch as usize, i, n)
+            .map_err(|e| Error::field("", format!("{name}'s shard {}", e.message)))?;
+        if want != (p.range[0]..p.range[1]) {
+            return refuse(
+                "shard",
+                format!(
+                    "{i}/{n} holds runs {}..{} of {}, but the file's range is {}..{}: the file was edited",
+                    want.start, want.end, p.runs, p.range[0], p.range[1]
+                ),
+            );
+        }
+    }
+    Ok(())
 }
 
 fn json<T: serde::Serialize>(v: &T) -> Result<String, Error> {
@@ -542,7 +623,7 @@ fn run(command: Command) -> Result<(), Error> {
             let report = scenario_with_data(&input, &data)?.run()?;
             let text = match format {
                 Format::Json => json(&report)?,
-                Format::Csv => report.table().to_csv(),
+                Format::Csv => report.table()?.to_csv(),
             };
             emit(out.as_ref(), &text)
         }
