@@ -28,6 +28,19 @@ macro_rules! in_browser {
             }
         }
     };
+    // A test known to fail until an open issue is fixed (its native `ignore` gives the reason):
+    // ignored in the browser too (run it with `wasm-pack test … -- --include-ignored`).
+    ($name:ident, ignore) => {
+        #[cfg(target_arch = "wasm32")]
+        mod $name {
+            #[wasm_bindgen_test::wasm_bindgen_test]
+            #[ignore]
+            async fn run() {
+                crate::common::event_loop_turn().await;
+                super::$name();
+            }
+        }
+    };
 }
 
 mod common;
@@ -46,6 +59,7 @@ mod limits_io;
 mod lscr;
 mod merge_checks;
 mod messages;
+mod metamorphic;
 mod precision;
 mod registry;
 mod scf_paper;
