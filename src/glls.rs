@@ -1384,7 +1384,7 @@ impl StateNoise {
                 "state and state noise",
                 "no state and state noise reproduce the measurements exactly (the rows of [Γ Ψ] are dependent); try glls.estimator \"lls\"",
             ),
-            scale_to_rhs: false,
+            unit: None,
         })?;
         let x = sol.x.rows(0, n).into_owned();
         let xi = sol.x.rows(n, n * s).into_owned();

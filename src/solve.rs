@@ -104,12 +104,13 @@ pub struct Problem {
     /// Second-order cones: each (G, g) asks that s = g − Gx has ‖(s₁, …, s_d)‖₂ ≤ s₀.
     pub soc: Vec<(DMatrix<f64>, DVector<f64>)>,
     pub blame: Blame,
-    /// Solve an LP (no `p`) in the unit of its right-hand sides: x = β x̃ with β the power of two
-    /// at or below the largest |b|, so that the solver's absolute tolerances (10⁻⁸) are
-    /// relative to the problem's own scale. The constraints are homogeneous in (x, b), so the
-    /// answer is the same in exact arithmetic, and β is a power of two, so b/β and β x̃ are
-    /// exact. Without it a set-membership hull scaled by 10⁻⁶ came back 6.3·10⁻⁵ off.
-    pub scale_to_rhs: bool,
+    /// Solve an LP (no `p`) in a unit β of the caller's (`Some(β)`, a power of two: see
+    /// [`power_of_two_below`]): x = β x̃, so that the solver's absolute tolerances are
+    /// relative to the problem's own scale, and to 10⁻¹⁰ of it. The constraints are homogeneous
+    /// in (x, b) when every unknown has the unit of the data (states, half-widths, noise), so
+    /// the answer is the same in exact arithmetic, and b/β and β x̃ are exact. Without it a
+    /// set-membership hull scaled by 10⁻⁶ came back 6.3·10⁻⁵ off (issue 25).
+    pub unit: Option<f64>,
 }
 
 /// The power of two at or below |v| (1 for 0, a subnormal or a non-finite v), read from the
@@ -165,7 +166,7 @@ pub struct Family {
     /// The smallest and largest nonzero |coefficient| of the loaded problem: the first thing
     /// to look at when the solver does not converge.
     span: (f64, f64),
-    /// β of [`Problem::scale_to_rhs`] (1 when not scaled).
+    /// β of [`Problem::unit`] (1 when not scaled).
     unit: f64,
 }
 
@@ -207,15 +208,9 @@ impl Family {
             };
             blocks.push((a, rhs, cone));
         }
-        let unit = if problem.scale_to_rhs && problem.p.is_none() {
-            power_of_two_below(
-                blocks
-                    .iter()
-                    .flat_map(|(_, rhs, _)| rhs.iter())
-                    .fold(0.0_f64, |m, v| m.max(v.abs())),
-            )
-        } else {
-            1.0
+        let unit = match problem.unit {
+            Some(u) if problem.p.is_none() && u.is_finite() && u > 0.0 => u,
+            _ => 1.0,
         };
         let rows: usize = blocks.iter().map(|(a, _, _)| a.nrows()).sum();
         let mut a = DMatrix::zeros(rows, n);
@@ -239,8 +234,8 @@ impl Family {
             None => CscMatrix::zeros((n, n)),
         };
         // No presolve and no dropped zeros, so that `update_q` is allowed. A problem in its own
-        // unit (`scale_to_rhs`) can ask for 10⁻¹⁰ of it: a hull to that relative accuracy.
-        let tolerance = if problem.scale_to_rhs { 1e-10 } else { 1e-8 };
+        // unit ([`Problem::unit`]) can ask for 10⁻¹⁰ of it: a hull to that relative accuracy.
+        let tolerance = if problem.unit.is_some() { 1e-10 } else { 1e-8 };
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
             .tol_gap_abs(tolerance)
@@ -406,7 +401,7 @@ pub fn linear(
         le,
         soc: Vec::new(),
         blame: blame.into(),
-        scale_to_rhs: false,
+        unit: None,
     })
 }
 
@@ -440,7 +435,7 @@ mod tests {
             le: None,
             soc: Vec::new(),
             blame: "t".into(),
-            scale_to_rhs: false,
+            unit: None,
         })
         .unwrap();
         assert!(

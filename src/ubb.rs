@@ -320,15 +320,24 @@ impl FeasibleSet {
             cones: soc.len(),
             cone_rows: soc.iter().map(|(g, _)| g.nrows()).sum(),
         };
+        let unit = solve::power_of_two_below(
+            le.iter()
+                .chain(eq.iter())
+                .flat_map(|(_, b)| b.iter())
+                .chain(soc.iter().flat_map(|(_, g)| g.iter()))
+                .fold(0.0_f64, |m, v| m.max(v.abs())),
+        );
         Ok((
             Problem {
                 p: None,
                 q: DVector::zeros(nv),
                 eq,
                 le,
+                // The unit of the data and bounds: every unknown (x(0), states, noise samples,
+                // slacks) has it, so the LP is homogeneous in it.
+                unit: Some(unit),
                 soc,
                 blame: self.blame(),
-                scale_to_rhs: true,
             },
             size,
         ))

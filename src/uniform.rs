@@ -185,6 +185,9 @@ pub struct Lp {
     pub b: DVector<f64>,
     pub lo: DVector<f64>,
     pub hi: DVector<f64>,
+    /// The unit the solver works in ([`solve::Problem::unit`]): the state LP's unknowns
+    /// (states, half-widths) all have the data's unit; the parameter LP's Θ has none (`None`).
+    pub unit: Option<f64>,
 }
 
 impl Lp {
@@ -244,7 +247,7 @@ impl Lp {
             le: Some((a, b)),
             soc: Vec::new(),
             blame: blame.into(),
-            scale_to_rhs: false,
+            unit: self.unit,
         }
     }
 }
@@ -298,7 +301,17 @@ pub fn state_lp(
     hi.rows_mut(nx + n, m).copy_from(&prior.yr_max);
     let mut c = DVector::zeros(nv);
     c.rows_mut(nx, n + m).fill(1.0);
-    Lp { c, a, b, lo, hi }
+    // The data's unit: the largest right-hand side of (8) (the prior box ±x_bound is a bound
+    // the user sets wide, not a scale of the data).
+    let unit = Some(solve::power_of_two_below(b.amax()));
+    Lp {
+        c,
+        a,
+        b,
+        lo,
+        hi,
+        unit,
+    }
 }
 
 /// Bounds of Θ for the parameter LP: entrywise, in the layout of [`Theta::to_vec`].
@@ -372,7 +385,14 @@ pub fn parameter_lp(
     hi.rows_mut(nth + n, m).copy_from(&prior.yr_max);
     let mut c = DVector::zeros(nv);
     c.rows_mut(nth, n + m).fill(1.0);
-    Lp { c, a, b, lo, hi }
+    Lp {
+        c,
+        a,
+        b,
+        lo,
+        hi,
+        unit: None,
+    }
 }
 
 /// The MAP state window: states newest first, half-widths, optimum.
@@ -468,10 +488,13 @@ pub fn face_range(lp: &Lp, objective: f64, index: usize) -> Result<(f64, f64)> {
 }
 
 /// The ranges of the variables `indices` over the optimal face: the face (the LP's rows with
-/// cᵀX ≤ J* + tol, tol = 1e-7·max(1, |J*|) for the solver's accuracy) is loaded once in a
+/// cᵀX ≤ J* + tol, tol = max(1e-7·|J*|, 1e-8·unit) for the solver's accuracy) is loaded once in a
 /// [`solve::Family`] and solved for ±e_i, two LPs per index.
 pub fn face_ranges(lp: &Lp, objective: f64, indices: &[usize]) -> Result<Vec<(f64, f64)>> {
-    let tol = 1e-7 * objective.abs().max(1.0);
+    // Relative to J* (so the face scales with the problem), with a floor at the solver's
+    // accuracy in the LP's unit: a floor of 10⁻⁷ absolute let the face of data at 10⁻⁶ hold
+    // points 10 % off the optimum.
+    let tol = (1e-7 * objective.abs()).max(1e-8 * lp.unit.unwrap_or(1.0));
     let nv = lp.c.len();
     // The face holds the optimum found just before, so only the solver's accuracy can make it
     // empty; the window is what the user can change.
@@ -543,6 +566,7 @@ pub fn consistent_polygon(
         b: &lp.b - lp.a.columns(nx, n + m) * hw,
         lo: lp.lo.rows(0, nx).into_owned(),
         hi: lp.hi.rows(0, nx).into_owned(),
+        unit: lp.unit,
     };
     // The half-widths are the window's own estimate, so the set holds at least that estimate's
     // states; only the solver's accuracy can make it empty.
@@ -822,7 +846,15 @@ impl Online {
             .copy_from(&self.state_prior.yr_max);
         let mut c = DVector::zeros(nv);
         c.rows_mut(nx + nth, n + m).fill(1.0);
-        let mut lp = Lp { c, a, b, lo, hi };
+        // Θ has no unit of the data: solved as given.
+        let mut lp = Lp {
+            c,
+            a,
+            b,
+            lo,
+            hi,
+            unit: None,
+        };
         // States and Θ at once: both prior boxes bound it.
         let blame = Blame::new(
             "uniform.x_bound",

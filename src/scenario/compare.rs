@@ -156,9 +156,10 @@ pub const COMPARED: [Method; 6] = [
 pub const MAX_STEPS: usize = 150;
 /// Largest window of the set-membership methods.
 pub const MAX_WINDOW: usize = 40;
-/// Bound on every state entry of Pavelková's window LP (her ±5, widened: the compare states are
-/// the model's, not hers).
-const X_BOUND: f64 = 1e4;
+/// Bound on every state entry of Pavelková's window LP in units of the record's scale (her ±5,
+/// widened: the compare states are the model's, not hers). In the record's own unit, so that a
+/// record scaled by 10⁶ is not cut by the box, nor one scaled by 10⁻⁸ lost in it (issue 25).
+const X_BOUND_PER_SCALE: f64 = 1e4;
 /// Support LPs of each exact polygon.
 const POLYGON_BUDGET: usize = 64;
 
@@ -626,6 +627,15 @@ fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
 
 /// The method's own scenario on the record's first t rows, with its parameters derived from
 /// the noise law (the table in the module docs).
+/// The record's scale: its largest datum, prior mean or noise bound (the unit every set of
+/// the compare has).
+fn record_scale(p: &ComparePrepared) -> f64 {
+    let prior = p.model.x1_mean.amax();
+    p.y.iter()
+        .flatten()
+        .fold(p.bound_v.max(p.bound_w).max(prior), |m, v| m.max(v.abs()))
+}
+
 fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario> {
     let s = &p.scenario;
     let c = &p.spec;
@@ -723,7 +733,7 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
                         "window": window,
                         "xr_max": xr,
                         "yr_max": vec![p.bound_w; q],
-                        "x_bound": X_BOUND,
+                        "x_bound": X_BOUND_PER_SCALE * record_scale(p),
                         "time": t,
                         "plane": [0, 1],
                         "directions": POLYGON_BUDGET,

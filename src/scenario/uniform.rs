@@ -439,7 +439,8 @@ impl Scenario {
 /// The uniform model's precision boundary ([`crate::precision`]): every constraint of the LP
 /// (6)–(10) is one datum against the half-width of a uniform innovation, |y − Cx − Du| ≤ yr and
 /// |x⁺ − Ax − Bu| ≤ xr, and a window combines (n + m) such data per step. The noise scale is the
-/// smallest half-width: the simulation's true xr, yr, or with data the bounds xr_max, yr_max.
+/// smallest half-width: the simulation's true xr, yr, or with data the bound yr_max of the
+/// measurements.
 /// (The uniform density puts at most δ/ε of its mass within δ of a bound ε, below the Gaussian
 /// factor 0.8/σ the check uses.)
 fn uniform_resolution(
@@ -454,11 +455,17 @@ fn uniform_resolution(
             .fold(0.0_f64, |m, e| m.max(e.abs()))
     };
     let magnitude = largest(&traj.x).max(largest(&traj.y)).max(largest(&traj.u));
-    let noise = xr
-        .iter()
-        .chain(yr.iter())
-        .copied()
-        .fold(f64::INFINITY, f64::min);
+    // With data the half-widths are only bounds, and the state ones may be floors for states
+    // without noise (compare's 10⁻⁶): the measured data are judged against the measurement
+    // half-widths. A simulation's true half-widths are all real noise.
+    let noise = if scenario.data.is_some() {
+        yr.iter().copied().fold(f64::INFINITY, f64::min)
+    } else {
+        xr.iter()
+            .chain(yr.iter())
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    };
     let n_m = traj.x.first().map_or(0, |x| x.len()) + traj.y.first().map_or(0, |y| y.len());
     crate::precision::Resolution {
         field: if scenario.data.is_some() {

@@ -46,7 +46,7 @@ struct Probe {
 }
 
 /// Build the polygon with at most `budget` calls of `support(d) = (h(d), argmax point)`.
-/// `rel_tol` is the tolerance of the edge test relative to the set's scale (1 + its largest
+/// `rel_tol` is the tolerance of the edge test relative to the set's scale (its largest
 /// coordinate, read from the four axis calls): the solver's relative accuracy.
 pub fn polygon_from_support<F>(
     mut support: F,
@@ -79,7 +79,9 @@ where
         -probes[3].value,
         probes[1].value,
     ];
-    let tol = rel_tol * (1.0 + hull.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+    // Relative to the set's own scale, with no absolute floor: a floor of 1 merged every
+    // vertex of a set 10⁻⁸ wide into one point (issue 25).
+    let tol = rel_tol * hull.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let dot = |d: [f64; 2], p: [f64; 2]| d[0] * p[0] + d[1] * p[1];
     let close =
         |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() <= tol;
