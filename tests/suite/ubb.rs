@@ -797,7 +797,7 @@ fn contradictory_data_and_bad_input_name_their_field() {
             ("ubb.gamma", json!({"ubb": {"gamma": -1.0, "window": null}})),
             ("ubb.time", json!({"ubb": {"time": 60}})),
             (
-                "ubb.basis",
+                "ubb.basis[1]",
                 json!({"ubb": {"basis": ["1", "z"]}, "model": {"H": null}}),
             ),
             ("model.F", json!({"model": {"F": [[1.0, 0.0]]}})),

@@ -378,10 +378,12 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
         .uniform
         .unwrap();
     assert_eq!(u.steps.len(), 120);
-    // Observed on this seed: RMS state error 0.75 (swapping; the state is not observable and Θ̂
-    // sits on its prior box), KF 0.27, RMS prediction error 0.29. Margins ×1.5.
-    assert!(u.rms_prediction < 0.45, "prediction {}", u.rms_prediction);
-    assert!(u.rms_lp.unwrap() < 1.2, "state {:?}", u.rms_lp);
+    // Observed on this seed: RMS state error 1.29 (swapping; the state is not observable and Θ̂
+    // sits on its prior box, so the state LP's optimum is a face and the point the solver
+    // returns on it depends on its tolerance: 0.75 at clarabel's 1e-8, 1.29 at the 1e-10 of
+    // the LP's own unit, issue 25), KF 0.27, RMS prediction error 0.30–0.36. Margins ×1.5.
+    assert!(u.rms_prediction < 0.55, "prediction {}", u.rms_prediction);
+    assert!(u.rms_lp.unwrap() < 2.0, "state {:?}", u.rms_lp);
     assert!(u.rms_kf.unwrap() < 0.45, "KF {:?}", u.rms_kf);
     // Θ̂ stays inside its prior box (±30 %, A₂₂ ∈ [−0.3, 0.3]).
     let last = u.steps.last().unwrap();
