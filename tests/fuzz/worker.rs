@@ -195,7 +195,9 @@ fn in_process(job: &Job) -> (Class, String) {
                 if let Err(e) = check_report_json(&report) {
                     return Ok((Class::Null, format!("report: {e}")));
                 }
-                if let Some(cell) = non_finite_cell(&report.table().to_csv()) {
+                // A non-finite cell is refused by the table itself (a field error); one that
+                // slipped past it would be written as text here.
+                if let Some(cell) = non_finite_cell(&report.table()?.to_csv()) {
                     return Ok((Class::NonFinite, format!("the report's CSV: {cell}")));
                 }
                 if *figure {
