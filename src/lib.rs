@@ -276,6 +276,7 @@ pub mod linalg;
 pub mod lscr;
 pub mod method;
 pub mod model;
+pub mod parse;
 pub mod plot;
 pub mod precision;
 pub mod presets;

@@ -193,20 +193,18 @@ impl<R: Runs> Chunked<R> {
 
     /// Parse part `k` (named `k` in messages: "part 2") and check it belongs to this study.
     fn read_part(&self, k: &str, part: &Value) -> Result<(Range<usize>, R::Tally)> {
-        let p: Partial<R::Tally> = serde_path_to_error::deserialize(part).map_err(|e| {
+        // Read as a scenario is (crate::parse): the field is the path of the value at fault,
+        // the message in JSON words, never a Rust type.
+        let p: Partial<R::Tally> = crate::parse::from_value(part, "partial").map_err(|e| {
             Error::field(
-                "",
-                format!(
-                    "{k} is not a study's partial counts: at {}: {}",
-                    e.path(),
-                    e.inner()
-                ),
+                e.field,
+                format!("{k} is not a study's partial counts: {}", e.message),
             )
         })?;
         let (total, batch) = (self.runs.total(), self.runs.batch());
         if p.total != total {
             return Err(Error::field(
-                "",
+                "partial.total",
                 format!(
                     "{k} is a shard of a study of {} runs, this study has {total}",
                     p.total
@@ -215,7 +213,7 @@ impl<R: Runs> Chunked<R> {
         }
         if p.seed != self.runs.seed() {
             return Err(Error::field(
-                "",
+                "partial.seed",
                 format!(
                     "{k} was drawn with seed {}, this study with seed {}",
                     p.seed,
@@ -225,7 +223,7 @@ impl<R: Runs> Chunked<R> {
         }
         if p.scenario_digest != self.scenario_digest {
             return Err(Error::field(
-                "",
+                "partial.scenario_digest",
                 format!(
                     "{k} is of another scenario (digest {}, this study's {})",
                     p.scenario_digest, self.scenario_digest
@@ -240,7 +238,7 @@ impl<R: Runs> Chunked<R> {
             || p.batch != batch
         {
             return Err(Error::field(
-                "",
+                "partial.range",
                 format!(
                     "{k} covers runs {a}..{b}, which is not a range of this study's runs 0..{total} in batches of {batch}"
                 ),
@@ -248,7 +246,7 @@ impl<R: Runs> Chunked<R> {
         }
         if p.counts.runs() != b - a {
             return Err(Error::field(
-                "",
+                "partial.counts",
                 format!(
                     "{k} covers runs {a}..{b} but counts {} runs",
                     p.counts.runs()
@@ -260,7 +258,7 @@ impl<R: Runs> Chunked<R> {
         let runs = p.counts.runs();
         if let Some((field, n)) = p.counts.counts().into_iter().find(|(_, n)| *n > runs) {
             return Err(Error::field(
-                "",
+                format!("partial.counts.{field}"),
                 format!(
                     "{k}'s counts.{field} is {n}, more than the {runs} runs it counts (runs {a}..{b}): a count of runs is a whole number from 0 to its runs"
                 ),
@@ -274,7 +272,7 @@ impl<R: Runs> Study for Chunked<R> {
     fn step(&mut self, runs: usize) -> Result<()> {
         if self.merged.is_some() {
             return Err(Error::field(
-                "",
+                "partial",
                 "a merged study only reports its parts' counts: step the shards' studies",
             ));
         }
@@ -366,7 +364,7 @@ impl<R: Runs> Study for Chunked<R> {
             if let Some((j, prev)) = &reach {
                 if r.start < prev.end {
                     return Err(Error::field(
-                        "",
+                        "partial.range",
                         format!(
                             "{name} covers runs {}..{} which {} also covers",
                             r.start, r.end, parts[*j].0
@@ -374,9 +372,12 @@ impl<R: Runs> Study for Chunked<R> {
                     ));
                 }
             }
-            counts
-                .add(c)
-                .map_err(|e| Error::field("", format!("{name} does not fit this study: {e}")))?;
+            counts.add(c).map_err(|e| {
+                Error::field(
+                    "partial.counts",
+                    format!("{name} does not fit this study: {e}"),
+                )
+            })?;
             reach = Some((*k, r.clone()));
         }
         self.counts = counts;
@@ -391,7 +392,7 @@ impl<R: Runs> Study for Chunked<R> {
             Ok(())
         } else {
             Err(Error::field(
-                "",
+                "partial.range",
                 format!("runs {} are missing", ranges_text(&missing)),
             ))
         }

@@ -27,7 +27,8 @@ pub mod compare;
 pub mod csv;
 pub mod glls;
 pub mod lscr;
-pub mod parse;
+/// The JSON reader with field paths, a layer below (studies read their parts with it too).
+pub use crate::parse;
 pub mod scf;
 pub mod ubb;
 pub mod uniform;

@@ -171,11 +171,19 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
         );
 
         let e = merged(name, s, runs, &[c.clone(), a.clone()]).expect_err("missing");
-        assert_eq!(e, format!("runs {} are missing", range(&b)), "{name}");
+        assert_eq!(
+            e,
+            format!("partial.range runs {} are missing", range(&b)),
+            "{name}"
+        );
         let e = merged(name, s, runs, &[b.clone()]).expect_err("missing");
         assert_eq!(
             e,
-            format!("runs {} and {} are missing", range(&a), range(&c)),
+            format!(
+                "partial.range runs {} and {} are missing",
+                range(&a),
+                range(&c)
+            ),
             "{name}"
         );
 
