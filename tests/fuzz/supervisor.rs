@@ -17,6 +17,25 @@ struct Worker {
     lines: Receiver<String>,
 }
 
+/// The CPU seconds (user + system) process `pid` has used so far, from /proc (0 where there
+/// is no /proc).
+fn cpu_seconds(pid: u32) -> f64 {
+    let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+        return 0.0;
+    };
+    // Fields after the command name (which may hold spaces, so split after its ')'): utime and
+    // stime are fields 14 and 15 of the line, 12 and 13 after the ')'.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let ticks: f64 = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|v| v.parse::<f64>().ok())
+        .sum();
+    let per_second = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as f64;
+    ticks / per_second
+}
+
 fn start(args: &Args, from: u64, to: u64) -> Worker {
     let exe = std::env::current_exe().expect("the campaign's own path");
     let mut child = Command::new(exe)
@@ -74,6 +93,7 @@ pub fn main(args: &Args) -> ExitCode {
     let mut in_flight: Option<u64> = None;
     let mut last_print = Instant::now();
     let mut case_start = Instant::now();
+    let mut case_cpu = 0.0;
     let mut worker = start(args, next, end);
     while next < end {
         if deadline.is_some_and(|d| Instant::now() > d) {
@@ -93,6 +113,7 @@ pub fn main(args: &Args) -> ExitCode {
                     (Some("start"), Some(i), _) => {
                         in_flight = Some(i);
                         case_start = Instant::now();
+                        case_cpu = cpu_seconds(worker.child.id());
                         progress(&mut last_print, &tally, next, started, args);
                         continue;
                     }
@@ -111,13 +132,22 @@ pub fn main(args: &Args) -> ExitCode {
                 }
             }
             Err(RecvTimeoutError::Timeout) => match in_flight {
-                Some(i) if case_start.elapsed() > limit => {
+                // A hang is judged on the worker's own CPU time, not the clock: a loaded
+                // machine (or `nice`) must not turn a slow case into a hang. The clock still
+                // stops a case blocked without using CPU (or in a child process) at 6× the limit.
+                Some(i)
+                    if cpu_seconds(worker.child.id()) - case_cpu > limit.as_secs_f64()
+                        || case_start.elapsed() > 6 * limit =>
+                {
                     let _ = worker.child.kill();
                     let _ = worker.child.wait();
                     Some((
                         i,
                         Class::Hang,
-                        format!("still running after {} s", limit.as_secs()),
+                        format!(
+                            "used over {} s of CPU (or 6× that on the clock)",
+                            limit.as_secs()
+                        ),
                     ))
                 }
                 _ => continue,
