@@ -69,11 +69,15 @@ pub fn spacing(y: f64) -> f64 {
     f64::from_bits(y.to_bits() + 1) - y
 }
 
-/// The largest absolute value in a list of vectors (0 for none).
-pub fn largest<'a>(rows: impl IntoIterator<Item = &'a [f64]>) -> f64 {
-    rows.into_iter()
-        .flat_map(|r| r.iter())
-        .fold(0.0_f64, |m, v| m.max(v.abs()))
+/// The largest absolute entry of a list of vectors (0 for none): the magnitude Y of a record.
+pub fn largest<'a, V>(vectors: impl IntoIterator<Item = &'a V>) -> f64
+where
+    V: AsRef<[f64]> + 'a + ?Sized,
+{
+    vectors
+        .into_iter()
+        .flat_map(|v| v.as_ref().iter())
+        .fold(0.0_f64, |m, e| m.max(e.abs()))
 }
 
 impl Resolution<'_> {

@@ -350,11 +350,7 @@ fn glls_resolution(
     y: &[DVector<f64>],
     x_true: Option<&[DVector<f64>]>,
 ) -> Result<()> {
-    let largest = |v: &[DVector<f64>]| {
-        v.iter()
-            .flat_map(|x| x.iter())
-            .fold(0.0_f64, |m, e| m.max(e.abs()))
-    };
+    let largest = |v: &[DVector<f64>]| crate::precision::largest(v.iter().map(|x| x.as_slice()));
     let gaussian = linalg::min_eigenvalue(&model.omega).max(0.0).sqrt();
     let (noise, noise_name) = if gaussian > 0.0 && spec.noise == GllsNoise::Gaussian {
         (

@@ -181,11 +181,7 @@ fn scf_resolution(
     y: &[DVector<f64>],
     x_true: Option<&[DVector<f64>]>,
 ) -> Result<()> {
-    let largest = |v: &[DVector<f64>]| {
-        v.iter()
-            .flat_map(|x| x.iter())
-            .fold(0.0_f64, |m, e| m.max(e.abs()))
-    };
+    let largest = |v: &[DVector<f64>]| crate::precision::largest(v.iter().map(|x| x.as_slice()));
     let magnitude = largest(y).max(x_true.map_or(0.0, largest));
     let gains = crate::kalman::KalmanGains::new(model, y.len())?;
     let thinnest = gains

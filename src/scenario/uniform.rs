@@ -449,11 +449,7 @@ fn uniform_resolution(
     (xr, yr): (&DVector<f64>, &DVector<f64>),
     window: usize,
 ) -> Result<()> {
-    let largest = |v: &[DVector<f64>]| {
-        v.iter()
-            .flat_map(|x| x.iter())
-            .fold(0.0_f64, |m, e| m.max(e.abs()))
-    };
+    let largest = |v: &[DVector<f64>]| crate::precision::largest(v.iter().map(|x| x.as_slice()));
     let magnitude = largest(&traj.x).max(largest(&traj.y)).max(largest(&traj.u));
     // With data the half-widths are only bounds, and the state ones may be floors for states
     // without noise (compare's 10⁻⁶): the measured data are judged against the measurement
