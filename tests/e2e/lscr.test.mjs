@@ -161,6 +161,7 @@ export default async function lscr(env) {
       // Issue 25: at x̄ = (1e15, 0) a double cannot represent the noise (spacing 0.125 > σ): refused
       // with the reason beside the field, never a study of rounding with ✗ verdicts.
       await bad('l-xbar', '1e15 0', 'simulate.condition.x', /^simulate\.condition\.x makes the data y as large as 1\.000e15: there the spacing of doubles is 1\.250e-1/);
+      await shoot(page, screenshotDir, 'lscr-precision-refused-dpr1');
       await set(page, 'l-xbar', '1e6 0');
       assert.equal(await text(page, '#lscr .err[data-for="simulate.condition.x"]'), '', 'x̄ = (1e6, 0) is resolved');
       await set(page, 'l-fix', false);
