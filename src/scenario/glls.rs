@@ -323,7 +323,6 @@ impl Scenario {
                 (y, Some(x), dmax)
             }
         };
-        glls_resolution(self, &model, &spec, mu, &y, x_true.as_deref())?;
         Ok(GllsPrepared {
             spec,
             model,
@@ -336,45 +335,6 @@ impl Scenario {
             noise_max,
         })
     }
-}
-
-/// GLLS's precision boundary ([`crate::precision`]): an estimate (21) combines the m(s + 1)
-/// measurements of its horizon, at most m(max_horizon + 1), and its error is judged against the
-/// measurement noise: the smallest standard deviation √λ_min(Ω) of Gaussian noise, or the bound
-/// μ of bounded noise (the guaranteed ball (35) scales with it).
-fn glls_resolution(
-    scenario: &Scenario,
-    model: &GllsModel,
-    spec: &GllsSpec,
-    mu: f64,
-    y: &[DVector<f64>],
-    x_true: Option<&[DVector<f64>]>,
-) -> Result<()> {
-    let largest = |v: &[DVector<f64>]| crate::precision::largest(v.iter().map(|x| x.as_slice()));
-    let gaussian = linalg::min_eigenvalue(&model.omega).max(0.0).sqrt();
-    let (noise, noise_name) = if gaussian > 0.0 && spec.noise == GllsNoise::Gaussian {
-        (
-            gaussian,
-            "the smallest measurement noise standard deviation √λ_min(Ω)",
-        )
-    } else {
-        (mu, "the noise bound μ")
-    };
-    crate::precision::Resolution {
-        field: if scenario.data.is_some() {
-            "data.y"
-        } else {
-            "model.x1_mean"
-        },
-        what: "the states and data",
-        magnitude: largest(y).max(x_true.map_or(0.0, largest)),
-        noise,
-        noise_name,
-        combined: model.m() * (spec.max_horizon + 1),
-        tests: 1,
-        method: "GLLS",
-    }
-    .check()
 }
 
 /// The data of a simulation: x(0..k), y(0..k) and the largest ‖δ(j)‖₂ drawn.
