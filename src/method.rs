@@ -15,7 +15,7 @@ use std::fmt;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
-    /// State Conditional Filter regions beside the Kalman ones (Ghirardi et al.).
+    /// State Conditional Filter regions beside the Kalman ones (Carè, Campi and Weyer).
     Scf,
     /// Kalman filter regions only (the same scenario, no SCF, no observability requirement).
     Kf,

@@ -479,6 +479,78 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
 }
 
 impl Scenario {
+    /// A scenario of `method` on `model` with every option at its default and no block of any
+    /// method: a builder then sets only its own method's block (`s.lscr = Some(…)`) and the
+    /// shared fields it needs through the setters below.
+    pub fn new(method: Method, model: ModelSpec) -> Scenario {
+        Scenario {
+            method,
+            title: None,
+            model,
+            data: None,
+            simulate: None,
+            alpha: default_alpha(),
+            components: None,
+            tau: 0,
+            asymptotic: false,
+            time: None,
+            plot: None,
+            collision: None,
+            coverage_curve: None,
+            experiment: None,
+            lscr: None,
+            glls: None,
+            uniform: None,
+            ubb: None,
+            compare: None,
+            notes: None,
+        }
+    }
+
+    /// With a title (shown on every figure).
+    pub fn with_title(mut self, title: impl Into<String>) -> Scenario {
+        self.title = Some(title.into());
+        self
+    }
+
+    /// With notes (where the numbers come from, which reading of the paper).
+    pub fn with_notes(mut self, notes: impl Into<String>) -> Scenario {
+        self.notes = Some(notes.into());
+        self
+    }
+
+    /// With the probability level α of every region.
+    pub fn with_alpha(mut self, alpha: f64) -> Scenario {
+        self.alpha = alpha;
+        self
+    }
+
+    /// With measured data (and no simulation).
+    pub fn with_data(mut self, data: DataSpec) -> Scenario {
+        self.data = Some(data);
+        self.simulate = None;
+        self
+    }
+
+    /// With a seeded simulation (and no data).
+    pub fn with_simulate(mut self, simulate: SimulateSpec) -> Scenario {
+        self.simulate = Some(simulate);
+        self.data = None;
+        self
+    }
+
+    /// With the time a figure shows.
+    pub fn with_time(mut self, time: usize) -> Scenario {
+        self.time = Some(time);
+        self
+    }
+
+    /// With the two state components drawn in the plane.
+    pub fn with_plot(mut self, plot: Vec<usize>) -> Scenario {
+        self.plot = Some(plot);
+        self
+    }
+
     /// Parse JSON; an error names the JSON path of the offending value and says, in JSON
     /// words, what belongs there ([`parse`]).
     pub fn from_json(text: &str) -> Result<Self> {
@@ -736,7 +808,8 @@ pub(crate) trait MethodScenario: Sync {
 /// The one dispatch from a method to its scenario file.
 pub(crate) fn make_method(m: Method) -> &'static dyn MethodScenario {
     match m {
-        Method::Scf | Method::Kf => &scf::Scf,
+        Method::Scf => &scf::Scf { kalman_only: false },
+        Method::Kf => &scf::Scf { kalman_only: true },
         Method::Lscr => &lscr::Lscr,
         Method::Glls => &glls::Glls,
         Method::UniformLp => &uniform::Uniform,

@@ -78,7 +78,7 @@ impl Scenario {
         }
         let model = LinearModel::from_spec(&self.model)?;
         let n = model.n();
-        let source = self.source(&Scf)?;
+        let source = self.source(&Scf { kalman_only: false })?;
         let (input_field, input_rows) = source.input_rows();
         let inputs = Inputs::from_rows(input_field, input_rows)?;
         model
@@ -367,8 +367,13 @@ impl ScfPrepared {
     }
 }
 
-/// SCF and KF (Ghirardi et al.): the scenario's top-level options, KF/SCF steps in the report.
-pub(crate) struct Scf;
+/// SCF and KF (Carè, Campi and Weyer): the scenario's top-level options, KF/SCF steps in the
+/// report. One file, two descriptors: `"kf"` is the same run without the SCF regions.
+pub(crate) struct Scf {
+    /// The descriptor of `"kf"`: its presets are the SCF presets switched to it (none of its
+    /// own), so the menu lists each preset once.
+    pub(crate) kalman_only: bool,
+}
 
 impl MethodScenario for Scf {
     fn steps(&self) -> RangeInclusive<usize> {
@@ -451,7 +456,11 @@ impl MethodScenario for Scf {
         )))
     }
     fn presets(&self) -> Vec<Preset> {
-        presets()
+        if self.kalman_only {
+            Vec::new()
+        } else {
+            presets()
+        }
     }
 }
 
