@@ -15,30 +15,150 @@
 //!
 //! ## Modules
 //!
-//! | module | what lives there |
-//! |---|---|
-//! | [`error`] | the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why; [`error::quoted`], the one way a message repeats a user's string (cut at [`error::ECHO_CHARS`]); [`error::displayed`], the one way a figure shows one (control characters dropped, cut at [`error::DISPLAY_CHARS`], before any layout) |
-//! | [`method`] | the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`, and `compare`: all of them on one record), parsed once from the scenario; its names and its option block |
-//! | [`precision`] | where double precision stops resolving a method's sets: the one bound 0.8·√N·δ(Y)/σ·T on the probability that rounding flips a verdict (δ(Y) the spacing of doubles at the data's magnitude, σ the noise scale), checked by each method's scenario file before any work ([`precision::Resolution`]); refused past 10⁻⁴ naming the field |
-//! | [`stats`] | χ² quantiles (round-trip checked) and the one exact binomial band every study compares its counts with |
-//! | [`bench`](mod@bench) | the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo, LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and `.ci/bench`'s table beside NumPy |
-//! | [`study`] | the [`Study`] trait every Monte Carlo is driven through (step, runs, total, finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and [`study::Tally`] (how two ranges' counts add, by checked sums, and which of them are counts of runs, none above its runs: what a merge checks on every part); [`study::shard_range`], the one split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on wasm32), merged |
-//! | [`linalg`] | small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots, the induced norms ‖·‖₁, ‖·‖₂, ‖·‖∞, the one sort of numbers ([`linalg::sort_increasing`], [`linalg::sort_decreasing`], [`linalg::decreasing_order`]) |
-//! | [`model`] | the scenario's `model` block ([`model::ModelSpec::constant`]: the one matrix of a field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse) and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and state-conditioned backward simulation |
-//! | [`sets`] | set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius, membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q affine functions are > 0 and ≥ q are < 0) with its exact pixel raster [`sets::GridRegion`], line pieces, boundary polygons, 2-D slices and recession directions; in [`sets::support_polygon`] the exact polygon of a planar convex set known only through its support function (one LP per call: each unsettled stretch between two boundary points is closed by a support call normal to it; used by `ubb` and `uniform`), and [`sets::point_in_convex`] |
-//! | [`kalman`] | Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state |
-//! | [`scf`] | State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40), asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage; in [`scf::experiment`] the conditional-coverage studies: the Fig. 1 curve and the chunked robot Monte Carlo (on domain values: model, inputs, options, the conditioning state) |
-//! | [`lscr`] | LSCR (Weyer & Campi): the data as a regression on x_{t+1}, x_t or x_i ((11), (20), (21)), the block-wise Karhunen–Loève basis (12)–(15), the SVD of A (16), random/group/explicit strings (points 4, 4a), the region (17) as a `SignRegion`, Theorem 3.2 levels, BLUE and Kalman comparisons, the chunked coverage experiment |
-//! | [`glls`] | GLLS moving-horizon estimation (Gubarev & Mishchenko): Γ_{s+1}, Φ_{s+1} (6), the GLLS gain in SVD form (21), fast-forward (41), κ (17), (19), (45), truncated-SVD regularization (29)–(32), (47)–(49), guaranteed ball (35) with √(s+1) and the exact interval hull, the expected bound (39), singular-value curves by scaled QR updates, the state-noise estimator (60)–(64), the chunked Monte Carlo of Section 5 |
-//! | [`uniform`] | linear models with uniform innovations (Pavelková): the state LP (6)–(10) in the Kronecker layout of (8), the parameter LP (11)–(12) with the half-width block derived from (4), the optimal face (its ranges from one loaded LP), the exact consistent-state polygon ([`sets::polygon_from_support`] on one loaded state LP with the half-widths eliminated), the sliding window with swapping (4.1) and expansion (4.2, (13)) joint estimation, automatic extension of infeasible half-width bounds |
-//! | [`ubb`] | unknown-but-bounded noise (Tempo): the feasible set T(h) (3) as weighted l∞/l1/l2 [`ubb::NormBound`]s (l1 either as the paper's 2^{m−1} rows (30)–(34) or lifted with slacks; l2 as second-order cones), its interval hull and central estimate (31) with the local error (5), the exact 2-D polygon, Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear optimal algorithm from the active constraints of (22), by LP duals), Theorems 4 and 5 ((47), (55), (58)), and Section IV's state estimator on a window of j + 1 steps with smoothed bounds (45)–(46) |
-//! | [`solve`] | the one place that talks to the LP/QP solver (clarabel): dense LP/QP/SOCP in, a solution (with duals) or an error in words out, naming the field its [`solve::Blame`] holds (infeasible with the caller's hint, unbounded, stopped before converging with the coefficients' span); every solve capped at [`solve::MAX_ITERATIONS`] and [`solve::TIME_LIMIT_SECONDS`]; a [`solve::Family`] keeps one loaded problem for many objectives (support functions) |
-//! | [`scenario`] | Scenario and Report JSON, parsing with field paths ([`scenario::parse`]: the text read once into a JSON value, a key given twice refused; every type read from that value with serde_path_to_error, then serde's messages in JSON words at the path of the offending value), the time [`scenario::Cursor`] of a scenario whose report keeps one step's detail (ubb, uniform_lp: the run prepared once, `at(t)` on demand; [`scenario::Report::set_at`]), the report's [`scenario::FigureContext`] (title, axis names, measured components, collision check: what a figure takes from the scenario, made with every report), the one observations step ([`scenario::Source`]: `data` or `simulate`, one step-count check per method), and the one dispatch `scenario::make_method` from a [`Method`] to its scenario file, each of which ends with its method's presets (`// Presets`: the builders and the menu entries): [`scenario::scf`] (the top-level SCF/KF options, KF/SCF steps, collision warnings, the Fig. 1 curve, the conditional experiment; the scalar and robot presets with the robot model), [`scenario::lscr`] (the `lscr` block, window fitting, boundary, raster, probes, coverage; the cascade and MA(1) presets), [`scenario::glls`] (the `glls` block; simulation with Gaussian, bounded or worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators, Monte Carlo; the four GLLS presets), [`scenario::uniform`] (the `uniform` block, on-line run, window at the cursor, KF with r²/3; Pavelková's example), [`scenario::ubb`] (the `ubb` block, the hull of x(k+1) at every step, the polygon, KF with matched variances, the guarantee study; the four Tempo presets); [`scenario::compare`] (method `compare`: one record under one noise law — Gaussian, uniform or truncated — every method's own scenario derived from it ([`scenario::compare`]'s table: variances, the LSCR level, bounds b_v, b_w), run through [`scenario::Scenario::run`] as its panel would, and its set for the target state read from its report into a [`scenario::compare::PlaneSet`]; GLLS's ball and Pavelková's polygon carried to x_{t+1} by the model they assume; each method's assumption checked against the law; a time cursor over t; the study at a fixed true state (exact backward draws for Gaussian noise, else unconditional) counting every method's hits beside its promise's band; the two cascade presets); every method's file also gives the shape (q, r) of its `data` ([`scenario::Scenario::data_shape`]) |
-//! | [`scenario::csv`] | measured data from CSV text, the one parser of the page (wasm `withCsvData`, `dataShape`), the CLI (`confset run --data FILE.csv`) and the tests: [`scenario::data_from_csv`] and [`scenario::Scenario::with_csv_data`] (columns y₁ … y_q then optionally u₁ … u_r; optional header naming them in any order; tab, semicolon, comma or space delimited; `#` comments, CRLF, BOM; at most [`scenario::csv::MAX_CSV_BYTES`] and [`scenario::csv::MAX_CSV_ROWS`] rows, checked before any cell is read; every cell in the scenario's number range, by the same [`scenario::magnitude_problem`] as JSON; errors name `data`, `data.y`, `data.u` with the file's line number and the column) |
-//! | [`presets`] | the menu of the papers' examples as scenarios (used by page, CLI and tests): the [`presets::Preset`] type, [`presets::all`] (every method of [`Method::ALL`] in turn, from its scenario file's presets; no names listed), [`presets::get`], and re-exports of the builders that live in the scenario files (`presets::scalar()`, `presets::ubb_preset(…)`, …) |
-//! | [`plot`] | figures on any plotters backend from the report and a [`plot::View`] (panel, time, zoom) alone, so page and CLI draw the same figure; one file per kind of picture: `state` (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs. 1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with the best horizon, the state plane with the guaranteed ball and box, error box plots against the horizon with the bound), `uniform` / `uniform_params` / `uniform_polygon` (Pavelková Figs. 1–3: states, estimates and errors with the window's optimal-face bars, output prediction, Θ̂ and half-widths over time, the consistent-state polygon), `ubb` / `ubb_width` (Tempo: the exact feasible polygon of x(k+1) with its interval hull, central estimate, truth and Kalman ellipse; the hull widths over k against the Theorem 4 bound, with the truth in its hull bands), `compare` (every method's set for one state on equal axes, one colour per method, hidden ones left out ([`plot::View::hide`]), sets far larger than the median cut at the window) |
-//! | [`gallery`] | (native only) the papers as a static site (`confset gallery`): `printed.json`, the catalogue of every figure and table a preset reproduces with the paper's printed numbers and where ours are in the report or study JSON; [`gallery::printed::verdict`] (reproduced at the printed digits, within a 99.9 % two-proportion band for Monte Carlo counts, or differs, with the erratum quoted from `src/errata.md`, the list below); [`gallery::build`] writes index, entries, SVG figures and JSON downloads with relative links and no script |
-//! | `web` | (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions; `presets`, `limits`, `methodPanels` (a method's figures with their text alternatives), `withCsvData` and `dataShape` (CSV data for a scenario); `Session` (run, `setReport` (a report computed in the page's worker), `setAt` (a step's detail from the worker's cursor into the kept report), `usefulPanels`, draw, svg, LSCR raster, GLLS precision), `Cursor` (a scenario's [`scenario::Cursor`]: `at(t)`, the report's `at` at step t, for the worker), `testOnlyAbort` (the page tests' crash), `timeCompare` (the worker's clock for a compare's per-method times) and one chunked `Study` for every method's Monte Carlo |
+//! * [`error`]: the one [`Error`]: the offending field (`model.V`, `alpha`, …) and why;
+//!   [`error::quoted`], the one way a message repeats a user's string (cut at
+//!   [`error::ECHO_CHARS`]); [`error::displayed`], the one way a figure shows one (control
+//!   characters dropped, cut at [`error::DISPLAY_CHARS`], before any layout)
+//! * [`method`]: the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`, and
+//!   `compare`: all of them on one record), parsed once from the scenario; its names and its option
+//!   block
+//! * [`precision`]: where double precision stops resolving a method's sets: the one bound
+//!   0.8·√N·δ(Y)/σ·T on the probability that rounding flips a verdict (δ(Y) the spacing of doubles
+//!   at the data's magnitude, σ the noise scale), checked by each method's scenario file before any
+//!   work ([`precision::Resolution`]); refused past 10⁻⁴ naming the field
+//! * [`stats`]: χ² quantiles (round-trip checked) and the one exact binomial band every study
+//!   compares its counts with
+//! * [`bench`](mod@bench): the speed comparison's kernels ([`bench::Kernel`]: robot Monte Carlo,
+//!   LSCR raster, GLLS curves, one set-membership step, the uniform report), written once for the
+//!   native benchmark (`cargo bench --bench speed -- kernels`), the wasm `BenchKernel` and
+//!   `.ci/bench`'s table beside NumPy
+//! * [`study`]: the [`Study`] trait every Monte Carlo is driven through (step, runs, total,
+//!   finished, result; restrict to a shard, partial counts, merge, complete) by the CLI (`confset
+//!   experiment`, `--shard i/N`, `confset merge`), the wasm `Study` class and the tests; written
+//!   once in [`study::Chunked`] over each study's [`study::Runs`] (what a range of runs gives) and
+//!   [`study::Tally`] (how two ranges' counts add, by checked sums, and which of them are counts of
+//!   runs, none above its runs: what a merge checks on every part); [`study::shard_range`], the one
+//!   split of runs into shards; [`study::run_sharded`], the shards on rayon's threads (one on
+//!   wasm32), merged
+//! * [`linalg`]: small dense helpers: JSON rows ↔ matrices, covariance checks, PSD square roots,
+//!   the induced norms ‖·‖₁, ‖·‖₂, ‖·‖∞, the one sort of numbers ([`linalg::sort_increasing`],
+//!   [`linalg::sort_decreasing`], [`linalg::decreasing_order`])
+//! * [`model`]: the scenario's `model` block ([`model::ModelSpec::constant`]: the one matrix of a
+//!   field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse)
+//!   and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments
+//!   m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and
+//!   state-conditioned backward simulation
+//! * [`sets`]: set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius,
+//!   membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in
+//!   [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q
+//!   affine functions are > 0 and ≥ q are < 0) with its exact pixel raster [`sets::GridRegion`],
+//!   line pieces, boundary polygons, 2-D slices and recession directions; in
+//!   [`sets::support_polygon`] the exact polygon of a planar convex set known only through its
+//!   support function (one LP per call: each unsettled stretch between two boundary points is
+//!   closed by a support call normal to it; used by `ubb` and `uniform`), and
+//!   [`sets::point_in_convex`]
+//! * [`kalman`]: Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state
+//! * [`scf`]: State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40),
+//!   asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage; in
+//!   [`scf::experiment`] the conditional-coverage studies: the Fig. 1 curve and the chunked robot
+//!   Monte Carlo (on domain values: model, inputs, options, the conditioning state)
+//! * [`lscr`]: LSCR (Weyer & Campi): the data as a regression on x_{t+1}, x_t or x_i ((11), (20),
+//!   (21)), the block-wise Karhunen–Loève basis (12)–(15), the SVD of A (16), random/group/explicit
+//!   strings (points 4, 4a), the region (17) as a `SignRegion`, Theorem 3.2 levels, BLUE and Kalman
+//!   comparisons, the chunked coverage experiment
+//! * [`glls`]: GLLS moving-horizon estimation (Gubarev & Mishchenko): Γ_{s+1}, Φ_{s+1} (6), the
+//!   GLLS gain in SVD form (21), fast-forward (41), κ (17), (19), (45), truncated-SVD
+//!   regularization (29)–(32), (47)–(49), guaranteed ball (35) with √(s+1) and the exact interval
+//!   hull, the expected bound (39), singular-value curves by scaled QR updates, the state-noise
+//!   estimator (60)–(64), the chunked Monte Carlo of Section 5
+//! * [`uniform`]: linear models with uniform innovations (Pavelková): the state LP (6)–(10) in the
+//!   Kronecker layout of (8), the parameter LP (11)–(12) with the half-width block derived from
+//!   (4), the optimal face (its ranges from one loaded LP), the exact consistent-state polygon
+//!   ([`sets::polygon_from_support`] on one loaded state LP with the half-widths eliminated), the
+//!   sliding window with swapping (4.1) and expansion (4.2, (13)) joint estimation, automatic
+//!   extension of infeasible half-width bounds
+//! * [`ubb`]: unknown-but-bounded noise (Tempo): the feasible set T(h) (3) as weighted l∞/l1/l2
+//!   [`ubb::NormBound`]s (l1 either as the paper's 2^{m−1} rows (30)–(34) or lifted with slacks; l2
+//!   as second-order cones), its interval hull and central estimate (31) with the local error (5),
+//!   the exact 2-D polygon, Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear
+//!   optimal algorithm from the active constraints of (22), by LP duals), Theorems 4 and 5 ((47),
+//!   (55), (58)), and Section IV's state estimator on a window of j + 1 steps with smoothed bounds
+//!   (45)–(46)
+//! * [`solve`]: the one place that talks to the LP/QP solver (clarabel): dense LP/QP/SOCP in, a
+//!   solution (with duals) or an error in words out, naming the field its [`solve::Blame`] holds
+//!   (infeasible with the caller's hint, unbounded, stopped before converging with the
+//!   coefficients' span); every solve capped at [`solve::MAX_ITERATIONS`] and
+//!   [`solve::TIME_LIMIT_SECONDS`]; a [`solve::Family`] keeps one loaded problem for many
+//!   objectives (support functions)
+//! * [`scenario`]: Scenario and Report JSON, parsing with field paths ([`scenario::parse`]: the
+//!   text read once into a JSON value, a key given twice refused; every type read from that value
+//!   with serde_path_to_error, then serde's messages in JSON words at the path of the offending
+//!   value), the time [`scenario::Cursor`] of a scenario whose report keeps one step's detail (ubb,
+//!   uniform_lp: the run prepared once, `at(t)` on demand; [`scenario::Report::set_at`]), the
+//!   report's [`scenario::FigureContext`] (title, axis names, measured components, collision check:
+//!   what a figure takes from the scenario, made with every report), the one observations step
+//!   ([`scenario::Source`]: `data` or `simulate`, one step-count check per method), and the one
+//!   dispatch `scenario::make_method` from a [`Method`] to its scenario file, each of which ends
+//!   with its method's presets (`// Presets`: the builders and the menu entries): [`scenario::scf`]
+//!   (the top-level SCF/KF options, KF/SCF steps, collision warnings, the Fig. 1 curve, the
+//!   conditional experiment; the scalar and robot presets with the robot model), [`scenario::lscr`]
+//!   (the `lscr` block, window fitting, boundary, raster, probes, coverage; the cascade and MA(1)
+//!   presets), [`scenario::glls`] (the `glls` block; simulation with Gaussian, bounded or
+//!   worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators,
+//!   Monte Carlo; the four GLLS presets), [`scenario::uniform`] (the `uniform` block, on-line run,
+//!   window at the cursor, KF with r²/3; Pavelková's example), [`scenario::ubb`] (the `ubb` block,
+//!   the hull of x(k+1) at every step, the polygon, KF with matched variances, the guarantee study;
+//!   the four Tempo presets); [`scenario::compare`] (method `compare`: one record under one noise
+//!   law — Gaussian, uniform or truncated — every method's own scenario derived from it
+//!   ([`scenario::compare`]'s table: variances, the LSCR level, bounds b_v, b_w), run through
+//!   [`scenario::Scenario::run`] as its panel would, and its set for the target state read from its
+//!   report into a [`scenario::compare::PlaneSet`]; GLLS's ball and Pavelková's polygon carried to
+//!   x_{t+1} by the model they assume; each method's assumption checked against the law; a time
+//!   cursor over t; the study at a fixed true state (exact backward draws for Gaussian noise, else
+//!   unconditional) counting every method's hits beside its promise's band; the two cascade
+//!   presets); every method's file also gives the shape (q, r) of its `data`
+//!   ([`scenario::Scenario::data_shape`])
+//! * [`scenario::csv`]: measured data from CSV text, the one parser of the page (wasm
+//!   `withCsvData`, `dataShape`), the CLI (`confset run --data FILE.csv`) and the tests:
+//!   [`scenario::data_from_csv`] and [`scenario::Scenario::with_csv_data`] (columns y₁ … y_q then
+//!   optionally u₁ … u_r; optional header naming them in any order; tab, semicolon, comma or space
+//!   delimited; `#` comments, CRLF, BOM; at most [`scenario::csv::MAX_CSV_BYTES`] and
+//!   [`scenario::csv::MAX_CSV_ROWS`] rows, checked before any cell is read; every cell in the
+//!   scenario's number range, by the same [`scenario::magnitude_problem`] as JSON; errors name
+//!   `data`, `data.y`, `data.u` with the file's line number and the column)
+//! * [`presets`]: the menu of the papers' examples as scenarios (used by page, CLI and tests): the
+//!   [`presets::Preset`] type, [`presets::all`] (every method of [`Method::ALL`] in turn, from its
+//!   scenario file's presets; no names listed), [`presets::get`], and re-exports of the builders
+//!   that live in the scenario files (`presets::scalar()`, `presets::ubb_preset(…)`, …)
+//! * [`plot`]: figures on any plotters backend from the report and a [`plot::View`] (panel, time,
+//!   zoom) alone, so page and CLI draw the same figure; one file per kind of picture: `state`
+//!   (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of
+//!   what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE
+//!   and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs.
+//!   1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with
+//!   the best horizon, the state plane with the guaranteed ball and box, error box plots against
+//!   the horizon with the bound), `uniform` / `uniform_params` / `uniform_polygon` (Pavelková Figs.
+//!   1–3: states, estimates and errors with the window's optimal-face bars, output prediction, Θ̂
+//!   and half-widths over time, the consistent-state polygon), `ubb` / `ubb_width` (Tempo: the
+//!   exact feasible polygon of x(k+1) with its interval hull, central estimate, truth and Kalman
+//!   ellipse; the hull widths over k against the Theorem 4 bound, with the truth in its hull
+//!   bands), `compare` (every method's set for one state on equal axes, one colour per method,
+//!   hidden ones left out ([`plot::View::hide`]), sets far larger than the median cut at the
+//!   window)
+//! * [`gallery`]: (native only) the papers as a static site (`confset gallery`): `printed.json`,
+//!   the catalogue of every figure and table a preset reproduces with the paper's printed numbers
+//!   and where ours are in the report or study JSON; [`gallery::printed::verdict`] (reproduced at
+//!   the printed digits, within a 99.9 % two-proportion band for Monte Carlo counts, or differs,
+//!   with the erratum quoted from `src/errata.md`, the list below); [`gallery::build`] writes
+//!   index, entries, SVG figures and JSON downloads with relative links and no script
+//! * `web`: (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions;
+//!   `presets`, `limits`, `methodPanels` (a method's figures with their text alternatives),
+//!   `withCsvData` and `dataShape` (CSV data for a scenario); `Session` (run, `setReport` (a report
+//!   computed in the page's worker), `setAt` (a step's detail from the worker's cursor into the
+//!   kept report), `usefulPanels`, draw, svg, LSCR raster, GLLS precision), `Cursor` (a scenario's
+//!   [`scenario::Cursor`]: `at(t)`, the report's `at` at step t, for the worker), `testOnlyAbort`
+//!   (the page tests' crash), `timeCompare` (the worker's clock for a compare's per-method times)
+//!   and one chunked `Study` for every method's Monte Carlo
 //!
 //! The command line lives in `src/bin/confset/` (clap arguments in `cli.rs`); the page in `www/` (no numerics there):
 //! `app.js` is the shell (routes `#scf` … `#ubb` and the landing view, share links
