@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, LinearModel, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{point_in_convex, BoxSet, Ellipsoid, Loop};
 use crate::stats;
 use crate::study::{self, Runs, Study, Tally};

@@ -26,7 +26,7 @@ use crate::glls::{
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{BoxSet, Ellipsoid};
 use crate::study::Chunked;
 use nalgebra::{DMatrix, DVector};

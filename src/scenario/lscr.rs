@@ -26,7 +26,7 @@ use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
 use crate::method::Method;
 use crate::model::{ConditionedSampler, Inputs, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
 use crate::study::{self, Chunked, Runs, Study};
 use rand::SeedableRng;

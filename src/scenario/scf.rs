@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec, Trajectory};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::scf::{
     self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ScfOptions, ScfStep,
 };

@@ -26,7 +26,7 @@ use crate::error::{quoted, Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::ModelSpec;
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};

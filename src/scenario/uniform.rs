@@ -33,7 +33,7 @@ use crate::kalman::KalmanGains;
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::SupportPolygon;
 use crate::study::Study;
 use crate::uniform::{self, Joint, Online, OnlineStep, StatePrior, Theta, ThetaPrior, Window};
