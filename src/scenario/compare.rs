@@ -665,7 +665,7 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
     let (model, extra) = match m {
         Method::Kf | Method::Scf => (
             s.model.clone(),
-            serde_json::json!({"tau": usize::from(predict), "components": [0, 1]}),
+            serde_json::json!({"scf": {"tau": usize::from(predict), "components": [0, 1]}}),
         ),
         Method::Lscr => (
             s.model.clone(),

@@ -1065,32 +1065,17 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
              The state-noise estimator (63)–(64) is solved in closed form and checked against clarabel's QP.",
         ),
     };
-    Scenario {
-        method: Method::Glls,
-        title: Some(title.into()),
-        model,
-        data: None,
-        simulate: Some(SimulateSpec {
+    let mut s = Scenario::new(Method::Glls, model)
+        .with_title(title)
+        .with_simulate(SimulateSpec {
             steps,
             seed: 3,
             u: vec![],
             condition: None,
             x0: None,
-        }),
-        alpha: 0.9,
-        components: None,
-        tau: 0,
-        asymptotic: false,
-        time: None,
-        plot: None,
-        collision: None,
-        coverage_curve: None,
-        experiment: None,
-        lscr: None,
-        glls: Some(spec),
-        uniform: None,
-        ubb: None,
-        compare: None,
-        notes: Some(notes.into()),
-    }
+        })
+        .with_alpha(0.9)
+        .with_notes(notes);
+    s.glls = Some(spec);
+    s
 }

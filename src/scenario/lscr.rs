@@ -1072,28 +1072,14 @@ fn lscr_scenario(
     lscr: LscrSpec,
     notes: &str,
 ) -> Scenario {
-    Scenario {
-        method: Method::Lscr,
-        title: Some(title.into()),
-        model,
-        data: None,
-        simulate: Some(simulate),
-        alpha: 0.9,
-        components: None,
-        tau: 0,
-        asymptotic: false,
-        time: None,
-        plot: Some(vec![0, 1]),
-        collision: None,
-        coverage_curve: None,
-        experiment: None,
-        lscr: Some(lscr),
-        glls: None,
-        uniform: None,
-        ubb: None,
-        compare: None,
-        notes: Some(notes.into()),
-    }
+    let mut s = Scenario::new(Method::Lscr, model)
+        .with_title(title)
+        .with_simulate(simulate)
+        .with_alpha(0.9)
+        .with_plot(vec![0, 1])
+        .with_notes(notes);
+    s.lscr = Some(lscr);
+    s
 }
 
 fn lscr_spec(estimate: Estimate, index: Option<usize>) -> LscrSpec {

@@ -103,11 +103,11 @@ pub fn knobs(s: &Value) -> Vec<Knob> {
     }
     let block = |b: &str| s[b].is_object();
     if matches!(method.as_str(), "scf" | "kf") {
-        if s["components"].is_array() || s["collision"].is_object() {
-            out.push(count(vec!["tau"], 10_000.0));
+        if s["scf"]["components"].is_array() || s["scf"]["collision"].is_object() {
+            out.push(count(vec!["scf", "tau"], 10_000.0));
         }
-        if block("coverage_curve") {
-            out.push(count(vec!["coverage_curve", "points"], 2001.0));
+        if s["scf"]["coverage_curve"].is_object() {
+            out.push(count(vec!["scf", "coverage_curve", "points"], 2001.0));
         }
     }
     if block("lscr") {
