@@ -1414,6 +1414,13 @@ fn work(s: &Scenario, job: Job) -> Work {
 pub(crate) struct Compare;
 
 impl MethodScenario for Compare {
+    fn max_states(&self) -> usize {
+        // Every set is drawn in the state plane.
+        2
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[("holds", "compare: whether each method's set holds the true state")]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         2..=MAX_STEPS
     }

@@ -691,6 +691,21 @@ impl GllsPrepared {
 pub(crate) struct Glls;
 
 impl MethodScenario for Glls {
+    fn max_states(&self) -> usize {
+        crate::glls::MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("truth_in_ball", "glls: whether the guaranteed ball holds the truth"),
+            ("truth_in_box", "glls: the same for the box"),
+            ("x_true_current", "glls: the true current state"),
+            ("x_true_past", "glls: the true past state"),
+            ("truth_projected_current", "glls: the truth's regularized projection"),
+            ("truth_projected_past", "glls: the same, past state"),
+            ("error_current", "glls: the estimate's distance to the truth"),
+            ("noise_max", "glls: the largest simulated noise"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         1..=5000
     }

@@ -737,6 +737,15 @@ pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> Cove
 pub(crate) struct Lscr;
 
 impl MethodScenario for Lscr {
+    fn max_states(&self) -> usize {
+        crate::lscr::MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("truth_inside", "lscr: whether X̂ holds the true state"),
+            ("truth_inside_each", "lscr: the same per X̂_l"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         // lscr-predict takes about 14 s natively at t = 2000, growing like t^2.4: 800 keeps a
         // report near 2 s.

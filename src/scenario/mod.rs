@@ -7,8 +7,12 @@
 //!
 //! This module holds only what every method shares: the scenario and report types, JSON
 //! parsing with field paths, the one observations step ([`Source`]: `data` or `simulate`, one
-//! step-count check, one wording), the time [`Cursor`] (a report's per-step detail on demand)
-//! and the one dispatch from [`Method`] to its scenario file (`make_method`). Each method's block, validation, report and presets live in its own file:
+//! step-count check, one wording), the time [`Cursor`] (a report's per-step detail on demand),
+//! the one dispatch from [`Method`] to its scenario file (`make_method`), the one check that a
+//! scenario carries no other method's block (a loop over [`Method::block`] and
+//! [`Method::study_block`]), and the reading of keys an older version wrote elsewhere
+//! ([`Report::notices`] says so). Each method's block, validation, report and presets live in
+//! its own file:
 //! [`scf`], [`lscr`], [`glls`], [`uniform`], [`ubb`].
 
 use crate::error::{Error, Result};
@@ -844,6 +848,12 @@ pub(crate) trait MethodScenario: Sync {
             ),
         ))
     }
+    /// The most states n the method takes (its run refuses more, naming the model field).
+    fn max_states(&self) -> usize;
+    /// The keys of the method's report that hold or judge the true state, each with what it
+    /// is: a report on `data` has none of them (beside the shared `x_true`, [`truth_keys`]).
+    /// A key starting with '.' is a whole path in the report.
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)];
     /// Move the keys of this method's block that an older version wrote elsewhere into the
     /// block, in `v` (the text of a scenario of *any* method, before it is read; the keys of
     /// another method's scenario that said something are refused, naming where the text has
@@ -878,6 +888,20 @@ fn method_blocks(m: Method) -> impl Iterator<Item = &'static str> {
     m.block()
         .into_iter()
         .chain(m.study_block().and_then(|b| b.split('.').next()))
+}
+
+/// The most states n method `m` takes ([`MethodScenario::max_states`]).
+pub fn max_states(m: Method) -> usize {
+    make_method(m).max_states()
+}
+
+/// The keys of method `m`'s report that hold or judge the true state, each with what it is
+/// (`x_true`, every method's, first; [`MethodScenario::truth_keys`]): what a report on `data`
+/// leaves out.
+pub fn truth_keys(m: Method) -> Vec<(&'static str, &'static str)> {
+    std::iter::once(("x_true", "true states (every method)"))
+        .chain(make_method(m).truth_keys().iter().copied())
+        .collect()
 }
 
 /// Most runs any study may ask for.
@@ -1077,7 +1101,7 @@ impl Scenario {
                     None => "which has no Monte Carlo study".to_string(),
                 };
                 format!(
-                    "is the Monte Carlo study of {names}, used only with \"method\": {names} (found \"{}\", {theirs})",
+                    "is a Monte Carlo study, used only with \"method\": {names} (found \"{}\", {theirs})",
                     self.method
                 )
             } else {

@@ -433,6 +433,12 @@ pub(crate) struct Scf {
 }
 
 impl MethodScenario for Scf {
+    fn max_states(&self) -> usize {
+        super::MAX_MODEL_DIM
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[("true_distance", "scf collision: the true distance")]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         // The robots (n = 8) take about 1.3 s natively at 10,000 steps (13 s at 100,000).
         1..=10_000

@@ -1028,6 +1028,16 @@ impl Runs for Guarantee {
 pub(crate) struct Ubb;
 
 impl MethodScenario for Ubb {
+    fn max_states(&self) -> usize {
+        MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("truth", "ubb: the true x(k+1) at the step shown"),
+            ("inside", "ubb: whether the truth lies in the hull"),
+            ("kf_inside", "ubb: whether the truth lies in the Kalman ellipsoid"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         // One LP window per step: ubb-series takes about 16 ms a step natively (33 s at 2000).
         1..=150

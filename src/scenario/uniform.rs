@@ -756,6 +756,21 @@ fn kalman_uniform(
 pub(crate) struct Uniform;
 
 impl MethodScenario for Uniform {
+    fn max_states(&self) -> usize {
+        MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("theta_true", "uniform: the true Θ"),
+            ("xr_true", "uniform: the true state-noise half-widths"),
+            ("yr_true", "uniform: the true output-noise half-widths"),
+            ("true_objective", "uniform: the LP objective at the true half-widths"),
+            ("truth_in_polygon", "uniform: whether the consistent polygon holds the truth"),
+            (".uniform.kf", "uniform: the Kalman filter tuned with the true half-widths"),
+            ("rms_kf", "uniform: the Kalman filter's error against the truth"),
+            ("rms_lp", "uniform: the LP estimate's error against the truth"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         2..=2000
     }
