@@ -361,7 +361,7 @@ fn scf_options_at_the_top_level_still_run_and_the_report_says_they_moved() {
     assert_eq!(e.field, "tau");
     assert!(e.message.contains("given twice") && e.message.contains("scf.tau"), "{e}");
     // ... and the checks of a run name the block's path.
-    let mut v = new.clone();
+    let mut v = preset("scf-scalar");
     v["scf"]["tau"] = json!(20_000);
     let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
     assert_eq!(e.to_string(), "scf.tau must be at most 10000");

@@ -363,7 +363,7 @@ fn scenario(input: &Input) -> Result<Scenario, Error> {
                 Scenario::from_json(&read_bounded(path, MAX_SCENARIO_BYTES, "the scenario", "")?)?;
             // Keys where an older version wrote them (the report's `notices` says it too).
             for notice in s.notices() {
-                eprintln!("note: {}: {notice}", path.display());
+                eprintln!("note: {}: {notice}", path);
             }
             Ok(s)
         }
