@@ -1226,8 +1226,9 @@ impl Report {
         make_method(self.method).set_at(self, at)
     }
 
-    /// The report of a method with its own result block, with the scenario's method and
-    /// figure context: the SCF fields stay empty; the caller sets its block.
+    /// The report with the scenario's method and figure context and every method's result
+    /// empty: the caller sets its own (its block, or SCF's `steps` and their companions), so
+    /// no scenario file names another method's result.
     pub(crate) fn of(
         s: &Scenario,
         alpha: f64,

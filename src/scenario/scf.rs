@@ -15,8 +15,7 @@
 use super::budget::{f, shape, Job, Term, Work};
 use super::csv::{cells, flag, Table};
 use super::{
-    Condition, ExperimentSpec, FigureContext, MethodScenario, MovedKey, Report, Scenario,
-    SimulateSpec, Source,
+    Condition, ExperimentSpec, MethodScenario, MovedKey, Report, Scenario, SimulateSpec, Source,
 };
 use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
@@ -311,35 +310,23 @@ impl ScfPrepared {
             None => None,
         };
         let moments = self.model.moments(steps, &self.inputs);
-        Ok(Report {
-            method: s.method,
-            alpha: s.alpha,
-            n,
-            q: self.model.q(),
-            time,
-            plot,
-            steps: run.steps,
-            y: self.y.iter().map(|v| v.iter().copied().collect()).collect(),
-            x_true: self
-                .x_true
-                .as_ref()
-                .map(|xs| xs.iter().map(|v| v.iter().copied().collect()).collect()),
-            prior_mean: moments
-                .mean
-                .iter()
-                .map(|v| v.iter().copied().collect())
-                .collect(),
-            asymptotic,
-            collision,
-            coverage_curve,
-            lscr: None,
-            glls: None,
-            uniform: None,
-            ubb: None,
-            compare: None,
-            notices: Vec::new(),
-            figure: FigureContext::of(s),
-        })
+        let y = self.y.iter().map(|v| v.iter().copied().collect()).collect();
+        // The shared report with no result block (SCF's numbers are the shared `steps`).
+        let mut report = Report::of(s, s.alpha, (n, self.model.q()), time, plot, y);
+        report.steps = run.steps;
+        report.x_true = self
+            .x_true
+            .as_ref()
+            .map(|xs| xs.iter().map(|v| v.iter().copied().collect()).collect());
+        report.prior_mean = moments
+            .mean
+            .iter()
+            .map(|v| v.iter().copied().collect())
+            .collect();
+        report.asymptotic = asymptotic;
+        report.collision = collision;
+        report.coverage_curve = coverage_curve;
+        Ok(report)
     }
 
     fn collisions(&self, c: &CollisionSpec, steps: &[ScfStep]) -> Result<Vec<CollisionReport>> {
