@@ -56,11 +56,11 @@ impl Method {
         }
     }
 
-    /// The scenario block that holds this method's own options (`None`: SCF and KF keep
-    /// theirs at the top level).
+    /// The scenario block that holds this method's own options (SCF and KF share `"scf"`;
+    /// their reports have no result block of that name, but the `steps`).
     pub fn block(self) -> Option<&'static str> {
         match self {
-            Method::Scf | Method::Kf => None,
+            Method::Scf | Method::Kf => Some("scf"),
             Method::Lscr => Some("lscr"),
             Method::Glls => Some("glls"),
             Method::UniformLp => Some("uniform"),

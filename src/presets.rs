@@ -4,12 +4,14 @@
 //! Each method's presets live at the bottom of its scenario file (`src/scenario/<method>.rs`,
 //! under `// Presets`), with their builders; this module only gathers them into the menu
 //! ([`all`], driven by [`Method::ALL`]), looks them up by name ([`get`]) and re-exports the
-//! builders under their old paths (`presets::scalar()`, `presets::ubb_preset(…)`, …).
+//! builders under their old paths (`presets::scalar()`, `presets::ubb_preset(…)`, …) and the
+//! [`Preset`] type, which lives in the scenario layer (`scenario::preset`) beside the builders.
 
 use crate::error::{Error, Result};
 use crate::method::Method;
 use crate::scenario::{make_method, Scenario};
-use serde::Serialize;
+
+pub use crate::scenario::preset::Preset;
 
 pub use crate::scenario::glls::{glls_preset, GllsKind};
 pub use crate::scenario::lscr::{lscr_cascade, lscr_ma1, LscrTarget};
@@ -19,18 +21,6 @@ pub use crate::scenario::scf::{
 };
 pub use crate::scenario::ubb::{ubb_preset, UbbKind};
 pub use crate::scenario::uniform::{uniform_paper, uniform_paper_model};
-
-/// A named scenario with a one-line description.
-#[derive(Debug, Clone, Serialize)]
-pub struct Preset {
-    /// The id, in links and on the command line (`confset run --preset NAME`).
-    pub name: String,
-    /// What the preset is, for people: the paper's figure or section and what it shows (the
-    /// page's menu).
-    pub label: String,
-    pub description: String,
-    pub scenario: Scenario,
-}
 
 /// Every preset, in menu order: method by method in [`Method::ALL`] order, each method's
 /// presets in the order its scenario file lists them. Methods that share a scenario file

@@ -41,7 +41,7 @@ export function mountMonteCarlo(root, getScenario, setBusy) {
     for (const el of root.querySelectorAll('.fixed')) el.hidden = robots;
     for (const el of root.querySelectorAll('.mc-tc')) el.textContent = scenario.simulate.condition.t;
     for (const el of root.querySelectorAll('.mc-x')) el.textContent = scenario.simulate.condition.x.join(', ');
-    if (robots) for (const el of root.querySelectorAll('.mc-tw')) el.textContent = `${scenario.experiment.warning_t} (τ = ${scenario.tau})`;
+    if (robots) for (const el of root.querySelectorAll('.mc-tw')) el.textContent = `${scenario.experiment.warning_t} (τ = ${scenario.scf?.tau ?? 0})`;
   };
 
   const runner = studyRunner({

@@ -15,8 +15,8 @@ const CUSTOM_PRESET = {
   scenario: {
     method: 'scf', title: 'Custom model',
     model: { F: [[0.98, 0.1], [0, 0.9]], H: [[1, 0]], V: [[0.01, 0], [0, 0.04]], W: [[0.25]] },
-    simulate: { steps: 50, seed: 1 }, alpha: 0.95, tau: 0,
-    coverage_curve: { component: 0, from: -6, to: 6, points: 101 },
+    simulate: { steps: 50, seed: 1 }, alpha: 0.95,
+    scf: { tau: 0, coverage_curve: { component: 0, from: -6, to: 6, points: 101 } },
     notes: 'A time-invariant model xₜ₊₁ = F xₜ + vₜ, yₜ = H xₜ + wₜ with the stationary prior x₁ ~ N(0, Γ), '
       + 'Γ = FΓFᵀ + V (so F must be stable), simulated for 50 steps. The SCF region exists from t = n on, once the '
       + 'ratio matrix U_tA_t is invertible (the state must be observable). The example: position and velocity, only '
@@ -26,7 +26,15 @@ const CUSTOM_PRESET = {
 };
 
 // ----- controls ⇄ scenario -----
-const isRobots = ({ st }) => !!st.preset.scenario.collision;
+// SCF's options live in the scenario's "scf" block. A file of an older version has them at the top
+// level (the core reads them there too): they are moved into the block before the page edits them.
+const OLD_TOP_LEVEL = ['components', 'tau', 'asymptotic', 'collision', 'coverage_curve'];
+function scfBlock(s) {
+  s.scf = s.scf ?? {};
+  for (const k of OLD_TOP_LEVEL) if (k in s) { if (!(k in s.scf)) s.scf[k] = s[k]; delete s[k]; }
+  return s.scf;
+}
+const isRobots = ({ st }) => !!(st.preset.scenario.scf?.collision ?? st.preset.scenario.collision);
 const dim = (p) => { try { return p.model().F.length; } catch { return 0; } };
 
 function componentOptions(p) {
@@ -40,20 +48,22 @@ function componentOptions(p) {
   ui['components-row'].hidden = opts.length < 2;
 }
 
-function load(p, s) {
+function load(p, scenario) {
   const { ui } = p;
+  const s = clone(scenario);
+  const o = scfBlock(s);
   ui.alpha.value = s.alpha;
   ui.sv.value = ui.sw.value = 0;
-  ui.tau.value = s.tau;
+  ui.tau.value = o.tau ?? 0;
   ui.seed.value = s.simulate?.seed ?? 0;
   ui.rare.checked = !!s.simulate?.condition;
-  ui.asym.checked = !!s.asymptotic;
+  ui.asym.checked = !!o.asymptotic;
   // Far enough out (about 10 σ of the stationary prior) that the Kalman region, pulled towards the
   // prior mean by 1 − ratio = 0.1 of x̄, misses it on the default seed while the SCF region holds it.
   ui.xbar.value = p.isCustom() ? '5 0' : '25';
-  ui['cov-range'].value = s.coverage_curve ? s.coverage_curve.to : '';
+  ui['cov-range'].value = o.coverage_curve ? o.coverage_curve.to : '';
   componentOptions(p);
-  ui.components.value = s.components ? s.components.join(',') : 'all';
+  ui.components.value = o.components ? o.components.join(',') : 'all';
   ui.time.dataset.preset = s.time ?? '';
   updateVisibility(p);
   try { p.resetMonteCarlo(studyScenario(p)); } catch { /* no study on data: the card is hidden */ }
@@ -90,29 +100,30 @@ function studyScenario(p) {
 // The scenario the controls describe: the preset's, with fields changed.
 function build(p, s) {
   const { ui } = p;
+  const o = scfBlock(s);
   if (p.isCustom()) {
     s.model = p.model();
     // The prior of x₁: the stationary one unless given (an unstable F has none).
     if (ui['m-P1'].value.trim() !== '') s.model.x1_cov = parseMatrix('model.x1_cov', ui['m-P1'].value);
     // Fig. 1 is a closed form for n = 1 and a Monte Carlo (2000 draws per point) otherwise:
     // keep it quick enough for a slider.
-    if (s.model.F.length > 2) delete s.coverage_curve;
-    else if (s.model.F.length === 2) s.coverage_curve.points = 17;
+    if (s.model.F.length > 2) delete o.coverage_curve;
+    else if (s.model.F.length === 2) o.coverage_curve.points = 17;
   }
   s.alpha = Number(ui.alpha.value);
   s.model.V = scale(s.model.V, 10 ** Number(ui.sv.value));
   s.model.W = scale(s.model.W, 10 ** Number(ui.sw.value));
-  s.tau = wholeNumber('tau', ui.tau.value);
+  o.tau = wholeNumber('scf.tau', ui.tau.value);
   if (s.simulate) s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
-  if (ui.components.value === 'all') delete s.components;
-  else s.components = ui.components.value.split(',').map(Number);
+  if (ui.components.value === 'all') delete o.components;
+  else o.components = ui.components.value.split(',').map(Number);
   if (!s.simulate) { /* the user's data: nothing to simulate or condition */ }
   else if (!ui.rare.checked) delete s.simulate.condition;
   else if (!isRobots(p)) s.simulate.condition = { t: s.simulate.steps, x: parseVector('simulate.condition.x', ui.xbar.value) };
-  s.asymptotic = ui.asym.checked && !isRobots(p);
-  if (s.coverage_curve) {
+  o.asymptotic = ui.asym.checked && !isRobots(p);
+  if (o.coverage_curve) {
     const r = Number(ui['cov-range'].value);
-    Object.assign(s.coverage_curve, { from: -r, to: r });
+    Object.assign(o.coverage_curve, { from: -r, to: r });
   }
   delete s.time; // the time shown is a view setting: moving it does not recompute
 }
@@ -152,9 +163,9 @@ function showNumbers({ ui, st }, t) {
   const c = r.collision && r.collision.find((x) => x.time === t);
   if (c) {
     const w = (b) => (b ? '<b class="warn">collision warning</b>' : 'no warning');
-    html += `<p>Prediction for t + τ = ${t + (st.scenario?.tau ?? 0)} from y<sub>1..${t}</sub>: gap between the
+    html += `<p>Prediction for t + τ = ${t + (st.scenario?.scf?.tau ?? 0)} from y<sub>1..${t}</sub>: gap between the
       robots' regions — KF ${fmt(c.kf_distance)} → ${w(c.kf_warning)}; SCF ${fmt(c.scf_distance)} → ${w(c.scf_warning)}
-      (d<sub>min</sub> ${fmt(st.scenario?.collision?.d_min)})${c.true_distance != null ? `; true distance ${fmt(c.true_distance)}` : ''}.</p>`;
+      (d<sub>min</sub> ${fmt(st.scenario?.scf?.collision?.d_min)})${c.true_distance != null ? `; true distance ${fmt(c.true_distance)}` : ''}.</p>`;
   }
   if (r.asymptotic && r.n === 1) {
     const a = r.asymptotic;
@@ -185,7 +196,7 @@ export const mountScf = async (root, presets) => mountPanel(root, {
   custom: CUSTOM_PRESET,
   busy: 'busy',
   model: ['F', 'H', 'V', 'W'],
-  errorsWithin: '', // the coverage card holds the error of coverage_curve
+  errorsWithin: '', // the coverage card holds the error of scf.coverage_curve
   ids: ['num-t', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw', 'mc',
     'alpha-out', 'sv-out', 'sw-out', 'time-out', 'm-P1'],
   compute: ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'm-P1', 'rare'],

@@ -375,7 +375,7 @@ fn draw_panel<DB: DrawingBackend>(backend: DB, report: &Report, view: &View) -> 
     if view.panel == Panel::Coverage && report.coverage_curve.is_none() {
         return Err(Error::field(
             "coverage_curve",
-            "is not in this report: ask for it in the scenario (\"coverage_curve\": {\"component\", \"from\", \"to\"}) to draw the coverage panel",
+            "is not in this report: ask for it in the scenario (\"scf\": {\"coverage_curve\": {\"component\", \"from\", \"to\"}}) to draw the coverage panel",
         ));
     }
     // All figure code runs on one backend type (see erase.rs).

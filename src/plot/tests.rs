@@ -74,9 +74,7 @@ fn early_times_draw_kf_only_and_say_why() {
     let (s, r) = preset("scf-robots");
     // Before t = n = 8 there is no SCF region; ask for the full-state regions (no target).
     let mut s2 = s.clone();
-    s2.components = None;
-    s2.tau = 0;
-    s2.collision = None;
+    s2.scf = None;
     let r2 = s2.run().expect("runs");
     let out = svg(&r2, Panel::State, Some(3));
     assert!(out.contains("KF X₃"));
@@ -206,7 +204,7 @@ fn the_report_carries_the_figure_context() {
     let (s, r) = preset("scf-robots");
     let f = &r.figure;
     assert_eq!(f.title, s.title);
-    assert_eq!(f.collision, s.collision);
+    assert_eq!(f.collision, s.scf_options().collision);
     // H measures both robots' positions: components 0, 1 and 4, 5 in rows 0 … 3.
     assert_eq!(f.measured, vec![[0, 0], [1, 1], [4, 2], [5, 3]]);
     assert_eq!(f.names[0], "position p_x of robot A [m]");
@@ -224,7 +222,7 @@ fn the_report_carries_the_figure_context() {
     // A scenario without a title or collision check: an empty context, `{}` in JSON.
     let mut plain = s.clone();
     plain.title = None;
-    plain.collision = None;
+    plain.scf = None;
     plain.model.h = None;
     let f = FigureContext::of(&plain);
     assert_eq!(f, FigureContext::default());

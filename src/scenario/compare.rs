@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, LinearModel, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{point_in_convex, BoxSet, Ellipsoid, Loop};
 use crate::stats;
 use crate::study::{self, Runs, Study, Tally};
@@ -665,7 +665,7 @@ fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario
     let (model, extra) = match m {
         Method::Kf | Method::Scf => (
             s.model.clone(),
-            serde_json::json!({"tau": usize::from(predict), "components": [0, 1]}),
+            serde_json::json!({"scf": {"tau": usize::from(predict), "components": [0, 1]}}),
         ),
         Method::Lscr => (
             s.model.clone(),
@@ -1414,6 +1414,13 @@ fn work(s: &Scenario, job: Job) -> Work {
 pub(crate) struct Compare;
 
 impl MethodScenario for Compare {
+    fn max_states(&self) -> usize {
+        // Every set is drawn in the state plane.
+        2
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[("holds", "compare: whether each method's set holds the true state")]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         2..=MAX_STEPS
     }

@@ -26,7 +26,7 @@ use crate::glls::{
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{BoxSet, Ellipsoid};
 use crate::study::Chunked;
 use nalgebra::{DMatrix, DVector};
@@ -691,6 +691,21 @@ impl GllsPrepared {
 pub(crate) struct Glls;
 
 impl MethodScenario for Glls {
+    fn max_states(&self) -> usize {
+        crate::glls::MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("truth_in_ball", "glls: whether the guaranteed ball holds the truth"),
+            ("truth_in_box", "glls: the same for the box"),
+            ("x_true_current", "glls: the true current state"),
+            ("x_true_past", "glls: the true past state"),
+            ("truth_projected_current", "glls: the truth's regularized projection"),
+            ("truth_projected_past", "glls: the same, past state"),
+            ("error_current", "glls: the estimate's distance to the truth"),
+            ("noise_max", "glls: the largest simulated noise"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         1..=5000
     }
@@ -1065,32 +1080,17 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
              The state-noise estimator (63)–(64) is solved in closed form and checked against clarabel's QP.",
         ),
     };
-    Scenario {
-        method: Method::Glls,
-        title: Some(title.into()),
-        model,
-        data: None,
-        simulate: Some(SimulateSpec {
+    let mut s = Scenario::new(Method::Glls, model)
+        .with_title(title)
+        .with_simulate(SimulateSpec {
             steps,
             seed: 3,
             u: vec![],
             condition: None,
             x0: None,
-        }),
-        alpha: 0.9,
-        components: None,
-        tau: 0,
-        asymptotic: false,
-        time: None,
-        plot: None,
-        collision: None,
-        coverage_curve: None,
-        experiment: None,
-        lscr: None,
-        glls: Some(spec),
-        uniform: None,
-        ubb: None,
-        compare: None,
-        notes: Some(notes.into()),
-    }
+        })
+        .with_alpha(0.9)
+        .with_notes(notes);
+    s.glls = Some(spec);
+    s
 }

@@ -26,7 +26,7 @@ use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
 use crate::method::Method;
 use crate::model::{ConditionedSampler, Inputs, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
 use crate::study::{self, Chunked, Runs, Study};
 use rand::SeedableRng;
@@ -737,6 +737,15 @@ pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> Cove
 pub(crate) struct Lscr;
 
 impl MethodScenario for Lscr {
+    fn max_states(&self) -> usize {
+        crate::lscr::MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("truth_inside", "lscr: whether X̂ holds the true state"),
+            ("truth_inside_each", "lscr: the same per X̂_l"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         // lscr-predict takes about 14 s natively at t = 2000, growing like t^2.4: 800 keeps a
         // report near 2 s.
@@ -1072,28 +1081,14 @@ fn lscr_scenario(
     lscr: LscrSpec,
     notes: &str,
 ) -> Scenario {
-    Scenario {
-        method: Method::Lscr,
-        title: Some(title.into()),
-        model,
-        data: None,
-        simulate: Some(simulate),
-        alpha: 0.9,
-        components: None,
-        tau: 0,
-        asymptotic: false,
-        time: None,
-        plot: Some(vec![0, 1]),
-        collision: None,
-        coverage_curve: None,
-        experiment: None,
-        lscr: Some(lscr),
-        glls: None,
-        uniform: None,
-        ubb: None,
-        compare: None,
-        notes: Some(notes.into()),
-    }
+    let mut s = Scenario::new(Method::Lscr, model)
+        .with_title(title)
+        .with_simulate(simulate)
+        .with_alpha(0.9)
+        .with_plot(vec![0, 1])
+        .with_notes(notes);
+    s.lscr = Some(lscr);
+    s
 }
 
 fn lscr_spec(estimate: Estimate, index: Option<usize>) -> LscrSpec {

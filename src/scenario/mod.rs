@@ -7,15 +7,18 @@
 //!
 //! This module holds only what every method shares: the scenario and report types, JSON
 //! parsing with field paths, the one observations step ([`Source`]: `data` or `simulate`, one
-//! step-count check, one wording), the time [`Cursor`] (a report's per-step detail on demand)
-//! and the one dispatch from [`Method`] to its scenario file (`make_method`). Each method's block, validation, report and presets live in its own file:
+//! step-count check, one wording), the time [`Cursor`] (a report's per-step detail on demand),
+//! the one dispatch from [`Method`] to its scenario file (`make_method`), the one check that a
+//! scenario carries no other method's block (a loop over [`Method::block`] and
+//! [`Method::study_block`]), and the reading of keys an older version wrote elsewhere
+//! ([`Report::notices`] says so). Each method's block, validation, report and presets live in
+//! its own file:
 //! [`scf`], [`lscr`], [`glls`], [`uniform`], [`ubb`].
 
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{MatrixSpec, ModelSpec};
-use crate::presets::Preset;
 use crate::scf::{Asymptotic, ScfStep};
 use crate::study::Study;
 use nalgebra::DVector;
@@ -27,15 +30,18 @@ pub mod compare;
 pub mod csv;
 pub mod glls;
 pub mod lscr;
+pub mod preset;
 /// The JSON reader with field paths, a layer below (studies read their parts with it too).
 pub use crate::parse;
 pub mod scf;
 pub mod ubb;
 pub mod uniform;
 pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
+pub use scf::ScfSpec;
 pub use budget::{Job, Work};
 pub use compare::{CompareReport, CompareSpec};
 pub use csv::data_from_csv;
+pub use preset::Preset;
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
 pub use scf::{CollisionReport, ScfPrepared};
@@ -95,25 +101,17 @@ pub struct Scenario {
     /// Probability level α of every region.
     #[serde(default = "default_alpha")]
     pub alpha: f64,
-    /// Components ζ for the extra ("target") region.
+    /// SCF and KF options (methods "scf" and "kf"): see [`scf::ScfSpec`]. Older versions
+    /// wrote them at the top level; [`Scenario::from_json`] still reads them there.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub components: Option<Vec<usize>>,
-    /// Prediction steps τ of the target region.
-    #[serde(default)]
-    pub tau: usize,
-    /// Use the asymptotic SCF (IV-B).
-    #[serde(default)]
-    pub asymptotic: bool,
+    pub scf: Option<ScfSpec>,
     /// Time the figure shows (default: the last step).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
     /// The two state components drawn in the state-plane figure (default `[0, 1]`, or `[0]` if n = 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plot: Option<Vec<usize>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub collision: Option<CollisionSpec>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub coverage_curve: Option<CurveSpec>,
+    /// The SCF/KF conditional experiment (their Monte Carlo study, [`Method::study_block`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub experiment: Option<ExperimentSpec>,
     /// LSCR options (method "lscr"): see [`lscr::LscrSpec`].
@@ -134,7 +132,22 @@ pub struct Scenario {
     /// Free text shown with the preset (where the numbers come from, which reading of the paper).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub notes: Option<String>,
+    /// The keys this scenario's text held where an older version wrote them, read into their
+    /// new place ([`Scenario::from_json`]): the report says so ([`Report::notices`]). Not
+    /// written back: the scenario's JSON has the new shape.
+    #[serde(skip)]
+    pub moved: Vec<MovedKey>,
 }
+
+/// A key read from the place an older version of the scenario format wrote it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MovedKey {
+    /// Where the text had it (`tau`).
+    pub from: String,
+    /// Where it belongs now (`scf.tau`).
+    pub to: String,
+}
+
 fn default_alpha() -> f64 {
     0.95
 }
@@ -179,6 +192,11 @@ pub struct Report {
     /// Every method's set on one record (method "compare").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compare: Option<CompareReport>,
+    /// What the reader should know about the scenario itself, one sentence each: keys read
+    /// from where an older version wrote them ([`Scenario::moved`]). The CLI prints them and
+    /// the page shows them; absent when there is nothing to say.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notices: Vec<String>,
     /// What the figures take from the scenario besides the numbers (title, axis names, …):
     /// made with the report, so the page and the CLI draw the same figure from it.
     #[serde(default)]
@@ -216,7 +234,8 @@ impl FigureContext {
     /// components, and for a collision check the bodies' position axes ("position p_x of robot
     /// A \[m\]" when the title speaks of robots, else "position p_x of body A").
     pub fn of(s: &Scenario) -> FigureContext {
-        let names = match &s.collision {
+        let collision = s.scf.as_ref().and_then(|b| b.collision.as_ref());
+        let names = match collision {
             Some(c) => {
                 let robot = s
                     .title
@@ -249,7 +268,7 @@ impl FigureContext {
             title: s.title.as_deref().map(crate::error::displayed),
             names: names.iter().map(|n| crate::error::displayed(n)).collect(),
             measured: direct_measurements(&s.model),
-            collision: s.collision.clone(),
+            collision: collision.cloned(),
         }
     }
 }
@@ -314,7 +333,7 @@ pub const COUNT_KEYS: [&str; 22] = [
 ];
 
 /// Fields named like a count that hold a real number: Tempo's process-noise bound `ubb.tau`
-/// (the top-level `tau` is SCF's prediction steps).
+/// (`scf.tau` is SCF's prediction steps).
 const REAL_VALUED_PATHS: [&str; 2] = ["ubb.tau", "ubb.sim_tau"];
 
 /// The first leaf of a JSON value (depth first) that `hit` picks, with its path: `hit` sees
@@ -490,13 +509,9 @@ impl Scenario {
             data: None,
             simulate: None,
             alpha: default_alpha(),
-            components: None,
-            tau: 0,
-            asymptotic: false,
+            scf: None,
             time: None,
             plot: None,
-            collision: None,
-            coverage_curve: None,
             experiment: None,
             lscr: None,
             glls: None,
@@ -504,6 +519,7 @@ impl Scenario {
             ubb: None,
             compare: None,
             notes: None,
+            moved: Vec::new(),
         }
     }
 
@@ -563,11 +579,44 @@ impl Scenario {
                 ),
             ));
         }
-        let v = parse::read_json(text, "")?;
+        let mut v = parse::read_json(text, "")?;
         // Sizes and magnitudes first: a count of 10⁹ or a number of 1e308 is refused before
-        // any field is read, whatever field it is in.
+        // any field is read, whatever field it is in (and named where the text has it).
         check_sizes_and_magnitudes(&v)?;
-        parse::from_value(&v, "")
+        // Keys where an older version wrote them go to their new place first; a parse error
+        // about one names it where the text has it.
+        let mut moved = Vec::new();
+        if let Some(o) = v.as_object_mut() {
+            for m in Method::ALL {
+                moved.extend(make_method(m).read_moved_keys(o)?);
+            }
+        }
+        let mut s: Scenario = parse::from_value(&v, "").map_err(|mut e| {
+            if let Some(m) = moved.iter().find(|m| {
+                e.field == m.to
+                    || e.field.starts_with(&format!("{}.", m.to))
+                    || e.field.starts_with(&format!("{}[", m.to))
+            }) {
+                e.field = format!("{}{}", m.from, &e.field[m.to.len()..]);
+            }
+            e
+        })?;
+        s.moved = moved;
+        Ok(s)
+    }
+
+    /// What the report says about the scenario itself ([`Report::notices`]): each key read
+    /// from where an older version wrote it.
+    pub fn notices(&self) -> Vec<String> {
+        self.moved
+            .iter()
+            .map(|m| {
+                format!(
+                    "{} is read as {}: the scenario has it where older versions wrote it (save the scenario again to write it in its new place)",
+                    m.from, m.to
+                )
+            })
+            .collect()
     }
 }
 
@@ -799,6 +848,22 @@ pub(crate) trait MethodScenario: Sync {
             ),
         ))
     }
+    /// The most states n the method takes (its run refuses more, naming the model field).
+    fn max_states(&self) -> usize;
+    /// The keys of the method's report that hold or judge the true state, each with what it
+    /// is: a report on `data` has none of them (beside the shared `x_true`, [`truth_keys`]).
+    /// A key starting with '.' is a whole path in the report.
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)];
+    /// Move the keys of this method's block that an older version wrote elsewhere into the
+    /// block, in `v` (the text of a scenario of *any* method, before it is read; the keys of
+    /// another method's scenario that said something are refused, naming where the text has
+    /// them): the keys moved. [`Scenario::from_json`] asks every method's file in turn.
+    fn read_moved_keys(
+        &self,
+        _v: &mut serde_json::Map<String, serde_json::Value>,
+    ) -> Result<Vec<MovedKey>> {
+        Ok(Vec::new())
+    }
     /// The file's presets (the papers' examples), in menu order: built at the bottom of the
     /// scenario file, gathered by [`crate::presets::all`] under the method each one runs (a
     /// file shared by several methods, SCF's with KF, lists its presets once).
@@ -816,6 +881,27 @@ pub(crate) fn make_method(m: Method) -> &'static dyn MethodScenario {
         Method::Ubb => &ubb::Ubb,
         Method::Compare => &compare::Compare,
     }
+}
+
+/// The top-level keys of a scenario that belong to method `m`: its block and its study's.
+fn method_blocks(m: Method) -> impl Iterator<Item = &'static str> {
+    m.block()
+        .into_iter()
+        .chain(m.study_block().and_then(|b| b.split('.').next()))
+}
+
+/// The most states n method `m` takes ([`MethodScenario::max_states`]).
+pub fn max_states(m: Method) -> usize {
+    make_method(m).max_states()
+}
+
+/// The keys of method `m`'s report that hold or judge the true state, each with what it is
+/// (`x_true`, every method's, first; [`MethodScenario::truth_keys`]): what a report on `data`
+/// leaves out.
+pub fn truth_keys(m: Method) -> Vec<(&'static str, &'static str)> {
+    std::iter::once(("x_true", "true states (every method)"))
+        .chain(make_method(m).truth_keys().iter().copied())
+        .collect()
 }
 
 /// Most runs any study may ask for.
@@ -848,8 +934,9 @@ impl Scenario {
     pub fn run(&self) -> Result<Report> {
         self.check_method_blocks()?;
         self.work(Job::Report).check(Job::Report)?;
-        let report = make_method(self.method).run(self)?;
+        let mut report = make_method(self.method).run(self)?;
         report.check_finite()?;
+        report.notices = self.notices();
         Ok(report)
     }
 
@@ -964,57 +1051,66 @@ impl Scenario {
             Source::Simulate(sim) => steps.max(sim.condition.as_ref().map_or(0, |c| c.t)),
             Source::Data(_) => steps,
         };
-        let used = end.saturating_add(self.tau);
+        let tau = self.scf.as_ref().map_or(0, |b| b.tau);
+        let used = end.saturating_add(tau);
         if u_rows.len() > used {
             return Err(Error::field(
                 u_field,
                 format!(
                     "has {} rows, but the run uses u_1 … u_{used} (one row per step{}; fewer rows hold the last one): give at most {used} rows",
                     u_rows.len(),
-                    if self.tau > 0 { ", and one per predicted step of tau" } else { "" }
+                    if tau > 0 { ", and one per predicted step of scf.tau" } else { "" }
                 ),
             ));
         }
         Ok(source)
     }
 
-    /// A method block (`lscr`, `glls`, `uniform`, `ubb`) belongs to its own method only, and
-    /// so does the SCF study's `experiment` (another method would ignore it silently).
+    /// A method's blocks belong to it only: its options ([`Method::block`]) and its study
+    /// ([`Method::study_block`]'s top-level key), which another method would ignore without a
+    /// word. The top-level keys of the scenario's JSON that are some method's block are
+    /// checked against the scenario's own method, so a new method's block is checked as soon
+    /// as [`Method`] names it.
     fn check_method_blocks(&self) -> Result<()> {
-        if self.experiment.is_some() && self.method.study_block() != Some("experiment") {
-            let theirs = match self.method.study_block() {
-                Some(b) => format!("whose Monte Carlo study is {b}"),
-                None => "which has no Monte Carlo study".to_string(),
+        // The scenario without its data and model, whose size is not at stake here.
+        let shell = Scenario {
+            data: None,
+            simulate: None,
+            model: ModelSpec::default(),
+            ..self.clone()
+        };
+        let v = serde_json::to_value(&shell)
+            .map_err(|e| Error::field("", format!("the scenario could not be written: {e}")))?;
+        let Some(keys) = v.as_object() else {
+            return Ok(());
+        };
+        let own: Vec<&str> = method_blocks(self.method).collect();
+        for key in keys.keys().filter(|k| !own.contains(&k.as_str())) {
+            let owners: Vec<Method> = Method::ALL
+                .into_iter()
+                .filter(|&m| method_blocks(m).any(|b| b == key))
+                .collect();
+            let Some(&first) = owners.first() else {
+                continue;
             };
-            return Err(Error::field(
-                "experiment",
+            let names: Vec<String> = owners.iter().map(|m| format!("\"{m}\"")).collect();
+            let names = names.join(" or ");
+            let message = if first.study_block() == Some(key.as_str()) {
+                let theirs = match self.method.study_block() {
+                    Some(b) => format!("whose Monte Carlo study is {b}"),
+                    None => "which has no Monte Carlo study".to_string(),
+                };
                 format!(
-                    "is the SCF conditional experiment, used only with \"method\": \"scf\" or \"kf\" (found \"{}\", {theirs})",
+                    "is a Monte Carlo study, used only with \"method\": {names} (found \"{}\", {theirs})",
                     self.method
-                ),
-            ));
-        }
-        let present = [
-            ("lscr", self.lscr.is_some()),
-            ("glls", self.glls.is_some()),
-            ("uniform", self.uniform.is_some()),
-            ("ubb", self.ubb.is_some()),
-            ("compare", self.compare.is_some()),
-        ];
-        for (block, is_there) in present {
-            if is_there && self.method.block() != Some(block) {
-                let owner = Method::ALL
-                    .into_iter()
-                    .find(|m| m.block() == Some(block))
-                    .map_or("", |m| m.name());
-                return Err(Error::field(
-                    block,
-                    format!(
-                        "is only used with \"method\": \"{owner}\" (found \"{}\")",
-                        self.method
-                    ),
-                ));
-            }
+                )
+            } else {
+                format!(
+                    "is only used with \"method\": {names} (found \"{}\")",
+                    self.method
+                )
+            };
+            return Err(Error::field(key.as_str(), message));
         }
         Ok(())
     }
@@ -1130,8 +1226,9 @@ impl Report {
         make_method(self.method).set_at(self, at)
     }
 
-    /// The report of a method with its own result block, with the scenario's method and
-    /// figure context: the SCF fields stay empty; the caller sets its block.
+    /// The report with the scenario's method and figure context and every method's result
+    /// empty: the caller sets its own (its block, or SCF's `steps` and their companions), so
+    /// no scenario file names another method's result.
     pub(crate) fn of(
         s: &Scenario,
         alpha: f64,
@@ -1159,6 +1256,7 @@ impl Report {
             uniform: None,
             ubb: None,
             compare: None,
+            notices: Vec::new(),
             figure: FigureContext::of(s),
         }
     }

@@ -1,7 +1,13 @@
-//! SCF and KF scenarios (method `"scf"` / `"kf"`): the top-level options (`alpha`,
-//! `components`, `tau`, `asymptotic`, `time`, `plot`, `collision`, `coverage_curve`,
-//! `experiment`), their validation and the report's KF/SCF steps, collision warnings and the
-//! Fig. 1 coverage curve.
+//! SCF and KF scenarios (method `"scf"` / `"kf"`): the `"scf"` block ([`ScfSpec`]:
+//! `components`, `tau`, `asymptotic`, `collision`, `coverage_curve`), the shared `alpha`,
+//! `time` and `plot`, the study's `experiment`, their validation and the report's KF/SCF
+//! steps, collision warnings and the Fig. 1 coverage curve.
+//!
+//! Older versions wrote the block's keys at the top level of the scenario; they are still read
+//! there ([`MethodScenario::read_moved_keys`]: moved into the block before the scenario is
+//! read, and the report says so). `experiment` stays at the top level: it is the SCF's study
+//! block ([`Method::study_block`]), the name the page's Monte Carlo, `--runs` and the merge
+//! messages use, and the generic block check knows it through that.
 //!
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
@@ -9,14 +15,13 @@
 use super::budget::{f, shape, Job, Term, Work};
 use super::csv::{cells, flag, Table};
 use super::{
-    Condition, ExperimentSpec, FigureContext, MethodScenario, Report, Scenario, SimulateSpec,
-    Source,
+    Condition, ExperimentSpec, MethodScenario, MovedKey, Report, Scenario, SimulateSpec, Source,
 };
 use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec, Trajectory};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::scf::{
     self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ScfOptions, ScfStep,
 };
@@ -27,6 +32,53 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::ops::RangeInclusive;
+
+/// SCF's and KF's own options, the `"scf"` block of methods `"scf"` and `"kf"` (SCF paper,
+/// Section V): every field may be left out.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ScfSpec {
+    /// Components ζ for the extra ("target") region (V-C).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub components: Option<Vec<usize>>,
+    /// Prediction steps τ of the target region (V-C; at most 10,000).
+    #[serde(default)]
+    pub tau: usize,
+    /// Use the asymptotic SCF (IV-B).
+    #[serde(default)]
+    pub asymptotic: bool,
+    /// The τ-step collision check of two bodies (Section II).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collision: Option<CollisionSpec>,
+    /// The conditional coverage curve of Fig. 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage_curve: Option<CurveSpec>,
+}
+
+/// The block's options as a scenario without one has them: every field at its default.
+static NO_SCF_OPTIONS: ScfSpec = ScfSpec {
+    components: None,
+    tau: 0,
+    asymptotic: false,
+    collision: None,
+    coverage_curve: None,
+};
+
+/// The keys of the `"scf"` block that older versions wrote at the top level of a scenario.
+const TOP_LEVEL_KEYS: [&str; 5] = ["components", "tau", "asymptotic", "collision", "coverage_curve"];
+
+impl Scenario {
+    /// The SCF/KF options: the `"scf"` block, or every option at its default without one.
+    pub fn scf_options(&self) -> &ScfSpec {
+        self.scf.as_ref().unwrap_or(&NO_SCF_OPTIONS)
+    }
+
+    /// With SCF/KF options (the `"scf"` block).
+    pub fn with_scf(mut self, options: ScfSpec) -> Scenario {
+        self.scf = Some(options);
+        self
+    }
+}
 
 /// Collision warning from the τ-step prediction regions at one time.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -122,8 +174,9 @@ impl Scenario {
         if let Some(t) = self.time {
             crate::kalman::check_time("time", t, y.len())?;
         }
-        if self.tau > 10_000 {
-            return Err(Error::field("tau", "must be at most 10000"));
+        let o = self.scf_options();
+        if o.tau > 10_000 {
+            return Err(Error::field("scf.tau", "must be at most 10000"));
         }
         // Index lists are checked here, before any method indexes a matrix with them (the
         // experiment reads `collision` and `experiment.components` without a report).
@@ -133,8 +186,11 @@ impl Scenario {
                 .map(|_| ())
                 .map_err(|e| Error::field(field, e.message))
         };
-        if let Some(c) = &self.collision {
-            for (name, blk) in [("collision.a", &c.a), ("collision.b", &c.b)] {
+        if let Some(idx) = &o.components {
+            check_idx("scf.components", idx)?;
+        }
+        if let Some(c) = &o.collision {
+            for (name, blk) in [("scf.collision.a", &c.a), ("scf.collision.b", &c.b)] {
                 if blk.len() != 2 {
                     return Err(Error::field(name, "must name two state components"));
                 }
@@ -146,16 +202,16 @@ impl Scenario {
         }
         let options = ScfOptions {
             alpha: self.alpha,
-            components: self.components.clone(),
-            tau: self.tau,
-            asymptotic: self.asymptotic,
+            components: o.components.clone(),
+            tau: o.tau,
+            asymptotic: o.asymptotic,
             kf_only: self.method == Method::Kf,
         };
-        if self.asymptotic
+        if o.asymptotic
             && !(model.is_time_invariant() && model.stationary_prior && model.m() == 0)
         {
             return Err(Error::field(
-                "asymptotic",
+                "scf.asymptotic",
                 "needs a stable time-invariant model with the stationary prior and no inputs",
             ));
         }
@@ -245,48 +301,37 @@ impl ScfPrepared {
             } else {
                 None
             };
-        let collision = match &s.collision {
+        let collision = match &s.scf_options().collision {
             Some(c) => Some(self.collisions(c, &run.steps)?),
             None => None,
         };
-        let coverage_curve = match &s.coverage_curve {
+        let coverage_curve = match &s.scf_options().coverage_curve {
             Some(c) => Some(self.coverage_curve(c, time)?),
             None => None,
         };
         let moments = self.model.moments(steps, &self.inputs);
-        Ok(Report {
-            method: s.method,
-            alpha: s.alpha,
-            n,
-            q: self.model.q(),
-            time,
-            plot,
-            steps: run.steps,
-            y: self.y.iter().map(|v| v.iter().copied().collect()).collect(),
-            x_true: self
-                .x_true
-                .as_ref()
-                .map(|xs| xs.iter().map(|v| v.iter().copied().collect()).collect()),
-            prior_mean: moments
-                .mean
-                .iter()
-                .map(|v| v.iter().copied().collect())
-                .collect(),
-            asymptotic,
-            collision,
-            coverage_curve,
-            lscr: None,
-            glls: None,
-            uniform: None,
-            ubb: None,
-            compare: None,
-            figure: FigureContext::of(s),
-        })
+        let y = self.y.iter().map(|v| v.iter().copied().collect()).collect();
+        // The shared report with no result block (SCF's numbers are the shared `steps`).
+        let mut report = Report::of(s, s.alpha, (n, self.model.q()), time, plot, y);
+        report.steps = run.steps;
+        report.x_true = self
+            .x_true
+            .as_ref()
+            .map(|xs| xs.iter().map(|v| v.iter().copied().collect()).collect());
+        report.prior_mean = moments
+            .mean
+            .iter()
+            .map(|v| v.iter().copied().collect())
+            .collect();
+        report.asymptotic = asymptotic;
+        report.collision = collision;
+        report.coverage_curve = coverage_curve;
+        Ok(report)
     }
 
     fn collisions(&self, c: &CollisionSpec, steps: &[ScfStep]) -> Result<Vec<CollisionReport>> {
         let n = self.model.n();
-        for (name, blk) in [("collision.a", &c.a), ("collision.b", &c.b)] {
+        for (name, blk) in [("scf.collision.a", &c.a), ("scf.collision.b", &c.b)] {
             if blk.len() != 2 || blk.iter().any(|&i| i >= n) {
                 return Err(Error::field(
                     name,
@@ -296,7 +341,7 @@ impl ScfPrepared {
         }
         if !(c.d_min.is_finite() && c.d_min > 0.0) {
             return Err(Error::field(
-                "collision.d_min",
+                "scf.collision.d_min",
                 "must be a positive distance",
             ));
         }
@@ -362,13 +407,12 @@ impl ScfPrepared {
             &self.options,
             (cond.t, &cond.x),
             e,
-            s.collision.as_ref(),
+            s.scf_options().collision.as_ref(),
         )
     }
 }
 
-/// SCF and KF (Carè, Campi and Weyer): the scenario's top-level options, KF/SCF steps in the
-/// report. One file, two descriptors: `"kf"` is the same run without the SCF regions.
+/// SCF and KF (Carè, Campi and Weyer): the `"scf"` block, KF/SCF steps in the report. One file, two descriptors: `"kf"` is the same run without the SCF regions.
 pub(crate) struct Scf {
     /// The descriptor of `"kf"`: its presets are the SCF presets switched to it (none of its
     /// own), so the menu lists each preset once.
@@ -376,6 +420,12 @@ pub(crate) struct Scf {
 }
 
 impl MethodScenario for Scf {
+    fn max_states(&self) -> usize {
+        super::MAX_MODEL_DIM
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[("true_distance", "scf collision: the true distance")]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         // The robots (n = 8) take about 1.3 s natively at 10,000 steps (13 s at 100,000).
         1..=10_000
@@ -455,6 +505,12 @@ impl MethodScenario for Scf {
             s.prepare_scf()?.conditional_experiment()?,
         )))
     }
+    fn read_moved_keys(
+        &self,
+        v: &mut serde_json::Map<String, serde_json::Value>,
+    ) -> Result<Vec<MovedKey>> {
+        read_top_level_keys(v)
+    }
     fn presets(&self) -> Vec<Preset> {
         if self.kalman_only {
             Vec::new()
@@ -462,6 +518,70 @@ impl MethodScenario for Scf {
             presets()
         }
     }
+}
+
+/// The `"scf"` block's keys where older versions wrote them, at the top level of `v` (a
+/// scenario of any method, not yet read): moved into the block of an SCF or KF scenario. Every
+/// older scenario file of any method carries `"tau": 0` and `"asymptotic": false` (they were
+/// always written), which said nothing and are dropped; any other value on another method's
+/// scenario was ignored without a word, and is refused now.
+fn read_top_level_keys(
+    v: &mut serde_json::Map<String, serde_json::Value>,
+) -> Result<Vec<MovedKey>> {
+    use serde_json::Value;
+    let block = Method::Scf.block().unwrap_or("scf");
+    // An unknown or missing method is the parse's to refuse.
+    let Some(method) = v
+        .get("method")
+        .and_then(Value::as_str)
+        .and_then(|m| Method::from_name(m).ok())
+    else {
+        return Ok(Vec::new());
+    };
+    let mut moved = Vec::new();
+    for key in TOP_LEVEL_KEYS {
+        let Some(value) = v.get(key) else { continue };
+        if method.block() != Some(block) {
+            let said_nothing = match key {
+                "tau" => value.as_u64() == Some(0),
+                "asymptotic" => value.as_bool() == Some(false),
+                _ => false,
+            };
+            if said_nothing {
+                v.remove(key);
+                continue;
+            }
+            return Err(Error::field(
+                key,
+                format!(
+                    "is an option of \"method\": \"scf\" or \"kf\" ({block}.{key} since the options moved into the {block} block), not used with \"method\": \"{method}\""
+                ),
+            ));
+        }
+        // A block of another type is the parse's to refuse, at its own path.
+        let Value::Object(own) = v
+            .entry(block)
+            .or_insert_with(|| Value::Object(Default::default()))
+        else {
+            return Ok(moved);
+        };
+        if own.contains_key(key) {
+            return Err(Error::field(
+                key,
+                format!("is given twice: here, where older versions wrote it, and as {block}.{key}: keep {block}.{key}"),
+            ));
+        }
+        if let Some(value) = v.remove(key) {
+            if let Some(Value::Object(own)) = v.get_mut(block) {
+                own.insert(key.to_string(), value);
+            }
+            moved.push(MovedKey {
+                from: key.to_string(),
+                to: format!("{block}.{key}"),
+            });
+        }
+    }
+    Ok(moved)
 }
 
 /// Operations per step and unit of n³ + n²q + q³: the Kalman gains, moments, ratio recursion
@@ -523,23 +643,24 @@ fn work(s: &Scenario, job: Job) -> Work {
         );
         return w;
     }
-    let predicted = s.components.is_some() || s.tau > 0;
-    let predictions = usize::from(predicted) + usize::from(s.collision.is_some());
-    if predictions > 0 && s.tau > 0 {
+    let o = s.scf_options();
+    let predicted = o.components.is_some() || o.tau > 0;
+    let predictions = usize::from(predicted) + usize::from(o.collision.is_some());
+    if predictions > 0 && o.tau > 0 {
         w.ops(
             Term::new(
-                "tau",
-                format!("= {} with {steps_field} = {steps} and {n} states", s.tau),
+                "scf.tau",
+                format!("= {} with {steps_field} = {steps} and {n} states", o.tau),
                 "steps · τ · n³: a τ-step prediction at every step (target region, collision check)",
                 f(predictions)
                     * f(steps)
-                    * f(s.tau)
+                    * f(o.tau)
                     * (OPS_PREDICT_CUBE * f(n).powi(3) + OPS_PREDICT),
             )
             .advice("a shorter prediction τ, fewer steps or states"),
         );
     }
-    if let Some(c) = &s.coverage_curve {
+    if let Some(c) = &o.coverage_curve {
         let per_point = if n == 1 {
             OPS_DRAW
         } else {
@@ -547,7 +668,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         };
         w.ops(
             Term::new(
-                "coverage_curve.points",
+                "scf.coverage_curve.points",
                 format!("= {} with {n} states", c.points),
                 "points · draws · n²: a Monte Carlo of the conditional coverage per point (n > 1)",
                 f(c.points) * per_point,
@@ -557,12 +678,12 @@ fn work(s: &Scenario, job: Job) -> Work {
     }
     // Per step: the KF and SCF ellipsoids and the ratio matrix (3 n²), the target and the
     // collision regions, y and the truth.
-    let k = s.components.as_ref().map_or(n, Vec::len);
+    let k = o.components.as_ref().map_or(n, Vec::len);
     let numbers = f(steps)
         * (3.0 * f(n * n)
             + f(n + q)
             + if predicted { 2.0 * f(k * k) } else { 0.0 }
-            + if s.collision.is_some() { 40.0 } else { 0.0 });
+            + if o.collision.is_some() { 40.0 } else { 0.0 });
     w.ops(
         Term::new(
             "model.F",
@@ -615,38 +736,25 @@ fn presets() -> Vec<Preset> {
 /// Example 1 of the SCF paper.
 pub fn scalar() -> Scenario {
     let one = DMatrix::from_element(1, 1, 1.0);
-    Scenario {
-        method: Method::Scf,
-        title: Some("Scalar example (SCF paper, Example 1)".into()),
-        model: ModelSpec {
-            f: Some(MatrixSpec::of(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt()))),
-            h: Some(MatrixSpec::of(&one)),
-            v: Some(MatrixSpec::of(&one)),
-            w: Some(MatrixSpec::of(&one)),
-            ..Default::default()
-        },
-        data: None,
-        simulate: Some(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None, x0: None }),
-        alpha: 0.99,
-        components: None,
-        tau: 0,
-        asymptotic: false,
-        time: None,
-        plot: None,
-        collision: None,
-        coverage_curve: Some(CurveSpec { component: 0, from: -50.0, to: 50.0, points: 201 }),
-        experiment: None,
-        lscr: None,
-        glls: None,
-        uniform: None,
-        ubb: None,
-        compare: None,
-        notes: Some(
+    let model = ModelSpec {
+        f: Some(MatrixSpec::of(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt()))),
+        h: Some(MatrixSpec::of(&one)),
+        v: Some(MatrixSpec::of(&one)),
+        w: Some(MatrixSpec::of(&one)),
+        ..Default::default()
+    };
+    Scenario::new(Method::Scf, model)
+        .with_title("Scalar example (SCF paper, Example 1)")
+        .with_simulate(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None, x0: None })
+        .with_alpha(0.99)
+        .with_scf(ScfSpec {
+            coverage_curve: Some(CurveSpec { component: 0, from: -50.0, to: 50.0, points: 201 }),
+            ..ScfSpec::default()
+        })
+        .with_notes(
             "Γ = 6, p̄ = 3/5, ratio U_tA_t → 0.9: the SCF interval is the KF center / 0.9 with half-width ρ·√(1/0.9). \
-             The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed."
-                .into(),
-        ),
-    }
+             The paper's ρ-integral should read exp(−x²/(2p̄)); with it ρ ≈ 2.00 as printed.",
+        )
 }
 
 /// Which reading of the robot noise scaling of eq. (3) to use (crate docs: errata).
@@ -801,39 +909,33 @@ pub fn robots(reading: NoiseReading) -> Scenario {
         most_probable_collision_state(&model, &inputs, COLLISION_T, &[0, 1], &[4, 5], D_MIN / 2.0)
             .expect("robot prior is non-singular at t = 40");
     let literal = reading == NoiseReading::Literal;
-    Scenario {
-        method: Method::Scf,
-        title: Some(format!("Two robots returning to base (SCF paper, Section II{})", if literal { ", Δ²V_A" } else { "" })),
-        model: spec,
-        data: None,
-        simulate: Some(SimulateSpec {
+    let mut s = Scenario::new(Method::Scf, spec)
+        .with_title(format!("Two robots returning to base (SCF paper, Section II{})", if literal { ", Δ²V_A" } else { "" }))
+        .with_simulate(SimulateSpec {
             steps: 60,
             seed: 7,
             u: vec![u],
             condition: Some(Condition { t: COLLISION_T, x: xc.iter().copied().collect() }),
             x0: None,
-        }),
-        alpha: 0.95,
-        components: Some(vec![0, 1]),
-        tau: 4,
-        asymptotic: false,
-        time: Some(36),
-        plot: Some(vec![0, 1]),
-        collision: Some(CollisionSpec { a: vec![0, 1], b: vec![4, 5], d_min: D_MIN }),
-        coverage_curve: None,
-        experiment: Some(ExperimentSpec { runs: 10_000, seed: 2021, components: vec![0, 1, 2, 3], warning_t: Some(36) }),
-        lscr: None,
-        glls: None,
-        uniform: None,
-        ubb: None,
-        compare: None,
-        notes: Some(format!(
+        })
+        .with_alpha(0.95)
+        .with_time(36)
+        .with_plot(vec![0, 1])
+        .with_scf(ScfSpec {
+            components: Some(vec![0, 1]),
+            tau: 4,
+            collision: Some(CollisionSpec { a: vec![0, 1], b: vec![4, 5], d_min: D_MIN }),
+            ..ScfSpec::default()
+        })
+        .with_notes(format!(
             "Robots start at rest at (∓1, 20) and return to bases (∓1, 0); Δ = 1/20, K_p = K_u = 5, W = 0.05²I, \
              d_min = 0.2. Row 4 of eq. (3) is read as 1 − K_uΔ (erratum). Process-noise covariance: {}. \
              The realization is drawn backwards from the most probable state at t = 40 with the robots' centers \
              0.1 apart (half of d_min), velocities at their conditional mean (eq. (45), footnote 2). \
              Regions: robot A's position at t + τ given y_1..y_t (V-C).",
             if literal { "Δ²·V_A as printed (SCF regions far larger than KF)" } else { "V_A (the reading that matches the paper's \"moderate enlargement\")" }
-        )),
-    }
+        ));
+    // The study block of SCF, at the top level (see the module docs).
+    s.experiment = Some(ExperimentSpec { runs: 10_000, seed: 2021, components: vec![0, 1, 2, 3], warning_t: Some(36) });
+    s
 }

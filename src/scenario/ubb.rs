@@ -26,7 +26,7 @@ use crate::error::{quoted, Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::ModelSpec;
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::{Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
@@ -1028,6 +1028,16 @@ impl Runs for Guarantee {
 pub(crate) struct Ubb;
 
 impl MethodScenario for Ubb {
+    fn max_states(&self) -> usize {
+        MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("truth", "ubb: the true x(k+1) at the step shown"),
+            ("inside", "ubb: whether the truth lies in the hull"),
+            ("kf_inside", "ubb: whether the truth lies in the Kalman ellipsoid"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         // One LP window per step: ubb-series takes about 16 ms a step natively (33 s at 2000).
         1..=150

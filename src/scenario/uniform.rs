@@ -33,7 +33,7 @@ use crate::kalman::KalmanGains;
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
-use crate::presets::Preset;
+use super::preset::Preset;
 use crate::sets::SupportPolygon;
 use crate::study::Study;
 use crate::uniform::{self, Joint, Online, OnlineStep, StatePrior, Theta, ThetaPrior, Window};
@@ -756,6 +756,21 @@ fn kalman_uniform(
 pub(crate) struct Uniform;
 
 impl MethodScenario for Uniform {
+    fn max_states(&self) -> usize {
+        MAX_STATES
+    }
+    fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("theta_true", "uniform: the true Θ"),
+            ("xr_true", "uniform: the true state-noise half-widths"),
+            ("yr_true", "uniform: the true output-noise half-widths"),
+            ("true_objective", "uniform: the LP objective at the true half-widths"),
+            ("truth_in_polygon", "uniform: whether the consistent polygon holds the truth"),
+            (".uniform.kf", "uniform: the Kalman filter tuned with the true half-widths"),
+            ("rms_kf", "uniform: the Kalman filter's error against the truth"),
+            ("rms_lp", "uniform: the LP estimate's error against the truth"),
+        ]
+    }
     fn steps(&self) -> RangeInclusive<usize> {
         2..=2000
     }
@@ -958,47 +973,32 @@ pub fn uniform_paper_model() -> (crate::uniform::Theta, DVector<f64>, DVector<f6
 
 pub fn uniform_paper() -> Scenario {
     let (theta, xr, yr) = uniform_paper_model();
-    Scenario {
-        method: Method::UniformLp,
-        title: Some("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)".into()),
-        model: ModelSpec { f: Some(MatrixSpec::of(&theta.a)), h: Some(MatrixSpec::of(&theta.c)), b: Some(MatrixSpec::of(&theta.b)), ..Default::default() },
-        data: None,
-        simulate: Some(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None }),
-        alpha: 0.9,
-        components: None,
-        tau: 0,
-        asymptotic: false,
-        time: None,
-        plot: None,
-        collision: None,
-        coverage_curve: None,
-        experiment: None,
-        lscr: None,
-        glls: None,
-        uniform: Some(UniformSpec {
-            d: Some(to_rows(&theta.d)),
-            xr: Some(xr.iter().copied().collect()),
-            yr: Some(yr.iter().copied().collect()),
-            u_half: 0.5,
-            estimator: crate::uniform::Joint::Swapping,
-            window: 5,
-            prior_rel: 0.3,
-            prior_overrides: vec![PriorOverride { matrix: "A".into(), row: 1, col: 1, lo: -0.3, hi: 0.3 }],
-            xr_max: Some(vec![1.0, 1.0]),
-            yr_max: Some(vec![1.0]),
-            x_bound: 5.0,
-            time: None,
-            plane: Some([0, 1]),
-            directions: 64,
-        }),
-        ubb: None,
-        compare: None,
-        notes: Some(
+    let model = ModelSpec { f: Some(MatrixSpec::of(&theta.a)), h: Some(MatrixSpec::of(&theta.c)), b: Some(MatrixSpec::of(&theta.b)), ..Default::default() };
+    let mut s = Scenario::new(Method::UniformLp, model)
+        .with_title("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)")
+        .with_simulate(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None })
+        .with_alpha(0.9)
+        .with_notes(
             "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \
              along x₁ − x₂ the LP optimum is a whole face bounded by the prior box (±5). The report gives each state's range over the optimal face; \
              the estimate drawn is the LP solver's optimal point (an interior-point method returns a point near the face's centre). \
-             The polygon is the set of x_t consistent with the window at the half-width bounds x̄_r = ȳ_r = 1 and the Θ in use."
-                .into(),
-        ),
-    }
+             The polygon is the set of x_t consistent with the window at the half-width bounds x̄_r = ȳ_r = 1 and the Θ in use.",
+        );
+    s.uniform = Some(UniformSpec {
+        d: Some(to_rows(&theta.d)),
+        xr: Some(xr.iter().copied().collect()),
+        yr: Some(yr.iter().copied().collect()),
+        u_half: 0.5,
+        estimator: crate::uniform::Joint::Swapping,
+        window: 5,
+        prior_rel: 0.3,
+        prior_overrides: vec![PriorOverride { matrix: "A".into(), row: 1, col: 1, lo: -0.3, hi: 0.3 }],
+        xr_max: Some(vec![1.0, 1.0]),
+        yr_max: Some(vec![1.0]),
+        x_bound: 5.0,
+        time: None,
+        plane: Some([0, 1]),
+        directions: 64,
+    });
+    s
 }

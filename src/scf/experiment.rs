@@ -86,19 +86,19 @@ pub fn coverage_curve(
     let n = model.n();
     if c.component >= n {
         return Err(Error::field(
-            "coverage_curve.component",
+            "scf.coverage_curve.component",
             format!("must be below n = {n}"),
         ));
     }
     if !(c.from.is_finite() && c.to.is_finite() && c.from < c.to) {
         return Err(Error::field(
-            "coverage_curve.from",
-            "must be finite and below coverage_curve.to",
+            "scf.coverage_curve.from",
+            "must be finite and below scf.coverage_curve.to",
         ));
     }
     if c.points < 2 || c.points > 2001 {
         return Err(Error::field(
-            "coverage_curve.points",
+            "scf.coverage_curve.points",
             "must be a whole number from 2 to 2001",
         ));
     }

@@ -20,7 +20,8 @@ fn base() -> Value {
             "W": [[0.5]]
         },
         "data": {"y": [[0.1], [0.4], [-0.2], [0.3], [0.0]]},
-        "alpha": 0.9
+        "alpha": 0.9,
+        "scf": {}
     })
 }
 
@@ -315,10 +316,10 @@ fn unstable_f_needs_a_prior() {
             &["model", "x1_cov"],
             json!([[1.0, 0.0], [0.0, 1.0]]),
         ),
-        &["asymptotic"],
+        &["scf", "asymptotic"],
         json!(true),
     );
-    assert_err(&asy, "asymptotic", &["stable"]);
+    assert_err(&asy, "scf.asymptotic", &["stable"]);
     // A unit-circle eigenvalue is not stable either.
     assert_err(
         &with(base(), &["model", "F"], json!([[1.0, 0.0], [0.0, 0.5]])),
@@ -493,21 +494,21 @@ in_browser!(simulate_problems);
 fn components_and_method() {
     let b = base();
     assert_err(
-        &with(b.clone(), &["components"], json!([0, 2])),
-        "components",
+        &with(b.clone(), &["scf", "components"], json!([0, 2])),
+        "scf.components",
         &["2", "0-based"],
     );
     assert_err(
-        &with(b.clone(), &["components"], json!([1, 1])),
-        "components",
+        &with(b.clone(), &["scf", "components"], json!([1, 1])),
+        "scf.components",
         &["twice"],
     );
     assert_err(
-        &with(b.clone(), &["components"], json!([])),
-        "components",
+        &with(b.clone(), &["scf", "components"], json!([])),
+        "scf.components",
         &["at least one"],
     );
-    run(&with(b.clone(), &["components"], json!([1, 0]))).unwrap();
+    run(&with(b.clone(), &["scf", "components"], json!([1, 0]))).unwrap();
     assert_err(
         &with(b.clone(), &["method"], json!("ekf")),
         "method",

@@ -272,7 +272,7 @@ in_browser!(golden_chacha8_stream);
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn golden_seeded_simulations() {
     let mut s = confset::presets::scalar();
-    s.coverage_curve = None;
+    s.scf = None;
     let r = s.run().unwrap();
     let y: Vec<f64> = r.y[..3].iter().map(|v| v[0]).collect();
     assert_slice_rel(

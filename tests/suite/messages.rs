@@ -6,7 +6,7 @@
 
 use confset::plot::Panel;
 use confset::scenario::Scenario;
-use confset::{presets, Error};
+use confset::{presets, Error, Method};
 use serde_json::{json, Value};
 
 use crate::common::contract::RUST_WORDS;
@@ -132,9 +132,15 @@ fn a_wrong_name_lists_the_accepted_names() {
     v["glls"]["estimator"] = json!("lls");
     v["method"] = json!(5);
     let e = parse_error(&v);
+    // Every method of `Method::ALL`, in its order, the last one after "or".
+    let names: Vec<String> = Method::ALL.iter().map(|m| format!("\"{m}\"")).collect();
+    let (last, rest) = names.split_last().expect("methods");
     assert_eq!(
         e.to_string(),
-        "method must be one of \"scf\", \"kf\", \"lscr\", \"glls\", \"uniform_lp\", \"ubb\" or \"compare\", found the number 5"
+        format!(
+            "method must be one of {} or {last}, found the number 5",
+            rest.join(", ")
+        )
     );
     // A name that takes no options, written as an object.
     let mut v = preset("glls-saturate");
@@ -305,3 +311,109 @@ fn every_leaf_of_every_preset_replaced_by_text_names_its_path() {
     assert!(refused > 200, "only {refused} leaves refused");
 }
 in_browser!(every_leaf_of_every_preset_replaced_by_text_names_its_path);
+
+/// SCF's options as older versions wrote them, at the top level: they still run, to the same
+/// report, and the report says where each one moved; errors name them where the text has them.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn scf_options_at_the_top_level_still_run_and_the_report_says_they_moved() {
+    let new = preset("scf-robots");
+    let mut old = new.clone();
+    let block = old
+        .as_object_mut()
+        .and_then(|o| o.remove("scf"))
+        .expect("scf block");
+    let keys: Vec<String> = block.as_object().expect("object").keys().cloned().collect();
+    for (k, x) in block.as_object().expect("object") {
+        old[k] = x.clone();
+    }
+    let run = |v: &Value| {
+        Scenario::from_json(&v.to_string())
+            .expect("parses")
+            .run()
+            .expect("runs")
+    };
+    let (a, mut b) = (run(&new), run(&old));
+    assert!(a.notices.is_empty(), "{:?}", a.notices);
+    assert_eq!(b.notices.len(), keys.len(), "{:?}", b.notices);
+    for k in &keys {
+        assert!(
+            b.notices
+                .iter()
+                .any(|n| n.starts_with(&format!("{k} is read as scf.{k}:"))),
+            "no notice for {k}: {:?}",
+            b.notices
+        );
+    }
+    b.notices.clear();
+    assert_eq!(a, b, "the old file's report differs");
+    // The scenario read from the old file writes the new shape, with the same digest.
+    let s = Scenario::from_json(&old.to_string()).unwrap();
+    assert_eq!(serde_json::to_value(&s).unwrap(), new);
+    assert_eq!(s.digest().unwrap(), presets::get("scf-robots").unwrap().digest().unwrap());
+
+    // Errors name the key where the text has it ...
+    let mut v = old.clone();
+    v["tau"] = json!("abc");
+    assert_eq!(parse_error(&v).field, "tau");
+    v["tau"] = json!(4);
+    v["scf"] = json!({"tau": 4});
+    let e = parse_error(&v);
+    assert_eq!(e.field, "tau");
+    assert!(e.message.contains("given twice") && e.message.contains("scf.tau"), "{e}");
+    // ... and the checks of a run name the block's path.
+    let mut v = preset("scf-scalar");
+    v["scf"]["tau"] = json!(20_000);
+    let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
+    assert_eq!(e.to_string(), "scf.tau must be at most 10000");
+    let mut v = new.clone();
+    v["scf"]["collision"]["d_min"] = json!(-1.0);
+    let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
+    assert_eq!(e.field, "scf.collision.d_min");
+    let mut v = old;
+    v["collision"]["d_min"] = json!(-1.0);
+    let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
+    assert_eq!(e.field, "scf.collision.d_min");
+}
+in_browser!(scf_options_at_the_top_level_still_run_and_the_report_says_they_moved);
+
+/// On another method's scenario the `scf` block is refused like any other method's block, and
+/// so is an old top-level SCF key that said something (it used to be ignored without a word);
+/// the `"tau": 0` and `"asymptotic": false` every older scenario file carried still read.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_scf_block_belongs_to_scf_and_kf_only() {
+    let mut v = preset("ubb-track");
+    v["scf"] = json!({"tau": 3});
+    let s = Scenario::from_json(&v.to_string()).unwrap();
+    let e = s.run().unwrap_err();
+    assert_eq!(e.field, "scf");
+    assert_eq!(
+        e.message,
+        "is only used with \"method\": \"scf\" or \"kf\" (found \"ubb\")"
+    );
+    let mut v = preset("ubb-track");
+    v["tau"] = json!(0);
+    v["asymptotic"] = json!(false);
+    let s = Scenario::from_json(&v.to_string()).expect("old defaults read");
+    assert!(s.scf.is_none() && s.moved.is_empty());
+    assert!(s.run().expect("runs").notices.is_empty());
+    v["tau"] = json!(3);
+    let e = parse_error(&v);
+    assert_eq!(e.field, "tau");
+    assert!(e.message.contains("scf.tau") && e.message.contains("\"ubb\""), "{e}");
+    // Every other method's block on an SCF scenario, through the same loop.
+    for p in presets::all() {
+        let m = p.scenario.method;
+        let Some(block) = m.block().filter(|b| *b != "scf") else {
+            continue;
+        };
+        let mut v = preset("scf-scalar");
+        v[block] = serde_json::to_value(&p.scenario).unwrap()[block].clone();
+        let e = Scenario::from_json(&v.to_string())
+            .unwrap()
+            .run()
+            .unwrap_err();
+        assert_eq!(e.field, block, "{e}");
+        assert!(e.message.contains(&format!("\"method\": \"{m}\"")), "{e}");
+    }
+}
+in_browser!(the_scf_block_belongs_to_scf_and_kf_only);

@@ -472,7 +472,7 @@ fn scf_case(method: &'static str) -> Case {
     let mut sc = serde_json::to_value(presets::get("scf-scalar").unwrap()).unwrap();
     let obj = sc.as_object_mut().unwrap();
     obj.remove("simulate");
-    obj.remove("coverage_curve");
+    obj.remove("scf");
     sc["method"] = json!(method);
     sc["model"] = json!({
         "F": rows(&f), "H": rows(&h),

@@ -64,6 +64,90 @@ fn cut(v: &Value) -> String {
 }
 
 // ---------------------------------------------------------------------------------------------
+// 0. The registries are complete: a method missing from one fails here, not silently.
+// ---------------------------------------------------------------------------------------------
+
+/// Every variant of [`Method`], named once with no wildcard: a new variant does not compile
+/// until it is added here, and [`method_all_names_every_variant`] then fails until it is in
+/// `Method::ALL` too.
+fn every_variant(m: Method) -> &'static str {
+    match m {
+        Method::Scf => "scf",
+        Method::Kf => "kf",
+        Method::Lscr => "lscr",
+        Method::Glls => "glls",
+        Method::UniformLp => "uniform_lp",
+        Method::Ubb => "ubb",
+        Method::Compare => "compare",
+    }
+}
+
+/// `Method::ALL` holds every variant once: the names serde's derive knows (its message for an
+/// unknown name lists every variant, in declaration order), the names of the match above, and
+/// `Method::ALL`'s agree. Everything below loops over `Method::ALL`, so a variant left out of it
+/// would be skipped by every registry test without a word.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn method_all_names_every_variant() {
+    let message = serde_json::from_value::<Method>(json!("no method"))
+        .expect_err("not a method")
+        .to_string();
+    let listed = message
+        .split_once("expected one of ")
+        .map(|(_, list)| list)
+        .unwrap_or_else(|| panic!("serde lists no variants: {message}"));
+    let derived: Vec<&str> = listed.split(", ").map(|n| n.trim_matches('`')).collect();
+    let all: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+    assert_eq!(all, derived, "Method::ALL against the enum's variants");
+    for m in Method::ALL {
+        assert_eq!(every_variant(m), m.name());
+        assert_eq!(Method::from_name(m.name()).ok(), Some(m));
+    }
+}
+in_browser!(method_all_names_every_variant);
+
+/// Every method of `Method::ALL` is in every registry: its scenario file gives a step range, a
+/// state limit and its truth keys; the core's limits name it; it has presets (KF: the SCF
+/// presets switched to it) and figures. A registry that forgot one fails here by name.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn every_method_is_in_every_registry() {
+    let limits = confset::scenario::limits();
+    let all = presets::all();
+    for m in Method::ALL {
+        let steps = &limits["simulate.steps"][m.name()];
+        assert!(
+            steps[0].as_u64().is_some_and(|a| steps[1].as_u64().is_some_and(|b| a <= b)),
+            "\"{m}\": no step range in scenario::limits(): {steps}"
+        );
+        assert!(confset::scenario::max_states(m) >= 1, "\"{m}\": no state limit");
+        let truth = confset::scenario::truth_keys(m);
+        assert!(
+            truth.iter().any(|(k, _)| *k == "x_true"),
+            "\"{m}\": the truth keys miss x_true"
+        );
+        for (i, (k, what)) in truth.iter().enumerate() {
+            assert!(!what.is_empty(), "\"{m}\": truth key {k} says nothing");
+            assert!(
+                truth[..i].iter().all(|(j, _)| j != k),
+                "\"{m}\": truth key {k} twice"
+            );
+        }
+        assert!(
+            !scenarios_of(m).is_empty(),
+            "\"{m}\": no preset runs this method"
+        );
+        assert!(
+            m == Method::Kf || all.iter().any(|p| p.scenario.method == m),
+            "\"{m}\": no preset in the menu"
+        );
+        assert!(
+            !confset::plot::method_panels(m).is_empty(),
+            "\"{m}\": no figures"
+        );
+    }
+}
+in_browser!(every_method_is_in_every_registry);
+
+// ---------------------------------------------------------------------------------------------
 // 1. Every preset runs, round-trips, and writes plain JSON.
 // ---------------------------------------------------------------------------------------------
 
@@ -212,17 +296,18 @@ fn every_method_is_exercised_by_a_preset() {
             let r = run(&name, &s);
             assert_eq!(r.method, m, "{name}");
             let v = report_value(&r);
-            // The method's own result block, no other; SCF-style steps only without a block.
-            for b in &blocks {
-                assert_eq!(
-                    v.get(*b).is_some(),
-                    m.block() == Some(*b),
+            // No other method's result block; the method's own block, or else (SCF and KF,
+            // whose `scf` block is options only) the KF/SCF steps.
+            for b in blocks.iter().filter(|b| m.block() != Some(**b)) {
+                assert!(
+                    v.get(*b).is_none(),
                     "{name}: result block {b:?} in a \"{m}\" report"
                 );
             }
+            let own_block = m.block().is_some_and(|b| v.get(b).is_some());
             assert_eq!(
                 r.steps.is_empty(),
-                m.block().is_some(),
+                own_block,
                 "{name}: {} KF/SCF steps in a \"{m}\" report",
                 r.steps.len()
             );
@@ -802,68 +887,15 @@ fn cli_run_prints_every_preset_report() {
 // 8. Every method on explicit data.
 // ---------------------------------------------------------------------------------------------
 
-/// Report keys that hold a simulation's truth, or what is computed from it: a report on
-/// `data` has none of them (or null where the field is a [`NULLABLE`] one).
-const TRUTH: [(&str, &str); 24] = [
-    ("x_true", "true states (every method)"),
-    (
-        "holds",
-        "compare: whether each method's set holds the true state",
-    ),
-    ("truth", "ubb: the true x(k+1) at the step shown"),
-    ("inside", "ubb: whether the truth lies in the hull"),
-    (
-        "kf_inside",
-        "ubb: whether the truth lies in the Kalman ellipsoid",
-    ),
-    ("truth_inside", "lscr: whether X̂ holds the true state"),
-    ("truth_inside_each", "lscr: the same per X̂_l"),
-    (
-        "truth_in_ball",
-        "glls: whether the guaranteed ball holds the truth",
-    ),
-    ("truth_in_box", "glls: the same for the box"),
-    ("x_true_current", "glls: the true current state"),
-    ("x_true_past", "glls: the true past state"),
-    (
-        "truth_projected_current",
-        "glls: the truth's regularized projection",
-    ),
-    ("truth_projected_past", "glls: the same, past state"),
-    (
-        "error_current",
-        "glls: the estimate's distance to the truth",
-    ),
-    ("noise_max", "glls: the largest simulated noise"),
-    ("true_distance", "scf collision: the true distance"),
-    ("theta_true", "uniform: the true Θ"),
-    ("xr_true", "uniform: the true state-noise half-widths"),
-    ("yr_true", "uniform: the true output-noise half-widths"),
-    (
-        "true_objective",
-        "uniform: the LP objective at the true half-widths",
-    ),
-    (
-        "truth_in_polygon",
-        "uniform: whether the consistent polygon holds the truth",
-    ),
-    (
-        ".uniform.kf",
-        "uniform: the Kalman filter tuned with the true half-widths",
-    ),
-    (
-        "rms_kf",
-        "uniform: the Kalman filter's error against the truth",
-    ),
-    (
-        "rms_lp",
-        "uniform: the LP estimate's error against the truth",
-    ),
-];
-
-/// A key of [`TRUTH`], or its whole path there (an entry starting with '.').
+/// A report key that holds a simulation's truth, or what is computed from it, of any method
+/// (`scenario::truth_keys`, each method's scenario file's list), or its whole path there (an
+/// entry starting with '.'): a report on `data` has none of them (or null where the field is a
+/// [`NULLABLE`] one). Every method's keys, since a compare report holds the others' results.
 fn is_truth(key: &str, path: &str) -> bool {
-    TRUTH.iter().any(|(k, _)| *k == key || *k == path)
+    Method::ALL
+        .into_iter()
+        .flat_map(confset::scenario::truth_keys)
+        .any(|(k, _)| k == key || k == path)
 }
 
 /// Report fields framed around the truth too, not compared: LSCR fits the figure's window to

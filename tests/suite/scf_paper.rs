@@ -81,8 +81,10 @@ fn scalar_example_intervals_long_run_and_asymptotic() {
             condition: None,
             x0: None,
         });
-        s.coverage_curve = None;
-        s.asymptotic = asymptotic;
+        s.scf = Some(confset::scenario::ScfSpec {
+            asymptotic,
+            ..Default::default()
+        });
         assert_eq!(s.alpha, 0.99);
         let r = s.run().unwrap();
         assert_eq!(r.steps.len(), 200);

@@ -359,7 +359,13 @@ fn scenario(input: &Input) -> Result<Scenario, Error> {
     match (&input.preset, &input.scenario) {
         (Some(name), _) => presets::get(name),
         (None, Some(path)) => {
-            Scenario::from_json(&read_bounded(path, MAX_SCENARIO_BYTES, "the scenario", "")?)
+            let s =
+                Scenario::from_json(&read_bounded(path, MAX_SCENARIO_BYTES, "the scenario", "")?)?;
+            // Keys where an older version wrote them (the report's `notices` says it too).
+            for notice in s.notices() {
+                eprintln!("note: {}: {notice}", path);
+            }
+            Ok(s)
         }
         // clap requires one of the two.
         (None, None) => Err(Error::field(

@@ -64,17 +64,10 @@ pub fn states(s: &Value) -> usize {
         .unwrap_or(0)
 }
 
-/// The most states the core accepts for a method.
+/// The most states the core accepts for a method (its scenario file says,
+/// `scenario::max_states`); 0 for a name that is no method.
 pub fn max_states(method: &str) -> usize {
-    match method {
-        "lscr" => confset::lscr::MAX_STATES,
-        "glls" => confset::glls::MAX_STATES,
-        "uniform_lp" => scenario::uniform::MAX_STATES,
-        "ubb" => scenario::ubb::MAX_STATES,
-        // Every set is drawn in the state plane.
-        "compare" => 2,
-        _ => scenario::MAX_MODEL_DIM,
-    }
+    confset::Method::from_name(method).map_or(0, scenario::max_states)
 }
 
 /// The knobs of a preset's scenario: the fields it has, with the limits the core states.
@@ -102,12 +95,12 @@ pub fn knobs(s: &Value) -> Vec<Knob> {
         }));
     }
     let block = |b: &str| s[b].is_object();
-    if matches!(method.as_str(), "scf" | "kf") {
-        if s["components"].is_array() || s["collision"].is_object() {
-            out.push(count(vec!["tau"], 10_000.0));
+    if block("scf") {
+        if s["scf"]["components"].is_array() || s["scf"]["collision"].is_object() {
+            out.push(count(vec!["scf", "tau"], 10_000.0));
         }
-        if block("coverage_curve") {
-            out.push(count(vec!["coverage_curve", "points"], 2001.0));
+        if s["scf"]["coverage_curve"].is_object() {
+            out.push(count(vec!["scf", "coverage_curve", "points"], 2001.0));
         }
     }
     if block("lscr") {
