@@ -3,12 +3,18 @@
 //! noise law that made the record, and a study counting how often each set holds a fixed
 //! true state.
 //!
-//! Nothing here estimates: every set is the one the method's own scenario gives. For each
-//! method, [`derived_scenario`] writes that scenario (the method's block with its parameters
-//! derived from the one noise law, the record's first t rows as `data`), [`Scenario::run`]
-//! runs it exactly as the method's panel would, and [`extract`] reads the set for the target
-//! state out of its report. So a compare set equals its panel's set on the same data
-//! (`tests/suite/compare.rs` checks it to 1e-9, natively and in wasm).
+//! Nothing here estimates, and nothing here knows a method: every set is the one the
+//! method's own scenario gives, and what a method does for a compare is written in its own
+//! scenario file, in a section above its presets that implements `CompareMember` (reached
+//! through `MethodScenario::compare_member`; `None` keeps a method out). For each member,
+//! in its `compare_order`, the compare asks for its assumption and promise (the table's row),
+//! its derived scenario (typed: `Scenario::new` with the method's block, its parameters
+//! derived from the one noise law, the record's first t rows as `data`), runs that scenario
+//! through [`Scenario::run`] exactly as the method's panel would, and asks the member to read
+//! the set for the target state out of its report (a [`PlaneSet`]). So a compare set equals
+//! its panel's set on the same data (`tests/suite/compare.rs` checks it to 1e-9, natively and
+//! in wasm). The plane geometry the members need (hulls, areas, 2×2 maps, Minkowski sums) is
+//! [`crate::sets::plane`]'s.
 //!
 //! The noise law (`compare.noise`) makes the record and decides the parameters:
 //!
@@ -312,7 +318,8 @@ fn standard<R: Rng>(law: NoiseLaw, k: f64, rng: &mut R) -> f64 {
     }
 }
 
-/// Everything a compare needs once: the model, its noise, the bounds, the record.
+/// Everything a compare needs once: the model, its noise, the bounds, the record and the
+/// members compared. A member reads it through the methods below `CompareMember`.
 pub(crate) struct ComparePrepared {
     scenario: Scenario,
     spec: CompareSpec,
@@ -459,8 +466,9 @@ fn chosen_members(methods: Option<&[Method]>) -> Result<Vec<Member>> {
         let Some(member) = all.iter().find(|a| a.method == m) else {
             let names: Vec<&str> = all.iter().map(|a| a.method.name()).collect();
             let runs = match names.split_last() {
-                Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
-                _ => names.join(""),
+                Some((last, [])) => last.to_string(),
+                Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+                None => String::new(),
             };
             return Err(Error::field(
                 format!("compare.methods[{i}]"),
