@@ -3,12 +3,18 @@
 //! noise law that made the record, and a study counting how often each set holds a fixed
 //! true state.
 //!
-//! Nothing here estimates: every set is the one the method's own scenario gives. For each
-//! method, [`derived_scenario`] writes that scenario (the method's block with its parameters
-//! derived from the one noise law, the record's first t rows as `data`), [`Scenario::run`]
-//! runs it exactly as the method's panel would, and [`extract`] reads the set for the target
-//! state out of its report. So a compare set equals its panel's set on the same data
-//! (`tests/suite/compare.rs` checks it to 1e-9, natively and in wasm).
+//! Nothing here estimates, and nothing here knows a method: every set is the one the
+//! method's own scenario gives, and what a method does for a compare is written in its own
+//! scenario file, in a section above its presets that implements `CompareMember` (reached
+//! through `MethodScenario::compare_member`; `None` keeps a method out). For each member,
+//! in its `compare_order`, the compare asks for its assumption and promise (the table's row),
+//! its derived scenario (typed: `Scenario::new` with the method's block, its parameters
+//! derived from the one noise law, the record's first t rows as `data`), runs that scenario
+//! through [`Scenario::run`] exactly as the method's panel would, and asks the member to read
+//! the set for the target state out of its report (a [`PlaneSet`]). So a compare set equals
+//! its panel's set on the same data (`tests/suite/compare.rs` checks it to 1e-9, natively and
+//! in wasm). The plane geometry the members need (hulls, areas, 2×2 maps, Minkowski sums) is
+//! [`crate::sets::plane`]'s.
 //!
 //! The noise law (`compare.noise`) makes the record and decides the parameters:
 //!
@@ -48,7 +54,7 @@ use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, LinearModel, MatrixSpec, ModelSpec};
 use super::preset::Preset;
-use crate::sets::{point_in_convex, BoxSet, Ellipsoid, Loop};
+use crate::sets::{BoxSet, Ellipsoid, Loop};
 use crate::stats;
 use crate::study::{self, Runs, Study, Tally};
 use nalgebra::{DMatrix, DVector};
@@ -68,7 +74,7 @@ pub enum NoiseLaw {
 }
 
 impl NoiseLaw {
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             NoiseLaw::Gaussian => "Gaussian",
             NoiseLaw::Uniform => "uniform",
@@ -141,27 +147,13 @@ fn default_window() -> usize {
     10
 }
 
-/// The methods a compare runs when `compare.methods` is not given.
-pub const COMPARED: [Method; 6] = [
-    Method::Kf,
-    Method::Scf,
-    Method::Lscr,
-    Method::Glls,
-    Method::Ubb,
-    Method::UniformLp,
-];
-
 /// Most simulated steps or data rows of a compare (each step of the time cursor reruns every
 /// method on the rows up to it).
 pub const MAX_STEPS: usize = 150;
 /// Largest window of the set-membership methods.
 pub const MAX_WINDOW: usize = 40;
-/// Bound on every state entry of Pavelková's window LP in units of the record's scale (her ±5,
-/// widened: the compare states are the model's, not hers). In the record's own unit, so that a
-/// record scaled by 10⁶ is not cut by the box, nor one scaled by 10⁻⁸ lost in it (issue 25).
-const X_BOUND_PER_SCALE: f64 = 1e4;
-/// Support LPs of each exact polygon.
-const POLYGON_BUDGET: usize = 64;
+/// Support LPs of each exact polygon (Tempo's feasible set, Pavelková's consistent states).
+pub(crate) const POLYGON_BUDGET: usize = 64;
 
 /// A set in the compare plane (the two state components).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -326,7 +318,8 @@ fn standard<R: Rng>(law: NoiseLaw, k: f64, rng: &mut R) -> f64 {
     }
 }
 
-/// Everything a compare needs once: the model, its noise, the bounds, the record.
+/// Everything a compare needs once: the model, its noise, the bounds, the record and the
+/// members compared. A member reads it through the methods below `CompareMember`.
 pub(crate) struct ComparePrepared {
     scenario: Scenario,
     spec: CompareSpec,
@@ -334,7 +327,7 @@ pub(crate) struct ComparePrepared {
     noise: Noise,
     bound_v: f64,
     bound_w: f64,
-    methods: Vec<Method>,
+    members: Vec<Member>,
     /// The record: y_1 … y_T, and x_1 … x_{T+1} when simulated.
     y: Vec<Vec<f64>>,
     x: Option<Vec<DVector<f64>>>,
@@ -396,27 +389,7 @@ impl Scenario {
                 ),
             ));
         }
-        let methods = spec.methods.clone().unwrap_or_else(|| COMPARED.to_vec());
-        if methods.is_empty() {
-            return Err(Error::field(
-                "compare.methods",
-                "is empty: name at least one method",
-            ));
-        }
-        for (i, m) in methods.iter().enumerate() {
-            if !COMPARED.contains(m) {
-                return Err(Error::field(
-                    format!("compare.methods[{i}]"),
-                    format!("is \"{m}\": a compare runs kf, scf, lscr, glls, ubb and uniform_lp"),
-                ));
-            }
-            if methods[..i].contains(m) {
-                return Err(Error::field(
-                    format!("compare.methods[{i}]"),
-                    format!("names \"{m}\" twice"),
-                ));
-            }
-        }
+        let members = chosen_members(spec.methods.as_deref())?;
         let factor = match spec.noise {
             NoiseLaw::Uniform => 3f64.sqrt(),
             NoiseLaw::Gaussian | NoiseLaw::Truncated => spec.bound_sigmas,
@@ -468,12 +441,49 @@ impl Scenario {
             spec,
             model: lm,
             noise,
-            methods,
+            members,
             y: y.iter().map(|v| v.iter().copied().collect()).collect(),
             x,
             time,
         })
     }
+}
+
+/// The members of `compare.methods` in its order (default: every member), each named once.
+fn chosen_members(methods: Option<&[Method]>) -> Result<Vec<Member>> {
+    let all = members();
+    let Some(methods) = methods else {
+        return Ok(all);
+    };
+    if methods.is_empty() {
+        return Err(Error::field(
+            "compare.methods",
+            "is empty: name at least one method",
+        ));
+    }
+    let mut chosen = Vec::with_capacity(methods.len());
+    for (i, &m) in methods.iter().enumerate() {
+        let Some(member) = all.iter().find(|a| a.method == m) else {
+            let names: Vec<&str> = all.iter().map(|a| a.method.name()).collect();
+            let runs = match names.split_last() {
+                Some((last, [])) => last.to_string(),
+                Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+                None => String::new(),
+            };
+            return Err(Error::field(
+                format!("compare.methods[{i}]"),
+                format!("is \"{m}\": a compare runs {runs}"),
+            ));
+        };
+        if methods[..i].contains(&m) {
+            return Err(Error::field(
+                format!("compare.methods[{i}]"),
+                format!("names \"{m}\" twice"),
+            ));
+        }
+        chosen.push(*member);
+    }
+    Ok(chosen)
 }
 
 /// x_1 … x_{T+1}, y_1 … y_T: x_1 from the model's prior, the noise from the law.
@@ -525,470 +535,244 @@ fn record_conditioned<R: Rng>(
     Ok((traj.x, y))
 }
 
-/// Whether the bounded methods' bounds hold the record's noise, in words when they do not.
-fn bounds_violation(p: &ComparePrepared) -> Option<String> {
-    let s = &p.spec;
-    if s.bound_scale < 1.0 {
-        return Some(format!(
-            "violated: the bounds are {}× the noise's own (b_v = {:.4}, b_w = {:.4})",
-            s.bound_scale, p.bound_v, p.bound_w
-        ));
-    }
-    match s.noise {
-        NoiseLaw::Gaussian => Some(format!(
-            "violated: Gaussian noise is unbounded (the bound {}σ is exceeded with probability {:.2} % per sample)",
-            s.bound_sigmas,
-            200.0 * (1.0 - stats::normal_cdf(s.bound_sigmas))
-        )),
-        NoiseLaw::Uniform | NoiseLaw::Truncated => None,
-    }
+/// What a compare asks of a method that joins it. The method's scenario file implements it in
+/// a section above its presets and hands it out through
+/// [`MethodScenario::compare_member`]; the compare loops over the members it finds there and
+/// never asks which method it holds (a method without a member, compare itself, is not
+/// compared).
+pub(crate) trait CompareMember: Sync {
+    /// Where the method stands in a compare's default list, table, sets and study counts
+    /// (ascending; ties keep [`Method::ALL`]'s order).
+    fn compare_order(&self) -> usize;
+    /// What the method assumes of the noise, whether the record's law meets it, and what it
+    /// promises (the module docs' table gives the parameters behind it).
+    fn assumption(&self, p: &ComparePrepared) -> Assumption;
+    /// The method's own scenario on the record's first t rows, its parameters derived from the
+    /// noise law: [`ComparePrepared::own_scenario`] with the method's block.
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario>;
+    /// The set of the target state read from the method's own report of its derived scenario,
+    /// carried to the target by the model the method assumes where its paper's set is of
+    /// another time (or an error saying why it has none). `truth`: the true target state, to
+    /// say whether the set holds it.
+    fn plane_set(
+        &self,
+        p: &ComparePrepared,
+        report: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading>;
 }
 
-/// The table row of one method for the prepared record (its scenario at time t).
-fn row(p: &ComparePrepared, m: Method, alpha: f64) -> CompareRow {
-    let gaussian = p.spec.noise == NoiseLaw::Gaussian;
-    let not_gaussian =
-        (!gaussian).then(|| format!("violated: noise not Gaussian ({})", p.spec.noise.name()));
-    let bounds = bounds_violation(p);
-    let state_noise = p.noise.sigma_v > 0.0 && p.noise.g.iter().any(|&g| g != 0.0);
-    let (assumes, violated, promise, level, at_least) = match m {
-        Method::Kf => (
-            "Gaussian noise and prior, known variances",
-            not_gaussian,
-            "on average over states",
-            Some(alpha),
-            false,
-        ),
-        Method::Scf => (
-            "Gaussian noise, known variances",
-            not_gaussian,
-            "for every state",
-            Some(alpha),
-            false,
-        ),
-        Method::Lscr => (
-            "noise symmetric about 0 and independent; variances need not be known",
-            None,
-            "for every state, at least",
-            None,
-            true,
-        ),
-        Method::Glls => (
-            "no state noise; ‖w(t)‖₂ ≤ μ",
-            if state_noise {
-                Some(
-                    "violated: the system has state noise (GLLS takes x(t+1) = F·x(t))".to_string(),
-                )
-            } else {
-                bounds
-            },
-            "always",
-            Some(1.0),
-            false,
-        ),
-        Method::Ubb => (
-            "|v(t)| ≤ τ and |w(t)| ≤ ε at every t",
-            bounds,
-            "always",
-            Some(1.0),
-            false,
-        ),
-        _ => (
-            "innovations uniform within the half-width bounds",
-            match (p.spec.noise, &bounds) {
-                (_, Some(b)) if p.spec.bound_scale < 1.0 => Some(b.clone()),
-                (NoiseLaw::Uniform, _) => None,
-                (law, _) => Some(format!("violated: noise not uniform ({})", law.name())),
-            },
-            "nothing (the consistent set holds the state whenever the bounds hold)",
-            None,
-            false,
-        ),
-    };
-    // LSCR's level comes from its M and q (not from the time): its run on the whole record
-    // says it.
-    let level = match m {
-        Method::Lscr => derived_scenario(p, m, p.y.len())
-            .and_then(|s| s.run())
-            .ok()
-            .and_then(|r| r.lscr.map(|l| l.level)),
-        _ => level,
-    };
+/// A method's assumption and promise: its row of the compare table without the method.
+pub(crate) struct Assumption {
+    pub assumes: &'static str,
+    /// Why the record's law breaks the assumption, in words (`None`: met).
+    pub violated: Option<String>,
+    pub promise: &'static str,
+    pub level: Option<f64>,
+    /// Whether `level` is a lower bound rather than exact.
+    pub at_least: bool,
+}
+
+/// A method's set for the target state, as its member reads it from the method's report.
+pub(crate) struct PlaneReading {
+    pub set: PlaneSet,
+    /// A second, outer set drawn dashed (an interval box or hull).
+    pub outline: Option<Vec<[f64; 2]>>,
+    /// Area of the set (`None` when unbounded).
+    pub area: Option<f64>,
+    /// Whether the set holds the true state (`None` without one).
+    pub holds: Option<bool>,
+    pub note: Option<String>,
+}
+
+/// A method of the compare with what it implements for it.
+#[derive(Clone, Copy)]
+struct Member {
+    method: Method,
+    of: &'static dyn CompareMember,
+}
+
+/// Every method that joins a compare, in the members' order: what a compare runs when
+/// `compare.methods` is not given.
+fn members() -> Vec<Member> {
+    let mut all: Vec<Member> = Method::ALL
+        .into_iter()
+        .filter_map(|method| {
+            super::make_method(method)
+                .compare_member()
+                .map(|of| Member { method, of })
+        })
+        .collect();
+    all.sort_by_key(|m| m.of.compare_order());
+    all
+}
+
+/// The methods a compare runs when `compare.methods` is not given, in its order.
+pub fn compared() -> Vec<Method> {
+    members().into_iter().map(|m| m.method).collect()
+}
+
+/// The table row of one method for the prepared record.
+fn row(p: &ComparePrepared, m: Member) -> CompareRow {
+    let a = m.of.assumption(p);
     CompareRow {
-        method: m,
-        assumes: assumes.to_string(),
-        met: violated.is_none(),
-        violated,
-        promise: promise.to_string(),
-        level,
-        at_least,
+        method: m.method,
+        assumes: a.assumes.to_string(),
+        met: a.violated.is_none(),
+        violated: a.violated,
+        promise: a.promise.to_string(),
+        level: a.level,
+        at_least: a.at_least,
     }
 }
 
-/// The method's own scenario on the record's first t rows, with its parameters derived from
-/// the noise law (the table in the module docs).
-/// The record's scale: its largest datum, prior mean or noise bound (the unit every set of
-/// the compare has).
-fn record_scale(p: &ComparePrepared) -> f64 {
-    let prior = p.model.x1_mean.amax();
-    p.y.iter()
-        .flatten()
-        .fold(p.bound_v.max(p.bound_w).max(prior), |m, v| m.max(v.abs()))
-}
-
-fn derived_scenario(p: &ComparePrepared, m: Method, t: usize) -> Result<Scenario> {
-    let s = &p.scenario;
-    let c = &p.spec;
-    let lm = &p.model;
-    let f = linalg::to_rows(lm.f(1));
-    let h = linalg::to_rows(lm.h(1));
-    let q = lm.q();
-    let predict = c.target == Target::Predict;
-    let bare = |extra: fn(&mut ModelSpec, &ComparePrepared)| {
-        let mut spec = ModelSpec {
-            f: Some(MatrixSpec::Constant(f.clone())),
-            h: Some(MatrixSpec::Constant(h.clone())),
-            v: None,
-            w: None,
-            g: None,
-            sigma_v2: None,
-            sigma_w2: None,
-            b: None,
-            x1_mean: None,
-            x1_cov: None,
-        };
-        extra(&mut spec, p);
-        spec
-    };
-    let window = c.window.min(t);
-    let block = |v: serde_json::Value, name: &str| serde_json::json!({ name: v });
-    let (model, extra) = match m {
-        Method::Kf | Method::Scf => (
-            s.model.clone(),
-            serde_json::json!({"scf": {"tau": usize::from(predict), "components": [0, 1]}}),
-        ),
-        Method::Lscr => (
-            s.model.clone(),
-            block(
-                serde_json::json!({
-                    "estimate": if predict { "predict" } else { "filter" },
-                    "level": s.alpha,
-                    "construction": "random",
-                    "seed": 1,
-                }),
-                "lscr",
-            ),
-        ),
-        Method::Glls => (
-            bare(|spec, p| {
-                let w = p.noise.sigma_w * p.noise.sigma_w;
-                let q = p.model.q();
-                spec.w = Some(MatrixSpec::Constant(linalg::to_rows(
-                    &(DMatrix::identity(q, q) * w),
-                )));
-            }),
-            block(
-                serde_json::json!({
-                    "mu": (q as f64).sqrt() * p.bound_w,
-                    "max_horizon": (t - 1).clamp(1, 60),
-                }),
-                "glls",
-            ),
-        ),
-        Method::Ubb => (
-            bare(|spec, p| spec.g = Some(linalg::to_rows(&p.noise.g))),
-            block(
-                serde_json::json!({
-                    "norm": "linf",
-                    "eps": p.bound_w,
-                    "tau": p.bound_v,
-                    "delta": null,
-                    "alpha": null,
-                    "beta": null,
-                    "window": window,
-                    "time": t - 1,
-                    "plane": [0, 1],
-                    "budget": POLYGON_BUDGET,
-                    "kf_level": s.alpha,
-                }),
-                "ubb",
-            ),
-        ),
-        _ => {
-            // |(G v)_i| ≤ Σ_j |G_ij|·b_v: the half-width bound of each state's innovation. The
-            // LP needs positive half-widths: a state without noise gets 10⁻⁶ of the largest.
-            let xr: Vec<f64> = p
-                .noise
-                .g
-                .row_iter()
-                .map(|r| r.iter().map(|g| g.abs()).sum::<f64>() * p.bound_v)
-                .collect();
-            let floor = 1e-6 * xr.iter().copied().fold(p.bound_w, f64::max);
-            let xr: Vec<f64> = xr.into_iter().map(|x| x.max(floor)).collect();
-            (
-                bare(|_, _| {}),
-                block(
-                    serde_json::json!({
-                        "estimator": "states",
-                        "window": window,
-                        "xr_max": xr,
-                        "yr_max": vec![p.bound_w; q],
-                        "x_bound": X_BOUND_PER_SCALE * record_scale(p),
-                        "time": t,
-                        "plane": [0, 1],
-                        "directions": POLYGON_BUDGET,
-                    }),
-                    "uniform",
-                ),
-            )
-        }
-    };
-    let mut v = serde_json::json!({
-        "method": m,
-        "model": model,
-        "data": DataSpec { y: p.y[..t].to_vec(), u: Vec::new() },
-        "alpha": s.alpha,
-    });
-    if let (Some(o), Some(e)) = (v.as_object_mut(), extra.as_object()) {
-        for (k, x) in e {
-            o.insert(k.clone(), x.clone());
+impl MethodSet {
+    /// The method's entry before anything is known of its set.
+    fn of(method: Method) -> MethodSet {
+        MethodSet {
+            method,
+            set: None,
+            outline: None,
+            area: None,
+            holds: None,
+            reason: None,
+            note: None,
+            seconds: None,
+            scenario: None,
         }
     }
-    // The title as its figures would show it (cut at `error::DISPLAY_CHARS`): each derived
-    // scenario keeps a copy, and a long title must not be copied six times into the report.
-    if let Some(title) = &s.title {
-        v["title"] = serde_json::Value::String(format!("{} — {m}", crate::error::displayed(title)));
-    }
-    super::parse::from_value(&v, "")
 }
 
-/// Area of a polygon (the LSCR boundary's shoelace).
-fn polygon_area(v: &[[f64; 2]]) -> f64 {
-    crate::sets::sign_region::signed_area(v).abs()
-}
-
-/// Convex hull (counter-clockwise, Andrew's monotone chain).
-fn convex_hull(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
-    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    pts.dedup();
-    if pts.len() < 3 {
-        return pts;
-    }
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2
-                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
-    hull
-}
-
-fn map2(f: &DMatrix<f64>, p: [f64; 2]) -> [f64; 2] {
-    [
-        f[(0, 0)] * p[0] + f[(0, 1)] * p[1],
-        f[(1, 0)] * p[0] + f[(1, 1)] * p[1],
-    ]
-}
-
-/// The image F·E of a 2-D ellipse.
-fn map_ellipse(f: &DMatrix<f64>, e: &Ellipsoid) -> Ellipsoid {
-    let c = DMatrix::from_fn(2, 2, |i, j| e.cov[i][j]);
-    let fc = f * c * f.transpose();
-    let center = map2(f, [e.center[0], e.center[1]]);
-    Ellipsoid::new(&DVector::from_column_slice(&center), &fc, e.radius2)
-}
-
-fn box_corners(b: &BoxSet) -> Vec<[f64; 2]> {
-    vec![
-        [b.lo[0], b.lo[1]],
-        [b.hi[0], b.lo[1]],
-        [b.hi[0], b.hi[1]],
-        [b.lo[0], b.hi[1]],
-    ]
-}
-
-/// The set of the target state from one method's own report (the module docs say how each
-/// paper's set becomes the target's). `truth`: the true target state, to say whether it is
-/// inside.
-fn extract(
-    p: &ComparePrepared,
-    m: Method,
-    r: &Report,
-    truth: Option<[f64; 2]>,
-) -> Result<MethodSet> {
-    let predict = p.spec.target == Target::Predict;
-    let f = p.model.f(1);
-    let missing = |what: &str| {
-        Error::field(
-            format!("report.{}", m.block().unwrap_or("steps")),
-            format!("has no {what}"),
-        )
-    };
-    let mut out = MethodSet {
-        method: m,
-        set: None,
-        outline: None,
-        area: None,
-        holds: None,
-        reason: None,
-        note: None,
-        seconds: None,
-        scenario: None,
-    };
-    match m {
-        Method::Kf | Method::Scf => {
-            let step = r.steps.last().ok_or_else(|| missing("steps"))?;
-            let target = step
-                .target
-                .as_ref()
-                .ok_or_else(|| missing("target region"))?;
-            let e = if m == Method::Kf {
-                target.kf.clone()
-            } else {
-                target.scf.clone().ok_or_else(|| {
-                    Error::field(
-                        "report.steps.target.scf",
-                        format!("is absent at t = {}: the ratio matrix is still singular (too few measurements)", step.t),
-                    )
-                })?
-            };
-            out.area = Some(e.volume());
-            out.holds = truth.map(|x| e.contains(&x));
-            out.set = Some(PlaneSet::Ellipse(e));
-        }
-        Method::Lscr => {
-            let l = r.lscr.as_ref().ok_or_else(|| missing("lscr part"))?;
-            out.holds = truth.map(|x| l.region.contains(&x));
-            out.area = l.bounded.then_some(l.area);
-            out.note = Some(format!("M = {}, q = {}", l.m, l.q));
-            out.set = Some(PlaneSet::Region {
-                loops: l.boundary.clone(),
-                bounded: l.bounded,
-                window: l.window.clone(),
-            });
-        }
-        Method::Glls => {
-            let g = r.glls.as_ref().ok_or_else(|| missing("glls part"))?;
-            let (ball, corners) = if predict {
-                let corners = box_corners(&g.box_current)
-                    .into_iter()
-                    .map(|c| map2(f, c))
-                    .collect();
-                (map_ellipse(f, &g.ball_current), convex_hull(corners))
-            } else {
-                (g.ball_current.clone(), box_corners(&g.box_current))
-            };
-            out.area = Some(ball.volume());
-            out.holds = truth.map(|x| ball.contains(&x));
-            out.note = Some(if predict {
-                format!("horizon s = {}; F·ball (no state noise)", g.s)
-            } else {
-                format!("horizon s = {}", g.s)
-            });
-            out.set = Some(PlaneSet::Ellipse(ball));
-            out.outline = Some(corners);
-        }
-        Method::Ubb => {
-            if !predict {
-                return Err(Error::field(
-                    "compare.target",
-                    "is \"filter\", but Tempo's set is of x(k+1) from y(0 … k): a prediction only (choose \"predict\")",
-                ));
-            }
-            let u = r.ubb.as_ref().ok_or_else(|| missing("ubb part"))?;
-            let poly = &u.at.polygon;
-            out.area = Some(polygon_area(&poly.vertices));
-            out.holds = truth.map(|x| poly.contains(x, 1e-9));
-            out.set = Some(PlaneSet::Polygon {
-                vertices: poly.vertices.clone(),
-            });
-            let (lo, hi) = (&u.at.lo, &u.at.hi);
-            out.outline = Some(vec![
-                [lo[0], lo[1]],
-                [hi[0], lo[1]],
-                [hi[0], hi[1]],
-                [lo[0], hi[1]],
-            ]);
-            out.note = Some(format!("window {} steps", u.window));
-        }
-        _ => {
-            let w = r.uniform.as_ref().ok_or_else(|| missing("uniform part"))?;
-            let poly = w.at.polygon.as_ref().ok_or_else(|| {
-                Error::field(
-                    "report.uniform.at.polygon",
-                    w.at.polygon_absent
-                        .clone()
-                        .unwrap_or_else(|| "is absent".into()),
-                )
-            })?;
-            let vertices = if predict {
-                // F·P ⊕ G·[−b_v, b_v]^p: the corners of the noise box through G.
-                let g = &p.noise.g;
-                let pcount = g.ncols().min(12);
-                let mut pts = Vec::new();
-                for mask in 0..(1usize << pcount) {
-                    let mut shift = [0.0; 2];
-                    for j in 0..pcount {
-                        let s = if mask >> j & 1 == 1 {
-                            p.bound_v
-                        } else {
-                            -p.bound_v
-                        };
-                        shift[0] += g[(0, j)] * s;
-                        shift[1] += g[(1, j)] * s;
-                    }
-                    for &v in &poly.vertices {
-                        let fv = map2(f, v);
-                        pts.push([fv[0] + shift[0], fv[1] + shift[1]]);
-                    }
-                }
-                convex_hull(pts)
-            } else {
-                poly.vertices.clone()
-            };
-            out.area = Some(polygon_area(&vertices));
-            out.holds = truth.map(|x| {
-                if predict {
-                    point_in_convex(&vertices, x, 1e-9)
-                } else {
-                    poly.contains(x, 1e-9)
-                }
-            });
-            let mut note = vec![format!("window ∂ = {}", w.window)];
-            if w.at.extended > 0 {
-                note.push(format!(
-                    "half-width bounds doubled {}× (the data contradicted them)",
-                    w.at.extended
-                ));
-            }
-            if predict {
-                note.push("F·P ⊕ G·[−b_v, b_v]".to_string());
-            }
-            out.note = Some(note.join("; "));
-            out.set = Some(PlaneSet::Polygon { vertices });
-        }
-    }
-    Ok(out)
-}
-
+/// What the members read: the record's law and bounds, the model, the target, and the
+/// method's own scenario on the record.
 impl ComparePrepared {
+    /// Whether the target is the prediction x_{t+1} (else the filtered x_t).
+    pub(crate) fn predicts(&self) -> bool {
+        self.spec.target == Target::Predict
+    }
+
+    /// The compare's probability level α (every method's own level).
+    pub(crate) fn alpha(&self) -> f64 {
+        self.scenario.alpha
+    }
+
+    /// The noise law of the record.
+    pub(crate) fn law(&self) -> NoiseLaw {
+        self.spec.noise
+    }
+
+    /// Whether the bounds were scaled below the noise's own (`compare.bound_scale` < 1).
+    pub(crate) fn bounds_below_truth(&self) -> bool {
+        self.spec.bound_scale < 1.0
+    }
+
+    /// The constant model of the compare.
+    pub(crate) fn model(&self) -> &LinearModel {
+        &self.model
+    }
+
+    /// G of the state noise G·v.
+    pub(crate) fn noise_g(&self) -> &DMatrix<f64> {
+        &self.noise.g
+    }
+
+    /// σ_w, the standard deviation of each output's noise.
+    pub(crate) fn sigma_w(&self) -> f64 {
+        self.noise.sigma_w
+    }
+
+    /// The bounds b_v, b_w the set-membership methods are given (after `bound_scale`).
+    pub(crate) fn bounds(&self) -> (f64, f64) {
+        (self.bound_v, self.bound_w)
+    }
+
+    /// Whether the system has state noise (G·v not identically 0).
+    pub(crate) fn has_state_noise(&self) -> bool {
+        self.noise.sigma_v > 0.0 && self.noise.g.iter().any(|&g| g != 0.0)
+    }
+
+    /// The steps of the record (y_1 … y_T: T).
+    pub(crate) fn steps(&self) -> usize {
+        self.y.len()
+    }
+
+    /// The window of the set-membership methods at time t (`compare.window`, at most t).
+    pub(crate) fn window(&self, t: usize) -> usize {
+        self.spec.window.min(t)
+    }
+
+    /// Why the law breaks an assumption of Gaussian noise, in words (`None`: it is Gaussian).
+    pub(crate) fn not_gaussian(&self) -> Option<String> {
+        (self.spec.noise != NoiseLaw::Gaussian)
+            .then(|| format!("violated: noise not Gaussian ({})", self.spec.noise.name()))
+    }
+
+    /// Whether the bounded methods' bounds hold the record's noise, in words when they do not.
+    pub(crate) fn bounds_violation(&self) -> Option<String> {
+        let s = &self.spec;
+        if s.bound_scale < 1.0 {
+            return Some(format!(
+                "violated: the bounds are {}× the noise's own (b_v = {:.4}, b_w = {:.4})",
+                s.bound_scale, self.bound_v, self.bound_w
+            ));
+        }
+        match s.noise {
+            NoiseLaw::Gaussian => Some(format!(
+                "violated: Gaussian noise is unbounded (the bound {}σ is exceeded with probability {:.2} % per sample)",
+                s.bound_sigmas,
+                200.0 * (1.0 - stats::normal_cdf(s.bound_sigmas))
+            )),
+            NoiseLaw::Uniform | NoiseLaw::Truncated => None,
+        }
+    }
+
+    /// The record's scale: its largest datum, prior mean or noise bound (the unit every set of
+    /// the compare has).
+    pub(crate) fn record_scale(&self) -> f64 {
+        let prior = self.model.x1_mean.amax();
+        self.y
+            .iter()
+            .flatten()
+            .fold(self.bound_v.max(self.bound_w).max(prior), |m, v| {
+                m.max(v.abs())
+            })
+    }
+
+    /// The compare's own model block (for the methods that take its noise as it is written).
+    pub(crate) fn written_model(&self) -> ModelSpec {
+        self.scenario.model.clone()
+    }
+
+    /// The model F and H alone (for the methods that take the noise as bounds or variances of
+    /// their own).
+    pub(crate) fn bare_model(&self) -> ModelSpec {
+        ModelSpec {
+            f: Some(MatrixSpec::of(self.model.f(1))),
+            h: Some(MatrixSpec::of(self.model.h(1))),
+            ..ModelSpec::default()
+        }
+    }
+
+    /// The scenario of `method` on `model` with the record's first t rows as `data`, the
+    /// compare's α and its title: a member adds its block.
+    pub(crate) fn own_scenario(&self, method: Method, model: ModelSpec, t: usize) -> Scenario {
+        let s = &self.scenario;
+        let own = Scenario::new(method, model)
+            .with_data(DataSpec {
+                y: self.y[..t].to_vec(),
+                u: Vec::new(),
+            })
+            .with_alpha(s.alpha);
+        // The title as its figures would show it (cut at `error::DISPLAY_CHARS`): each derived
+        // scenario keeps a copy, and a long title must not be copied six times into the report.
+        match &s.title {
+            Some(title) => own.with_title(format!("{} — {method}", crate::error::displayed(title))),
+            None => own,
+        }
+    }
+
     fn target_time(&self, t: usize) -> usize {
-        t + usize::from(self.spec.target == Target::Predict)
+        t + usize::from(self.predicts())
     }
 
     fn truth(&self, t: usize) -> Option<[f64; 2]> {
@@ -997,27 +781,27 @@ impl ComparePrepared {
     }
 
     /// One method's set at t, or the reason it has none.
-    fn method_set(&self, m: Method, t: usize, truth: Option<[f64; 2]>) -> MethodSet {
+    fn method_set(&self, m: Member, t: usize, truth: Option<[f64; 2]>) -> MethodSet {
         let clock = CLOCK.get();
         let start = clock.map(|c| c());
-        let scenario = derived_scenario(self, m, t);
+        let scenario = m.of.derived_scenario(self, t);
         let result = scenario
             .as_ref()
             .map_err(Clone::clone)
             .and_then(|s| s.run())
-            .and_then(|r| extract(self, m, &r, truth));
+            .and_then(|r| m.of.plane_set(self, &r, truth));
         let seconds = clock.zip(start).map(|(c, s)| (c() - s).max(0.0));
-        let mut set = result.unwrap_or_else(|e| MethodSet {
-            method: m,
-            set: None,
-            outline: None,
-            area: None,
-            holds: None,
-            reason: Some(e.to_string()),
-            note: None,
-            seconds: None,
-            scenario: None,
-        });
+        let mut set = MethodSet::of(m.method);
+        match result {
+            Ok(r) => {
+                set.set = Some(r.set);
+                set.outline = r.outline;
+                set.area = r.area;
+                set.holds = r.holds;
+                set.note = r.note;
+            }
+            Err(e) => set.reason = Some(e.to_string()),
+        }
         set.seconds = seconds;
         set.scenario = scenario.ok().and_then(|s| serde_json::to_value(s).ok());
         set
@@ -1039,7 +823,7 @@ impl ComparePrepared {
             target_time: self.target_time(t),
             truth,
             sets: self
-                .methods
+                .members
                 .iter()
                 .map(|&m| self.method_set(m, t, truth))
                 .collect(),
@@ -1063,11 +847,7 @@ impl ComparePrepared {
                 .x
                 .as_ref()
                 .map(|x| x.iter().map(|v| v.iter().copied().collect()).collect()),
-            rows: self
-                .methods
-                .iter()
-                .map(|&m| row(self, m, s.alpha))
-                .collect(),
+            rows: self.members.iter().map(|&m| row(self, m)).collect(),
             at,
         };
         let mut r = Report::of(
@@ -1212,9 +992,9 @@ impl CompareStudy {
             None
         };
         let rows = prepared
-            .methods
+            .members
             .iter()
-            .map(|&m| row(&prepared, m, prepared.scenario.alpha))
+            .map(|&m| row(&prepared, m))
             .collect();
         Ok(CompareStudy {
             x: [x[0], x[1]],
@@ -1267,7 +1047,7 @@ impl Runs for CompareStudy {
         self.seed
     }
     fn zero(&self) -> CompareCounts {
-        let k = self.prepared.methods.len();
+        let k = self.prepared.members.len();
         CompareCounts {
             runs: 0,
             holds: vec![0; k],
@@ -1280,7 +1060,7 @@ impl Runs for CompareStudy {
         for i in range {
             let (y, truth) = self.draw(i);
             let saved = std::mem::replace(&mut self.prepared.y, y);
-            for (j, &m) in self.prepared.methods.iter().enumerate() {
+            for (j, &m) in self.prepared.members.iter().enumerate() {
                 let s = self.prepared.method_set(m, t, Some(truth));
                 match s.holds {
                     Some(true) => c.holds[j] += 1,
@@ -1381,8 +1161,8 @@ fn work(s: &Scenario, job: Job) -> Work {
         return w;
     };
     let steps_field = s.steps_field();
-    for &m in &p.methods {
-        let Ok(d) = derived_scenario(&p, m, p.y.len()) else {
+    for &Member { method: m, of } in &p.members {
+        let Ok(d) = of.derived_scenario(&p, p.steps()) else {
             continue;
         };
         let own = d.work(Job::Report);
@@ -1476,6 +1256,9 @@ impl MethodScenario for Compare {
             s.prepare_compare()?,
             runs,
         )?)))
+    }
+    fn compare_member(&self) -> Option<&dyn CompareMember> {
+        None
     }
     fn presets(&self) -> Vec<Preset> {
         presets()

@@ -17,6 +17,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, Table};
 use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
@@ -27,7 +28,7 @@ use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, MatrixSpec, ModelSpec};
 use super::preset::Preset;
-use crate::sets::{BoxSet, Ellipsoid};
+use crate::sets::{box_corners, convex_hull, map_ellipse, map_point, BoxSet, Ellipsoid};
 use crate::study::Chunked;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -769,6 +770,9 @@ impl MethodScenario for Glls {
         }
         Ok(Box::new(Chunked::new(p.precision(&mc)?)))
     }
+    fn compare_member(&self) -> Option<&dyn CompareMember> {
+        Some(self)
+    }
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
@@ -975,6 +979,85 @@ fn work(s: &Scenario, job: Job) -> Work {
         );
     }
     w
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compare: what a compare asks of GLLS (`scenario::compare`)
+
+impl CompareMember for Glls {
+    fn compare_order(&self) -> usize {
+        3
+    }
+    fn assumption(&self, p: &ComparePrepared) -> Assumption {
+        Assumption {
+            assumes: "no state noise; ‖w(t)‖₂ ≤ μ",
+            violated: if p.has_state_noise() {
+                Some(
+                    "violated: the system has state noise (GLLS takes x(t+1) = F·x(t))".to_string(),
+                )
+            } else {
+                p.bounds_violation()
+            },
+            promise: "always",
+            // The guaranteed ball (35) holds the state whenever ‖δ(k)‖₂ ≤ μ.
+            level: Some(1.0),
+            at_least: false,
+        }
+    }
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
+        // Ω = σ_w²·I; μ = √q·b_w bounds ‖w(t)‖₂ when every |w_i| ≤ b_w.
+        let q = p.model().q();
+        let sigma_w2 = p.sigma_w() * p.sigma_w();
+        let mut model = p.bare_model();
+        model.w = Some(MatrixSpec::of(&(DMatrix::identity(q, q) * sigma_w2)));
+        let mut s = p.own_scenario(Method::Glls, model, t);
+        s.glls = Some(GllsSpec {
+            horizon: None,
+            max_horizon: (t - 1).clamp(1, 60),
+            estimator: GllsEstimator::default(),
+            p: None,
+            mu: Some((q as f64).sqrt() * p.bounds().1),
+            noise: GllsNoise::default(),
+            plane: None,
+            monte_carlo: None,
+        });
+        Ok(s)
+    }
+    fn plane_set(
+        &self,
+        p: &ComparePrepared,
+        r: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading> {
+        let g = r
+            .glls
+            .as_ref()
+            .ok_or_else(|| Error::field("report.glls", "has no glls part"))?;
+        let corners = box_corners(&g.box_current.lo, &g.box_current.hi);
+        // The ball is of x_t; without state noise (GLLS's assumption) x_{t+1} = F·x_t, so the
+        // prediction set is the ellipse F·ball and its box the parallelogram F·box.
+        let (ball, outline, note) = if p.predicts() {
+            let f = p.model().f(1);
+            (
+                map_ellipse(f, &g.ball_current),
+                convex_hull(corners.into_iter().map(|c| map_point(f, c)).collect()),
+                format!("horizon s = {}; F·ball (no state noise)", g.s),
+            )
+        } else {
+            (
+                g.ball_current.clone(),
+                corners,
+                format!("horizon s = {}", g.s),
+            )
+        };
+        Ok(PlaneReading {
+            area: Some(ball.volume()),
+            holds: truth.map(|x| ball.contains(&x)),
+            note: Some(note),
+            set: PlaneSet::Ellipse(ball),
+            outline: Some(outline),
+        })
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

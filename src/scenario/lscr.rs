@@ -19,6 +19,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, flag, Table};
 use super::{Condition, MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
@@ -817,6 +818,9 @@ impl MethodScenario for Lscr {
         }
         Ok(Box::new(Chunked::new(LscrStudy(s.lscr_experiment()?))))
     }
+    fn compare_member(&self) -> Option<&dyn CompareMember> {
+        Some(self)
+    }
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
@@ -1035,6 +1039,77 @@ fn work(s: &Scenario, job: Job) -> Work {
         );
     }
     w
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compare: what a compare asks of LSCR (`scenario::compare`)
+
+impl CompareMember for Lscr {
+    fn compare_order(&self) -> usize {
+        2
+    }
+    fn assumption(&self, p: &ComparePrepared) -> Assumption {
+        Assumption {
+            assumes: "noise symmetric about 0 and independent; variances need not be known",
+            violated: None,
+            promise: "for every state, at least",
+            // The level 1 − 2qn/M (19) comes from the M and q the run chooses (not from the
+            // time): its run on the whole record says it.
+            level: self
+                .derived_scenario(p, p.steps())
+                .and_then(|s| s.run())
+                .ok()
+                .and_then(|r| r.lscr.map(|l| l.level)),
+            at_least: true,
+        }
+    }
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
+        // The compare's model as written (only its F, H and the BLUE's variances are read);
+        // the joint level the compare's α, with random strings (point 4).
+        let mut s = p.own_scenario(Method::Lscr, p.written_model(), t);
+        s.lscr = Some(LscrSpec {
+            estimate: if p.predicts() {
+                Estimate::Predict
+            } else {
+                Estimate::Filter
+            },
+            index: None,
+            m: None,
+            q: None,
+            level: Some(p.alpha()),
+            construction: Construction::Random,
+            seed: 1,
+            strings: None,
+            window: None,
+            resolution: None,
+            probes: Vec::new(),
+            slice_at: None,
+            coverage: None,
+        });
+        Ok(s)
+    }
+    fn plane_set(
+        &self,
+        _p: &ComparePrepared,
+        r: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading> {
+        let l = r
+            .lscr
+            .as_ref()
+            .ok_or_else(|| Error::field("report.lscr", "has no lscr part"))?;
+        Ok(PlaneReading {
+            holds: truth.map(|x| l.region.contains(&x)),
+            area: l.bounded.then_some(l.area),
+            note: Some(format!("M = {}, q = {}", l.m, l.q)),
+            set: PlaneSet::Region {
+                loops: l.boundary.clone(),
+                bounded: l.bounded,
+                window: l.window.clone(),
+            },
+            outline: None,
+        })
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

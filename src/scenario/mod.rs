@@ -864,6 +864,10 @@ pub(crate) trait MethodScenario: Sync {
     ) -> Result<Vec<MovedKey>> {
         Ok(Vec::new())
     }
+    /// What a compare asks of this method ([`compare::CompareMember`]: its assumption, its
+    /// scenario derived from the compare's record, its set read from its report), or `None`
+    /// when the method does not join a compare. Required, so a new method decides.
+    fn compare_member(&self) -> Option<&dyn compare::CompareMember>;
     /// The file's presets (the papers' examples), in menu order: built at the bottom of the
     /// scenario file, gathered by [`crate::presets::all`] under the method each one runs (a
     /// file shared by several methods, SCF's with KF, lists its presets once).

@@ -13,6 +13,7 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, flag, Table};
 use super::{
     Condition, ExperimentSpec, MethodScenario, MovedKey, Report, Scenario, SimulateSpec, Source,
@@ -511,6 +512,9 @@ impl MethodScenario for Scf {
     ) -> Result<Vec<MovedKey>> {
         read_top_level_keys(v)
     }
+    fn compare_member(&self) -> Option<&dyn CompareMember> {
+        Some(self)
+    }
     fn presets(&self) -> Vec<Preset> {
         if self.kalman_only {
             Vec::new()
@@ -703,6 +707,97 @@ fn work(s: &Scenario, job: Job) -> Work {
         .advice("fewer steps or states"),
     );
     w
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compare: what a compare asks of KF and SCF (`scenario::compare`)
+
+impl CompareMember for Scf {
+    fn compare_order(&self) -> usize {
+        // KF first: the textbook's region, then SCF's beside it.
+        if self.kalman_only {
+            0
+        } else {
+            1
+        }
+    }
+    fn assumption(&self, p: &ComparePrepared) -> Assumption {
+        let (assumes, promise) = if self.kalman_only {
+            // The KF region holds x with probability α averaged over the prior of the states.
+            (
+                "Gaussian noise and prior, known variances",
+                "on average over states",
+            )
+        } else {
+            // The SCF region holds x with probability α given the state itself (33)–(34).
+            ("Gaussian noise, known variances", "for every state")
+        };
+        Assumption {
+            assumes,
+            violated: p.not_gaussian(),
+            promise,
+            level: Some(p.alpha()),
+            at_least: false,
+        }
+    }
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
+        let method = if self.kalman_only {
+            Method::Kf
+        } else {
+            Method::Scf
+        };
+        // The compare's model with its variances as written; the target region is of both
+        // states τ = 1 step ahead (the prediction) or τ = 0 (the filter).
+        let own = p.own_scenario(method, p.written_model(), t);
+        Ok(with_target_region(
+            own,
+            usize::from(p.predicts()),
+            vec![0, 1],
+        ))
+    }
+    fn plane_set(
+        &self,
+        _p: &ComparePrepared,
+        r: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading> {
+        let step = r
+            .steps
+            .last()
+            .ok_or_else(|| Error::field("report.steps", "has no steps"))?;
+        let target = step
+            .target
+            .as_ref()
+            .ok_or_else(|| Error::field("report.steps", "has no target region"))?;
+        let e = if self.kalman_only {
+            target.kf.clone()
+        } else {
+            target.scf.clone().ok_or_else(|| {
+                Error::field(
+                    "report.steps.target.scf",
+                    format!("is absent at t = {}: the ratio matrix is still singular (too few measurements)", step.t),
+                )
+            })?
+        };
+        Ok(PlaneReading {
+            area: Some(e.volume()),
+            holds: truth.map(|x| e.contains(&x)),
+            set: PlaneSet::Ellipse(e),
+            outline: None,
+            note: None,
+        })
+    }
+}
+
+/// `s` with the target region (`components` ζ, `tau` steps ahead): the one place a derived
+/// scenario names SCF's options.
+fn with_target_region(mut s: Scenario, tau: usize, components: Vec<usize>) -> Scenario {
+    s.scf = Some(ScfSpec {
+        components: Some(components),
+        tau,
+        ..Default::default()
+    });
+    s
 }
 
 // ---------------------------------------------------------------------------------------------

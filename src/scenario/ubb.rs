@@ -20,6 +20,9 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, rows_shape, shape, Job, Term, Work};
+use super::compare::{
+    Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet, POLYGON_BUDGET,
+};
 use super::csv::{cells, flag, Table};
 use super::{detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, Source};
 use crate::error::{quoted, Error, Result};
@@ -27,7 +30,7 @@ use crate::linalg;
 use crate::method::Method;
 use crate::model::ModelSpec;
 use super::preset::Preset;
-use crate::sets::{Ellipsoid, SupportPolygon};
+use crate::sets::{box_corners, polygon_area, Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
 use crate::ubb::{
@@ -1131,6 +1134,9 @@ impl MethodScenario for Ubb {
             .unwrap_or_else(default_guarantee_runs);
         Ok(Box::new(study::Chunked::new(Guarantee::new(p, total)?)))
     }
+    fn compare_member(&self) -> Option<&dyn CompareMember> {
+        Some(self)
+    }
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
@@ -1299,6 +1305,84 @@ fn work(s: &Scenario, job: Job) -> Work {
         .advice("a shorter window or fewer states"),
     );
     w
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compare: what a compare asks of the set-membership estimator (`scenario::compare`)
+
+impl CompareMember for Ubb {
+    fn compare_order(&self) -> usize {
+        4
+    }
+    fn assumption(&self, p: &ComparePrepared) -> Assumption {
+        Assumption {
+            assumes: "|v(t)| ≤ τ and |w(t)| ≤ ε at every t",
+            violated: p.bounds_violation(),
+            promise: "always",
+            // The feasible set T(h) (3) holds the state whenever the bounds hold.
+            level: Some(1.0),
+            at_least: false,
+        }
+    }
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
+        // Per-sample l∞ bounds (45)–(46): τ = b_v on v, ε = b_w on w, no smoothing, no box of
+        // x(0); the window of j + 1 = `compare.window` steps ending at k = t − 1.
+        let (bound_v, bound_w) = p.bounds();
+        let mut model = p.bare_model();
+        model.g = Some(linalg::to_rows(p.noise_g()));
+        let mut s = p.own_scenario(Method::Ubb, model, t);
+        s.ubb = Some(UbbSpec {
+            norm: Norm::Linf,
+            l1_form: default_l1_form(),
+            eps: bound_w,
+            tau: bound_v,
+            delta: None,
+            x0_center: None,
+            x0_sum: None,
+            alpha: None,
+            beta: None,
+            gamma: default_gamma(),
+            window: Some(p.window(t)),
+            noise: default_noise(),
+            time: Some(t - 1),
+            plane: Some([0, 1]),
+            budget: POLYGON_BUDGET,
+            basis: None,
+            sim_eps: None,
+            sim_tau: None,
+            kf_level: p.alpha(),
+            guarantee: None,
+        });
+        Ok(s)
+    }
+    fn plane_set(
+        &self,
+        p: &ComparePrepared,
+        r: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading> {
+        if !p.predicts() {
+            return Err(Error::field(
+                "compare.target",
+                "is \"filter\", but Tempo's set is of x(k+1) from y(0 … k): a prediction only (choose \"predict\")",
+            ));
+        }
+        let u = r
+            .ubb
+            .as_ref()
+            .ok_or_else(|| Error::field("report.ubb", "has no ubb part"))?;
+        let poly = &u.at.polygon;
+        Ok(PlaneReading {
+            area: Some(polygon_area(&poly.vertices)),
+            holds: truth.map(|x| poly.contains(x, 1e-9)),
+            set: PlaneSet::Polygon {
+                vertices: poly.vertices.clone(),
+            },
+            // The interval hull of x(k+1) (31).
+            outline: Some(box_corners(&u.at.lo, &u.at.hi)),
+            note: Some(format!("window {} steps", u.window)),
+        })
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -24,6 +24,9 @@
 //! builders), re-exported by [`crate::presets`].
 
 use super::budget::{f, shape, Job, Term, Work};
+use super::compare::{
+    Assumption, CompareMember, ComparePrepared, NoiseLaw, PlaneReading, PlaneSet, POLYGON_BUDGET,
+};
 use super::csv::{cells, Table};
 use super::{
     detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, SimulateSpec, Source,
@@ -34,7 +37,9 @@ use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
 use super::preset::Preset;
-use crate::sets::SupportPolygon;
+use crate::sets::{
+    box_image_corners, map_point, minkowski_sum, point_in_convex, polygon_area, SupportPolygon,
+};
 use crate::study::Study;
 use crate::uniform::{self, Joint, Online, OnlineStep, StatePrior, Theta, ThetaPrior, Window};
 use nalgebra::{DMatrix, DVector};
@@ -863,6 +868,9 @@ impl MethodScenario for Uniform {
             "\"uniform_lp\" has no Monte Carlo study: its LP gives MAP estimates and a consistent set, with no probability to count",
         ))
     }
+    fn compare_member(&self) -> Option<&dyn CompareMember> {
+        Some(self)
+    }
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
@@ -934,6 +942,111 @@ fn work(s: &Scenario) -> Work {
         .advice("fewer directions or a shorter window"),
     );
     w
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compare: what a compare asks of Pavelková's estimator (`scenario::compare`)
+
+/// Bound on every state entry of Pavelková's window LP in units of the record's scale (her ±5,
+/// widened: the compare states are the model's, not hers). In the record's own unit, so that a
+/// record scaled by 10⁶ is not cut by the box, nor one scaled by 10⁻⁸ lost in it (issue 25).
+const X_BOUND_PER_SCALE: f64 = 1e4;
+
+impl CompareMember for Uniform {
+    fn compare_order(&self) -> usize {
+        5
+    }
+    fn assumption(&self, p: &ComparePrepared) -> Assumption {
+        let violated = match (p.law(), p.bounds_violation()) {
+            (_, Some(b)) if p.bounds_below_truth() => Some(b),
+            (NoiseLaw::Uniform, _) => None,
+            (law, _) => Some(format!("violated: noise not uniform ({})", law.name())),
+        };
+        Assumption {
+            assumes: "innovations uniform within the half-width bounds",
+            violated,
+            promise: "nothing (the consistent set holds the state whenever the bounds hold)",
+            level: None,
+            at_least: false,
+        }
+    }
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
+        // |(G v)_i| ≤ Σ_j |G_ij|·b_v: the half-width bound of each state's innovation. The
+        // LP needs positive half-widths: a state without noise gets 10⁻⁶ of the largest.
+        let (bound_v, bound_w) = p.bounds();
+        let xr: Vec<f64> = p
+            .noise_g()
+            .row_iter()
+            .map(|r| r.iter().map(|g| g.abs()).sum::<f64>() * bound_v)
+            .collect();
+        let floor = 1e-6 * xr.iter().copied().fold(bound_w, f64::max);
+        let xr: Vec<f64> = xr.into_iter().map(|x| x.max(floor)).collect();
+        let mut s = p.own_scenario(Method::UniformLp, p.bare_model(), t);
+        s.uniform = Some(UniformSpec {
+            d: None,
+            xr: None,
+            yr: None,
+            u_half: default_u_half(),
+            // Θ (the model) known: the consistent states of the window (Section 3.3).
+            estimator: Joint::States,
+            window: p.window(t),
+            prior_rel: default_rel(),
+            prior_overrides: Vec::new(),
+            xr_max: Some(xr),
+            yr_max: Some(vec![bound_w; p.model().q()]),
+            x_bound: X_BOUND_PER_SCALE * p.record_scale(),
+            time: Some(t),
+            plane: Some([0, 1]),
+            directions: POLYGON_BUDGET,
+        });
+        Ok(s)
+    }
+    fn plane_set(
+        &self,
+        p: &ComparePrepared,
+        r: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading> {
+        let w = r
+            .uniform
+            .as_ref()
+            .ok_or_else(|| Error::field("report.uniform", "has no uniform part"))?;
+        let poly = w.at.polygon.as_ref().ok_or_else(|| {
+            Error::field(
+                "report.uniform.at.polygon",
+                w.at.polygon_absent
+                    .clone()
+                    .unwrap_or_else(|| "is absent".into()),
+            )
+        })?;
+        let mut note = vec![format!("window ∂ = {}", w.window)];
+        if w.at.extended > 0 {
+            note.push(format!(
+                "half-width bounds doubled {}× (the data contradicted them)",
+                w.at.extended
+            ));
+        }
+        // The polygon P is of x_t; x_{t+1} = F·x_t + G·v with |v_i| ≤ b_v, so the prediction
+        // set is the Minkowski sum F·P ⊕ G·[−b_v, b_v]^p (exact, a polygon).
+        let (vertices, holds) = if p.predicts() {
+            let f = p.model().f(1);
+            let image: Vec<[f64; 2]> = poly.vertices.iter().map(|&v| map_point(f, v)).collect();
+            let noise = box_image_corners(p.noise_g(), p.bounds().0);
+            let vertices = minkowski_sum(&image, &noise);
+            note.push("F·P ⊕ G·[−b_v, b_v]".to_string());
+            let holds = truth.map(|x| point_in_convex(&vertices, x, 1e-9));
+            (vertices, holds)
+        } else {
+            (poly.vertices.clone(), truth.map(|x| poly.contains(x, 1e-9)))
+        };
+        Ok(PlaneReading {
+            area: Some(polygon_area(&vertices)),
+            holds,
+            note: Some(note.join("; ")),
+            set: PlaneSet::Polygon { vertices },
+            outline: None,
+        })
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -5,7 +5,9 @@
 //! boundary polygons [`Loop`] and line pieces [`Span`]. Polytopes join here with the
 //! set-membership methods, so that plots and reports speak one vocabulary of sets: the exact
 //! [`SupportPolygon`] of a planar convex set known through its support function (Tempo's
-//! feasible set, Pavelková's consistent states) and [`point_in_convex`].
+//! feasible set, Pavelková's consistent states). The geometry of the plane those sets share
+//! (areas, convex hulls, [`point_in_convex`], box corners, 2×2 maps of points and ellipses,
+//! Minkowski sums) is written once in [`plane`].
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, symmetrize};
@@ -13,50 +15,16 @@ use crate::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
+pub mod plane;
 pub mod sign_region;
 pub mod support_polygon;
+pub(crate) use plane::polygon_scale;
+pub use plane::{
+    box_corners, box_image_corners, convex_hull, map_ellipse, map_point, minkowski_sum,
+    point_in_convex, polygon_area, signed_area,
+};
 pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
 pub use support_polygon::{polygon_from_support, SupportPolygon};
-
-/// Whether p lies in the convex counter-clockwise polygon `poly` (the vertices of a
-/// [`SupportPolygon`], or any convex polygon) within `tol`, relative to its size (scale =
-/// max(1, largest |coordinate| of the vertices)): for every edge a → b the cross product
-/// (b − a) × (p − a) is ≥ −tol·scale², i.e. p is at most about tol·scale outside an edge of
-/// length ~scale, and edges much shorter than the polygon (near-duplicate vertices of a
-/// sampled outline, whose direction is noise) cannot exclude it. A polygon of one or two
-/// vertices (a point, a segment) is checked by the distance tol·scale to it; an empty one
-/// holds nothing.
-pub fn point_in_convex(poly: &[[f64; 2]], p: [f64; 2], tol: f64) -> bool {
-    let scale = polygon_scale(poly);
-    let slack = tol * scale;
-    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
-    match poly {
-        [] => false,
-        [a] => dist(*a, p) <= slack,
-        [a, b] => {
-            let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
-            let len2 = ex * ex + ey * ey;
-            let s = if len2 > 0.0 {
-                (((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            dist([a[0] + s * ex, a[1] + s * ey], p) <= slack
-        }
-        _ => (0..poly.len()).all(|i| {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-            cross >= -slack * scale
-        }),
-    }
-}
-
-/// max(1, largest |coordinate| of the vertices): the scale of [`point_in_convex`]'s tolerance.
-pub(crate) fn polygon_scale(poly: &[[f64; 2]]) -> f64 {
-    poly.iter()
-        .map(|q| q[0].abs().max(q[1].abs()))
-        .fold(1.0, f64::max)
-}
 
 /// {x : (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2}. JSON: `{"center", "cov", "radius2"}`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -23,7 +23,9 @@
 //! point).
 
 use crate::error::{Error, Result};
-use crate::sets::BoxSet;
+/// The shoelace area, kept at this path for the region's callers.
+pub use crate::sets::plane::signed_area;
+use crate::sets::{box_corners, BoxSet};
 use serde::{Deserialize, Serialize};
 
 /// The functions g_{l,·} of one group l (one X_l): `c[i] − d[i]·x`.
@@ -584,7 +586,7 @@ impl SignRegion {
             }
         }
         // The window's edges, counter-clockwise: X ∩ window is on their left.
-        let corners = [lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]];
+        let corners = box_corners(&lo, &hi);
         for k in 0..4 {
             let (a, b) = (corners[k], corners[(k + 1) % 4]);
             let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
@@ -768,25 +770,6 @@ fn clip_line(p: [f64; 2], dir: [f64; 2], lo: [f64; 2], hi: [f64; 2]) -> Option<(
         }
     }
     (s1 > s0).then_some((s0, s1))
-}
-
-/// Shoelace area, positive counter-clockwise.
-///
-/// The cross products are taken about the first vertex, not the origin: a small polygon far from
-/// the origin (a region around x̄ = 10⁶) would otherwise sum products of size |x̄|² that cancel
-/// to its area, losing its digits.
-pub fn signed_area(pts: &[[f64; 2]]) -> f64 {
-    let Some(&o) = pts.first() else { return 0.0 };
-    pts.windows(2)
-        .map(|w| {
-            let (a, b) = (
-                [w[0][0] - o[0], w[0][1] - o[1]],
-                [w[1][0] - o[0], w[1][1] - o[1]],
-            );
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-        * 0.5
 }
 
 /// Chain oriented segments (X on the left) into closed loops: each segment is followed by the

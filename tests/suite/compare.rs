@@ -13,7 +13,7 @@
 use crate::common::*;
 use confset::method::Method;
 use confset::presets;
-use confset::scenario::compare::{PlaneSet, Target};
+use confset::scenario::compare::{compared, PlaneSet, Target};
 use confset::scenario::{Report, Scenario};
 use confset::sets::{point_in_convex, Ellipsoid};
 use nalgebra::DMatrix;
@@ -140,7 +140,7 @@ fn check_against_panels(s: &Scenario) {
                     "{what}: polygon"
                 );
             }
-            _ => {
+            Method::UniformLp => {
                 // F·P ⊕ G·[−b_v, b_v]: every image of a vertex of P shifted by ±G·b_v lies in
                 // the compare polygon, and every compare vertex is one of those images.
                 let w = panel.uniform.as_ref().expect("uniform");
@@ -174,6 +174,8 @@ fn check_against_panels(s: &Scenario) {
                     );
                 }
             }
+            // Every arm is written out: a method that joins a compare gets its check here.
+            Method::Compare => panic!("a compare does not compare itself"),
         }
     }
 }
@@ -466,3 +468,48 @@ fn own_csv_data_runs_every_method_without_truth() {
     }
 }
 in_browser!(own_csv_data_runs_every_method_without_truth);
+
+/// The methods of a compare are found, not listed: those whose scenario file answers what a
+/// compare asks (`compare::compared()`, in their order). The report's rows and sets follow
+/// them, the refusal of any other method names exactly them, and each method's derived
+/// scenario is a scenario file that reads back as itself.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_members_are_found_not_listed() {
+    let members = compared();
+    assert!(!members.contains(&Method::Compare));
+    for (i, m) in members.iter().enumerate() {
+        assert!(!members[..i].contains(m), "{m} twice");
+    }
+    let report = preset("compare-uniform").run().expect("report");
+    let c = report.compare.as_ref().expect("compare");
+    let rows: Vec<Method> = c.rows.iter().map(|r| r.method).collect();
+    let sets: Vec<Method> = c.at.sets.iter().map(|s| s.method).collect();
+    assert_eq!(rows, members);
+    assert_eq!(sets, members);
+    for set in &c.at.sets {
+        let written = set.scenario.clone().expect("its own scenario");
+        let read = Scenario::from_json(&written.to_string())
+            .unwrap_or_else(|e| panic!("{}: {e}", set.method));
+        assert_eq!(
+            serde_json::to_value(&read).expect("json"),
+            written,
+            "{}: the derived scenario reads back as itself",
+            set.method
+        );
+    }
+    let mut v = serde_json::to_value(preset("compare-uniform")).expect("json");
+    v["compare"]["methods"] = serde_json::json!(["compare"]);
+    let err = Scenario::from_json(&v.to_string())
+        .and_then(|s| s.run())
+        .expect_err("compare in a compare");
+    let names: Vec<&str> = members.iter().map(|m| m.name()).collect();
+    let (last, rest) = names.split_last().expect("members");
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "compare.methods[0] is \"compare\": a compare runs {} and {last}",
+            rest.join(", ")
+        )
+    );
+}
+in_browser!(the_members_are_found_not_listed);
