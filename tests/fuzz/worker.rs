@@ -204,7 +204,7 @@ fn in_process(job: &Job) -> (Class, String) {
                     let panel = plot::useful_panels(&report)
                         .first()
                         .copied()
-                        .unwrap_or(Panel::State);
+                        .unwrap_or_default();
                     plot::report_svg(&report, &View::new(panel), 480, 320)?;
                 }
                 (Class::Ok, String::new())

@@ -1,4 +1,4 @@
-//! Panel::Region — an LSCR confidence region like Figs. 1–3 of Weyer & Campi, "Prediction,
+//! The region panel ([`super::REGION`]) — an LSCR confidence region like Figs. 1–3 of Weyer & Campi, "Prediction,
 //! filtering and smoothing using LSCR".
 //!
 //! The paper marks the points excluded by X̂_1 with × and those excluded by X̂_2 with +, and
@@ -16,12 +16,14 @@
 //! BLUE by default), and the ellipses are sliced through the same point so that everything
 //! drawn lives in the same plane.
 
-use super::geom::Win;
-use super::style::{
+use crate::error::{Error, Result};
+use crate::plot::erase::de;
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{
     self, pct, sig, sub, Entry, Fonts, Marker, Swatch, BLUE_EST, KF, LSCR, LSCR_TINT, TRUTH,
 };
-use super::{de, Area, Frame, View, Zoom};
-use crate::error::{Error, Result};
+use crate::plot::view::{Frame, View, Zoom};
 use crate::scenario::lscr::Estimate;
 use crate::scenario::lscr::{plane_region, LscrReport};
 use crate::scenario::Report;

@@ -1,20 +1,79 @@
-//! The panels of a set-membership report (Tempo, method `"ubb"`): [`Panel::UbbSet`] (here:
+//! The panels of a set-membership report (Tempo, method `"ubb"`): [`"ubbset"`](SET_PANEL) (here:
 //! the exact feasible set of x(k+1) at the report's step k in the `plane` components — a
 //! polygon from support LPs — with its interval hull dashed, the central estimate ⋆ (the
-//! hull's midpoint), the true state ◇ and the Kalman ellipse dashed) and [`Panel::UbbWidth`]
+//! hull's midpoint), the true state ◇ and the Kalman ellipse dashed) and [`"ubbwidth"`](WIDTH_PANEL)
 //! (`ubb_width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
 //! its hull bands).
 //!
 //! Step k's set is the set of x(k+1) consistent with y(0 … k) (the paper's prediction set);
 //! equal scales on both axes of the set panel.
 
-use super::geom::Win;
-use super::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
-use super::{Area, Frame, Panel, View};
+mod width;
+
 use crate::error::{Error, Result};
-use crate::scenario::{FigureContext, Report, UbbReport};
+use crate::plot::figures::Area;
+use crate::plot::figures::{Canvas, CompareLook, Figures, Request, SetFill};
+use crate::plot::geom::Win;
+use crate::plot::style::TEMPO_SET;
+use crate::plot::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Panel, View};
+use crate::scenario::{Report, UbbReport};
 use crate::ubb::Norm;
 use plotters::prelude::*;
+
+/// Set-membership (Tempo): the exact feasible set of x(k+1) at the report's step k (a
+/// polygon in the plane components) with its interval hull, the central estimate, the
+/// truth and the Kalman ellipse.
+pub(crate) static SET_PANEL: PanelSpec = PanelSpec {
+    name: "ubbset",
+    alt_text: "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse",
+};
+/// Set-membership: the widths of the interval hull over k with the Theorem 4 bound, and
+/// the truth inside its hull bands.
+pub(crate) static WIDTH_PANEL: PanelSpec = PanelSpec {
+    name: "ubbwidth",
+    alt_text: "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands",
+};
+
+static PANELS: [Panel; 2] = [Panel::of(&SET_PANEL), Panel::of(&WIDTH_PANEL)];
+
+/// The figures of a set-membership report.
+pub(crate) struct UbbFigures;
+
+impl Figures for UbbFigures {
+    fn panels(&self) -> &'static [Panel] {
+        &PANELS
+    }
+    fn reports(&self) -> &'static str {
+        "a set-membership"
+    }
+    fn draw(&self, panel: Panel, canvas: Canvas<'_>, request: &Request) -> Result<Frame> {
+        let Request {
+            report,
+            view,
+            fonts,
+            ..
+        } = *request;
+        check(report, panel)?;
+        canvas.paint(|root| {
+            if panel == Panel::of(&SET_PANEL) {
+                draw_set(root, report, view, fonts)
+            } else {
+                width::draw(root, report, view, fonts)
+            }
+        })
+    }
+    fn compare_look(&self) -> Option<CompareLook> {
+        Some(CompareLook {
+            color: TEMPO_SET,
+            label: "Tempo set",
+            dashed: false,
+            fill: SetFill::Light,
+            layer: 1,
+        })
+    }
+}
 
 /// The feasible set (blue, light fill) and its central estimate.
 pub const SET: RGBColor = RGBColor(0, 114, 178);
@@ -125,22 +184,14 @@ pub fn percent(p: f64) -> String {
     }
 }
 
-/// "title — the scenario's title" (small figures: the short title) or the default.
-pub(crate) fn title(fig: &FigureContext, fonts: &Fonts, what: &str) -> String {
-    match &fig.title {
-        Some(t) if !fonts.compact => format!("{what} — {t}"),
-        _ => what.to_string(),
-    }
-}
-
-/// Panel::UbbSet.
+/// The "ubbset" panel.
 pub fn draw_set<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, Panel::UbbSet)?;
+    let u = check(report, Panel::of(&SET_PANEL))?;
     let at = &u.at;
     // The step shown: the view's, else the report's. Its exact polygon, Kalman ellipse and LP
     // come with the report's `at` only; another step of the track is drawn from what the
@@ -332,11 +383,8 @@ pub fn draw_set<DB: DrawingBackend>(
             fill: false,
         },
     ));
-    let title = title(
-        &report.figure,
-        &fonts,
-        &format!("Feasible set at k = {k}: {target}, {norm} bounds"),
-    );
+    let what = format!("Feasible set at k = {k}: {target}, {norm} bounds");
+    let title = style::title(&report.figure, &fonts, &what, &what);
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let mut marks = Vec::new();

@@ -1,16 +1,18 @@
-//! Panel::State — the regions at the shown time.
+//! The "state" panel — the regions at the shown time.
 //!
 //! Two plotted components: the state plane (trajectory, measurements, true state, KF region
 //! dashed, SCF region solid), or the τ-step / subset regions of the report's target, or both
 //! bodies' predicted regions of a collision check. One plotted component: the state over time
 //! with interval bands and the shown time's intervals as error bars.
 
-use super::geom::{clip_polyline, Win};
-use super::style::{
+use super::Ctx;
+use crate::error::{Error, Result};
+use crate::plot::figures::Area;
+use crate::plot::geom::{clip_polyline, Win};
+use crate::plot::style::{
     self, pct, sig, sub, Axes, Entry, Marker, Swatch, FRAME, KF, MEASURE, SCF, TRUTH,
 };
-use super::{Area, Ctx, Frame, Zoom};
-use crate::error::{Error, Result};
+use crate::plot::view::{Frame, Zoom};
 use crate::sets::Ellipsoid;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
@@ -511,7 +513,7 @@ fn inset<DB: DrawingBackend>(
         [(x0 - bx, y0 - by), (x0 + iw - bx, y0 + ih - by)],
         WHITE.filled(),
     ))
-    .map_err(super::de)?;
+    .map_err(crate::plot::erase::de)?;
     style::polyline(
         root,
         &[
