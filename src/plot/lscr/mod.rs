@@ -2,7 +2,7 @@
 //! since an LSCR report has no time steps. In compare, LSCR's region is black over its yellow
 //! tint, as on its panel, and drawn first (under the others).
 
-mod region;
+pub(crate) mod region;
 
 use crate::error::Result;
 use crate::plot::figures::{Canvas, CompareLook, Figures, Request, SetFill};
