@@ -6,7 +6,7 @@
 //! next to a ball of radius 3) are drawn with a round offset so the ticks stay short. Notes say
 //! when the truth lies outside the sets and why, and when rounding rivals the bound.
 
-use super::{estimator_name, glls_of};
+use super::horizon::{estimator_name, glls_of};
 use crate::plot::geom::Win;
 
 use crate::error::{Error, Result};
@@ -44,7 +44,7 @@ fn with_offset(sym: &str, off: f64, span: f64) -> String {
 
 /// The "plane" panel — the two `plane` components of x(k).
 pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) -> Result<Frame> {
-    let g = glls_of(report, Panel::of(&super::PLANE))?;
+    let g = glls_of(report, Panel::of(&super::horizon::PLANE))?;
     let n = g.n;
     let [i, j] = g.plane;
     if i >= n || j >= n {

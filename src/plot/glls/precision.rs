@@ -8,7 +8,7 @@
 //! half-boxes, the state-noise estimator left and LLS right, and the mean ‖x(k)‖ of the
 //! ensemble as a dash-dotted horizontal line (or a note when it is off the axis).
 
-use super::{glls_of, horizon_chart, horizon_desc, horizon_marker};
+use super::horizon::{glls_of, horizon_chart, horizon_desc, horizon_marker};
 use crate::plot::geom::Win;
 
 use crate::error::{Error, Result};
@@ -99,7 +99,7 @@ fn dash_dot<DB: DrawingBackend>(
 
 /// Draw the precision panel.
 pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) -> Result<Frame> {
-    let g = glls_of(report, Panel::of(&super::PRECISION))?;
+    let g = glls_of(report, Panel::of(&super::horizon::PRECISION))?;
     let p = g.precision.as_ref().ok_or_else(|| {
         Error::field(
             "glls.monte_carlo",
@@ -179,7 +179,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
     } else {
         notes.push(format!(
             "Section 5.1: {} with the bound κ(s,k)·√E‖δ(k,s)‖² (39)",
-            super::estimator_name(g)
+            super::horizon::estimator_name(g)
         ));
     }
     let mut chart_notes = Vec::new();
@@ -223,7 +223,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
         ));
     } else {
         entries.push(Entry::new(
-            format!("{} error", super::estimator_name(g)),
+            format!("{} error", super::horizon::estimator_name(g)),
             Swatch::Region {
                 color: c1,
                 dashed: false,

@@ -7,14 +7,8 @@ pub(crate) mod region;
 use crate::error::Result;
 use crate::plot::figures::{Canvas, CompareLook, Figures, Request, SetFill};
 use crate::plot::style::{LSCR, LSCR_TINT};
-use crate::plot::view::{Frame, Panel, PanelSpec};
-
-/// LSCR paper, Figs. 1–3: the LSCR region with the excluded areas hatched per group, the
-/// truth, the BLUE and Kalman ellipses.
-pub(crate) static REGION: PanelSpec = PanelSpec {
-    name: "region",
-    alt_text: "LSCR confidence region with the excluded areas hatched, the truth, the BLUE and Kalman ellipses",
-};
+use crate::plot::view::{Frame, Panel};
+use region::REGION;
 
 static PANELS: [Panel; 1] = [Panel::of(&REGION)];
 

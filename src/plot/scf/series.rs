@@ -7,14 +7,21 @@
 //! Zoom::Regions forces it, Zoom::Full forbids it), so the reader sees whether 0 — the truth —
 //! lies inside each interval.
 
-use super::Ctx;
+use super::context::Ctx;
 use crate::error::Result;
 use crate::plot::figures::Area;
 use crate::plot::geom::Win;
 use crate::plot::style::{self, pct, Axes, Entry, Marker, Swatch, KF, MEASURE, SCF, TRUTH};
+use crate::plot::view::PanelSpec;
 use crate::plot::view::{Frame, Zoom};
 use crate::sets::Ellipsoid;
 use plotters::prelude::*;
+
+/// Components over time with KF and SCF intervals.
+pub(crate) static SERIES: PanelSpec = PanelSpec {
+    name: "series",
+    alt_text: "state components over time with the Kalman and SCF intervals",
+};
 
 /// Center, low and high end of an interval.
 type Iv = (f64, f64, f64);

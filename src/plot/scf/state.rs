@@ -5,17 +5,25 @@
 //! bodies' predicted regions of a collision check. One plotted component: the state over time
 //! with interval bands and the shown time's intervals as error bars.
 
-use super::Ctx;
+use super::context::Ctx;
 use crate::error::{Error, Result};
 use crate::plot::figures::Area;
 use crate::plot::geom::{clip_polyline, Win};
 use crate::plot::style::{
     self, pct, sig, sub, Axes, Entry, Marker, Swatch, FRAME, KF, MEASURE, SCF, TRUTH,
 };
+use crate::plot::view::PanelSpec;
 use crate::plot::view::{Frame, Zoom};
 use crate::sets::Ellipsoid;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+
+/// State plane (two plotted components; for n = 1 the state over time): trajectory,
+/// measurements, true state, KF ellipse (dashed), SCF ellipse (solid) at the chosen time.
+pub(crate) static STATE: PanelSpec = PanelSpec {
+    name: "state",
+    alt_text: "state plane at the shown time: trajectory, true state, Kalman and SCF regions",
+};
 
 /// Points on a drawn ellipse boundary.
 const BOUNDARY: usize = 160;

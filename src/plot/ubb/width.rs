@@ -4,7 +4,7 @@
 //! applies) and the step of the report's set as a cursor; below (figures at least 460 px
 //! high), the true components inside their hull bands.
 
-use super::{check, HULL, SECOND, SET};
+use super::set::{check, HULL, SECOND, SET};
 use crate::plot::geom::Win;
 use crate::plot::style::{self, num, sub, Axes, Entry, Fonts, Swatch, MUTED};
 
@@ -33,7 +33,7 @@ pub fn draw<DB: DrawingBackend>(
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, Panel::of(&super::WIDTH_PANEL))?;
+    let u = check(report, Panel::of(&super::set::WIDTH_PANEL))?;
     let [i, j] = u.plane;
     let short = fonts.compact;
     let cursor_k = view.time.unwrap_or(u.at.k);
@@ -47,7 +47,7 @@ pub fn draw<DB: DrawingBackend>(
 
     let mut notes = vec![format!(
         "interval hull of the feasible set of x(k+1), {} bounds, window {} steps",
-        super::norm_name(u.norm),
+        super::set::norm_name(u.norm),
         u.window
     )];
     match (bound, &u.smoothing.note) {

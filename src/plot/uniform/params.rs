@@ -3,7 +3,7 @@
 //! half-width estimates x̂ᵣ,ᵢ and ŷᵣ,ⱼ with the true half-widths dashed. On the user's data
 //! there are no true values: the curves stand alone.
 
-use super::{
+use super::time_series::{
     cell, check, columns, cursor, grid, level, short_labels, stacked, time_axes, time_win,
     window_band, TIME,
 };
@@ -26,7 +26,7 @@ pub fn draw<DB: DrawingBackend>(
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, view, Panel::of(&super::PARAMS))?;
+    let u = check(report, view, Panel::of(&super::time_series::PARAMS))?;
     let (n, steps, t) = (u.n, u.steps, u.t);
     let short = short_labels(root, &fonts);
     let a_true = u.u.theta_true.as_ref().map(|th| &th[0]);

@@ -8,7 +8,7 @@
 //! the LP's optimal face (dashed). Equal scales on both axes. A scalar state has no polygon:
 //! the panel says why.
 
-use super::check;
+use super::time_series::check;
 use crate::plot::geom::Win;
 use crate::plot::style::{
     self, num, sig, sub, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TRUTH, UNIFORM_LP,
@@ -28,7 +28,7 @@ pub fn draw<DB: DrawingBackend>(
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, view, Panel::of(&super::POLYGON))?;
+    let u = check(report, view, Panel::of(&super::time_series::POLYGON))?;
     let at = &u.u.at;
     // The time shown: the view's, else the report's. The polygon and the optimal face come
     // with the report's `at` only; at another time the estimates are drawn alone until its
