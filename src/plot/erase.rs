@@ -1,6 +1,6 @@
 //! One backend type for all the drawing code.
 //!
-//! [`super::draw`] is generic over plotters' `DrawingBackend`, but every panel, and plotters'
+//! `plot::draw` is generic over plotters' `DrawingBackend`, but every panel, and plotters'
 //! chart machinery under it, is instantiated once only: for [`Erased`], which forwards each
 //! primitive through an object-safe trait to the real backend. Without this, every backend the
 //! crate draws on (the browser canvas and SVG export in wasm) got its own copy of all figure

@@ -1,7 +1,7 @@
-//! The panels of a GLLS report (Gubarev & Mishchenko, "Interval state estimator for linear
-//! systems with known structure"): Fig. 1 (`singular`) and Fig. 2 (`index`), with the helpers
-//! shared by all GLLS panels; the state plane at time k (`plane`) lives in `glls_plane.rs`,
-//! Figs. 3–4 (`precision`) in `glls_precision.rs`.
+//! GLLS Fig. 1 (`singular`) and Fig. 2 (`index`) against the horizon s, with what every GLLS
+//! panel shares: the names of all four panels, the check of the report's GLLS part, the
+//! horizon axis and the marker at the horizon in use (the plane is drawn in `plane.rs`,
+//! Figs. 3–4 in `precision.rs`).
 //!
 //! Log axes: the report holds log10 values and the charts plot them on a linear axis labelled
 //! 10ᵏ ([`style::log_chart`]). A log10 value ≤ −300 marks an exact zero (a rank-deficient

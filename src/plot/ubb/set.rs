@@ -1,8 +1,9 @@
-//! The panels of a set-membership report (Tempo, method `"ubb"`): [`"ubbset"`](SET_PANEL) (here:
-//! the exact feasible set of x(k+1) at the report's step k in the `plane` components — a
+//! The set-membership panel [`"ubbset"`](SET_PANEL) (Tempo, method `"ubb"`), with what both
+//! ubb panels share (their names, the check of the report's ubb part, the colours): the exact
+//! feasible set of x(k+1) at the report's step k in the `plane` components — a
 //! polygon from support LPs — with its interval hull dashed, the central estimate ⋆ (the
 //! hull's midpoint), the true state ◇ and the Kalman ellipse dashed) and [`"ubbwidth"`](WIDTH_PANEL)
-//! (`ubb_width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
+//! (`width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
 //! its hull bands).
 //!
 //! Step k's set is the set of x(k+1) consistent with y(0 … k) (the paper's prediction set);

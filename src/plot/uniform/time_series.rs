@@ -1,9 +1,11 @@
-//! The panels of a uniform-innovation report (Pavelková, "Estimation of LU model with uniform
+//! The time-series panels of a uniform-innovation report (Pavelková, "Estimation of LU model with uniform
 //! innovations", Section 5): Fig. 1 (`ustates`: states, LP and KF estimates and their errors,
 //! the optimal-face ranges of the window at the cursor), Fig. 2 (`uoutput`: the output, its
-//! one-step prediction and the prediction error) and Fig. 3 (`uparams`, in
-//! `uniform_params.rs`: the entries of Â and the half-widths x̂ᵣ, ŷᵣ over time with the true
-//! values dashed); the consistent-state polygon (`upolygon`) lives in `uniform_polygon.rs`.
+//! one-step prediction and the prediction error) with what every uniform panel
+//! shares: the names of all four, the check of the report's uniform part ([`check`], [`U`]),
+//! the grid of charts and the time axis with its cursor and window band. Fig. 3 (`uparams`:
+//! the entries of Â and the half-widths x̂ᵣ, ŷᵣ over time with the true values dashed) is drawn
+//! in `params.rs`, the consistent-state polygon (`upolygon`) in `polygon.rs`.
 //!
 //! Every time chart spans t = 0 … T and carries the cursor at the report's window time
 //! (`at.time`, or the view's time); the grey band marks the sliding window x_{first−1} … x_t
