@@ -60,14 +60,23 @@ fn boundary(e: &Ellipsoid) -> Result<Vec<(f64, f64)>> {
     e.boundary_2d(BOUNDARY)
 }
 
-fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> Result<Frame> {
+/// What the plane shows at the shown time: the bodies' regions, their name ("X₁₀", "Z₄₀|₃₆"),
+/// the notes, the collision verdict and the time the regions are for.
+struct Shown {
+    bodies: Vec<Body>,
+    region_name: String,
+    notes: Vec<String>,
+    verdict: Option<String>,
+    /// t, or t + τ for a prediction.
+    pred: usize,
+}
+
+/// Which regions the plane of components i, j shows: both collision bodies (the check's
+/// predicted regions), the target (ζ at t + τ, projected), or X_t projected.
+fn shown(cx: &Ctx, i: usize, j: usize) -> Result<Shown> {
     let r = cx.report;
     let t = cx.t;
     let step = cx.step();
-    let fonts = cx.fonts;
-    let steps = r.steps.len();
-
-    // Which regions: collision bodies, the target (ζ at t + τ), or X_t projected.
     let collision = r
         .collision
         .as_ref()
@@ -202,6 +211,28 @@ fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> R
             ));
         }
     }
+    Ok(Shown {
+        bodies,
+        region_name,
+        notes,
+        verdict,
+        pred,
+    })
+}
+
+fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> Result<Frame> {
+    let r = cx.report;
+    let t = cx.t;
+    let fonts = cx.fonts;
+    let steps = r.steps.len();
+    let spec = cx.figure().collision.as_ref();
+    let Shown {
+        bodies,
+        region_name,
+        mut notes,
+        verdict,
+        pred,
+    } = shown(cx, i, j)?;
     let has_scf = bodies.iter().any(|b| b.scf.is_some());
     if !has_scf {
         notes.push(cx.scf_missing_note());
