@@ -17,6 +17,13 @@ pub struct PanelSpec {
     pub alt_text: &'static str,
 }
 
+impl PanelSpec {
+    /// A panel's name and alternative text.
+    pub const fn new(name: &'static str, alt_text: &'static str) -> PanelSpec {
+        PanelSpec { name, alt_text }
+    }
+}
+
 /// Which picture: a handle on a [`PanelSpec`] of some method's figures. Two panels are the
 /// same when their names are (names are unique across methods; a test checks it). Written in
 /// JSON as its name.

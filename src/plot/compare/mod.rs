@@ -25,10 +25,7 @@ const FOCUS: f64 = 6.0;
 const ELLIPSE_POINTS: usize = 120;
 
 /// Every method's set for the same state on one record, in the state plane, with the truth.
-pub(crate) static COMPARE: PanelSpec = PanelSpec {
-    name: "compare",
-    alt_text: "every method's set for the same state in the state plane: Kalman, SCF and GLLS ellipses, the LSCR region, Tempo's and the uniform-LP polygons, and the truth",
-};
+pub(crate) static COMPARE: PanelSpec = PanelSpec::new("compare", "every method's set for the same state in the state plane: Kalman, SCF and GLLS ellipses, the LSCR region, Tempo's and the uniform-LP polygons, and the truth");
 
 static PANELS: [Panel; 1] = [Panel::of(&COMPARE)];
 

@@ -23,20 +23,20 @@ use plotters::style::text_anchor::{HPos, VPos};
 
 /// GLLS paper, Fig. 1: the singular values of Γ_{s+1} (and of Γ_{s+1}A^{−s}) against the
 /// horizon s on a log scale, with the floating-point floor.
-pub(crate) static SINGULAR: PanelSpec = PanelSpec {
-    name: "singular",
-    alt_text: "singular values of the observability matrix against the horizon (GLLS Fig. 1)",
-};
+pub(crate) static SINGULAR: PanelSpec = PanelSpec::new(
+    "singular",
+    "singular values of the observability matrix against the horizon (GLLS Fig. 1)",
+);
 /// GLLS paper, Fig. 2: the horizon index σ_n/√s (and σ_p/√s) with its best horizon.
-pub(crate) static INDEX: PanelSpec = PanelSpec {
-    name: "index",
-    alt_text: "horizon index σₙ/√s with the best horizon (GLLS Fig. 2)",
-};
+pub(crate) static INDEX: PanelSpec = PanelSpec::new(
+    "index",
+    "horizon index σₙ/√s with the best horizon (GLLS Fig. 2)",
+);
 /// GLLS: the state plane at time k: truth, estimate, guaranteed ball and interval box.
-pub(crate) static PLANE: PanelSpec = PanelSpec {
-    name: "plane",
-    alt_text: "state plane at time k: truth, estimate, guaranteed ball and interval box",
-};
+pub(crate) static PLANE: PanelSpec = PanelSpec::new(
+    "plane",
+    "state plane at time k: truth, estimate, guaranteed ball and interval box",
+);
 /// GLLS paper, Figs. 3–4: the Monte Carlo error ‖x_est(k) − x(k)‖ per horizon (boxes) with
 /// the bound κ·√E‖δ‖², or state-noise estimator vs LLS in paired half-boxes.
 pub(crate) static PRECISION: PanelSpec = PanelSpec {

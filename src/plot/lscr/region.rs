@@ -33,10 +33,7 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 /// LSCR paper, Figs. 1–3: the LSCR region with the excluded areas hatched per group, the
 /// truth, the BLUE and Kalman ellipses.
-pub(crate) static REGION: PanelSpec = PanelSpec {
-    name: "region",
-    alt_text: "LSCR confidence region with the excluded areas hatched, the truth, the BLUE and Kalman ellipses",
-};
+pub(crate) static REGION: PanelSpec = PanelSpec::new("region", "LSCR confidence region with the excluded areas hatched, the truth, the BLUE and Kalman ellipses");
 
 /// Points on a drawn ellipse boundary.
 const ELLIPSE_POINTS: usize = 160;

@@ -18,10 +18,10 @@ use crate::sets::Ellipsoid;
 use plotters::prelude::*;
 
 /// Components over time with KF and SCF intervals.
-pub(crate) static SERIES: PanelSpec = PanelSpec {
-    name: "series",
-    alt_text: "state components over time with the Kalman and SCF intervals",
-};
+pub(crate) static SERIES: PanelSpec = PanelSpec::new(
+    "series",
+    "state components over time with the Kalman and SCF intervals",
+);
 
 /// Center, low and high end of an interval.
 type Iv = (f64, f64, f64);

@@ -20,10 +20,10 @@ use plotters::style::text_anchor::{HPos, VPos};
 
 /// State plane (two plotted components; for n = 1 the state over time): trajectory,
 /// measurements, true state, KF ellipse (dashed), SCF ellipse (solid) at the chosen time.
-pub(crate) static STATE: PanelSpec = PanelSpec {
-    name: "state",
-    alt_text: "state plane at the shown time: trajectory, true state, Kalman and SCF regions",
-};
+pub(crate) static STATE: PanelSpec = PanelSpec::new(
+    "state",
+    "state plane at the shown time: trajectory, true state, Kalman and SCF regions",
+);
 
 /// Points on a drawn ellipse boundary.
 const BOUNDARY: usize = 160;

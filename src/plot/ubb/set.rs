@@ -22,16 +22,10 @@ use plotters::prelude::*;
 /// Set-membership (Tempo): the exact feasible set of x(k+1) at the report's step k (a
 /// polygon in the plane components) with its interval hull, the central estimate, the
 /// truth and the Kalman ellipse.
-pub(crate) static SET_PANEL: PanelSpec = PanelSpec {
-    name: "ubbset",
-    alt_text: "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse",
-};
+pub(crate) static SET_PANEL: PanelSpec = PanelSpec::new("ubbset", "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse");
 /// Set-membership: the widths of the interval hull over k with the Theorem 4 bound, and
 /// the truth inside its hull bands.
-pub(crate) static WIDTH_PANEL: PanelSpec = PanelSpec {
-    name: "ubbwidth",
-    alt_text: "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands",
-};
+pub(crate) static WIDTH_PANEL: PanelSpec = PanelSpec::new("ubbwidth", "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands");
 
 /// The feasible set (blue, light fill) and its central estimate.
 pub const SET: RGBColor = RGBColor(0, 114, 178);

@@ -29,26 +29,23 @@ use plotters::style::text_anchor::{HPos, VPos};
 
 /// Uniform-innovation paper, Fig. 1: states, LP and KF estimates, estimation errors and
 /// the optimal-face ranges of the window at the cursor.
-pub(crate) static STATES: PanelSpec = PanelSpec {
-    name: "ustates",
-    alt_text: "states, LP and Kalman estimates and their errors over time (uniform Fig. 1)",
-};
+pub(crate) static STATES: PanelSpec = PanelSpec::new(
+    "ustates",
+    "states, LP and Kalman estimates and their errors over time (uniform Fig. 1)",
+);
 /// Uniform-innovation paper, Fig. 2: the output, its one-step prediction and the error.
-pub(crate) static OUTPUT: PanelSpec = PanelSpec {
-    name: "uoutput",
-    alt_text: "output, its one-step prediction and the prediction error (uniform Fig. 2)",
-};
+pub(crate) static OUTPUT: PanelSpec = PanelSpec::new(
+    "uoutput",
+    "output, its one-step prediction and the prediction error (uniform Fig. 2)",
+);
 /// Uniform-innovation paper, Fig. 3: the entries of Â and the half-widths over time.
-pub(crate) static PARAMS: PanelSpec = PanelSpec {
-    name: "uparams",
-    alt_text: "entries of Â and the estimated half-widths over time (uniform Fig. 3)",
-};
+pub(crate) static PARAMS: PanelSpec = PanelSpec::new(
+    "uparams",
+    "entries of Â and the estimated half-widths over time (uniform Fig. 3)",
+);
 /// The states consistent with the window at the cursor (a polygon in the plane
 /// components) with the truth, the LP and KF estimates and the optimal-face box.
-pub(crate) static POLYGON: PanelSpec = PanelSpec {
-    name: "upolygon",
-    alt_text: "consistent-state polygon at the time cursor with the truth, LP and Kalman estimates and the optimal-face box",
-};
+pub(crate) static POLYGON: PanelSpec = PanelSpec::new("upolygon", "consistent-state polygon at the time cursor with the truth, LP and Kalman estimates and the optimal-face box");
 
 /// The report's uniform part, or an error naming the panel.
 pub fn uniform_of(report: &Report, panel: Panel) -> Result<&UniformReport> {
