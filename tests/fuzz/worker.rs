@@ -7,7 +7,7 @@ use crate::cases::{self, Bases, Case, File, Job, STUDY_RUNS};
 use crate::contract::{check_report_json, null_paths, rust_word};
 use crate::tally::{write_repro, Class};
 use crate::Args;
-use confset::plot::{self, Panel, View};
+use confset::plot::{self, View};
 use confset::scenario::Scenario;
 use serde_json::Value;
 use std::io::Write;
