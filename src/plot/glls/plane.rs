@@ -1,7 +1,7 @@
 //! The "plane" panel — the two `plane` components of the state x(k) of a GLLS report: the true
 //! state ◇, the estimate ⋆, the guaranteed ball (35) (its projection is a disk of the same
-//! radius around the LLS estimate), the exact interval box (dashed), the regularized estimate
-//! + with the projection of the truth it estimates ◇, and the state-noise estimate ×. Equal
+//! radius around the LLS estimate), the exact interval box (dashed), the regularized estimate +
+//! with the projection of the truth it estimates ◇, and the state-noise estimate ×. Equal
 //! scales on both axes; the window holds every set and point; huge coordinates (‖x(k)‖ ≈ 10⁷
 //! next to a ball of radius 3) are drawn with a round offset so the ticks stay short. Notes say
 //! when the truth lies outside the sets and why, and when rounding rivals the bound.
