@@ -1,11 +1,13 @@
 //! One backend type for all the drawing code.
 //!
-//! [`super::draw`] is generic over plotters' `DrawingBackend`, but every panel, and plotters'
+//! `plot::draw` is generic over plotters' `DrawingBackend`, but every panel, and plotters'
 //! chart machinery under it, is instantiated once only: for [`Erased`], which forwards each
 //! primitive through an object-safe trait to the real backend. Without this, every backend the
 //! crate draws on (the browser canvas and SVG export in wasm) got its own copy of all figure
 //! code, which cost about 100 KB of gzipped wasm.
 
+use crate::error::Error;
+use plotters::drawing::DrawingAreaErrorKind;
 use plotters::prelude::*;
 use plotters::style::{FontDesc, FontFamily};
 use plotters_backend::{
@@ -188,4 +190,9 @@ impl DrawingBackend for Erased<'_> {
     fn estimate_text_size<S: BackendTextStyle>(&self, text: &str, s: &S) -> Res<(u32, u32)> {
         self.0.text_size(text, &text_style(s))
     }
+}
+
+/// A drawing error as a crate error.
+pub(crate) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
+    Error::field("figure", format!("could not be drawn: {e}"))
 }

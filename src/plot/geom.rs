@@ -1,7 +1,6 @@
 //! Plot windows and clipping (plotters draws outside the plotting area if asked to, so every
-//! series that may leave the window is clipped here first).
-
-use plotters::prelude::DrawingBackend;
+//! series that may leave the window is clipped here first). Pure geometry: it imports nothing
+//! of the plot layer (a chart's window, `Win::of_chart`, is made in `style::axes`).
 
 /// An axis-aligned window [x0, x1] × [y0, y1] in chart coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,11 +28,6 @@ impl Win {
             y0: y.0,
             y1: y.1,
         }
-    }
-    /// The window of a chart.
-    pub fn of_chart<DB: DrawingBackend>(chart: &super::style::Chart<DB>) -> Win {
-        let (x, y) = (chart.x_range(), chart.y_range());
-        Win::new((x.start, x.end), (y.start, y.end))
     }
     pub fn is_empty(&self) -> bool {
         !(self.x0 <= self.x1 && self.y0 <= self.y1)

@@ -7,7 +7,7 @@ use crate::cases::{self, Bases, Case, File, Job, STUDY_RUNS};
 use crate::contract::{check_report_json, null_paths, rust_word};
 use crate::tally::{write_repro, Class};
 use crate::Args;
-use confset::plot::{self, Panel, View};
+use confset::plot::{self, View};
 use confset::scenario::Scenario;
 use serde_json::Value;
 use std::io::Write;
@@ -204,7 +204,7 @@ fn in_process(job: &Job) -> (Class, String) {
                     let panel = plot::useful_panels(&report)
                         .first()
                         .copied()
-                        .unwrap_or(Panel::State);
+                        .unwrap_or_default();
                     plot::report_svg(&report, &View::new(panel), 480, 320)?;
                 }
                 (Class::Ok, String::new())

@@ -745,7 +745,7 @@ fn run(command: Command) -> Result<(), Error> {
                 plot::useful_panels(&report)
                     .first()
                     .copied()
-                    .unwrap_or(Panel::State)
+                    .unwrap_or_default()
             }));
             v.time = view.time.map(|t| t as usize);
             if let Some(z) = view.zoom {

@@ -1,14 +1,16 @@
-//! Panel::UbbWidth — over the steps k, the widths hi − lo of the interval hull of x(k+1) in
+//! The "ubbwidth" panel — over the steps k, the widths hi − lo of the interval hull of x(k+1) in
 //! the two `plane` components (and 2·radius over all components when r > 2) with the
 //! Theorem 4 bound 2·τ‖B‖/(1 − ‖A‖e^{1/α}) on the width of the a-priori set dashed (when it
 //! applies) and the step of the report's set as a cursor; below (figures at least 460 px
 //! high), the true components inside their hull bands.
 
-use super::geom::Win;
-use super::style::{self, num, sub, Axes, Entry, Fonts, Swatch, MUTED};
-use super::ubb::{check, title, HULL, SECOND, SET};
-use super::{Area, Frame, Panel, View};
+use super::set::{check, HULL, SECOND, SET};
+use crate::plot::geom::Win;
+use crate::plot::style::{self, num, sub, Axes, Entry, Fonts, Swatch, MUTED};
+
 use crate::error::Result;
+use crate::plot::figures::Area;
+use crate::plot::view::{Frame, Panel, View};
 use crate::scenario::Report;
 use plotters::prelude::*;
 
@@ -24,14 +26,14 @@ fn time_win(k0: f64, k1: f64, ys: impl Iterator<Item = f64>) -> Win {
     Win::time(x, ys)
 }
 
-/// Panel::UbbWidth.
+/// The "ubbwidth" panel.
 pub fn draw<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, Panel::UbbWidth)?;
+    let u = check(report, Panel::of(&super::set::WIDTH_PANEL))?;
     let [i, j] = u.plane;
     let short = fonts.compact;
     let cursor_k = view.time.unwrap_or(u.at.k);
@@ -45,7 +47,7 @@ pub fn draw<DB: DrawingBackend>(
 
     let mut notes = vec![format!(
         "interval hull of the feasible set of x(k+1), {} bounds, window {} steps",
-        super::ubb::norm_name(u.norm),
+        super::set::norm_name(u.norm),
         u.window
     )];
     match (bound, &u.smoothing.note) {
@@ -103,7 +105,8 @@ pub fn draw<DB: DrawingBackend>(
             },
         ));
     }
-    let title = title(&report.figure, &fonts, "Width of the interval hull over k");
+    let what = "Width of the interval hull over k";
+    let title = style::title(&report.figure, &fonts, what, what);
     let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
     let (area, side) = style::legend(&area, &fonts, &entries)?;
 

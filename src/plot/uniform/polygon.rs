@@ -1,4 +1,4 @@
-//! Panel::UPolygon — the states x_t consistent with the window y_first … y_t at the cursor:
+//! The "upolygon" panel — the states x_t consistent with the window y_first … y_t at the cursor:
 //! every x_t for which some window x_{first−1} … x_t satisfies the constraints (4) of the LU
 //! model at the half-width bounds x̄ᵣ, ȳᵣ with the Θ in use there (a convex polygon in the
 //! `plane` components, exact from support LPs). With the true Θ it must hold the true state;
@@ -8,25 +8,27 @@
 //! the LP's optimal face (dashed). Equal scales on both axes. A scalar state has no polygon:
 //! the panel says why.
 
-use super::geom::Win;
-use super::style::{
+use super::time_series::check;
+use crate::plot::geom::Win;
+use crate::plot::style::{
     self, num, sig, sub, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TRUTH, UNIFORM_LP,
 };
-use super::uniform::{check, U};
-use super::{Area, Frame, Panel, View};
+
 use crate::error::{Error, Result};
+use crate::plot::figures::Area;
+use crate::plot::view::{Frame, Panel, View};
 use crate::scenario::Report;
 use crate::uniform::Joint;
 use plotters::prelude::*;
 
-/// Panel::UPolygon.
+/// The "upolygon" panel.
 pub fn draw<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, view, Panel::UPolygon)?;
+    let u = check(report, view, Panel::of(&super::time_series::POLYGON))?;
     let at = &u.u.at;
     // The time shown: the view's, else the report's. The polygon and the optimal face come
     // with the report's `at` only; at another time the estimates are drawn alone until its
@@ -212,7 +214,7 @@ pub fn draw<DB: DrawingBackend>(
             fill: false,
         },
     ));
-    let title = U::title(
+    let title = style::title(
         &report.figure,
         &fonts,
         &format!("States consistent with the window at t = {t}"),

@@ -1,4 +1,4 @@
-//! Panel::Region — an LSCR confidence region like Figs. 1–3 of Weyer & Campi, "Prediction,
+//! The region panel ([`REGION`]) — an LSCR confidence region like Figs. 1–3 of Weyer & Campi, "Prediction,
 //! filtering and smoothing using LSCR".
 //!
 //! The paper marks the points excluded by X̂_1 with × and those excluded by X̂_2 with +, and
@@ -16,18 +16,24 @@
 //! BLUE by default), and the ellipses are sliced through the same point so that everything
 //! drawn lives in the same plane.
 
-use super::geom::Win;
-use super::style::{
+use crate::error::{Error, Result};
+use crate::plot::erase::de;
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{
     self, pct, sig, sub, Entry, Fonts, Marker, Swatch, BLUE_EST, KF, LSCR, LSCR_TINT, TRUTH,
 };
-use super::{de, Area, Frame, View, Zoom};
-use crate::error::{Error, Result};
+use crate::plot::view::{Frame, PanelSpec, View, Zoom};
 use crate::scenario::lscr::Estimate;
 use crate::scenario::lscr::{plane_region, LscrReport};
 use crate::scenario::Report;
 use crate::sets::{BoxSet, Ellipsoid, Loop, SignRegion};
 use plotters::prelude::*;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// LSCR paper, Figs. 1–3: the LSCR region with the excluded areas hatched per group, the
+/// truth, the BLUE and Kalman ellipses.
+pub(crate) static REGION: PanelSpec = PanelSpec::new("region", "LSCR confidence region with the excluded areas hatched, the truth, the BLUE and Kalman ellipses");
 
 /// Points on a drawn ellipse boundary.
 const ELLIPSE_POINTS: usize = 160;

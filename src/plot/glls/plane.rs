@@ -1,19 +1,21 @@
-//! Panel::Plane — the two `plane` components of the state x(k) of a GLLS report: the true
+//! The "plane" panel — the two `plane` components of the state x(k) of a GLLS report: the true
 //! state ◇, the estimate ⋆, the guaranteed ball (35) (its projection is a disk of the same
-//! radius around the LLS estimate), the exact interval box (dashed), the regularized estimate
-//! + with the projection of the truth it estimates ◇, and the state-noise estimate ×. Equal
+//! radius around the LLS estimate), the exact interval box (dashed), the regularized estimate +
+//! with the projection of the truth it estimates ◇, and the state-noise estimate ×. Equal
 //! scales on both axes; the window holds every set and point; huge coordinates (‖x(k)‖ ≈ 10⁷
 //! next to a ball of radius 3) are drawn with a round offset so the ticks stay short. Notes say
 //! when the truth lies outside the sets and why, and when rounding rivals the bound.
 
-use super::geom::Win;
-use super::glls::{estimator_name, glls_of, title};
-use super::style::{
+use super::horizon::{estimator_name, glls_of};
+use crate::plot::geom::Win;
+
+use crate::error::{Error, Result};
+use crate::plot::figures::Area;
+use crate::plot::style::{
     self, sci, sig, sub, Entry, Fonts, Marker, Swatch, BALL, GLLS_EST, INTERVAL_BOX, REGULARIZED,
     STATE_NOISE, TRUTH,
 };
-use super::{Area, Frame, Panel};
-use crate::error::{Error, Result};
+use crate::plot::view::{Frame, Panel};
 use crate::scenario::Report;
 use plotters::prelude::*;
 
@@ -40,9 +42,9 @@ fn with_offset(sym: &str, off: f64, span: f64) -> String {
     format!("{sym} {} {v}", if off > 0.0 { "−" } else { "+" })
 }
 
-/// Panel::Plane — the two `plane` components of x(k).
+/// The "plane" panel — the two `plane` components of x(k).
 pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) -> Result<Frame> {
-    let g = glls_of(report, Panel::Plane)?;
+    let g = glls_of(report, Panel::of(&super::horizon::PLANE))?;
     let n = g.n;
     let [i, j] = g.plane;
     if i >= n || j >= n {
@@ -269,8 +271,9 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
             );
         }
     }
-    let t = title(
+    let t = style::title(
         &report.figure,
+        &fonts,
         &format!("State x({k}) with its guaranteed sets"),
         &format!("GLLS estimate of x({k}) with the guaranteed ball and interval box"),
     );

@@ -1,19 +1,29 @@
-//! Panel::State — the regions at the shown time.
+//! The "state" panel — the regions at the shown time.
 //!
 //! Two plotted components: the state plane (trajectory, measurements, true state, KF region
 //! dashed, SCF region solid), or the τ-step / subset regions of the report's target, or both
 //! bodies' predicted regions of a collision check. One plotted component: the state over time
 //! with interval bands and the shown time's intervals as error bars.
 
-use super::geom::{clip_polyline, Win};
-use super::style::{
+use super::context::Ctx;
+use crate::error::{Error, Result};
+use crate::plot::figures::Area;
+use crate::plot::geom::{clip_polyline, Win};
+use crate::plot::style::{
     self, pct, sig, sub, Axes, Entry, Marker, Swatch, FRAME, KF, MEASURE, SCF, TRUTH,
 };
-use super::{Area, Ctx, Frame, Zoom};
-use crate::error::{Error, Result};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Zoom};
 use crate::sets::Ellipsoid;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+
+/// State plane (two plotted components; for n = 1 the state over time): trajectory,
+/// measurements, true state, KF ellipse (dashed), SCF ellipse (solid) at the chosen time.
+pub(crate) static STATE: PanelSpec = PanelSpec::new(
+    "state",
+    "state plane at the shown time: trajectory, true state, Kalman and SCF regions",
+);
 
 /// Points on a drawn ellipse boundary.
 const BOUNDARY: usize = 160;
@@ -50,14 +60,23 @@ fn boundary(e: &Ellipsoid) -> Result<Vec<(f64, f64)>> {
     e.boundary_2d(BOUNDARY)
 }
 
-fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> Result<Frame> {
+/// What the plane shows at the shown time: the bodies' regions, their name ("X₁₀", "Z₄₀|₃₆"),
+/// the notes, the collision verdict and the time the regions are for.
+struct Shown {
+    bodies: Vec<Body>,
+    region_name: String,
+    notes: Vec<String>,
+    verdict: Option<String>,
+    /// t, or t + τ for a prediction.
+    pred: usize,
+}
+
+/// Which regions the plane of components i, j shows: both collision bodies (the check's
+/// predicted regions), the target (ζ at t + τ, projected), or X_t projected.
+fn shown(cx: &Ctx, i: usize, j: usize) -> Result<Shown> {
     let r = cx.report;
     let t = cx.t;
     let step = cx.step();
-    let fonts = cx.fonts;
-    let steps = r.steps.len();
-
-    // Which regions: collision bodies, the target (ζ at t + τ), or X_t projected.
     let collision = r
         .collision
         .as_ref()
@@ -192,6 +211,28 @@ fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> R
             ));
         }
     }
+    Ok(Shown {
+        bodies,
+        region_name,
+        notes,
+        verdict,
+        pred,
+    })
+}
+
+fn plane<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, i: usize, j: usize) -> Result<Frame> {
+    let r = cx.report;
+    let t = cx.t;
+    let fonts = cx.fonts;
+    let steps = r.steps.len();
+    let spec = cx.figure().collision.as_ref();
+    let Shown {
+        bodies,
+        region_name,
+        mut notes,
+        verdict,
+        pred,
+    } = shown(cx, i, j)?;
     let has_scf = bodies.iter().any(|b| b.scf.is_some());
     if !has_scf {
         notes.push(cx.scf_missing_note());
@@ -511,7 +552,7 @@ fn inset<DB: DrawingBackend>(
         [(x0 - bx, y0 - by), (x0 + iw - bx, y0 + ih - by)],
         WHITE.filled(),
     ))
-    .map_err(super::de)?;
+    .map_err(crate::plot::erase::de)?;
     style::polyline(
         root,
         &[

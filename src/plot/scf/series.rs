@@ -1,4 +1,4 @@
-//! Panel::Series — each plotted component over time: the true value, the KF and SCF centers
+//! The "series" panel — each plotted component over time: the true value, the KF and SCF centers
 //! and intervals (projections of the n-dimensional regions on the component), and the time
 //! cursor; one chart per component, stacked, sharing the time axis.
 //!
@@ -7,12 +7,21 @@
 //! Zoom::Regions forces it, Zoom::Full forbids it), so the reader sees whether 0 — the truth —
 //! lies inside each interval.
 
-use super::geom::Win;
-use super::style::{self, pct, Axes, Entry, Marker, Swatch, KF, MEASURE, SCF, TRUTH};
-use super::{Area, Ctx, Frame, Zoom};
+use super::context::Ctx;
 use crate::error::Result;
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{self, pct, Axes, Entry, Marker, Swatch, KF, MEASURE, SCF, TRUTH};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Zoom};
 use crate::sets::Ellipsoid;
 use plotters::prelude::*;
+
+/// Components over time with KF and SCF intervals.
+pub(crate) static SERIES: PanelSpec = PanelSpec::new(
+    "series",
+    "state components over time with the Kalman and SCF intervals",
+);
 
 /// Center, low and high end of an interval.
 type Iv = (f64, f64, f64);

@@ -1,15 +1,17 @@
-//! Panel::UParams — Fig. 3 of the uniform-innovation paper: the entries of Â over time (one
+//! The "uparams" panel — Fig. 3 of the uniform-innovation paper: the entries of Â over time (one
 //! line per entry âᵢⱼ, the true aᵢⱼ as a thin dashed line of the same colour), and below the
 //! half-width estimates x̂ᵣ,ᵢ and ŷᵣ,ⱼ with the true half-widths dashed. On the user's data
 //! there are no true values: the curves stand alone.
 
-use super::style::{self, sig, sub, Entry, Fonts, Swatch, TEXT};
-use super::uniform::{
+use super::time_series::{
     cell, check, columns, cursor, grid, level, short_labels, stacked, time_axes, time_win,
     window_band, TIME,
 };
-use super::{Area, Frame, Panel, View};
+use crate::plot::style::{self, sig, sub, Entry, Fonts, Swatch, TEXT};
+
 use crate::error::Result;
+use crate::plot::figures::Area;
+use crate::plot::view::{Frame, Panel, View};
 use crate::scenario::Report;
 use crate::uniform::OnlineStep;
 use plotters::prelude::*;
@@ -17,14 +19,14 @@ use plotters::prelude::*;
 /// A curve of Fig. 3: label, colour, estimates over t = 1 … T, true value (simulation).
 type Curve = (String, RGBColor, Vec<(f64, f64)>, Option<f64>);
 
-/// Panel::UParams — Fig. 3.
+/// The "uparams" panel — Fig. 3.
 pub fn draw<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, view, Panel::UParams)?;
+    let u = check(report, view, Panel::of(&super::time_series::PARAMS))?;
     let (n, steps, t) = (u.n, u.steps, u.t);
     let short = short_labels(root, &fonts);
     let a_true = u.u.theta_true.as_ref().map(|th| &th[0]);

@@ -1,9 +1,11 @@
-//! The panels of a uniform-innovation report (Pavelková, "Estimation of LU model with uniform
+//! The time-series panels of a uniform-innovation report (Pavelková, "Estimation of LU model with uniform
 //! innovations", Section 5): Fig. 1 (`ustates`: states, LP and KF estimates and their errors,
 //! the optimal-face ranges of the window at the cursor), Fig. 2 (`uoutput`: the output, its
-//! one-step prediction and the prediction error) and Fig. 3 (`uparams`, in
-//! `uniform_params.rs`: the entries of Â and the half-widths x̂ᵣ, ŷᵣ over time with the true
-//! values dashed); the consistent-state polygon (`upolygon`) lives in `uniform_polygon.rs`.
+//! one-step prediction and the prediction error) with what every uniform panel
+//! shares: the names of all four, the check of the report's uniform part ([`check`], [`U`]),
+//! the grid of charts and the time axis with its cursor and window band. Fig. 3 (`uparams`:
+//! the entries of Â and the half-widths x̂ᵣ, ŷᵣ over time with the true values dashed) is drawn
+//! in `params.rs`, the consistent-state polygon (`upolygon`) in `polygon.rs`.
 //!
 //! Every time chart spans t = 0 … T and carries the cursor at the report's window time
 //! (`at.time`, or the view's time); the grey band marks the sliding window x_{first−1} … x_t
@@ -12,16 +14,38 @@
 //! A report on the user's data has no truth: no true curves or values, no KF (it needs the
 //! true Θ and half-widths), and the error charts say why they are empty.
 
-use super::geom::Win;
-use super::style::{
+use crate::error::{Error, Result};
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{
     self, sig, sub, Axes, Entry, Fonts, LegendSide, Swatch, FACE, KF, TRUTH, UNIFORM_LP, WINDOW,
 };
-use super::{Area, Frame, Panel, View};
-use crate::error::{Error, Result};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Panel, View};
 use crate::scenario::{FigureContext, Report, UniformReport};
 use crate::uniform::Joint;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+
+/// Uniform-innovation paper, Fig. 1: states, LP and KF estimates, estimation errors and
+/// the optimal-face ranges of the window at the cursor.
+pub(crate) static STATES: PanelSpec = PanelSpec::new(
+    "ustates",
+    "states, LP and Kalman estimates and their errors over time (uniform Fig. 1)",
+);
+/// Uniform-innovation paper, Fig. 2: the output, its one-step prediction and the error.
+pub(crate) static OUTPUT: PanelSpec = PanelSpec::new(
+    "uoutput",
+    "output, its one-step prediction and the prediction error (uniform Fig. 2)",
+);
+/// Uniform-innovation paper, Fig. 3: the entries of Â and the half-widths over time.
+pub(crate) static PARAMS: PanelSpec = PanelSpec::new(
+    "uparams",
+    "entries of Â and the estimated half-widths over time (uniform Fig. 3)",
+);
+/// The states consistent with the window at the cursor (a polygon in the plane
+/// components) with the truth, the LP and KF estimates and the optimal-face box.
+pub(crate) static POLYGON: PanelSpec = PanelSpec::new("upolygon", "consistent-state polygon at the time cursor with the truth, LP and Kalman estimates and the optimal-face box");
 
 /// The report's uniform part, or an error naming the panel.
 pub fn uniform_of(report: &Report, panel: Panel) -> Result<&UniformReport> {
@@ -85,14 +109,6 @@ impl U<'_> {
     /// Whether the window at the cursor is the report's (then its face and polygon apply).
     pub fn at_window(&self) -> bool {
         self.t == self.u.at.time
-    }
-    /// Title: "Fig. k: what — the scenario's title" (small figures: "Fig. k: what") or the default.
-    pub fn title(fig: &FigureContext, fonts: &Fonts, what: &str, default: &str) -> String {
-        match &fig.title {
-            Some(t) if !fonts.compact => format!("{what} — {t}"),
-            Some(_) => what.to_string(),
-            None => default.to_string(),
-        }
     }
 }
 
@@ -238,7 +254,7 @@ pub(crate) fn grid<DB: DrawingBackend>(
     cols: usize,
     layout: Layout,
 ) -> Result<(Vec<Vec<Option<Area<DB>>>>, LegendSide)> {
-    let title = U::title(fig, fonts, what, default);
+    let title = style::title(fig, fonts, what, default);
     let (area, side) = style::titled_legend(root, fonts, &title, notes, entries)?;
     let (_, h) = area.dim_in_pixel();
     let cols = cols.max(1);
@@ -473,7 +489,7 @@ fn window_entry(u: &U, short: bool) -> Entry {
 
 // ------------------------------------------------------------------ Fig. 1: states
 
-/// Panel::UStates — Fig. 1: per state component, the truth, the LP and KF estimates with the
+/// The "ustates" panel — Fig. 1: per state component, the truth, the LP and KF estimates with the
 /// optimal-face ranges of the window at the cursor, and below the estimation errors.
 pub fn draw_states<DB: DrawingBackend>(
     root: &Area<DB>,
@@ -481,7 +497,7 @@ pub fn draw_states<DB: DrawingBackend>(
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, view, Panel::UStates)?;
+    let u = check(report, view, Panel::of(&STATES))?;
     let (n, steps, t) = (u.n, u.steps, u.t);
     let short = short_labels(root, &fonts);
     let at = &u.u.at;
@@ -740,7 +756,7 @@ fn face_bar<DB: DrawingBackend>(
 
 // ------------------------------------------------------------------ Fig. 2: output
 
-/// Panel::UOutput — Fig. 2: the output y_t and its one-step prediction ŷ_{t|t−1}, and below
+/// The "uoutput" panel — Fig. 2: the output y_t and its one-step prediction ŷ_{t|t−1}, and below
 /// the prediction error.
 pub fn draw_output<DB: DrawingBackend>(
     root: &Area<DB>,
@@ -748,7 +764,7 @@ pub fn draw_output<DB: DrawingBackend>(
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, view, Panel::UOutput)?;
+    let u = check(report, view, Panel::of(&OUTPUT))?;
     let (m, steps, t) = (u.m, u.steps, u.t);
     let short = short_labels(root, &fonts);
     let yr_true = u.u.yr_true.as_deref();

@@ -1,20 +1,31 @@
-//! The panels of a set-membership report (Tempo, method `"ubb"`): [`Panel::UbbSet`] (here:
-//! the exact feasible set of x(k+1) at the report's step k in the `plane` components — a
+//! The set-membership panel [`"ubbset"`](SET_PANEL) (Tempo, method `"ubb"`), with what both
+//! ubb panels share (their names, the check of the report's ubb part, the colours): the exact
+//! feasible set of x(k+1) at the report's step k in the `plane` components — a
 //! polygon from support LPs — with its interval hull dashed, the central estimate ⋆ (the
-//! hull's midpoint), the true state ◇ and the Kalman ellipse dashed) and [`Panel::UbbWidth`]
-//! (`ubb_width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
+//! hull's midpoint), the true state ◇ and the Kalman ellipse dashed) and [`"ubbwidth"`](WIDTH_PANEL)
+//! (`width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
 //! its hull bands).
 //!
 //! Step k's set is the set of x(k+1) consistent with y(0 … k) (the paper's prediction set);
 //! equal scales on both axes of the set panel.
 
-use super::geom::Win;
-use super::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
-use super::{Area, Frame, Panel, View};
 use crate::error::{Error, Result};
-use crate::scenario::{FigureContext, Report, UbbReport};
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Panel, View};
+use crate::scenario::{Report, UbbReport};
 use crate::ubb::Norm;
 use plotters::prelude::*;
+
+/// Set-membership (Tempo): the exact feasible set of x(k+1) at the report's step k (a
+/// polygon in the plane components) with its interval hull, the central estimate, the
+/// truth and the Kalman ellipse.
+pub(crate) static SET_PANEL: PanelSpec = PanelSpec::new("ubbset", "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse");
+/// Set-membership: the widths of the interval hull over k with the Theorem 4 bound, and
+/// the truth inside its hull bands.
+pub(crate) static WIDTH_PANEL: PanelSpec = PanelSpec::new("ubbwidth", "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands");
 
 /// The feasible set (blue, light fill) and its central estimate.
 pub const SET: RGBColor = RGBColor(0, 114, 178);
@@ -125,22 +136,14 @@ pub fn percent(p: f64) -> String {
     }
 }
 
-/// "title — the scenario's title" (small figures: the short title) or the default.
-pub(crate) fn title(fig: &FigureContext, fonts: &Fonts, what: &str) -> String {
-    match &fig.title {
-        Some(t) if !fonts.compact => format!("{what} — {t}"),
-        _ => what.to_string(),
-    }
-}
-
-/// Panel::UbbSet.
+/// The "ubbset" panel.
 pub fn draw_set<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     view: &View,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let u = check(report, Panel::UbbSet)?;
+    let u = check(report, Panel::of(&SET_PANEL))?;
     let at = &u.at;
     // The step shown: the view's, else the report's. Its exact polygon, Kalman ellipse and LP
     // come with the report's `at` only; another step of the track is drawn from what the
@@ -332,11 +335,8 @@ pub fn draw_set<DB: DrawingBackend>(
             fill: false,
         },
     ));
-    let title = title(
-        &report.figure,
-        &fonts,
-        &format!("Feasible set at k = {k}: {target}, {norm} bounds"),
-    );
+    let what = format!("Feasible set at k = {k}: {target}, {norm} bounds");
+    let title = style::title(&report.figure, &fonts, &what, &what);
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
     let mut marks = Vec::new();

@@ -1,16 +1,26 @@
-//! Panel::Coverage — Fig. 1 of the SCF paper: the conditional coverage
+//! The "coverage" panel — Fig. 1 of the SCF paper: the conditional coverage
 //! P{x_t ∈ X_t | x_t = x̄} of the KF and SCF regions against the state value x̄, with the level
 //! α. The SCF curve stays at α for every x̄ (Property 1); the KF curve reaches α only on
 //! average over x_t and collapses for unusual states. When the report knows the stationary
 //! covariance Γ, the range where the prior puts probability α on x_t is shaded.
 
-use super::geom::Win;
-use super::style::{self, pct, sci, sub, Axes, Entry, Swatch, KF, REFERENCE, SCF};
-use super::{Area, Ctx, Frame};
+use super::context::Ctx;
 use crate::error::{Error, Result};
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{self, pct, sci, sub, Axes, Entry, Swatch, KF, REFERENCE, SCF};
+use crate::plot::view::Frame;
+use crate::plot::view::PanelSpec;
 use crate::stats::chi2_quantile;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+
+/// Fig. 1: conditional coverage of KF and SCF against the state value.
+pub(crate) static COVERAGE: PanelSpec = PanelSpec {
+    name: "coverage",
+    alt_text:
+        "conditional coverage of the Kalman and SCF regions against the state value (SCF Fig. 1)",
+};
 
 const PRIOR: RGBColor = RGBColor(150, 150, 150);
 

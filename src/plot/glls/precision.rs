@@ -1,4 +1,4 @@
-//! Panel::Precision — Figs. 3 and 4 of the GLLS paper: the Monte Carlo errors
+//! The "precision" panel — Figs. 3 and 4 of the GLLS paper: the Monte Carlo errors
 //! ‖x_est(k) − x(k)‖₂ per horizon on a log axis.
 //!
 //! The paper draws violins with min, max and mean marked; here each horizon gets a
@@ -8,12 +8,15 @@
 //! half-boxes, the state-noise estimator left and LLS right, and the mean ‖x(k)‖ of the
 //! ensemble as a dash-dotted horizontal line (or a note when it is off the axis).
 
-use super::geom::Win;
-use super::glls::{glls_of, horizon_chart, horizon_desc, horizon_marker, title};
-use super::style::{self, sci, Entry, Fonts, Marker, Swatch, GLLS_EST, STATE_NOISE, TEXT};
-use super::{de, Area, Frame, Panel};
+use super::horizon::{glls_of, horizon_chart, horizon_desc, horizon_marker};
+use crate::plot::geom::Win;
+
 use crate::error::{Error, Result};
 use crate::glls::Spread;
+use crate::plot::erase::de;
+use crate::plot::figures::Area;
+use crate::plot::style::{self, sci, Entry, Fonts, Marker, Swatch, GLLS_EST, STATE_NOISE, TEXT};
+use crate::plot::view::{Frame, Panel};
 use crate::scenario::Report;
 use plotters::prelude::*;
 
@@ -96,7 +99,7 @@ fn dash_dot<DB: DrawingBackend>(
 
 /// Draw the precision panel.
 pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) -> Result<Frame> {
-    let g = glls_of(report, Panel::Precision)?;
+    let g = glls_of(report, Panel::of(&super::horizon::PRECISION))?;
     let p = g.precision.as_ref().ok_or_else(|| {
         Error::field(
             "glls.monte_carlo",
@@ -176,7 +179,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
     } else {
         notes.push(format!(
             "Section 5.1: {} with the bound κ(s,k)·√E‖δ(k,s)‖² (39)",
-            super::glls::estimator_name(g)
+            super::horizon::estimator_name(g)
         ));
     }
     let mut chart_notes = Vec::new();
@@ -220,7 +223,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
         ));
     } else {
         entries.push(Entry::new(
-            format!("{} error", super::glls::estimator_name(g)),
+            format!("{} error", super::horizon::estimator_name(g)),
             Swatch::Region {
                 color: c1,
                 dashed: false,
@@ -264,14 +267,16 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
         ));
     }
     let t = if paired {
-        title(
+        style::title(
             &report.figure,
+            &fonts,
             "State-noise estimator vs LLS",
             "State-noise estimator vs LLS (GLLS paper, Fig. 4)",
         )
     } else {
-        title(
+        style::title(
             &report.figure,
+            &fonts,
             "Precision against the horizon",
             "Precision of the estimate against the horizon (GLLS paper, Fig. 3)",
         )

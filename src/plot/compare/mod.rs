@@ -1,52 +1,71 @@
-//! The compare panel ([`super::Panel::Compare`]): every method's set for the same state (x_{t+1} or
+//! The compare panel ([`"compare"`](COMPARE)): every method's set for the same state (x_{t+1} or
 //! x_t) in the state plane, on equal axes, with the truth ◇ when simulated. Each method has one
-//! colour ([`color`]), its panel's where the panels' colours differ (Kalman orange dashed, SCF
-//! blue, LSCR black over its yellow tint); the others take the next colours of the palette so
-//! that six sets stay told apart. A method the view hides ([`View::hide`]) is left out of the
+//! look, asked of its figures (`Figures::compare_look`: colour, legend label, dash, fill and
+//! layer): its panel's colour where the panels' colours differ (Kalman orange dashed, SCF blue,
+//! LSCR black over its yellow tint); the others take the next colours of the palette so that
+//! six sets stay told apart. The panel loops over the sets and never asks a method's kind. A method the view hides ([`View::hide`]) is left out of the
 //! picture, the window and the legend.
 
-use super::geom::Win;
-use super::geom::{clip_polygon, clip_polyline};
-use super::style::{self, Entry, Fonts, Marker, Swatch, KF, LSCR, LSCR_TINT, SCF, TRUTH};
-use super::{Area, Frame, View, Zoom};
 use crate::error::{Error, Result};
 use crate::method::Method;
+use crate::plot::figures::Area;
+use crate::plot::figures::{Canvas, CompareLook, Figures, Request, SetFill};
+use crate::plot::geom::Win;
+use crate::plot::geom::{clip_polygon, clip_polyline};
+use crate::plot::style::{self, Entry, Fonts, Marker, Swatch, TRUTH};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Panel, View, Zoom};
 use crate::scenario::compare::{MethodSet, PlaneSet, Target};
 use crate::scenario::{CompareReport, Report};
 use plotters::prelude::*;
 
 /// A set more than this many times the median set's extent is cut at the window (zoom "auto").
 const FOCUS: f64 = 6.0;
-/// Opacity of the LSCR region's tint.
-const TINT: f64 = 0.45;
 /// Points on each drawn ellipse.
 const ELLIPSE_POINTS: usize = 120;
 
-/// The one colour of each compared method.
-pub fn color(m: Method) -> RGBColor {
-    match m {
-        Method::Kf => KF,
-        Method::Scf => SCF,
-        Method::Lscr => LSCR,
-        Method::Glls => RGBColor(204, 121, 167),
-        Method::Ubb => RGBColor(0, 158, 115),
-        _ => RGBColor(86, 150, 233),
+/// Every method's set for the same state on one record, in the state plane, with the truth.
+pub(crate) static COMPARE: PanelSpec = PanelSpec::new("compare", "every method's set for the same state in the state plane: Kalman, SCF and GLLS ellipses, the LSCR region, Tempo's and the uniform-LP polygons, and the truth");
+
+static PANELS: [Panel; 1] = [Panel::of(&COMPARE)];
+
+/// The figures of a compare report.
+pub(crate) struct CompareFigures;
+
+impl Figures for CompareFigures {
+    fn panels(&self) -> &'static [Panel] {
+        &PANELS
+    }
+    fn reports(&self) -> &'static str {
+        "a compare"
+    }
+    fn draw(&self, _panel: Panel, canvas: Canvas<'_>, request: &Request) -> Result<Frame> {
+        let Request {
+            report,
+            view,
+            fonts,
+            figures_of,
+        } = *request;
+        check(report, figures_of)?;
+        canvas.paint(|root| draw(root, report, view, fonts, figures_of))
     }
 }
 
-/// The legend's name of a method.
-pub fn label(m: Method) -> &'static str {
-    match m {
-        Method::Kf => "Kalman",
-        Method::Scf => "SCF",
-        Method::Lscr => "LSCR",
-        Method::Glls => "GLLS ball",
-        Method::Ubb => "Tempo set",
-        _ => "uniform LP set",
-    }
+/// The look of `m`'s set (`Figures::compare_look`), or an error for a method compare does
+/// not draw.
+fn look(figures_of: FiguresOf, m: Method) -> Result<CompareLook> {
+    figures_of(m).compare_look().ok_or_else(|| {
+        Error::field(
+            "report.compare.at.sets",
+            format!("holds a set of \"{m}\", which the compare panel does not draw"),
+        )
+    })
 }
 
-pub(crate) fn check(report: &Report) -> Result<&CompareReport> {
+/// The registry, as handed down in a [`Request`].
+type FiguresOf = fn(Method) -> &'static dyn Figures;
+
+pub(crate) fn check(report: &Report, figures_of: FiguresOf) -> Result<&CompareReport> {
     let c = report.compare.as_ref().ok_or_else(|| {
         Error::field(
             "panel",
@@ -58,6 +77,7 @@ pub(crate) fn check(report: &Report) -> Result<&CompareReport> {
     })?;
     let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
     for s in &c.at.sets {
+        look(figures_of, s.method)?;
         let ok = match &s.set {
             Some(PlaneSet::Ellipse(e)) => {
                 e.dim() == 2 && finite(&e.center) && e.cov.iter().all(|r| r.len() == 2 && finite(r))
@@ -96,14 +116,16 @@ fn loops(s: &MethodSet) -> Result<Vec<Vec<(f64, f64)>>> {
     })
 }
 
-/// Panel::Compare.
+/// The "compare" panel.
 pub fn draw<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     view: &View,
     fonts: Fonts,
+    figures_of: FiguresOf,
 ) -> Result<Frame> {
-    let c = check(report)?;
+    let c = check(report, figures_of)?;
+    let look = |m: Method| look(figures_of, m);
     let at = &c.at;
     let short = fonts.compact;
     let shown: Vec<&MethodSet> = at
@@ -144,7 +166,7 @@ pub fn draw<DB: DrawingBackend>(
         {
             w = w.union(&e);
         } else {
-            cut.push(label(s.method));
+            cut.push(look(s.method)?.label);
         }
     }
     let truth = at.truth.map(|p| (p[0], p[1]));
@@ -182,8 +204,8 @@ pub fn draw<DB: DrawingBackend>(
     let missing: Vec<String> = shown
         .iter()
         .filter(|s| s.set.is_none())
-        .map(|s| format!("{}: no set", label(s.method)))
-        .collect();
+        .map(|s| Ok(format!("{}: no set", look(s.method)?.label)))
+        .collect::<Result<_>>()?;
     if !missing.is_empty() && !short {
         notes.push(missing.join("; "));
     }
@@ -202,30 +224,28 @@ pub fn draw<DB: DrawingBackend>(
         if s.set.is_none() {
             continue;
         }
-        let name = label(s.method);
+        let l = look(s.method)?;
+        let name = l.label;
         let text = match s.holds {
             Some(true) if !short => format!("{name} (holds it)"),
             Some(false) if !short => format!("{name} (misses it)"),
             _ => name.to_string(),
         };
-        let swatch = match s.method {
-            Method::Lscr => Swatch::Tinted {
-                line: LSCR,
-                tint: LSCR_TINT.mix(TINT),
+        let swatch = match l.fill {
+            SetFill::Tint { color, opacity } => Swatch::Tinted {
+                line: l.color,
+                tint: color.mix(opacity),
             },
-            m => Swatch::Region {
-                color: color(m),
-                dashed: m == Method::Kf,
-                fill: matches!(m, Method::Ubb | Method::UniformLp),
+            fill => Swatch::Region {
+                color: l.color,
+                dashed: l.dashed,
+                fill: fill == SetFill::Light,
             },
         };
         entries.push(Entry::new(text, swatch));
     }
-    let title = super::ubb::title(
-        &report.figure,
-        &fonts,
-        &format!("Every method's set for {which}"),
-    );
+    let what = format!("Every method's set for {which}");
+    let title = style::title(&report.figure, &fonts, &what, &what);
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let (xd, yd) = (axis(report, 0), axis(report, 1));
     let chart = style::equal_chart(&area, &fonts, win, &xd, &yd)?;
@@ -233,37 +253,33 @@ pub fn draw<DB: DrawingBackend>(
     // What the chart shows (the equal-aspect window may be wider than asked): every set is cut
     // to it, filled areas as polygons, outlines as pieces.
     let shown_win = Win::of_chart(&chart);
-    // Filled sets first, outlines over them.
-    let order = |m: Method| match m {
-        Method::Lscr => 0,
-        Method::Ubb | Method::UniformLp => 1,
-        _ => 2,
-    };
-    let mut sorted: Vec<&(&MethodSet, Vec<Vec<(f64, f64)>>)> = drawn.iter().collect();
-    sorted.sort_by_key(|(s, _)| order(s.method));
-    for (s, l) in sorted {
-        let m = s.method;
-        let filled = matches!(m, Method::Lscr | Method::Ubb | Method::UniformLp);
+    // Filled sets first (lower layers), outlines over them.
+    let mut sorted = Vec::new();
+    for (s, l) in &drawn {
+        sorted.push((look(s.method)?, s, l));
+    }
+    sorted.sort_by_key(|(look, _, _)| look.layer);
+    for (look, s, l) in sorted {
         for lp in l {
             let mut closed = lp.clone();
             closed.extend(lp.first().copied());
             let inside = clip_polygon(lp, &shown_win);
-            if filled && inside.len() >= 3 {
+            if look.fill != SetFill::None && inside.len() >= 3 {
                 // The light fill (for LSCR its yellow tint, as on the LSCR panel).
                 let (bx, by) = root.get_base_pixel();
                 let px: Vec<(i32, i32)> = style::marks_of(&chart, &inside)
                     .into_iter()
                     .map(|(x, y)| (x - bx, y - by))
                     .collect();
-                let tint = if m == Method::Lscr {
-                    LSCR_TINT.mix(TINT).filled()
-                } else {
-                    style::fill(&color(m))
+                let tint = match look.fill {
+                    SetFill::Tint { color, opacity } => color.mix(opacity).filled(),
+                    _ => style::fill(&look.color),
                 };
-                root.draw(&Polygon::new(px, tint)).map_err(super::de)?;
+                root.draw(&Polygon::new(px, tint))
+                    .map_err(crate::plot::erase::de)?;
             }
-            let dash = (m == Method::Kf).then_some(style::DASH);
-            style::path(root, &chart, &closed, &color(m), 2, dash)?;
+            let dash = look.dashed.then_some(style::DASH);
+            style::path(root, &chart, &closed, &look.color, 2, dash)?;
             for piece in clip_polyline(&closed, &shown_win) {
                 marks.extend(style::marks_of(&chart, &piece));
             }
@@ -271,7 +287,7 @@ pub fn draw<DB: DrawingBackend>(
         if let Some(o) = &s.outline {
             let mut o: Vec<(f64, f64)> = o.iter().map(|p| (p[0], p[1])).collect();
             o.extend(o.first().copied());
-            style::path(root, &chart, &o, &color(m), 1, Some(style::DASH))?;
+            style::path(root, &chart, &o, &look.color, 1, Some(style::DASH))?;
         }
     }
     let points: Vec<((f64, f64), Marker, RGBColor, &'static str)> = truth

@@ -1,7 +1,7 @@
-//! The panels of a GLLS report (Gubarev & Mishchenko, "Interval state estimator for linear
-//! systems with known structure"): Fig. 1 (`singular`) and Fig. 2 (`index`), with the helpers
-//! shared by all GLLS panels; the state plane at time k (`plane`) lives in `glls_plane.rs`,
-//! Figs. 3–4 (`precision`) in `glls_precision.rs`.
+//! GLLS Fig. 1 (`singular`) and Fig. 2 (`index`) against the horizon s, with what every GLLS
+//! panel shares: the names of all four panels, the check of the report's GLLS part, the
+//! horizon axis and the marker at the horizon in use (the plane is drawn in `plane.rs`,
+//! Figs. 3–4 in `precision.rs`).
 //!
 //! Log axes: the report holds log10 values and the charts plot them on a linear axis labelled
 //! 10ᵏ ([`style::log_chart`]). A log10 value ≤ −300 marks an exact zero (a rank-deficient
@@ -9,14 +9,41 @@
 //! ε·σ₁·√(m(s+1)) is not resolved in double precision and is not drawn either: the floor is
 //! the grey band under which it would lie.
 
-use super::geom::Win;
-use super::style::{self, sci, sub, Axes, Entry, Fonts, Marker, Swatch, FLOOR, TEXT};
-use super::{de, Area, Frame, Panel};
 use crate::error::{Error, Result};
+use crate::plot::erase::de;
+use crate::plot::figures::Area;
+use crate::plot::geom::Win;
+use crate::plot::style::{self, sci, sub, Axes, Entry, Fonts, Marker, Swatch, FLOOR, TEXT};
+use crate::plot::view::PanelSpec;
+use crate::plot::view::{Frame, Panel};
 use crate::scenario::glls::{GllsEstimator, GllsReport};
-use crate::scenario::{FigureContext, Report};
+use crate::scenario::Report;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+
+/// GLLS paper, Fig. 1: the singular values of Γ_{s+1} (and of Γ_{s+1}A^{−s}) against the
+/// horizon s on a log scale, with the floating-point floor.
+pub(crate) static SINGULAR: PanelSpec = PanelSpec::new(
+    "singular",
+    "singular values of the observability matrix against the horizon (GLLS Fig. 1)",
+);
+/// GLLS paper, Fig. 2: the horizon index σ_n/√s (and σ_p/√s) with its best horizon.
+pub(crate) static INDEX: PanelSpec = PanelSpec::new(
+    "index",
+    "horizon index σₙ/√s with the best horizon (GLLS Fig. 2)",
+);
+/// GLLS: the state plane at time k: truth, estimate, guaranteed ball and interval box.
+pub(crate) static PLANE: PanelSpec = PanelSpec::new(
+    "plane",
+    "state plane at time k: truth, estimate, guaranteed ball and interval box",
+);
+/// GLLS paper, Figs. 3–4: the Monte Carlo error ‖x_est(k) − x(k)‖ per horizon (boxes) with
+/// the bound κ·√E‖δ‖², or state-noise estimator vs LLS in paired half-boxes.
+pub(crate) static PRECISION: PanelSpec = PanelSpec {
+    name: "precision",
+    alt_text:
+        "Monte Carlo errors per horizon as box plots with the bound κ·√E‖δ‖² (GLLS Figs. 3–4)",
+};
 
 /// log10 values at or below this mark an exact zero.
 pub(crate) const ZERO: f64 = -300.0;
@@ -43,21 +70,13 @@ pub fn glls_of(report: &Report, panel: Panel) -> Result<&GllsReport> {
 /// The panel fits the report (before anything is drawn).
 pub fn check(report: &Report, panel: Panel) -> Result<()> {
     let g = glls_of(report, panel)?;
-    if panel == Panel::Precision && g.precision.is_none() {
+    if panel == Panel::of(&PRECISION) && g.precision.is_none() {
         return Err(Error::field(
             "glls.monte_carlo",
             "is not in this report: ask for a Monte Carlo study in the scenario (\"glls\": {\"monte_carlo\": {\"runs\", \"study\"}}) to draw the precision panel",
         ));
     }
     Ok(())
-}
-
-/// "Singular values of Γₛ₊₁ — the preset's title", or the default.
-pub(crate) fn title(fig: &FigureContext, what: &str, default: &str) -> String {
-    match &fig.title {
-        Some(t) => format!("{what} — {t}"),
-        None => default.to_string(),
-    }
 }
 
 /// The x axis of the horizon panels.
@@ -209,13 +228,13 @@ pub(crate) fn horizon_marker<DB: DrawingBackend>(
 
 // ------------------------------------------------------------------ Fig. 1: singular values
 
-/// Panel::Singular — Fig. 1.
+/// The "singular" panel — Fig. 1.
 pub fn draw_singular<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let g = glls_of(report, Panel::Singular)?;
+    let g = glls_of(report, Panel::of(&SINGULAR))?;
     let rows = check_curves(g)?;
     let c = &g.curves;
     let n = g.n;
@@ -375,8 +394,9 @@ pub fn draw_singular<DB: DrawingBackend>(
             },
         ));
     }
-    let t = title(
+    let t = style::title(
         &report.figure,
+        &fonts,
         "Singular values of Γₛ₊₁",
         "Singular values of the observability matrix Γₛ₊₁ (GLLS paper, Fig. 1)",
     );
@@ -421,13 +441,13 @@ pub fn draw_singular<DB: DrawingBackend>(
 
 // ------------------------------------------------------------------ Fig. 2: horizon index
 
-/// Panel::Index — Fig. 2.
+/// The "index" panel — Fig. 2.
 pub fn draw_index<DB: DrawingBackend>(
     root: &Area<DB>,
     report: &Report,
     fonts: Fonts,
 ) -> Result<Frame> {
-    let g = glls_of(report, Panel::Index)?;
+    let g = glls_of(report, Panel::of(&INDEX))?;
     let rows = check_curves(g)?;
     let n = g.n;
     let s_max = rows - 1;
@@ -530,8 +550,9 @@ pub fn draw_index<DB: DrawingBackend>(
         )
         .minor(),
     );
-    let t = title(
+    let t = style::title(
         &report.figure,
+        &fonts,
         "Horizon index σₙ/√s",
         "Choosing the horizon: σₙ/√s (GLLS paper, Fig. 2)",
     );
