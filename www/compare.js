@@ -11,10 +11,8 @@ import { Figure } from './figure.js';
 import { studyRunner } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { fmt3 as fmt, int } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(3))));
-const int = (n) => n.toLocaleString('en-US');
 const pct = (p) => `${Number((100 * p).toFixed(1))} %`;
 const LAWS = { gaussian: 'Gaussian', uniform: 'Uniform', truncated: 'Truncated Gaussian' };
 const NAMES = { kf: 'Kalman', scf: 'SCF', lscr: 'LSCR', glls: 'GLLS', ubb: 'Tempo', uniform_lp: 'uniform LP' };

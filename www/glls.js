@@ -10,12 +10,11 @@ import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, wholeNumber } from './parse.js';
 import { bracedScripts, sub } from './richtext.js';
+import { fmtPrecision as fmt, vec as vecOf } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : v.toPrecision(4));
 // Vectors keep 5 digits for large entries: an unstable state of 10⁷ and its estimate differ in the 5th.
 const fmtLong = (v) => (typeof v === 'number' && Number.isFinite(v) && Math.abs(v) >= 1e4 ? v.toExponential(4) : fmt(v));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmtLong).join(', ')})` : '–');
+const vec = (v) => vecOf(v, fmtLong);
 const mark = (b) => (b == null ? '' : b ? '<b class="good">✓ inside</b>' : '<b class="warn">✗ outside</b>');
 const STUDY_DRAW_MS = 120; // redraw the precision figure at most this often while the study runs
 

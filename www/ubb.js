@@ -12,11 +12,8 @@ import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { fmt, vec, int } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
-const int = (n) => n.toLocaleString('en-US');
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
 
 // The custom mode is one more "preset" whose model comes from the text boxes.

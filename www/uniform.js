@@ -10,10 +10,8 @@ import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { fmt, vec } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
 const mat = (m) => (Array.isArray(m) && m.length && m[0].length
   ? `[${m.map((r) => r.map(fmt).join(' ')).join('; ')}]` : '–');
 const METHOD = { states: 'Θ known', parameters: 'states known (3.4)', swapping: 'swapping (4.1)', expansion: 'expansion (4.2)' };
