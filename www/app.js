@@ -10,6 +10,33 @@ import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LIN
 // handler, so the page runs under a strict Content-Security-Policy.
 for (const form of document.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
 
+// ----- the shell's menu and views, from the registry (index.html holds only the frame) -----
+
+// The menu's links and one section per panel, after the landing view: heading, paragraph and
+// the empty root its view's markup goes into on the first visit. Rendered before anything
+// looks them up (this module runs once the document is parsed).
+function renderShell() {
+  const nav = document.querySelector('nav.routes');
+  nav.replaceChildren(...PANELS.map((d) => {
+    const a = document.createElement('a');
+    a.href = `#${d.id}`;
+    a.dataset.route = d.id;
+    a.textContent = d.nav;
+    return a;
+  }));
+  document.getElementById('app').append(...PANELS.map((d) => {
+    const section = document.createElement('section');
+    section.id = `${d.id}-section`;
+    section.className = 'view';
+    section.setAttribute('aria-label', d.label);
+    section.hidden = true;
+    section.innerHTML = `<header class="section-head" id="${d.id}-head"><h2>${d.heading}</h2>`
+      + `<p class="sub">${d.sub}</p></header><div id="${d.id}" class="panel"></div>`;
+    return section;
+  }));
+}
+renderShell();
+
 const status = document.getElementById('status');
 const views = [document.getElementById('home'), ...PANELS.map((d) => d.section())];
 const mounted = new Map(); // id → Promise of the panel's API
