@@ -107,9 +107,6 @@ function build(p, s) {
   if (!c.study.x) delete c.study;
 }
 
-// The step a slider value shows.
-const shown = (report, v) => Math.min(Math.max(v, report.compare.first), report.compare.steps);
-
 // ----- the table: each method's row, its set at t, and the study's counts -----
 function showNumbers(p) {
   const { ui, st } = p;
@@ -201,9 +198,6 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
     animate: 'animate',
     block: (report) => report.compare,
     setTime: (s, v) => { s.compare.time = v; },
-    shown,
-    first: (report) => report.compare.first,
-    last: (report) => report.compare.steps,
   },
   input: (p) => showInputs(p),
   stem: ({ st, ui }) => `${st.preset.name}-t${ui.time.value}`,

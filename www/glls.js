@@ -1,9 +1,9 @@
 // The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → a run in
 // the panel's compute worker → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
 // "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, on every
-// core (studypool.js), and its merged result is handed back to the Session (set_precision) so the
-// "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
-// and shows what the core reports.
+// core (studypool.js), and its merged result is handed back to the Session (setStudy, the one
+// path of every method's study result into a report) so the "precision" figure draws it. No
+// estimation happens here: the page edits the preset's scenario and shows what the core reports.
 import { Study } from './pkg/confset.js';
 import { mountPanel, clone } from './panel.js';
 import { Figure } from './figure.js';
@@ -197,7 +197,7 @@ function after(p) {
     newStudy(p, key);
     queueMicrotask(() => p.mc.run(true));
   } else if (st.studyJson) {
-    p.session.set_precision(st.studyJson);
+    p.session.setStudy(st.studyJson);
   }
 }
 
@@ -340,7 +340,7 @@ function studyCounts(p, c, done, final) {
   const now = performance.now();
   if (final || (now - p.lastDraw > STUDY_DRAW_MS && p.st.report)) {
     if (!final) p.lastDraw = now;
-    p.session.set_precision(p.st.studyJson);
+    p.session.setStudy(p.st.studyJson);
     p.precision.draw();
   }
 }

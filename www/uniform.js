@@ -96,9 +96,6 @@ function timeRange(p, toEnd = false) {
   showTime(p);
 }
 
-// The time a slider value shows (within the kept report's steps while another runs).
-const shown = (report, v) => Math.min(Math.max(v, 1), report.uniform.steps.length);
-
 function showTime({ ui, st }) {
   const u = st.report?.uniform;
   const t = Number(ui.time.value);
@@ -220,9 +217,6 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
     animate: 'animate',
     block: (report) => report.uniform,
     setTime: (s, v) => { s.uniform.time = v; },
-    shown,
-    first: () => 1,
-    last: (report) => report.uniform.steps.length,
   },
   input(p, id) {
     const { ui } = p;
@@ -237,9 +231,9 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
       ui['window-out'].textContent = `= ${ui.window.value}`;
     }
   },
-  stem({ st, ui }) {
+  stem({ st, cursorTime }) {
     const u = st.report?.uniform;
-    return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${shown(st.report, Number(ui.time.value))}` : 'uniform'}`;
+    return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${cursorTime()}` : 'uniform'}`;
   },
   init: ({ ui }) => { ui['m-D'].value = matrixText(CUSTOM_PRESET.scenario.uniform.D); },
   load,
