@@ -12,10 +12,12 @@ import { studyRunner } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt3 as fmt, int } from './format.js';
+import { PANELS } from './registry.js';
 
 const pct = (p) => `${Number((100 * p).toFixed(1))} %`;
 const LAWS = { gaussian: 'Gaussian', uniform: 'Uniform', truncated: 'Truncated Gaussian' };
-const NAMES = { kf: 'Kalman', scf: 'SCF', lscr: 'LSCR', glls: 'GLLS', ubb: 'Tempo', uniform_lp: 'uniform LP' };
+// Each method's name in the table, from its panel's descriptor.
+const NAMES = Object.fromEntries(PANELS.flatMap((d) => Object.entries(d.names || {})));
 const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
 
 // The custom mode is one more "preset" whose model comes from the text boxes.

@@ -8,6 +8,7 @@
 //   heading   the view's heading (HTML: the name, then a <span> with what it does)
 //   sub       the paragraph under the heading (HTML): the paper and what the view shows
 //   methods   the scenario methods the panel shows (a scenario file of one of them opens here)
+//   names     what the compare table calls each of them (its row of the method)
 //   promise   what the method guarantees, in two lines, for the landing view
 //   module    the panel's module, loaded on the first visit, and its `mount(root, presets)`
 //   view      the panel's markup (views/<id>.html), put into its root before the mount
@@ -23,6 +24,7 @@ export const PANELS = [
     sub: 'Carè, Campi, Weyer: a region that holds the state with probability α <em>whatever value the state takes</em>, '
       + 'beside the Kalman region that holds it only on average over the states.',
     methods: ['scf', 'kf'],
+    names: { scf: 'SCF', kf: 'Kalman' },
     promise: 'The State Conditional Filter region holds the state with probability α whatever value the state takes; '
       + 'the Kalman region holds it with probability α only on average over the states.',
     module: './scf.js',
@@ -39,6 +41,7 @@ export const PANELS = [
     sub: 'Weyer &amp; Campi: a region that holds the true state with a guaranteed probability 1 − 2qn/M '
       + '<em>whatever the state is</em>, without knowing the noise variances. Click the figure to place the true state.',
     methods: ['lscr'],
+    names: { lscr: 'LSCR' },
     promise: 'A region for a past, present or future state that holds it with probability at least 1 − 2qn/M '
       + 'for every value of the state, without knowing the noise variances.',
     module: './lscr.js',
@@ -56,6 +59,7 @@ export const PANELS = [
       + 'values of Γ<sub>s+1</sub> set the condition number κ — a hard limit on the precision and a bound on the expected '
       + 'error — and σ<sub>n</sub>/√s picks the horizon. Move s and watch every figure follow.',
     methods: ['glls'],
+    names: { glls: 'GLLS' },
     promise: 'A least-squares estimate over a horizon of s outputs whose error is bounded through the singular values '
       + 'of the observability matrix: a guaranteed ball and box for bounded noise, and a best horizon.',
     module: './glls.js',
@@ -73,6 +77,7 @@ export const PANELS = [
       + 'window\'s states is a linear program — minimize the half-widths subject to hard bounds. A sliding window of ∂ samples runs on line; '
       + 'Θ = (A, B, C, D) is estimated with it by swapping (4.1) or expansion (4.2). Move the time cursor and watch every figure follow.',
     methods: ['uniform_lp'],
+    names: { uniform_lp: 'uniform LP' },
     promise: 'With innovations uniform on boxes, the MAP estimate of a window of states, the parameters Θ and the '
       + 'half-widths is a linear program; every state consistent with the data lies in an exact polygon.',
     module: './uniform.js',
@@ -90,6 +95,7 @@ export const PANELS = [
       + 'form a polytope. Support LPs draw it exactly; its interval hull gives the central estimate and a <b>guaranteed</b> error bound. '
       + 'Exponential smoothing (α, β) and Theorem 5’s window (γ) keep the LP a constant size. Move k and watch the set follow the truth.',
     methods: ['ubb'],
+    names: { ubb: 'Tempo' },
     promise: 'When the noise is only known to be bounded, the states consistent with the data form a polytope: '
       + 'it holds the true state every time, and its interval hull gives a guaranteed error bound.',
     module: './ubb.js',
