@@ -1,7 +1,8 @@
 //! Statistics shared by every method: χ² quantiles for ellipsoidal regions (and back, an
 //! ellipsoid's level: [`ellipsoid_level`]) and the exact binomial bands that every Monte Carlo
-//! study (SCF, LSCR, GLLS, set-membership) compares its counts with. statrs does the work; this module adds the round-trip checks and the one band
-//! definition, so that no method carries its own.
+//! study (SCF, LSCR, GLLS, set-membership) compares its counts with. statrs does the work;
+//! this module adds the round-trip checks and the one band definition, so that no method
+//! carries its own.
 
 use crate::error::{Error, Result};
 use statrs::distribution::{Binomial, ChiSquared, Continuous, ContinuousCDF, DiscreteCDF};
