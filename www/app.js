@@ -4,6 +4,7 @@
 // ./pkg/confset.js through the panels.
 import init, * as confset from './pkg/confset.js';
 import { PANELS, panelById, panelOf } from './registry.js';
+import { int } from './format.js';
 import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
 
 // No form submits (Enter in a field must not reload the page); a listener, not an inline
@@ -78,7 +79,7 @@ function toolbar(d) {
     if (!link) return;
     try {
       await navigator.clipboard.writeText(link);
-      say(`link copied (${link.length.toLocaleString('en-US')} characters)`);
+      say(`link copied (${int(link.length)} characters)`);
     } catch {
       say(`copy this link: ${link}`);
     }
@@ -222,8 +223,8 @@ async function linkOf(d) {
   const hash = `#${d.id}/${LINK_VERSION}/${await encodeState(await stateOf(d))}`;
   const link = `${location.origin}${location.pathname}${hash}`;
   if (hash.length > MAX_LINK_CHARS) {
-    d.say(`This configuration needs a link of ${hash.length.toLocaleString('en-US')} characters (at most `
-      + `${MAX_LINK_CHARS.toLocaleString('en-US')}): download the scenario file and share that instead.`);
+    d.say(`This configuration needs a link of ${int(hash.length)} characters (at most `
+      + `${int(MAX_LINK_CHARS)}): download the scenario file and share that instead.`);
     return null;
   }
   return link;
