@@ -1,7 +1,8 @@
-//! Statistics shared by every method: χ² quantiles for ellipsoidal regions and the exact
-//! binomial bands that every Monte Carlo study (SCF, LSCR, GLLS, set-membership) compares its
-//! counts with. statrs does the work; this module adds the round-trip checks and the one band
-//! definition, so that no method carries its own.
+//! Statistics shared by every method: χ² quantiles for ellipsoidal regions (and back, an
+//! ellipsoid's level: [`ellipsoid_level`]) and the exact binomial bands that every Monte Carlo
+//! study (SCF, LSCR, GLLS, set-membership) compares its counts with. statrs does the work;
+//! this module adds the round-trip checks and the one band definition, so that no method
+//! carries its own.
 
 use crate::error::{Error, Result};
 use statrs::distribution::{Binomial, ChiSquared, Continuous, ContinuousCDF, DiscreteCDF};
@@ -23,6 +24,15 @@ pub fn chi2_quantile(alpha: f64, k: usize) -> Result<f64> {
     let r2 = chi2_quantile_uncached(alpha, k)?;
     LAST.with(|c| c.set((alpha, k, r2)));
     Ok(r2)
+}
+
+/// The level of an ellipsoid {(x − c)ᵀ Σ⁻¹ (x − c) ≤ r²} of N(c, Σ) in k dimensions: the
+/// probability it holds, the χ² CDF with k degrees of freedom at r² (the inverse of
+/// [`chi2_quantile`], which made r² from the level); `None` for k = 0 or an r² it cannot take.
+pub fn ellipsoid_level(radius2: f64, k: usize) -> Option<f64> {
+    let law = ChiSquared::new(k as f64).ok()?;
+    let p = law.cdf(radius2);
+    (radius2 >= 0.0 && p.is_finite()).then_some(p)
 }
 
 fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
@@ -81,4 +91,23 @@ pub fn band(runs: usize, p: f64) -> (usize, usize) {
 /// The standard normal distribution function Φ(x).
 pub fn normal_cdf(x: f64) -> f64 {
     0.5 * statrs::function::erf::erfc(-x / std::f64::consts::SQRT_2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ellipsoid_level_inverts_the_quantile() {
+        for (alpha, k) in [(0.99, 2), (0.95, 2), (0.9, 3), (0.5, 1)] {
+            let r2 = chi2_quantile(alpha, k).unwrap();
+            let level = ellipsoid_level(r2, k).unwrap();
+            assert!((level - alpha).abs() < 1e-12, "{alpha}, {k}: {level}");
+        }
+        // In the plane the CDF is 1 − e^{−r²/2}.
+        let r2 = chi2_quantile(0.99, 2).unwrap();
+        assert!((ellipsoid_level(r2, 2).unwrap() - (1.0 - (-0.5 * r2).exp())).abs() < 1e-14);
+        assert_eq!(ellipsoid_level(1.0, 0), None);
+        assert_eq!(ellipsoid_level(f64::NAN, 2), None);
+    }
 }

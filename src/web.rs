@@ -37,12 +37,19 @@
 //! const r = JSON.parse(s.run(JSON.stringify(lscrScenario)));
 //! const mask = s.raster(512, 512);        // Uint32Array, row 0 on top: 0 = in X̂, bit l = outside X̂_l
 //!
-//! // GLLS (method "glls"): the page runs its scenario without glls.monte_carlo (fast) and the
-//! // Monte Carlo of Section 5 apart, in chunks; the study's result goes into the kept report
-//! // so the "precision" panel draws it.
+//! // A study's result enters the kept report through one path for every method
+//! // (`Report::set_study`; a method whose report holds none refuses). GLLS: the page runs its
+//! // scenario without glls.monte_carlo (fast) and the Monte Carlo of Section 5 apart, in
+//! // chunks; its result becomes the report's glls.precision, which the "precision" panel draws.
 //! const g = new Study(JSON.stringify(withMonteCarlo), 0);     // needs glls.monte_carlo
 //! while (!g.finished()) study = JSON.parse(g.step(100));     // PrecisionReport so far
-//! s.set_precision(JSON.stringify(study));                     // report.glls.precision = study
+//! s.setStudy(JSON.stringify(study));                          // report.glls.precision = study
+//!
+//! // The kept report's time cursor (ubb, uniform_lp, compare): the steps it moves over, from
+//! // the core (a slider value outside them shows the nearest); undefined without one.
+//! const [first, last] = s.cursorSteps();
+//! // The probability an ellipsoid of the report holds (its χ² level): ubb's Kalman ellipse.
+//! const level = ellipsoidLevel(JSON.stringify(report.ubb.at.kf));   // 0.99
 //!
 //! // Set-membership (method "ubb"): fresh simulations checked at the scenario's step k, in
 //! // chunks — the truth must never leave the set, the Kalman ellipsoid may.
@@ -61,7 +68,6 @@
 //! `plot_area` is therefore in CSS pixels of the canvas, like `MouseEvent.offsetX/Y`.
 
 use crate::error::Error;
-use crate::glls;
 use crate::plot::{self, Frame, View};
 use crate::presets;
 use crate::scenario::lscr::plane_region;
@@ -358,27 +364,50 @@ impl Session {
 
 #[wasm_bindgen]
 impl Session {
-    /// Store a GLLS precision study's result (JSON of a `PrecisionReport`, as
-    /// [`Study::step`] returns it) as the kept report's `glls.precision`, so the
-    /// `"precision"` panel draws it; `"null"` removes it. Returns nothing; the next `run`
-    /// replaces the kept report (and so drops the study).
-    pub fn set_precision(&mut self, precision_json: &str) -> Result<(), JsValue> {
-        let precision: Option<glls::PrecisionReport> =
-            crate::scenario::parse::from_json(precision_json, "glls.precision")
-                .map_err(|e| js_error(&e))?;
-        let report = self
-            .report
+    /// Put a study's result (its JSON, as [`Study::step`] returns it; `"null"` removes it) into
+    /// the kept report where a run with the study would hold it (`Report::set_study`: GLLS's
+    /// `glls.precision`, which the `"precision"` panel draws), one path for every method; a
+    /// method whose report holds no study result refuses, and the kept report stays. The next
+    /// `run` or `setReport` replaces the kept report (and so drops the study).
+    #[wasm_bindgen(js_name = setStudy)]
+    pub fn set_study(&mut self, result_json: &str) -> Result<(), JsValue> {
+        let result = crate::scenario::parse::read_json(result_json, "study")
+            .map_err(|e| js_error(&e))?;
+        self.report
             .as_mut()
-            .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))?;
-        let g = report.glls.as_mut().ok_or_else(|| {
-            js_error(&Error::field(
-                "method",
-                "the kept report is not a GLLS report: run a scenario with \"method\": \"glls\" first",
-            ))
-        })?;
-        g.precision = precision;
-        Ok(())
+            .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))?
+            .set_study(result)
+            .map_err(|e| js_error(&e))
     }
+
+    /// The steps the kept report's time cursor moves over, `[first, last]`
+    /// (`Report::cursor_steps`: ubb's first step with a bounded set, uniform_lp's times,
+    /// compare's); undefined before the first good run or for a method without a cursor.
+    #[wasm_bindgen(js_name = cursorSteps)]
+    pub fn cursor_steps(&self) -> Option<Vec<u32>> {
+        let steps = self.report.as_ref()?.cursor_steps()?;
+        Some(vec![*steps.start() as u32, *steps.end() as u32])
+    }
+}
+
+/// The level of an ellipsoid of a report (JSON `{"center", "cov", "radius2"}`, e.g. ubb's
+/// Kalman ellipse `report.ubb.at.kf`): the probability its Gaussian gives it, the χ² CDF at
+/// radius² in its dimension (`stats::ellipsoid_level`, the inverse of the quantile the method
+/// made radius² with). JSON that is not an ellipsoid is an `ellipsoid` error.
+#[wasm_bindgen(js_name = ellipsoidLevel)]
+pub fn ellipsoid_level(ellipsoid_json: &str) -> Result<f64, JsValue> {
+    let e: crate::sets::Ellipsoid = crate::scenario::parse::from_json(ellipsoid_json, "ellipsoid")
+        .map_err(|e| js_error(&e))?;
+    crate::stats::ellipsoid_level(e.radius2, e.center.len()).ok_or_else(|| {
+        js_error(&Error::field(
+            "ellipsoid",
+            format!(
+                "has no level: radius² {} in {} dimensions",
+                e.radius2,
+                e.center.len()
+            ),
+        ))
+    })
 }
 
 impl Session {

@@ -4,11 +4,39 @@
 // ./pkg/confset.js through the panels.
 import init, * as confset from './pkg/confset.js';
 import { PANELS, panelById, panelOf } from './registry.js';
+import { int } from './format.js';
 import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
 
 // No form submits (Enter in a field must not reload the page); a listener, not an inline
 // handler, so the page runs under a strict Content-Security-Policy.
 for (const form of document.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
+
+// ----- the shell's menu and views, from the registry (index.html holds only the frame) -----
+
+// The menu's links and one section per panel, after the landing view: heading, paragraph and
+// the empty root its view's markup goes into on the first visit. Rendered before anything
+// looks them up (this module runs once the document is parsed).
+function renderShell() {
+  const nav = document.querySelector('nav.routes');
+  nav.replaceChildren(...PANELS.map((d) => {
+    const a = document.createElement('a');
+    a.href = `#${d.id}`;
+    a.dataset.route = d.id;
+    a.textContent = d.nav;
+    return a;
+  }));
+  document.getElementById('app').append(...PANELS.map((d) => {
+    const section = document.createElement('section');
+    section.id = `${d.id}-section`;
+    section.className = 'view';
+    section.setAttribute('aria-label', d.label);
+    section.hidden = true;
+    section.innerHTML = `<header class="section-head" id="${d.id}-head"><h2>${d.heading}</h2>`
+      + `<p class="sub">${d.sub}</p></header><div id="${d.id}" class="panel"></div>`;
+    return section;
+  }));
+}
+renderShell();
 
 const status = document.getElementById('status');
 const views = [document.getElementById('home'), ...PANELS.map((d) => d.section())];
@@ -51,7 +79,7 @@ function toolbar(d) {
     if (!link) return;
     try {
       await navigator.clipboard.writeText(link);
-      say(`link copied (${link.length.toLocaleString('en-US')} characters)`);
+      say(`link copied (${int(link.length)} characters)`);
     } catch {
       say(`copy this link: ${link}`);
     }
@@ -195,8 +223,8 @@ async function linkOf(d) {
   const hash = `#${d.id}/${LINK_VERSION}/${await encodeState(await stateOf(d))}`;
   const link = `${location.origin}${location.pathname}${hash}`;
   if (hash.length > MAX_LINK_CHARS) {
-    d.say(`This configuration needs a link of ${hash.length.toLocaleString('en-US')} characters (at most `
-      + `${MAX_LINK_CHARS.toLocaleString('en-US')}): download the scenario file and share that instead.`);
+    d.say(`This configuration needs a link of ${int(hash.length)} characters (at most `
+      + `${int(MAX_LINK_CHARS)}): download the scenario file and share that instead.`);
     return null;
   }
   return link;

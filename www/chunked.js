@@ -2,6 +2,7 @@
 // studypool.js), input bursts coalesced into one run per frame, and core errors shown next to
 // the field they name. (A panel's scenario runs in its compute worker: compute.js, panel.js.)
 import { runStudy } from './studypool.js';
+import { int } from './format.js';
 
 // A run-per-frame scheduler: schedule('compute') or schedule('redraw') during a burst of input
 // events runs once on the next animation frame (a compute covers a redraw); the panel's busy
@@ -63,7 +64,6 @@ export function busyFlag(key) {
   };
 }
 
-const int = (v) => v.toLocaleString('en-US');
 
 // A panel's study (its Start and Cancel buttons, progress bar, status line and error), written
 // once; its runs go to every core (studypool.js):

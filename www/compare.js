@@ -11,13 +11,13 @@ import { Figure } from './figure.js';
 import { studyRunner } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { fmt3 as fmt, int } from './format.js';
+import { PANELS } from './registry.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(3))));
-const int = (n) => n.toLocaleString('en-US');
 const pct = (p) => `${Number((100 * p).toFixed(1))} %`;
 const LAWS = { gaussian: 'Gaussian', uniform: 'Uniform', truncated: 'Truncated Gaussian' };
-const NAMES = { kf: 'Kalman', scf: 'SCF', lscr: 'LSCR', glls: 'GLLS', ubb: 'Tempo', uniform_lp: 'uniform LP' };
+// Each method's name in the table, from its panel's descriptor.
+const NAMES = Object.fromEntries(PANELS.flatMap((d) => Object.entries(d.names || {})));
 const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
@@ -108,9 +108,6 @@ function build(p, s) {
   c.study = { seed: 1, ...(c.study || {}), runs: wholeNumber('compare.study.runs', ui.runs.value) };
   if (!c.study.x) delete c.study;
 }
-
-// The step a slider value shows.
-const shown = (report, v) => Math.min(Math.max(v, report.compare.first), report.compare.steps);
 
 // ----- the table: each method's row, its set at t, and the study's counts -----
 function showNumbers(p) {
@@ -203,9 +200,6 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
     animate: 'animate',
     block: (report) => report.compare,
     setTime: (s, v) => { s.compare.time = v; },
-    shown,
-    first: (report) => report.compare.first,
-    last: (report) => report.compare.steps,
   },
   input: (p) => showInputs(p),
   stem: ({ st, ui }) => `${st.preset.name}-t${ui.time.value}`,

@@ -1,4 +1,5 @@
 import { methodPanels } from './pkg/confset.js';
+import { fmtPointer as fmt } from './format.js';
 
 // One figure card: a canvas whose backing store is CSS size × devicePixelRatio, drawn by the wasm
 // Session; the cursor's position in chart units (from the returned Frame); SVG/PNG downloads.
@@ -67,7 +68,6 @@ export function drawFigures(figures, time) {
   return performance.now() - t0;
 }
 
-const fmt = (v) => (Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toPrecision(4));
 
 export class Figure {
   constructor(card, session, fileStem) {

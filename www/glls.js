@@ -1,21 +1,20 @@
 // The GLLS panel: controls → Scenario JSON (method "glls", without its Monte Carlo) → a run in
 // the panel's compute worker → four figures drawn by the core (views {"panel": "singular" | "index" | "plane" |
 // "precision"}) and the numbers of the report. The Monte Carlo of Section 5 runs apart, on every
-// core (studypool.js), and its merged result is handed back to the Session (set_precision) so the
-// "precision" figure draws it. No estimation happens here: the page edits the preset's scenario
-// and shows what the core reports.
+// core (studypool.js), and its merged result is handed back to the Session (setStudy, the one
+// path of every method's study result into a report) so the "precision" figure draws it. No
+// estimation happens here: the page edits the preset's scenario and shows what the core reports.
 import { Study } from './pkg/confset.js';
 import { mountPanel, clone } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, wholeNumber } from './parse.js';
 import { bracedScripts, sub } from './richtext.js';
+import { fmtPrecision as fmt, vec as vecOf } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : v.toPrecision(4));
 // Vectors keep 5 digits for large entries: an unstable state of 10⁷ and its estimate differ in the 5th.
 const fmtLong = (v) => (typeof v === 'number' && Number.isFinite(v) && Math.abs(v) >= 1e4 ? v.toExponential(4) : fmt(v));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmtLong).join(', ')})` : '–');
+const vec = (v) => vecOf(v, fmtLong);
 const mark = (b) => (b == null ? '' : b ? '<b class="good">✓ inside</b>' : '<b class="warn">✗ outside</b>');
 const STUDY_DRAW_MS = 120; // redraw the precision figure at most this often while the study runs
 
@@ -198,7 +197,7 @@ function after(p) {
     newStudy(p, key);
     queueMicrotask(() => p.mc.run(true));
   } else if (st.studyJson) {
-    p.session.set_precision(st.studyJson);
+    p.session.setStudy(st.studyJson);
   }
 }
 
@@ -341,7 +340,7 @@ function studyCounts(p, c, done, final) {
   const now = performance.now();
   if (final || (now - p.lastDraw > STUDY_DRAW_MS && p.st.report)) {
     if (!final) p.lastDraw = now;
-    p.session.set_precision(p.st.studyJson);
+    p.session.setStudy(p.st.studyJson);
     p.precision.draw();
   }
 }

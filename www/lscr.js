@@ -8,12 +8,11 @@ import { Figure } from './figure.js';
 import { studyRunner } from './chunked.js';
 import { parseVector, parseNumber, wholeNumber } from './parse.js';
 import { sub, escapeHtml } from './richtext.js';
+import { fmtFixed as fmt, vec as vecOf, int } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toFixed(3));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
+const vec = (v) => vecOf(v, fmt);
+
 const pct = (v) => `${+(100 * v).toFixed(2)} %`;
-const int = (v) => v.toLocaleString('en-US');
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {

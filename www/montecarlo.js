@@ -3,8 +3,7 @@
 import { Study } from './pkg/confset.js';
 import { wholeNumber } from './parse.js';
 import { studyRunner } from './chunked.js';
-
-const n = (v) => v.toLocaleString('en-US');
+import { int as n } from './format.js';
 
 export function mountMonteCarlo(root, getScenario, setBusy) {
   const q = (id) => root.querySelector(`#${id}`);

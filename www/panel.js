@@ -90,8 +90,8 @@ function computeNote(staleNote, saveScenario) {
 // timing line. The scenarios run in the panel's compute worker (compute.js); the Session here
 // keeps the report it sends back (setReport) and draws it. A panel module describes itself in `spec`; the hooks get the panel `p` = { root,
 // session, ui, st, figures, errors, setBusy, schedule, build(), compute(), redraw(), isCustom(),
-// model(), stem() } with st = { preset, report, reportJson, scenario, runMs, drawMs } (a hook may
-// keep its own fields in p and st).
+// model(), stem(), cursorTime() } with st = { preset, report, reportJson, scenario, runMs, drawMs,
+// cursorSteps } (a hook may keep its own fields in p and st).
 //   presets, custom  the core's presets for the panel and its custom model (one more preset)
 //   prefix           of the panel's element ids ('l-' → #l-preset); ui[id] is #<prefix><id>
 //   ids              the elements the hooks use besides preset, preset-desc, custom, stale, notes,
@@ -104,9 +104,10 @@ function computeNote(staleNote, saveScenario) {
 //   compute, redraw  the inputs that change the scenario, and those that change only the view;
 //   cursor           a time cursor whose report keeps one step's detail (cursor.js): {control
 //                    (the slider's id, in `redraw`), animate (its ▶ button's id, optional),
-//                    block(report) (the report's block holding `at`), setTime(scenario, v),
-//                    shown(report, v) (the step a slider value shows), first(report),
-//                    last(report) (the animation's range)}; `time` defaults to the step shown
+//                    block(report) (the report's block holding `at`), setTime(scenario, v)};
+//                    the steps it moves over come from the core with each report
+//                    (st.cursorSteps = Session.cursorSteps(): [first, last]), and a slider value
+//                    outside them shows the nearest (p.cursorTime()); `time` defaults to that step
 //   input(p, id)     what a control shows at once (before the run, next frame)
 //   stem(p)          the stem of the file names
 //   init(p)          the panel's own wiring, once, before the first preset loads
@@ -257,6 +258,7 @@ export function mountPanel(root, spec) {
     }
     st.report = JSON.parse(json);
     st.reportJson = json;
+    if (cur) st.cursorSteps = session.cursorSteps();
     st.scenario = scenario;
     p.cursor?.reset(ran.text, ran.cursor);
     errors.clear();
@@ -285,7 +287,10 @@ export function mountPanel(root, spec) {
   const p = { root, session, ui, st, figures, errors, setBusy, schedule, build, compute, redraw, isCustom, model, stem };
   // The time cursor: the step the slider shows, its details, its animation.
   const cur = spec.cursor;
-  const cursorTime = () => (cur && st.report ? cur.shown(st.report, Number(ui[cur.control].value)) : undefined);
+  // The step a slider value shows: the nearest of the report's cursor steps (the core's).
+  const shown = (v) => Math.min(Math.max(v, st.cursorSteps[0]), st.cursorSteps[1]);
+  const cursorTime = () => (cur && st.report ? shown(Number(ui[cur.control].value)) : undefined);
+  p.cursorTime = cursorTime;
   if (cur) {
     const showError = (e) => {
       if (!(e instanceof ComputeFault)) errors.show(e, true);
@@ -297,8 +302,8 @@ export function mountPanel(root, spec) {
     if (cur.animate) {
       p.animation = animation({
         button: ui[cur.animate], control: ui[cur.control], cursor: p.cursor, setBusy,
-        first: () => cur.first(st.report), last: () => cur.last(st.report),
-        at: (v) => cur.shown(st.report, v),
+        first: () => st.cursorSteps[0], last: () => st.cursorSteps[1],
+        at: shown,
         moved: () => { spec.input?.(p, cur.control); moved(); },
         draw: redraw,
         showError,

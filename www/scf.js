@@ -3,9 +3,8 @@
 import { mountPanel, clone } from './panel.js';
 import { mountMonteCarlo } from './montecarlo.js';
 import { parseMatrix, parseVector, wholeNumber } from './parse.js';
+import { fmtFixed as fmt } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(2) : v.toFixed(3));
 const scale = (m, k) => (Array.isArray(m) ? m.map((r) => scale(r, k)) : m * k);
 
 // The custom mode is one more "preset" whose model comes from the four text boxes.

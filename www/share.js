@@ -8,6 +8,7 @@
 //
 // The fragment, never the query string: static hosts answer long queries with 414. Every version
 // ever emitted keeps a decoder in DECODERS; a renamed preset keeps an alias in PRESET_ALIASES.
+import { int } from './format.js';
 
 export const MAX_LINK_CHARS = 32_000;
 export const LINK_VERSION = 'v1';
@@ -63,7 +64,7 @@ export async function parseFragment(hash) {
   if (!decode || parts.length !== 3) {
     return { id, error: `this link has a format this page does not know (“${parts.slice(1).join('/').slice(0, 24)}”)` };
   }
-  if (hash.length > MAX_LINK_CHARS) return { id, error: `this link is longer than ${MAX_LINK_CHARS.toLocaleString('en-US')} characters` };
+  if (hash.length > MAX_LINK_CHARS) return { id, error: `this link is longer than ${int(MAX_LINK_CHARS)} characters` };
   try {
     const state = await decode(parts[2]);
     state.preset = PRESET_ALIASES[state.preset] || state.preset;

@@ -6,17 +6,14 @@
 // a download or a link gives the same picture). The guarantee runs fresh simulations on every
 // core (studypool.js) and counts how often the truth left the set (never) and the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
-import { Study } from './pkg/confset.js';
+import { Study, ellipsoidLevel } from './pkg/confset.js';
 import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { fmt, vec, int } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
-const int = (n) => n.toLocaleString('en-US');
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
@@ -77,11 +74,9 @@ function showTime({ ui, st }) {
   ui['time-out'].textContent = `= ${k}`;
   const u = st.report?.ubb;
   ui['time-window'].textContent = u && u.at.k === k ? `window y(${u.at.first}) … y(${k})` : '';
-  if (u) ui['time-min'].textContent = String(u.track[0].k);
+  // The cursor's first step (the core's: the first with a bounded set; an earlier k shows it).
+  if (u) ui['time-min'].textContent = String(st.cursorSteps[0]);
 }
-
-// The step a slider value shows: steps before the first bounded set show the first.
-const shown = (report, v) => Math.min(Math.max(v, report.ubb.track[0].k), report.ubb.steps - 1);
 
 // An optional positive number: empty (or ∞, inf) = ∞ (null).
 const infinite = (t) => ['', '∞', 'inf', 'infinity'].includes(String(t).trim().toLowerCase());
@@ -152,7 +147,7 @@ function showNumbers({ ui, st }, k) {
   row(coef ? 'true a' : `true x(${k + 1})`, truth ? vec(truth) : '– (data given)');
   row('truth inside the set', `${verdict(step?.inside, 'yes', 'no')}${step?.inside === false
     ? ' <span class="hint">(ε or τ below the simulated noise: the bounds are wrong, so no guarantee)</span>' : ''}`);
-  const kfLevel = Math.round(100 * (1 - Math.exp(-u.at.kf.radius2 / 2))); // the same at every step
+  const kfLevel = Math.round(100 * ellipsoidLevel(JSON.stringify(u.at.kf))); // ubb.kf_level: the same at every step
   row(`truth inside the KF ${kfLevel} % ellipsoid`, verdict(step?.kf_inside, 'yes', 'no'));
   if (!at) {
     row(`prediction of y(${k + 1})`, pending);
@@ -202,14 +197,11 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
     animate: 'animate',
     block: (report) => report.ubb,
     setTime: (s, v) => { s.ubb.time = v; },
-    shown,
-    first: (report) => report.ubb.track[0].k,
-    last: (report) => report.ubb.steps - 1,
   },
   input: (p, id) => { if (id === 'time') showTime(p); },
-  stem({ st, ui }) {
+  stem({ st, cursorTime }) {
     const u = st.report?.ubb;
-    return `${st.preset.name}-${u ? `${u.norm}-k${shown(st.report, Number(ui.time.value))}` : 'ubb'}`;
+    return `${st.preset.name}-${u ? `${u.norm}-k${cursorTime()}` : 'ubb'}`;
   },
   init(p) {
     const { ui } = p;

@@ -10,10 +10,8 @@ import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { fmt, vec } from './format.js';
 
-const fmt = (v) => (typeof v !== 'number' || !Number.isFinite(v) ? '–'
-  : v === 0 ? '0' : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : String(Number(v.toPrecision(4))));
-const vec = (v) => (Array.isArray(v) ? `(${v.map(fmt).join(', ')})` : '–');
 const mat = (m) => (Array.isArray(m) && m.length && m[0].length
   ? `[${m.map((r) => r.map(fmt).join(' ')).join('; ')}]` : '–');
 const METHOD = { states: 'Θ known', parameters: 'states known (3.4)', swapping: 'swapping (4.1)', expansion: 'expansion (4.2)' };
@@ -97,9 +95,6 @@ function timeRange(p, toEnd = false) {
   }
   showTime(p);
 }
-
-// The time a slider value shows (within the kept report's steps while another runs).
-const shown = (report, v) => Math.min(Math.max(v, 1), report.uniform.steps.length);
 
 function showTime({ ui, st }) {
   const u = st.report?.uniform;
@@ -222,9 +217,6 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
     animate: 'animate',
     block: (report) => report.uniform,
     setTime: (s, v) => { s.uniform.time = v; },
-    shown,
-    first: () => 1,
-    last: (report) => report.uniform.steps.length,
   },
   input(p, id) {
     const { ui } = p;
@@ -239,9 +231,9 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
       ui['window-out'].textContent = `= ${ui.window.value}`;
     }
   },
-  stem({ st, ui }) {
+  stem({ st, cursorTime }) {
     const u = st.report?.uniform;
-    return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${shown(st.report, Number(ui.time.value))}` : 'uniform'}`;
+    return `${st.preset.name}-${u ? `${u.estimator}-w${u.window}-t${cursorTime()}` : 'uniform'}`;
   },
   init: ({ ui }) => { ui['m-D'].value = matrixText(CUSTOM_PRESET.scenario.uniform.D); },
   load,

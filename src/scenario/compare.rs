@@ -1217,6 +1217,9 @@ impl MethodScenario for Compare {
     fn cursor(&self, s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
         Ok(Some(Box::new(CompareCursor(s.prepare_compare()?))))
     }
+    fn cursor_steps(&self, report: &Report) -> Option<RangeInclusive<usize>> {
+        report.compare.as_ref().map(|c| c.first..=c.steps)
+    }
     fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
         let at: CompareAt = detail_of(at)?;
         let c = report.compare.as_mut().ok_or_else(|| {

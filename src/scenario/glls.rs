@@ -776,6 +776,20 @@ impl MethodScenario for Glls {
     fn presets(&self) -> Vec<Preset> {
         presets()
     }
+    /// The Section 5 study's result is the report's `glls.precision` (the "precision" panel
+    /// draws it), as a run with `glls.monte_carlo` holds it.
+    fn set_study(&self, report: &mut Report, result: serde_json::Value) -> Result<()> {
+        let precision: Option<PrecisionReport> =
+            crate::scenario::parse::from_value(&result, "glls.precision")?;
+        let g = report.glls.as_mut().ok_or_else(|| {
+            Error::field(
+                "report.glls",
+                "is missing: the report is not a GLLS report",
+            )
+        })?;
+        g.precision = precision;
+        Ok(())
+    }
 }
 
 /// Operations per horizon step and unit of n²(n + m): the curves' QR updates and small SVDs,

@@ -872,6 +872,25 @@ pub(crate) trait MethodScenario: Sync {
     /// scenario file, gathered by [`crate::presets::all`] under the method each one runs (a
     /// file shared by several methods, SCF's with KF, lists its presets once).
     fn presets(&self) -> Vec<Preset>;
+    /// The steps a report's time cursor moves over (the same range as its [`Cursor::steps`],
+    /// read from the report, so the page can place its slider without a cursor of its own);
+    /// `None` for a method without a time cursor.
+    fn cursor_steps(&self, _report: &Report) -> Option<RangeInclusive<usize>> {
+        None
+    }
+    /// Put the result of the method's study (its [`Study`]'s JSON, as `confset experiment`
+    /// prints it; `null` removes it) into the report, where the report of a scenario run with
+    /// that study would hold it, so the figures draw it. A method whose report holds no study
+    /// result refuses.
+    fn set_study(&self, report: &mut Report, _result: serde_json::Value) -> Result<()> {
+        Err(Error::field(
+            "study",
+            format!(
+                "cannot be put into the report: a \"{}\" report holds no study result",
+                report.method
+            ),
+        ))
+    }
 }
 
 /// The one dispatch from a method to its scenario file.
@@ -1228,6 +1247,18 @@ impl Report {
     /// another method's shape is an `at` error, and the report stays as it was.
     pub fn set_at(&mut self, at: serde_json::Value) -> Result<()> {
         make_method(self.method).set_at(self, at)
+    }
+
+    /// The steps the method's time cursor moves over for this report (a time outside them
+    /// shows the nearest of them), or `None` when the method has no time cursor.
+    pub fn cursor_steps(&self) -> Option<RangeInclusive<usize>> {
+        make_method(self.method).cursor_steps(self)
+    }
+
+    /// Put a result of the method's study into this report (`null` removes it), so the
+    /// figures draw it; a method whose report holds none refuses, and the report stays.
+    pub fn set_study(&mut self, result: serde_json::Value) -> Result<()> {
+        make_method(self.method).set_study(self, result)
     }
 
     /// The report with the scenario's method and figure context and every method's result

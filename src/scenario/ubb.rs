@@ -232,6 +232,16 @@ pub struct UbbReport {
     pub at: UbbStep,
 }
 
+impl UbbReport {
+    /// The steps of the time cursor, as [`UbbCursor`]'s: from the first step with a bounded
+    /// set (`first_bounded`, where the report's track starts; with δ = ∞ the first steps have
+    /// none) to the last step. An earlier time shows the first (`shown_step`).
+    pub fn cursor_steps(&self) -> RangeInclusive<usize> {
+        let last = self.steps.saturating_sub(1);
+        self.track.first().map_or(last, |t| t.k)..=last
+    }
+}
+
 /// Tolerance of the membership checks: the interior-point solver's accuracy on the data scale.
 pub const TOL: f64 = 1e-6;
 
@@ -1126,6 +1136,9 @@ impl MethodScenario for Ubb {
         report.time = at.k;
         u.at = at;
         Ok(())
+    }
+    fn cursor_steps(&self, report: &Report) -> Option<RangeInclusive<usize>> {
+        report.ubb.as_ref().map(UbbReport::cursor_steps)
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
         let p = s.prepare_ubb()?;

@@ -850,6 +850,10 @@ impl MethodScenario for Uniform {
         }
         table
     }
+    fn cursor_steps(&self, report: &Report) -> Option<RangeInclusive<usize>> {
+        // The times 1 … T of the on-line run, as `UniformCursor`'s.
+        report.uniform.as_ref().map(|u| 1..=u.steps.len())
+    }
     fn set_at(&self, report: &mut Report, at: serde_json::Value) -> Result<()> {
         let at: WindowReport = detail_of(at)?;
         let u = report.uniform.as_mut().ok_or_else(|| {

@@ -62,6 +62,7 @@ mod messages;
 mod metamorphic;
 mod precision;
 mod registry;
+mod report_hooks;
 mod scf_paper;
 mod sets;
 mod shards;
