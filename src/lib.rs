@@ -20,8 +20,9 @@
 //!   [`error::ECHO_CHARS`]); [`error::displayed`], the one way a figure shows one (control
 //!   characters dropped, cut at [`error::DISPLAY_CHARS`], before any layout)
 //! * [`method`]: the one [`Method`] enum (`scf`, `kf`, `lscr`, `glls`, `uniform_lp`, `ubb`, and
-//!   `compare`: all of them on one record), parsed once from the scenario; its names and its option
-//!   block
+//!   `compare`: all of them on one record), parsed once from the scenario; its names, its option
+//!   block and its study block. The only `match`es on `Method` outside this file are the one
+//!   `make_*` of each layer (`scenario::make_method`, `plot::make_figures`)
 //! * [`precision`]: where double precision stops resolving a method's sets: the one bound
 //!   0.8·√N·δ(Y)/σ·T on the probability that rounding flips a verdict (δ(Y) the spacing of doubles
 //!   at the data's magnitude, σ the noise scale), checked by each method's scenario file before any
@@ -56,7 +57,9 @@
 //!   [`sets::support_polygon`] the exact polygon of a planar convex set known only through its
 //!   support function (one LP per call: each unsettled stretch between two boundary points is
 //!   closed by a support call normal to it; used by `ubb` and `uniform`), and
-//!   [`sets::point_in_convex`]
+//!   [`sets::point_in_convex`]; in [`sets::plane`] the plane geometry every method and compare
+//!   shares (shoelace area, convex hull, box corners, 2×2 maps of points and ellipses, Minkowski
+//!   sums)
 //! * [`kalman`]: Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state
 //! * [`scf`]: State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40),
 //!   asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage; in
@@ -90,34 +93,40 @@
 //!   coefficients' span); every solve capped at [`solve::MAX_ITERATIONS`] and
 //!   [`solve::TIME_LIMIT_SECONDS`]; a [`solve::Family`] keeps one loaded problem for many
 //!   objectives (support functions)
-//! * [`scenario`]: Scenario and Report JSON, parsing with field paths ([`scenario::parse`]: the
-//!   text read once into a JSON value, a key given twice refused; every type read from that value
-//!   with serde_path_to_error, then serde's messages in JSON words at the path of the offending
-//!   value), the time [`scenario::Cursor`] of a scenario whose report keeps one step's detail (ubb,
-//!   uniform_lp: the run prepared once, `at(t)` on demand; [`scenario::Report::set_at`]), the
-//!   report's [`scenario::FigureContext`] (title, axis names, measured components, collision check:
-//!   what a figure takes from the scenario, made with every report), the one observations step
-//!   ([`scenario::Source`]: `data` or `simulate`, one step-count check per method), and the one
-//!   dispatch `scenario::make_method` from a [`Method`] to its scenario file, each of which ends
-//!   with its method's presets (`// Presets`: the builders and the menu entries): [`scenario::scf`]
-//!   (the top-level SCF/KF options, KF/SCF steps, collision warnings, the Fig. 1 curve, the
-//!   conditional experiment; the scalar and robot presets with the robot model), [`scenario::lscr`]
-//!   (the `lscr` block, window fitting, boundary, raster, probes, coverage; the cascade and MA(1)
-//!   presets), [`scenario::glls`] (the `glls` block; simulation with Gaussian, bounded or
-//!   worst-case noise; curves, estimates, guaranteed sets, regularized and state-noise estimators,
-//!   Monte Carlo; the four GLLS presets), [`scenario::uniform`] (the `uniform` block, on-line run,
-//!   window at the cursor, KF with r²/3; Pavelková's example), [`scenario::ubb`] (the `ubb` block,
-//!   the hull of x(k+1) at every step, the polygon, KF with matched variances, the guarantee study;
-//!   the four Tempo presets); [`scenario::compare`] (method `compare`: one record under one noise
-//!   law — Gaussian, uniform or truncated — every method's own scenario derived from it
-//!   ([`scenario::compare`]'s table: variances, the LSCR level, bounds b_v, b_w), run through
-//!   [`scenario::Scenario::run`] as its panel would, and its set for the target state read from its
-//!   report into a [`scenario::compare::PlaneSet`]; GLLS's ball and Pavelková's polygon carried to
-//!   x_{t+1} by the model they assume; each method's assumption checked against the law; a time
-//!   cursor over t; the study at a fixed true state (exact backward draws for Gaussian noise, else
-//!   unconditional) counting every method's hits beside its promise's band; the two cascade
-//!   presets); every method's file also gives the shape (q, r) of its `data`
-//!   ([`scenario::Scenario::data_shape`])
+//! * [`scenario`]: Scenario and Report JSON, and the one dispatch from a method to its file.
+//!   - parsing with field paths ([`scenario::parse`]: the text read once into a JSON value, a
+//!     key given twice refused; every type read from that value with serde_path_to_error, then
+//!     serde's messages in JSON words at the path of the offending value);
+//!   - [`scenario::Scenario::new`] and its setters: a builder names only its own block; one
+//!     generic check that a scenario carries no other method's block (the blocks are
+//!     [`Method::block`] and [`Method::study_block`], looped over);
+//!   - keys an older version wrote elsewhere are moved into their block before parsing (SCF's
+//!     top-level `tau`, `components`, `asymptotic`, `collision`, `coverage_curve` into `scf`),
+//!     and the report says so ([`scenario::Report::notices`]);
+//!   - the time [`scenario::Cursor`] of a scenario whose report keeps one step's detail (ubb,
+//!     uniform_lp, compare: `at(t)` on demand; [`scenario::Report::set_at`],
+//!     [`scenario::Report::cursor_steps`]); a study's result put into a report by one path
+//!     ([`scenario::Report::set_study`]: GLLS's precision panel);
+//!   - the report's [`scenario::FigureContext`] (title, axis names, measured components,
+//!     collision check: what a figure takes from the scenario);
+//!   - the one observations step ([`scenario::Source`]: `data` or `simulate`, one step-count
+//!     check per method);
+//!   - `MethodScenario`, the descriptor each method's scenario file implements (steps, data
+//!     shape, work estimate, run, CSV table, study, cursor, state limit, truth keys, moved keys,
+//!     its compare member, presets), reached through the one `scenario::make_method`;
+//!   - one file per method, each ending with its presets (`// Presets`) above which stands
+//!     what a compare asks of it (`// Compare`, [`scenario::compare`]'s `CompareMember`: its
+//!     assumption under a noise law, its scenario derived from the record, its set for the
+//!     target state read from its report): [`scenario::scf`] (the `scf` block; KF and SCF are
+//!     two descriptors of this file), [`scenario::lscr`], [`scenario::glls`],
+//!     [`scenario::uniform`], [`scenario::ubb`];
+//!   - [`scenario::compare`] (method `compare`): one record under one noise law (Gaussian,
+//!     uniform or truncated), every member's scenario derived from it and run through
+//!     [`scenario::Scenario::run`] as its panel would, its set read into a
+//!     [`scenario::compare::PlaneSet`], each assumption checked against the law, a time cursor
+//!     over t, and the study at a fixed true state counting every member's hits beside its
+//!     promise's band. It loops over the members and never asks a method's kind;
+//!   - [`scenario::preset`]: the [`presets::Preset`] type the files build their presets with
 //! * [`scenario::csv`]: measured data from CSV text, the one parser of the page (wasm
 //!   `withCsvData`, `dataShape`), the CLI (`confset run --data FILE.csv`) and the tests:
 //!   [`scenario::data_from_csv`] and [`scenario::Scenario::with_csv_data`] (columns y₁ … y_q then
@@ -126,45 +135,51 @@
 //!   [`scenario::csv::MAX_CSV_ROWS`] rows, checked before any cell is read; every cell in the
 //!   scenario's number range, by the same [`scenario::magnitude_problem`] as JSON; errors name
 //!   `data`, `data.y`, `data.u` with the file's line number and the column)
-//! * [`presets`]: the menu of the papers' examples as scenarios (used by page, CLI and tests): the
-//!   [`presets::Preset`] type, [`presets::all`] (every method of [`Method::ALL`] in turn, from its
-//!   scenario file's presets; no names listed), [`presets::get`], and re-exports of the builders
-//!   that live in the scenario files (`presets::scalar()`, `presets::ubb_preset(…)`, …)
-//! * [`plot`]: figures on any plotters backend from the report and a [`plot::View`] (panel, time,
-//!   zoom) alone, so page and CLI draw the same figure; one file per kind of picture: `state`
-//!   (state plane), `series`, `coverage` (SCF Fig. 1), `region` (LSCR Figs. 1–3: exact hatching of
-//!   what each X̂_l excludes, cut from `SignRegion::spans`, tinted X̂ from its boundary loops, BLUE
-//!   and Kalman ellipses, unbounded note), `glls` / `glls_plane` / `glls_precision` (GLLS Figs.
-//!   1–4: σ_i(Γ_{s+1}) and σ_i(Γ_{s+1}A^{−s}) against s with the floating-point floor, σ_n/√s with
-//!   the best horizon, the state plane with the guaranteed ball and box, error box plots against
-//!   the horizon with the bound), `uniform` / `uniform_params` / `uniform_polygon` (Pavelková Figs.
-//!   1–3: states, estimates and errors with the window's optimal-face bars, output prediction, Θ̂
-//!   and half-widths over time, the consistent-state polygon), `ubb` / `ubb_width` (Tempo: the
-//!   exact feasible polygon of x(k+1) with its interval hull, central estimate, truth and Kalman
-//!   ellipse; the hull widths over k against the Theorem 4 bound, with the truth in its hull
-//!   bands), `compare` (every method's set for one state on equal axes, one colour per method,
-//!   hidden ones left out ([`plot::View::hide`]), sets far larger than the median cut at the
-//!   window)
+//! * [`presets`]: the menu of the papers' examples as scenarios (used by page, CLI and tests):
+//!   [`presets::all`] (every method of [`Method::ALL`] in turn, from its scenario file's presets;
+//!   no names listed), [`presets::get`], and re-exports of the builders that live in the scenario
+//!   files (`presets::scalar()`, `presets::ubb_preset(…)`, …)
+//! * [`plot`]: figures on any plotters backend from the report and a [`plot::View`] (panel,
+//!   time, zoom, hidden methods) alone, so page and CLI draw the same figure.
+//!   - `plot/figures.rs`: the `Figures` trait each method's folder implements (its panels, each
+//!     a [`plot::Panel`] name with its alternative text declared in the file that draws it; the
+//!     words for its reports; `useful`; `draw`; its look in compare: colour, label, fill,
+//!     layer), reached through the one `plot::make_figures`;
+//!   - `plot/view.rs`: the shared view types ([`plot::View`], [`plot::Panel`], `Zoom`,
+//!     [`plot::Frame`]);
+//!   - one folder per method: `scf/` (state plane, series, SCF Fig. 1 coverage; KF shares it),
+//!     `lscr/` (Figs. 1–3: exact hatching of what each X̂_l excludes, tinted X̂ from its
+//!     boundary loops, BLUE and Kalman ellipses), `glls/` (Figs. 1–4: singular values against s
+//!     with the floating-point floor, the best horizon, the state plane with the guaranteed
+//!     ball and box, error box plots with the bound), `uniform/` (Pavelková Figs. 1–3 and the
+//!     consistent-state polygon), `ubb/` (Tempo: the exact feasible polygon with its interval
+//!     hull, central estimate, truth and Kalman ellipse; hull widths against Theorem 4),
+//!     `compare/` (every member's set on equal axes in its own look, hidden ones left out);
+//!   - `plot/style/` in layers, each importing only those below: `palette` and `number`, then
+//!     `text` (the one title helper), `axes`, `marks`, `legend`, `notes`; `geom.rs` (clipping)
+//!     and `erase.rs` (one backend type) beside them
 //! * [`gallery`]: (native only) the papers as a static site (`confset gallery`): `printed.json`,
 //!   the catalogue of every figure and table a preset reproduces with the paper's printed numbers
 //!   and where ours are in the report or study JSON; [`gallery::printed::verdict`] (reproduced at
 //!   the printed digits, within a 99.9 % two-proportion band for Monte Carlo counts, or differs,
 //!   with the erratum quoted from `src/errata.md`, the list below); [`gallery::build`] writes
 //!   index, entries, SVG figures and JSON downloads with relative links and no script
-//! * `web`: (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS exceptions;
-//!   `presets`, `limits`, `methodPanels` (a method's figures with their text alternatives),
-//!   `withCsvData` and `dataShape` (CSV data for a scenario); `Session` (run, `setReport` (a report
-//!   computed in the page's worker), `setAt` (a step's detail from the worker's cursor into the
-//!   kept report), `usefulPanels`, draw, svg, LSCR raster, GLLS precision), `Cursor` (a scenario's
-//!   [`scenario::Cursor`]: `at(t)`, the report's `at` at step t, for the worker), `testOnlyAbort`
-//!   (the page tests' crash), `timeCompare` (the worker's clock for a compare's per-method times)
-//!   and one chunked `Study` for every method's Monte Carlo
+//! * `web`: (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS
+//!   exceptions; `presets`, `limits`, `methodPanels` (a method's figures with their text
+//!   alternatives), `withCsvData` and `dataShape` (CSV data for a scenario), `ellipsoidLevel`;
+//!   `Session` (run, `setReport` (a report computed in the page's worker), `setAt` (a step's
+//!   detail from the worker's cursor into the kept report), `setStudy` (a study's result into
+//!   the report), `cursorSteps`, `usefulPanels`, draw, svg, LSCR raster), `Cursor` (a
+//!   scenario's [`scenario::Cursor`] for the worker), `testOnlyAbort` (the page tests' crash),
+//!   `timeCompare` (the worker's clock for a compare's per-method times) and one chunked `Study`
+//!   for every method's Monte Carlo
 //!
 //! The command line lives in `src/bin/confset/` (clap arguments in `cli.rs`); the page in `www/` (no numerics there):
 //! `app.js` is the shell (routes `#scf` … `#ubb` and the landing view, share links
 //! `#panel/v1/<deflate-raw base64url of {preset, fields, scenario?}>` in `share.js`, scenario
-//! files and CSV data through the core's `withCsvData`), `registry.js` the one list of panels,
-//! `index.html` only the shell's markup, each panel's markup in `views/<id>.html` (fetched on the
+//! files and CSV data through the core's `withCsvData`), `registry.js` the one list of panels
+//! (the shell renders the menu and each view's section from it), `index.html` only the frame,
+//! `format.js` the one number format, each panel's markup in `views/<id>.html` (fetched on the
 //! first visit; ids are looked up under the panel's root, so a view can be mounted twice),
 //! `panel.js` the one skeleton (`mountPanel`: session, figure cards, inline errors, frame
 //! scheduling, downloads) that each panel module (`scf.js`, `lscr.js`, `glls.js`, `uniform.js`,
@@ -191,17 +206,36 @@
 //!
 //! ## Layers
 //!
-//! `error` → `linalg`, `stats`, `solve`, `study` → `model`, `sets` → the method files (`kalman`,
-//! `scf`, `lscr`, `glls`, `uniform`, `ubb`; none imports `scenario`) → `scenario` (JSON, one
-//! dispatch, each method's presets) → `presets` (the menu over them; the scenario files use only
-//! its `Preset` type), `plot` → the CLI and `web`. Adding a method is one [`Method`] arm (with
-//! its arm in `scenario::make_method`, its block in `Scenario` and `Report`), one method file,
-//! one scenario file (with its presets at the bottom: `presets.rs` is not touched), its plot
-//! files with their [`plot::Panel`] variants and one arm of `plot::method_panels`, and on the page
-//! one panel module and its markup `www/views/<id>.html`, with its descriptor in `www/registry.js`
-//! and its view's section (heading, empty root) in `www/index.html`.
-//! The shared places a new method touches: `method.rs`, `scenario/mod.rs`, `plot/mod.rs` in the
-//! core; `registry.js` and `index.html` on the page.
+//! `error` → `linalg`, `stats`, `solve`, `study`, `parse` → `model`, `sets` → the method files
+//! (`kalman`, `scf`, `lscr`, `glls`, `uniform`, `ubb`; none imports `scenario`) → `scenario`
+//! (JSON, one dispatch, each method's descriptor, compare, presets) → `presets` (the menu over
+//! them), `plot` → the CLI and `web`. No import circle, no arrow back up between these; inside
+//! `scenario/` the only upward imports are `mod.rs`'s: the blocks' types in `Scenario` and
+//! `Report`, and `make_method`.
+//!
+//! ### What a new method touches
+//!
+//! Its own files:
+//! * `src/<method>.rs` (or a folder): the numerics, knowing nothing of JSON;
+//! * `src/scenario/<method>.rs`: its block, `impl MethodScenario` (rustc asks for every
+//!   required item: steps, data shape, work, run, table, study, state limit, truth keys,
+//!   compare member, presets) and, to join compare, `impl CompareMember`;
+//! * `src/plot/<method>/`: `impl Figures` and its panels (and its compare look);
+//! * `www/<id>.js` and `www/views/<id>.html`: its controls ⇄ scenario mapping and markup.
+//!
+//! Shared files, each edit asked for by the compiler or a registry test:
+//! * `src/method.rs`: the variant, [`Method::ALL`], `name`, `block`, `study_block`;
+//! * `src/scenario/mod.rs`: `pub mod`, the block field in `Scenario` (and its line in
+//!   `Scenario::new`), the result field in `Report` (and in `Report::of`), the arm of
+//!   `make_method`;
+//! * `src/plot/mod.rs`: `mod`, the arm of `plot::make_figures`;
+//! * `www/registry.js`: its descriptor (route, nav, heading, module, names).
+//!
+//! A colour of its own for compare may be added to `plot/style/palette.rs`. Tests with a
+//! deliberate exhaustive `match` over [`Method`] (`tests/suite/registry.rs`,
+//! `tests/suite/compare.rs`) stop compiling until they name it; every other test loops over
+//! the registries, and `registry::every_method_is_in_every_registry` fails for a method
+//! missing from any of them. Its presets need golden digests (`tests/golden/presets.json`).
 //!
 //! ## Invariants
 //!
