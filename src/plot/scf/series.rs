@@ -213,8 +213,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         }
     }
     let title = cx.title("KF and SCF estimates over time");
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let parts = area.split_evenly((comps.len().max(1), 1));
     let xd = "time t (steps)";
     let mut frames: Vec<Frame> = Vec::new();
