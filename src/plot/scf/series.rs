@@ -147,38 +147,33 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
             .minor(),
         );
     }
-    entries.push(Entry::new(
-        "KF center",
-        Swatch::Line {
-            color: KF,
-            dashed: true,
-            width: 2,
-        },
-    ));
-    entries.push(Entry::new(
-        format!("KF interval ({})", pct(r.alpha)),
-        Swatch::Line {
-            color: KF,
-            dashed: true,
-            width: 1,
-        },
-    ));
-    if has_scf {
+    // Each filter's center line, then its interval: KF dashed lines, SCF a solid line and band.
+    let kf_interval = Swatch::Line {
+        color: KF,
+        dashed: true,
+        width: 1,
+    };
+    let scf_interval = Swatch::Region {
+        color: SCF,
+        dashed: false,
+        fill: true,
+    };
+    let filters = [
+        ("KF", KF, true, kf_interval),
+        ("SCF", SCF, false, scf_interval),
+    ];
+    for (name, color, dashed, interval) in filters.into_iter().take(1 + has_scf as usize) {
         entries.push(Entry::new(
-            "SCF center",
+            format!("{name} center"),
             Swatch::Line {
-                color: SCF,
-                dashed: false,
+                color,
+                dashed,
                 width: 2,
             },
         ));
         entries.push(Entry::new(
-            format!("SCF interval ({})", pct(r.alpha)),
-            Swatch::Region {
-                color: SCF,
-                dashed: false,
-                fill: true,
-            },
+            format!("{name} interval ({})", pct(r.alpha)),
+            interval,
         ));
     }
 
