@@ -310,20 +310,16 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         for which in [1, 2] {
             style::path(root, &chart, &line(&c.kf, which), &KF, 1, Some((5, 4)))?;
         }
-        let truth: Vec<(f64, f64)> = c
-            .truth
-            .iter()
-            .enumerate()
-            .filter_map(|(q, v)| Some((xs(q), (*v)?)))
-            .collect();
+        // The points of a series where it has a value.
+        let known = |v: &[Option<f64>]| -> Vec<(f64, f64)> {
+            v.iter()
+                .enumerate()
+                .filter_map(|(q, v)| Some((xs(q), (*v)?)))
+                .collect()
+        };
+        let truth = known(&c.truth);
         style::path(root, &chart, &truth, &TRUTH, 2, None)?;
-        let meas: Vec<(f64, f64)> = c
-            .meas
-            .iter()
-            .enumerate()
-            .filter_map(|(q, v)| Some((xs(q), (*v)?)))
-            .collect();
-        style::dots(root, &chart, &meas, &MEASURE, 2)?;
+        style::dots(root, &chart, &known(&c.meas), &MEASURE, 2)?;
         style::path(root, &chart, &line(&c.kf, 0), &KF, 2, Some(style::DASH))?;
         style::path(root, &chart, &line(&c.scf, 0), &SCF, 2, None)?;
         style::cursor(root, &chart, &fonts, t as f64, &format!("t = {t}"))?;
