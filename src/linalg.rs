@@ -59,6 +59,11 @@ pub fn decreasing_order(values: &[f64]) -> Vec<usize> {
     idx
 }
 
+/// `f` of the entries of `a` and `b` pair by pair (as far as the shorter goes).
+pub fn zip_with(a: &[f64], b: &[f64], f: fn(f64, f64) -> f64) -> Vec<f64> {
+    a.iter().zip(b).map(|(&x, &y)| f(x, y)).collect()
+}
+
 /// Rows of a matrix, for JSON.
 pub fn to_rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
     (0..m.nrows())

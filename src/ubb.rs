@@ -995,19 +995,10 @@ impl StateStep {
     }
 
     fn shift(&self, h: IntervalHull) -> IntervalHull {
+        let add = |v: &[f64]| crate::linalg::zip_with(v, self.offset.as_slice(), |a, b| a + b);
         IntervalHull {
-            lo: h
-                .lo
-                .iter()
-                .zip(self.offset.iter())
-                .map(|(a, b)| a + b)
-                .collect(),
-            hi: h
-                .hi
-                .iter()
-                .zip(self.offset.iter())
-                .map(|(a, b)| a + b)
-                .collect(),
+            lo: add(&h.lo),
+            hi: add(&h.hi),
         }
     }
 

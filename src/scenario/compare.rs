@@ -362,23 +362,16 @@ impl Scenario {
             ));
         }
         let noise = noise_of(&self.model, &lm)?;
-        if !(0.5..=10.0).contains(&spec.bound_sigmas) {
-            return Err(Error::field(
-                "compare.bound_sigmas",
-                format!(
-                    "must be a number from 0.5 to 10, found {}",
-                    spec.bound_sigmas
-                ),
-            ));
-        }
-        if !(0.01..=100.0).contains(&spec.bound_scale) {
-            return Err(Error::field(
-                "compare.bound_scale",
-                format!(
-                    "must be a number from 0.01 to 100, found {}",
-                    spec.bound_scale
-                ),
-            ));
+        for (field, v, lo, hi) in [
+            ("compare.bound_sigmas", spec.bound_sigmas, 0.5, 10.0),
+            ("compare.bound_scale", spec.bound_scale, 0.01, 100.0),
+        ] {
+            if !(lo..=hi).contains(&v) {
+                return Err(Error::field(
+                    field,
+                    format!("must be a number from {lo} to {hi}, found {v}"),
+                ));
+            }
         }
         if !(1..=MAX_WINDOW).contains(&spec.window) {
             return Err(Error::field(

@@ -45,18 +45,8 @@ impl BoxSet {
     /// Smallest box containing both.
     pub fn union(&self, other: &BoxSet) -> BoxSet {
         BoxSet {
-            lo: self
-                .lo
-                .iter()
-                .zip(&other.lo)
-                .map(|(a, b)| a.min(*b))
-                .collect(),
-            hi: self
-                .hi
-                .iter()
-                .zip(&other.hi)
-                .map(|(a, b)| a.max(*b))
-                .collect(),
+            lo: linalg::zip_with(&self.lo, &other.lo, f64::min),
+            hi: linalg::zip_with(&self.hi, &other.hi, f64::max),
         }
     }
     /// The box grown by `margin` times its width on every side.

@@ -291,16 +291,22 @@ impl SignRegion {
         Ok(())
     }
 
-    /// Exact membership of every pixel centre (see the module docs for the method).
-    pub fn raster(&self, window: &BoxSet, width: usize, height: usize) -> Result<GridRegion> {
+    /// The raster of `window` at `width` × `height` pixels with no pixel excluded yet, once the
+    /// region is 2-D and the window and size are checked.
+    fn empty_grid(&self, window: &BoxSet, width: usize, height: usize) -> Result<GridRegion> {
         self.need_2d()?;
         Self::check_window(window, width, height)?;
-        let mut grid = GridRegion {
+        Ok(GridRegion {
             window: window.clone(),
             width,
             height,
             excluded: vec![0; width * height],
-        };
+        })
+    }
+
+    /// Exact membership of every pixel centre (see the module docs for the method).
+    pub fn raster(&self, window: &BoxSet, width: usize, height: usize) -> Result<GridRegion> {
+        let mut grid = self.empty_grid(window, width, height)?;
         let (dx, dy) = grid.pixel();
         let x0 = window.lo[0];
         let xs: Vec<f64> = (0..width).map(|j| x0 + (j as f64 + 0.5) * dx).collect();
@@ -424,14 +430,7 @@ impl SignRegion {
     /// Membership of every pixel centre by evaluating every function there: the reference
     /// that [`SignRegion::raster`] must equal.
     pub fn raster_brute(&self, window: &BoxSet, width: usize, height: usize) -> Result<GridRegion> {
-        self.need_2d()?;
-        Self::check_window(window, width, height)?;
-        let mut grid = GridRegion {
-            window: window.clone(),
-            width,
-            height,
-            excluded: vec![0; width * height],
-        };
+        let mut grid = self.empty_grid(window, width, height)?;
         for r in 0..height {
             for j in 0..width {
                 let (x, y) = grid.centre(r, j);

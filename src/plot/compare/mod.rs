@@ -12,9 +12,9 @@ use crate::plot::figures::Area;
 use crate::plot::figures::{Canvas, CompareLook, Figures, Request, SetFill};
 use crate::plot::geom::Win;
 use crate::plot::geom::{clip_polygon, clip_polyline};
-use crate::plot::style::{self, Entry, Fonts, Marker, Swatch, TRUTH};
+use crate::plot::style::{self, Entry, Marker, Swatch, TRUTH};
 use crate::plot::view::PanelSpec;
-use crate::plot::view::{Frame, Panel, View, Zoom};
+use crate::plot::view::{Frame, Panel, Zoom};
 use crate::scenario::compare::{MethodSet, PlaneSet, Target};
 use crate::scenario::{CompareReport, Report};
 use plotters::prelude::*;
@@ -40,14 +40,8 @@ impl Figures for CompareFigures {
         "a compare"
     }
     fn draw(&self, _panel: Panel, canvas: Canvas<'_>, request: &Request) -> Result<Frame> {
-        let Request {
-            report,
-            view,
-            fonts,
-            figures_of,
-        } = *request;
-        check(report, figures_of)?;
-        canvas.paint(|root| draw(root, report, view, fonts, figures_of))
+        check(request.report, request.figures_of)?;
+        canvas.paint(|root| draw(root, request))
     }
 }
 
@@ -117,13 +111,9 @@ fn loops(s: &MethodSet) -> Result<Vec<Vec<(f64, f64)>>> {
 }
 
 /// The "compare" panel.
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-    figures_of: FiguresOf,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
+    let figures_of = request.figures_of;
     let c = check(report, figures_of)?;
     let look = |m: Method| look(figures_of, m);
     let at = &c.at;

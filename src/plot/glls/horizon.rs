@@ -513,31 +513,25 @@ pub fn draw_index<DB: DrawingBackend>(
             sub(p)
         ));
     }
-    let mut entries = vec![Entry::new(
-        if short {
-            format!("σ{}/√s", sub(n))
-        } else {
-            format!("σ{}/√s (n = {n})", sub(n))
-        },
-        Swatch::Line {
-            color: color_n,
-            dashed: false,
-            width: 2,
-        },
-    )];
-    if let (Some(p), Some(cp), Some(_)) = (p, color_p, &reg) {
-        entries.push(Entry::new(
+    // The curve σ_k/√s, its long label saying which k.
+    let curve = |k: usize, which: String, color: RGBColor, dashed: bool| {
+        let label = format!("σ{}/√s", sub(k));
+        Entry::new(
             if short {
-                format!("σ{}/√s", sub(p))
+                label
             } else {
-                format!("σ{}/√s (p = {p}, regularized)", sub(p))
+                format!("{label} ({which})")
             },
             Swatch::Line {
-                color: cp,
-                dashed: true,
+                color,
+                dashed,
                 width: 2,
             },
-        ));
+        )
+    };
+    let mut entries = vec![curve(n, format!("n = {n}"), color_n, false)];
+    if let (Some(p), Some(cp), Some(_)) = (p, color_p, &reg) {
+        entries.push(curve(p, format!("p = {p}, regularized"), cp, true));
     }
     entries.push(
         Entry::new(

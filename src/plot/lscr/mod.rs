@@ -23,14 +23,8 @@ impl Figures for LscrFigures {
         "an LSCR"
     }
     fn draw(&self, _panel: Panel, canvas: Canvas<'_>, request: &Request) -> Result<Frame> {
-        let Request {
-            report,
-            view,
-            fonts,
-            ..
-        } = *request;
-        region::lscr_of(report)?;
-        canvas.paint(|root| region::draw(root, report, view, fonts))
+        region::lscr_of(request.report)?;
+        canvas.paint(|root| region::draw(root, request))
     }
     fn compare_look(&self) -> Option<CompareLook> {
         Some(CompareLook {

@@ -18,12 +18,12 @@
 
 use crate::error::{Error, Result};
 use crate::plot::erase::de;
-use crate::plot::figures::Area;
+use crate::plot::figures::{Area, Request};
 use crate::plot::geom::Win;
 use crate::plot::style::{
-    self, pct, sig, sub, Entry, Fonts, Marker, Swatch, BLUE_EST, KF, LSCR, LSCR_TINT, TRUTH,
+    self, pct, sig, sub, Entry, Marker, Swatch, BLUE_EST, KF, LSCR, LSCR_TINT, TRUTH,
 };
-use crate::plot::view::{Frame, PanelSpec, View, Zoom};
+use crate::plot::view::{Frame, PanelSpec, Zoom};
 use crate::scenario::lscr::Estimate;
 use crate::scenario::lscr::{plane_region, LscrReport};
 use crate::scenario::Report;
@@ -392,12 +392,8 @@ fn unbounded_arrows<DB: DrawingBackend>(
 }
 
 /// Draw the region panel.
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let l = lscr_of(report)?;
     l.region.validate("report.lscr.region")?;
     if l.plot[0] >= l.region.dim || l.plot[1] >= l.region.dim || l.plot[0] == l.plot[1] {
@@ -555,55 +551,53 @@ pub fn draw<DB: DrawingBackend>(
             .zip(e.as_ref())
             .and_then(|(o, _)| ellipse_level(o.radius2, o.dim()))
     };
-    if blue.is_some() {
+    // Each estimate the report holds: its point (a minor entry), then its ellipse. The Kalman
+    // one is x̂_{t+1|t} (prediction) or x̂_{t|t} (filtering): τ given t.
+    let estimates = [
+        (
+            &blue,
+            &l.blue,
+            "BLUE estimate".to_string(),
+            Marker::Star,
+            BLUE_EST,
+            "BLUE",
+            false,
+        ),
+        (
+            &kf,
+            &l.kf,
+            format!("Kalman estimate x̂{}|{}", sub(tau), sub(l.t)),
+            Marker::Cross,
+            KF,
+            "KF",
+            true,
+        ),
+    ];
+    for (e, orig, point, shape, color, name, dashed) in estimates {
+        if e.is_none() {
+            continue;
+        }
         entries.push(
             Entry::new(
-                "BLUE estimate",
+                point,
                 Swatch::Marker {
-                    shape: Marker::Star,
-                    color: BLUE_EST,
+                    shape,
+                    color,
                     size: 5,
                 },
             )
             .minor(),
         );
-        let lv = level_of(&blue, &l.blue).map(pct).unwrap_or_default();
+        let lv = level_of(e, orig).map(pct).unwrap_or_default();
         entries.push(Entry::new(
             if short {
-                format!("BLUE {lv}")
+                format!("{name} {lv}")
             } else {
-                format!("BLUE ellipse {lv}{sliced}")
+                format!("{name} ellipse {lv}{sliced}")
             },
             Swatch::Region {
-                color: BLUE_EST,
-                dashed: false,
-                fill: false,
-            },
-        ));
-    }
-    if kf.is_some() {
-        // x̂_{t+1|t} (prediction) or x̂_{t|t} (filtering): τ given t.
-        entries.push(
-            Entry::new(
-                format!("Kalman estimate x̂{}|{}", sub(tau), sub(l.t)),
-                Swatch::Marker {
-                    shape: Marker::Cross,
-                    color: KF,
-                    size: 5,
-                },
-            )
-            .minor(),
-        );
-        let lv = level_of(&kf, &l.kf).map(pct).unwrap_or_default();
-        entries.push(Entry::new(
-            if short {
-                format!("KF {lv}")
-            } else {
-                format!("KF ellipse {lv}{sliced}")
-            },
-            Swatch::Region {
-                color: KF,
-                dashed: true,
+                color,
+                dashed,
                 fill: false,
             },
         ));

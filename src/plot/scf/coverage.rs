@@ -126,8 +126,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
     } else {
         title
     };
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let xd = if r.n == 1 {
         format!("x̄: the value at which x{} is fixed", sub(cc.time))
     } else {

@@ -147,38 +147,33 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
             .minor(),
         );
     }
-    entries.push(Entry::new(
-        "KF center",
-        Swatch::Line {
-            color: KF,
-            dashed: true,
-            width: 2,
-        },
-    ));
-    entries.push(Entry::new(
-        format!("KF interval ({})", pct(r.alpha)),
-        Swatch::Line {
-            color: KF,
-            dashed: true,
-            width: 1,
-        },
-    ));
-    if has_scf {
+    // Each filter's center line, then its interval: KF dashed lines, SCF a solid line and band.
+    let kf_interval = Swatch::Line {
+        color: KF,
+        dashed: true,
+        width: 1,
+    };
+    let scf_interval = Swatch::Region {
+        color: SCF,
+        dashed: false,
+        fill: true,
+    };
+    let filters = [
+        ("KF", KF, true, kf_interval),
+        ("SCF", SCF, false, scf_interval),
+    ];
+    for (name, color, dashed, interval) in filters.into_iter().take(1 + has_scf as usize) {
         entries.push(Entry::new(
-            "SCF center",
+            format!("{name} center"),
             Swatch::Line {
-                color: SCF,
-                dashed: false,
+                color,
+                dashed,
                 width: 2,
             },
         ));
         entries.push(Entry::new(
-            format!("SCF interval ({})", pct(r.alpha)),
-            Swatch::Region {
-                color: SCF,
-                dashed: false,
-                fill: true,
-            },
+            format!("{name} interval ({})", pct(r.alpha)),
+            interval,
         ));
     }
 
@@ -213,8 +208,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         }
     }
     let title = cx.title("KF and SCF estimates over time");
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let parts = area.split_evenly((comps.len().max(1), 1));
     let xd = "time t (steps)";
     let mut frames: Vec<Frame> = Vec::new();
@@ -316,20 +310,16 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         for which in [1, 2] {
             style::path(root, &chart, &line(&c.kf, which), &KF, 1, Some((5, 4)))?;
         }
-        let truth: Vec<(f64, f64)> = c
-            .truth
-            .iter()
-            .enumerate()
-            .filter_map(|(q, v)| Some((xs(q), (*v)?)))
-            .collect();
+        // The points of a series where it has a value.
+        let known = |v: &[Option<f64>]| -> Vec<(f64, f64)> {
+            v.iter()
+                .enumerate()
+                .filter_map(|(q, v)| Some((xs(q), (*v)?)))
+                .collect()
+        };
+        let truth = known(&c.truth);
         style::path(root, &chart, &truth, &TRUTH, 2, None)?;
-        let meas: Vec<(f64, f64)> = c
-            .meas
-            .iter()
-            .enumerate()
-            .filter_map(|(q, v)| Some((xs(q), (*v)?)))
-            .collect();
-        style::dots(root, &chart, &meas, &MEASURE, 2)?;
+        style::dots(root, &chart, &known(&c.meas), &MEASURE, 2)?;
         style::path(root, &chart, &line(&c.kf, 0), &KF, 2, Some(style::DASH))?;
         style::path(root, &chart, &line(&c.scf, 0), &SCF, 2, None)?;
         style::cursor(root, &chart, &fonts, t as f64, &format!("t = {t}"))?;

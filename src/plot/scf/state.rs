@@ -71,6 +71,47 @@ struct Shown {
     pred: usize,
 }
 
+/// The name of a region `z` for time `pred` from data up to `t` ("Z₄₀|₃₆", or "Z₃₆" when they
+/// are the same); a prediction (`pred` > t) says so in `notes`, naming `of` what.
+fn predicted(z: &str, of: &str, pred: usize, t: usize, notes: &mut Vec<String>) -> String {
+    if pred == t {
+        return format!("{z}{}", sub(t));
+    }
+    notes.push(format!(
+        "{}-step prediction{of} for t = {pred} from y₁ … y{}",
+        pred - t,
+        sub(t)
+    ));
+    format!("{z}{}|{}", sub(pred), sub(t))
+}
+
+/// The body drawn at `idx` from the KF and SCF regions projected on their components `pp`.
+fn projected(
+    kf: &Ellipsoid,
+    scf: Option<&Ellipsoid>,
+    pp: [usize; 2],
+    idx: [usize; 2],
+) -> Result<Body> {
+    let kf = boundary(&kf.project(&pp)?)?;
+    let scf = match scf {
+        Some(e) => Some(boundary(&e.project(&pp)?)?),
+        None => None,
+    };
+    Ok(Body {
+        tag: None,
+        idx,
+        kf: Some(kf),
+        scf,
+    })
+}
+
+/// Regions of `dim` > 2 dimensions are drawn projected on the plane: say so in `notes`.
+fn projection_note(dim: usize, notes: &mut Vec<String>) {
+    if dim > 2 {
+        notes.push(format!("{dim}-dimensional regions projected on the plane"));
+    }
+}
+
 /// Which regions the plane of components i, j shows: both collision bodies (the check's
 /// predicted regions), the target (ζ at t + τ, projected), or X_t projected.
 fn shown(cx: &Ctx, i: usize, j: usize) -> Result<Shown> {
@@ -115,18 +156,7 @@ fn shown(cx: &Ctx, i: usize, j: usize) -> Result<Shown> {
                 scf,
             });
         }
-        region_name = if pred == t {
-            format!("Z{}", sub(t))
-        } else {
-            format!("Z{}|{}", sub(pred), sub(t))
-        };
-        if pred != t {
-            notes.push(format!(
-                "{}-step prediction of both positions for t = {pred} from y₁ … y{}",
-                pred - t,
-                sub(t)
-            ));
-        }
+        region_name = predicted("Z", " of both positions", pred, t, &mut notes);
         let d_min = spec
             .map(|s| format!(" (d_min = {})", sig(s.d_min)))
             .unwrap_or_default();
@@ -161,55 +191,14 @@ fn shown(cx: &Ctx, i: usize, j: usize) -> Result<Shown> {
         Some((g, [pi, pj]))
     }) {
         let (g, pp) = pos;
-        let kf = boundary(&g.kf.project(&pp)?)?;
-        let scf = match &g.scf {
-            Some(e) => Some(boundary(&e.project(&pp)?)?),
-            None => None,
-        };
-        bodies.push(Body {
-            tag: None,
-            idx: [i, j],
-            kf: Some(kf),
-            scf,
-        });
+        bodies.push(projected(&g.kf, g.scf.as_ref(), pp, [i, j])?);
         let z = if g.components.len() == r.n { "X" } else { "Z" };
-        region_name = if pred == t {
-            format!("{z}{}", sub(t))
-        } else {
-            format!("{z}{}|{}", sub(pred), sub(t))
-        };
-        if pred != t {
-            notes.push(format!(
-                "{}-step prediction for t = {pred} from y₁ … y{}",
-                pred - t,
-                sub(t)
-            ));
-        }
-        if g.components.len() > 2 {
-            notes.push(format!(
-                "{}-dimensional regions projected on the plane",
-                g.components.len()
-            ));
-        }
+        region_name = predicted(z, "", pred, t, &mut notes);
+        projection_note(g.components.len(), &mut notes);
     } else {
-        let kf = boundary(&step.kf.project(&[i, j])?)?;
-        let scf = match &step.scf {
-            Some(e) => Some(boundary(&e.project(&[i, j])?)?),
-            None => None,
-        };
-        bodies.push(Body {
-            tag: None,
-            idx: [i, j],
-            kf: Some(kf),
-            scf,
-        });
+        bodies.push(projected(&step.kf, step.scf.as_ref(), [i, j], [i, j])?);
         region_name = format!("X{}", sub(t));
-        if r.n > 2 {
-            notes.push(format!(
-                "{}-dimensional regions projected on the plane",
-                r.n
-            ));
-        }
+        projection_note(r.n, &mut notes);
     }
     Ok(Shown {
         bodies,
@@ -734,8 +723,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
         notes.push(format!("projection of the {}-dimensional regions", r.n));
     }
     let title = cx.title("KF and SCF intervals over time");
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let yd = cx.name(k);
     let xd = "time t (steps)";
     let chart = style::chart(

@@ -26,18 +26,12 @@ impl Figures for UbbFigures {
         "a set-membership"
     }
     fn draw(&self, panel: Panel, canvas: Canvas<'_>, request: &Request) -> Result<Frame> {
-        let Request {
-            report,
-            view,
-            fonts,
-            ..
-        } = *request;
-        check(report, panel)?;
+        check(request.report, panel)?;
         canvas.paint(|root| {
             if panel == Panel::of(&SET_PANEL) {
-                draw_set(root, report, view, fonts)
+                draw_set(root, request)
             } else {
-                width::draw(root, report, view, fonts)
+                width::draw(root, request)
             }
         })
     }

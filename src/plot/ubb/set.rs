@@ -10,11 +10,11 @@
 //! equal scales on both axes of the set panel.
 
 use crate::error::{Error, Result};
-use crate::plot::figures::Area;
+use crate::plot::figures::{Area, Request};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, sig, sub, Entry, Fonts, Marker, Swatch, KF, TRUTH};
+use crate::plot::style::{self, num, sig, sub, Entry, Marker, Swatch, KF, TRUTH};
 use crate::plot::view::PanelSpec;
-use crate::plot::view::{Frame, Panel, View};
+use crate::plot::view::{Frame, Panel};
 use crate::scenario::{Report, UbbReport};
 use crate::ubb::Norm;
 use plotters::prelude::*;
@@ -137,12 +137,8 @@ pub fn percent(p: f64) -> String {
 }
 
 /// The "ubbset" panel.
-pub fn draw_set<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, Panel::of(&SET_PANEL))?;
     let at = &u.at;
     // The step shown: the view's, else the report's. Its exact polygon, Kalman ellipse and LP

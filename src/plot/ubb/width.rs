@@ -6,12 +6,11 @@
 
 use super::set::{check, HULL, SECOND, SET};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, sub, Axes, Entry, Fonts, Swatch, MUTED};
+use crate::plot::style::{self, num, sub, Axes, Entry, Swatch, MUTED};
 
 use crate::error::Result;
-use crate::plot::figures::Area;
-use crate::plot::view::{Frame, Panel, View};
-use crate::scenario::Report;
+use crate::plot::figures::{Area, Request};
+use crate::plot::view::{Frame, Panel};
 use plotters::prelude::*;
 
 const STEP: &str = "step k (set of x(k+1) from y(0 … k))";
@@ -27,12 +26,8 @@ fn time_win(k0: f64, k1: f64, ys: impl Iterator<Item = f64>) -> Win {
 }
 
 /// The "ubbwidth" panel.
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, Panel::of(&super::set::WIDTH_PANEL))?;
     let [i, j] = u.plane;
     let short = fonts.compact;
@@ -107,8 +102,7 @@ pub fn draw<DB: DrawingBackend>(
     }
     let what = "Width of the interval hull over k";
     let title = style::title(&report.figure, &fonts, what, what);
-    let area = style::title_block(root, &fonts, &title, &notes.join(" · "))?;
-    let (area, side) = style::legend(&area, &fonts, &entries)?;
+    let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
 
     let (top, bottom) = if stacked {
         let h = area.dim_in_pixel().1 as f64;

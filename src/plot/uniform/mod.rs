@@ -41,22 +41,16 @@ impl Figures for UniformFigures {
                 .is_some_and(|u| u.at.polygon.is_some())
     }
     fn draw(&self, panel: Panel, canvas: Canvas<'_>, request: &Request) -> Result<Frame> {
-        let Request {
-            report,
-            view,
-            fonts,
-            ..
-        } = *request;
-        check(report, view, panel)?;
+        check(request.report, request.view, panel)?;
         canvas.paint(|root| {
             if panel == Panel::of(&STATES) {
-                draw_states(root, report, view, fonts)
+                draw_states(root, request)
             } else if panel == Panel::of(&OUTPUT) {
-                draw_output(root, report, view, fonts)
+                draw_output(root, request)
             } else if panel == Panel::of(&PARAMS) {
-                params::draw(root, report, view, fonts)
+                params::draw(root, request)
             } else {
-                polygon::draw(root, report, view, fonts)
+                polygon::draw(root, request)
             }
         })
     }

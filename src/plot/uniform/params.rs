@@ -7,12 +7,11 @@ use super::time_series::{
     cell, check, columns, cursor, grid, level, short_labels, stacked, time_axes, time_win,
     window_band, TIME,
 };
-use crate::plot::style::{self, sig, sub, Entry, Fonts, Swatch, TEXT};
+use crate::plot::style::{self, sig, sub, Entry, Swatch, TEXT};
 
 use crate::error::Result;
-use crate::plot::figures::Area;
-use crate::plot::view::{Frame, Panel, View};
-use crate::scenario::Report;
+use crate::plot::figures::{Area, Request};
+use crate::plot::view::{Frame, Panel};
 use crate::uniform::OnlineStep;
 use plotters::prelude::*;
 
@@ -20,12 +19,8 @@ use plotters::prelude::*;
 type Curve = (String, RGBColor, Vec<(f64, f64)>, Option<f64>);
 
 /// The "uparams" panel — Fig. 3.
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, view, Panel::of(&super::time_series::PARAMS))?;
     let (n, steps, t) = (u.n, u.steps, u.t);
     let short = short_labels(root, &fonts);

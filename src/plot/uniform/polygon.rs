@@ -11,23 +11,18 @@
 use super::time_series::check;
 use crate::plot::geom::Win;
 use crate::plot::style::{
-    self, num, sig, sub, Entry, Fonts, Marker, Swatch, FACE, KF, POLYGON, TRUTH, UNIFORM_LP,
+    self, num, sig, sub, Entry, Marker, Swatch, FACE, KF, POLYGON, TRUTH, UNIFORM_LP,
 };
 
 use crate::error::{Error, Result};
-use crate::plot::figures::Area;
-use crate::plot::view::{Frame, Panel, View};
-use crate::scenario::Report;
+use crate::plot::figures::{Area, Request};
+use crate::plot::view::{Frame, Panel};
 use crate::uniform::Joint;
 use plotters::prelude::*;
 
 /// The "upolygon" panel.
-pub fn draw<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, view, Panel::of(&super::time_series::POLYGON))?;
     let at = &u.u.at;
     // The time shown: the view's, else the report's. The polygon and the optimal face come
@@ -35,31 +30,23 @@ pub fn draw<DB: DrawingBackend>(
     // detail is set (`Report::set_at`): a window's polygon is never drawn at another time.
     let t = u.t;
     let detail = u.at_window();
-    let Some([i, j]) = u.u.plane else {
-        return Err(Error::field(
+    // The report's reason, else `otherwise`.
+    let absent = |otherwise: &str| {
+        Error::field(
             "report.uniform.at.polygon",
             format!(
                 "is absent: {}",
-                at.polygon_absent
-                    .as_deref()
-                    .unwrap_or("the report has no polygon or no plane")
+                at.polygon_absent.as_deref().unwrap_or(otherwise)
             ),
-        ));
+        )
+    };
+    let Some([i, j]) = u.u.plane else {
+        return Err(absent("the report has no polygon or no plane"));
     };
     let polygon = match (&at.polygon, detail) {
         (_, false) => None,
         (Some(p), true) => Some(p),
-        (None, true) => {
-            return Err(Error::field(
-                "report.uniform.at.polygon",
-                format!(
-                    "is absent: {}",
-                    at.polygon_absent
-                        .as_deref()
-                        .unwrap_or("the report has no polygon")
-                ),
-            ))
-        }
+        (None, true) => return Err(absent("the report has no polygon")),
     };
     if i >= u.n || j >= u.n || i == j {
         return Err(Error::field(

@@ -15,7 +15,7 @@
 //! true Θ and half-widths), and the error charts say why they are empty.
 
 use crate::error::{Error, Result};
-use crate::plot::figures::Area;
+use crate::plot::figures::{Area, Request};
 use crate::plot::geom::Win;
 use crate::plot::style::{
     self, sig, sub, Axes, Entry, Fonts, LegendSide, Swatch, FACE, KF, TRUTH, UNIFORM_LP, WINDOW,
@@ -491,12 +491,8 @@ fn window_entry(u: &U, short: bool) -> Entry {
 
 /// The "ustates" panel — Fig. 1: per state component, the truth, the LP and KF estimates with the
 /// optimal-face ranges of the window at the cursor, and below the estimation errors.
-pub fn draw_states<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw_states<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, view, Panel::of(&STATES))?;
     let (n, steps, t) = (u.n, u.steps, u.t);
     let short = short_labels(root, &fonts);
@@ -758,12 +754,8 @@ fn face_bar<DB: DrawingBackend>(
 
 /// The "uoutput" panel — Fig. 2: the output y_t and its one-step prediction ŷ_{t|t−1}, and below
 /// the prediction error.
-pub fn draw_output<DB: DrawingBackend>(
-    root: &Area<DB>,
-    report: &Report,
-    view: &View,
-    fonts: Fonts,
-) -> Result<Frame> {
+pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, view, Panel::of(&OUTPUT))?;
     let (m, steps, t) = (u.m, u.steps, u.t);
     let short = short_labels(root, &fonts);
