@@ -104,7 +104,8 @@ function computeNote(staleNote, saveScenario) {
 //   compute, redraw  the inputs that change the scenario, and those that change only the view;
 //   cursor           a time cursor whose report keeps one step's detail (cursor.js): {control
 //                    (the slider's id, in `redraw`), animate (its ▶ button's id, optional),
-//                    block(report) (the report's block holding `at`), setTime(scenario, v)};
+//                    block(report) (the report's block holding `at`), setTime(scenario, v)}
+//                    (cursor.js's timeOf(key) for the slider `time` over report[key]);
 //                    the steps it moves over come from the core with each report
 //                    (st.cursorSteps = Session.cursorSteps(): [first, last]), and a slider value
 //                    outside them shows the nearest (p.cursorTime()); `time` defaults to that step

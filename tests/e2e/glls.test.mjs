@@ -2,7 +2,7 @@
 // moving every figure's marker and the numbers, the state-noise estimator and its QP check on
 // glls-unstable5, the chunked Monte Carlo redrawing the precision figure, bad input shown inline
 // while the last pictures stay, wasm timings measured in the page, and screenshots at DPR 1 and 2.
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio } from './helpers.mjs';
 
 const PANELS = ['singular', 'index', 'plane', 'precision'];
 const idle = (page) => page.waitForFunction(
@@ -41,12 +41,7 @@ export default async function glls(env) {
 
     // glls-saturate: four figures at the pixel ratio, the Monte Carlo started with the scenario.
     assert.equal(await page.$eval('#g-preset', (e) => e.value), 'glls-saturate');
-    for (const p of PANELS) {
-      const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-      assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-      assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
-      assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
-    }
+    await assertDrawnAtRatio(page, assert, dpr, PANELS, 380);
     assert.match(await text(page, '#g-mc-status'), /^2,000 runs in \d+ ms/, "the preset's 2000-run study ran with the scenario");
     await drawnWell(page, assert, 'glls-saturate');
     let nb = await numbers(page);

@@ -52,6 +52,17 @@ export async function openApp({ newPage, baseUrl, waitReady }, dpr, idle, route)
   return page;
 }
 
+// Each panel's figure canvas (#fig-<panel>) is drawn at the device pixel ratio: its backing store
+// is its CSS size × dpr; with `minWidth`, it is at least that many CSS pixels wide.
+export async function assertDrawnAtRatio(page, assert, dpr, panels, minWidth = 0) {
+  for (const p of panels) {
+    const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
+    assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
+    assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
+    if (minWidth) assert.ok(size[2] >= minWidth, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
+  }
+}
+
 // Screenshot of one panel's section (scrolled into view first) as `<name>.png`.
 export async function shootSection(page, sectionId, screenshotDir, name) {
   await page.$eval(`#${sectionId}`, (e) => e.scrollIntoView());

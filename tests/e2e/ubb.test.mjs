@@ -5,7 +5,7 @@
 // screenshots at DPR 1 and 2 (www/screenshot-ubb.png from DPR 1 with CONFSET_REFRESH_SCREENSHOTS=1).
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio } from './helpers.mjs';
 
 const PANELS = ['ubbset', 'ubbwidth'];
 const PRESETS = ['ubb-track', 'ubb-series', 'ubb-leontief', 'ubb-markov'];
@@ -42,12 +42,7 @@ export default async function ubb(env) {
 
     // ubb-track at k = 40: two figures at the pixel ratio, the numbers.
     assert.equal(await page.$eval('#b-preset', (e) => e.value), 'ubb-track');
-    for (const p of PANELS) {
-      const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-      assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-      assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
-      assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
-    }
+    await assertDrawnAtRatio(page, assert, dpr, PANELS, 380);
     await drawnWell(page, assert, 'ubb-track');
     let nb = await numbers(page);
     assert.match(await text(page, '#b-num-title'), /^At step k = 40: the set of x\(41\) from y\(11\) … y\(40\), l∞ bounds$/);

@@ -17,6 +17,7 @@
 //!   level, and the Kalman ellipse collapses far out.
 //! * Bad input names its field; MA(1) is unbounded along [1, 1]ᵀ.
 
+use crate::common::patch::run_json;
 use crate::common::*;
 use confset::lscr::{
     self, choose_m_q, Construction, Estimator, KarhunenLoeve, LscrModel, Options, Problem,
@@ -95,7 +96,7 @@ fn draw_y(est: &Estimator, truth: &[f64], rng: &mut ChaCha8Rng) -> Vec<f64> {
 }
 
 fn run(s: &Value) -> confset::scenario::Report {
-    Scenario::from_json(&s.to_string()).unwrap().run().unwrap()
+    run_json(&s).unwrap()
 }
 
 fn preset_json(name: &str) -> Value {

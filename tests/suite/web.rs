@@ -440,36 +440,32 @@ fn lscr_experiment_steps_to_completion() {
     }
 
     // Without a fixed true state, or without the coverage block: errors naming the field.
-    let mut no_cond = sc.clone();
-    no_cond["simulate"]
-        .as_object_mut()
-        .expect("simulate")
-        .remove("condition");
-    let (msg, field) = thrown(
-        Study::new(&no_cond.to_string(), 0)
-            .err()
-            .expect("needs a condition"),
-    );
-    assert_eq!(field, "simulate.condition", "{msg}");
-    let mut no_cov = sc.clone();
-    no_cov["lscr"]
-        .as_object_mut()
-        .expect("lscr")
-        .remove("coverage");
-    let (msg, field) = thrown(
-        Study::new(&no_cov.to_string(), 0)
-            .err()
-            .expect("needs lscr.coverage"),
-    );
-    assert_eq!(field, "lscr.coverage", "{msg}");
-    let mut wrong_t = sc.clone();
-    wrong_t["simulate"]["condition"]["t"] = serde_json::json!(30);
-    let (msg, field) = thrown(
-        Study::new(&wrong_t.to_string(), 0)
-            .err()
-            .expect("condition at the wrong time"),
-    );
-    assert_eq!(field, "simulate.condition.t", "{msg}");
+    let no_condition: fn(&mut Value) = |sc| {
+        sc["simulate"]
+            .as_object_mut()
+            .expect("simulate")
+            .remove("condition");
+    };
+    let no_coverage: fn(&mut Value) = |sc| {
+        sc["lscr"].as_object_mut().expect("lscr").remove("coverage");
+    };
+    let wrong_time: fn(&mut Value) = |sc| {
+        sc["simulate"]["condition"]["t"] = serde_json::json!(30);
+    };
+    for (edit, why, want) in [
+        (no_condition, "needs a condition", "simulate.condition"),
+        (no_coverage, "needs lscr.coverage", "lscr.coverage"),
+        (
+            wrong_time,
+            "condition at the wrong time",
+            "simulate.condition.t",
+        ),
+    ] {
+        let mut bad = sc.clone();
+        edit(&mut bad);
+        let (msg, field) = thrown(Study::new(&bad.to_string(), 0).err().expect(why));
+        assert_eq!(field, want, "{msg}");
+    }
 }
 in_browser!(lscr_experiment_steps_to_completion);
 
@@ -610,33 +606,11 @@ in_browser!(glls_wasm_timings);
 
 /// The uniform-innovation issue's wasm speed figures, printed like the others.
 fn uniform_wasm_timings() {
-    use confset::uniform::{estimate_states, simulate, StatePrior, Window};
-    use nalgebra::DVector;
-    let (theta, xr, yr) = confset::presets::uniform_paper_model();
-    let tr = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
-    let prior = StatePrior {
-        x_lo: -5.0,
-        x_hi: 5.0,
-        x0: None,
-        xr_max: DVector::from_element(2, 1.0),
-        yr_max: DVector::from_element(1, 1.0),
-    };
+    let mut window_lp = crate::common::timing::uniform_window_lp();
     let reps = 50;
     let t0 = js_sys::Date::now();
     for _ in 0..reps {
-        std::hint::black_box(
-            estimate_states(
-                &theta,
-                &tr.u,
-                &tr.y,
-                Window {
-                    first: 116,
-                    last: 120,
-                },
-                &prior,
-            )
-            .expect("LP"),
-        );
+        window_lp();
     }
     let window = (js_sys::Date::now() - t0) / reps as f64;
     let s = confset::presets::get("uniform-paper").expect("preset");
