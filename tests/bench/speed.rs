@@ -7,7 +7,7 @@
 //! ([`confset::bench::Kernel`]), one `BENCH <key> <median ms> <what ran>` line each, for
 //! `.ci/bench`'s table beside wasm and NumPy.
 
-use confset::lscr::{self, Construction, Estimator, LscrModel, Options, Target};
+use confset::lscr::{self, Estimator};
 use confset::presets;
 use confset::scenario::lscr::LscrStudy;
 use confset::study::{Chunked, Study as _};
@@ -109,16 +109,7 @@ fn lscr_figures() {
     println!(
         "LSCR lscr-predict (t = 30, M = 80, n = 2): raster 512x512 {raster:.2} ms (brute force {brute:.1} ms), boundary polygons {boundary:.2} ms"
     );
-    let model =
-        LscrModel::from_spec(&presets::get("lscr-predict").expect("preset").model).expect("model");
-    let o = Options {
-        target: Target::Predict,
-        m: 80,
-        q: 2,
-        construction: Construction::Random,
-        seed: 1,
-        strings: None,
-    };
+    let (model, o) = timing::lscr_predict_fixture();
     for t in [30, 200] {
         let build = median_ms(if t > 100 { 5 } else { 31 }, || {
             std::hint::black_box(Estimator::new(&model, t, &o).expect("estimator"));

@@ -709,6 +709,15 @@ fn assert_in(count: usize, band: (usize, usize), what: &str) {
     );
 }
 
+/// The counts of X̂_1 and X̂_2 (`label(1)`, `label(2)`) over RUNS runs are within the band of
+/// their level.
+fn assert_each_in(inside_each: &[usize], each_level: f64, label: impl Fn(usize) -> String) {
+    let band_each = binomial_interval(RUNS, each_level, CONF);
+    for l in 0..2 {
+        assert_in(inside_each[l], band_each, &label(l + 1));
+    }
+}
+
 /// Stationary standard deviations of the state (σ_v² = the model's).
 fn stationary_sd(m: &LscrModel) -> Vec<f64> {
     let pi = lyapunov_kron(&m.f, &(&m.shape * m.sigma_v2));
@@ -735,14 +744,7 @@ fn coverage_holds_at_a_typical_and_a_far_state() {
             let what =
                 format!("{target:?} {construction:?} M={m} q={q} at the {where_} state {truth:?}");
             assert_eq!(c.runs, RUNS);
-            let band_each = binomial_interval(RUNS, each_level, CONF);
-            for l in 0..2 {
-                assert_in(
-                    c.inside_each[l],
-                    band_each,
-                    &format!("X̂_{} of {what}", l + 1),
-                );
-            }
+            assert_each_in(&c.inside_each, each_level, |l| format!("X̂_{l} of {what}"));
             let band = binomial_interval(RUNS, level, CONF);
             assert!(
                 c.inside >= band.0,
@@ -826,14 +828,9 @@ fn ma1_coverage_holds_where_the_kalman_ellipse_fails() {
         .unwrap();
         let (each_level, level) = est.levels();
         let c = experiment(est, &truth, RUNS, 5);
-        let band_each = binomial_interval(RUNS, each_level, CONF);
-        for l in 0..2 {
-            assert_in(
-                c.inside_each[l],
-                band_each,
-                &format!("MA(1) X̂_{} at {truth:?}", l + 1),
-            );
-        }
+        assert_each_in(&c.inside_each, each_level, |l| {
+            format!("MA(1) X̂_{l} at {truth:?}")
+        });
         assert!(c.inside >= binomial_interval(RUNS, level, CONF).0);
         assert!(c.blue.is_none(), "no BLUE for MA(1)");
         let kf = c.kf.unwrap();
@@ -1040,35 +1037,22 @@ fn bad_input_names_the_field() {
     ];
     crate::common::patch::assert_refused(&base, &cases);
     // The experiment needs a fixed state and a coverage block, at the estimated time.
+    let refused_field = |sc: &Value| {
+        Scenario::from_json(&sc.to_string())
+            .unwrap()
+            .lscr_experiment()
+            .err()
+            .unwrap()
+            .field
+    };
     let mut sc = base.clone();
     sc["lscr"]["coverage"] = json!({"runs": 10, "seed": 1});
-    let e = Scenario::from_json(&sc.to_string())
-        .unwrap()
-        .lscr_experiment()
-        .err()
-        .unwrap();
-    assert_eq!(e.field, "simulate.condition");
+    assert_eq!(refused_field(&sc), "simulate.condition");
     sc["simulate"]["condition"] = json!({"t": 30, "x": [0, 0]});
-    assert_eq!(
-        Scenario::from_json(&sc.to_string())
-            .unwrap()
-            .lscr_experiment()
-            .err()
-            .unwrap()
-            .field,
-        "simulate.condition.t"
-    );
+    assert_eq!(refused_field(&sc), "simulate.condition.t");
     sc["simulate"]["condition"] = json!({"t": 31, "x": [0, 0]});
     sc["lscr"]["coverage"] = json!({"runs": 0});
-    assert_eq!(
-        Scenario::from_json(&sc.to_string())
-            .unwrap()
-            .lscr_experiment()
-            .err()
-            .unwrap()
-            .field,
-        "lscr.coverage.runs"
-    );
+    assert_eq!(refused_field(&sc), "lscr.coverage.runs");
 }
 in_browser!(bad_input_names_the_field);
 

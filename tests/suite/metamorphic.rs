@@ -24,6 +24,7 @@
 //! Tolerances are relative (see [`Tolerance`]): a point's error is measured against the larger
 //! of its magnitude and its set's size, every other number against its own magnitude.
 
+use crate::common::patch::patched;
 use confset::presets;
 use nalgebra::DMatrix;
 use proptest::prop_assert;
@@ -646,10 +647,10 @@ fn ubb_case() -> Case {
     let (truth, y) = simulate(&f, &g, &h, &[0.3, -0.5], 0.1, 0.2, steps + 1, 5);
     sc.as_object_mut().unwrap().remove("simulate");
     sc["data"] = json!({ "y": y[..steps] });
-    let ubb = sc["ubb"].as_object_mut().unwrap();
-    ubb.insert("window".into(), json!(6));
-    ubb.insert("time".into(), json!(10));
-    ubb.insert("x0_center".into(), json!([0.0, 0.0]));
+    let sc = patched(
+        &sc,
+        &json!({"ubb": {"window": 6, "time": 10, "x0_center": [0.0, 0.0]}}),
+    );
     Case {
         name: "ubb",
         scenario: sc,
@@ -744,11 +745,15 @@ fn uniform_case() -> Case {
     sc.as_object_mut().unwrap().remove("simulate");
     sc["model"]["H"] = rows(&h);
     sc["data"] = json!({ "y": y, "u": u });
-    let uni = sc["uniform"].as_object_mut().unwrap();
-    uni.insert("estimator".into(), json!("states"));
-    uni.insert("prior_overrides".into(), json!([]));
-    uni.insert("x_bound".into(), json!(1000.0));
-    uni.insert("directions".into(), json!(32));
+    let sc = patched(
+        &sc,
+        &json!({"uniform": {
+            "estimator": "states",
+            "prior_overrides": [],
+            "x_bound": 1000.0,
+            "directions": 32
+        }}),
+    );
     Case {
         name: "uniform_lp",
         scenario: sc,

@@ -1,7 +1,8 @@
 //! What the speed figures share: the native median of repeated runs, and the uniform-innovation
-//! issue's window LP fixture. Used by `tests/suite` (natively and, for the fixture, in wasm)
+//! issue's window LP fixture and the LSCR figures' model and options. Used by `tests/suite` (natively and, for the fixture, in wasm)
 //! and by the benchmark `tests/bench/speed.rs`, which includes this file by `#[path]`.
 
+use confset::lscr::{Construction, LscrModel, Options, Target};
 use confset::uniform::{estimate_states, simulate, StatePrior, Window};
 use nalgebra::DVector;
 
@@ -48,4 +49,20 @@ pub fn uniform_window_lp() -> impl FnMut() {
             .expect("LP"),
         );
     }
+}
+
+/// The LSCR speed figures' model (lscr-predict's) and options: predict, M = 80, q = 2, random
+/// construction, seed 1.
+pub fn lscr_predict_fixture() -> (LscrModel, Options) {
+    let model = LscrModel::from_spec(&confset::presets::get("lscr-predict").expect("preset").model)
+        .expect("model");
+    let o = Options {
+        target: Target::Predict,
+        m: 80,
+        q: 2,
+        construction: Construction::Random,
+        seed: 1,
+        strings: None,
+    };
+    (model, o)
 }
