@@ -63,6 +63,16 @@ export async function assertDrawnAtRatio(page, assert, dpr, panels, minWidth = 0
   }
 }
 
+// Each panel's figure (#fig-<panel>) is drawn without an error and has ink (over 2 % of its
+// pixels); `what` names the state of the page in the messages.
+export async function assertDrawnWell(page, assert, panels, what) {
+  for (const p of panels) {
+    assert.equal(await text(page, `#fig-${p} .fig-err`), '', `${what}: the ${p} figure is drawn without error`);
+    const ink = await inked(page, `#fig-${p} canvas`);
+    assert.ok(ink > 0.02, `${what}: the ${p} figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);
+  }
+}
+
 // Screenshot of one panel's section (scrolled into view first) as `<name>.png`.
 export async function shootSection(page, sectionId, screenshotDir, name) {
   await page.$eval(`#${sectionId}`, (e) => e.scrollIntoView());

@@ -29,8 +29,8 @@ pub(crate) fn spawn(args: &[&str]) -> Child {
         .expect("the confset binary runs")
 }
 
-/// `confset ARGS` with `stdin` exits with `code`: its stderr.
-fn exits_with(code: i32, args: &[&str], stdin: Option<&[u8]>) -> String {
+/// `confset ARGS` with `stdin` exits with `code`: its output and its stderr as text.
+fn exits_with(code: i32, args: &[&str], stdin: Option<&[u8]>) -> (Output, String) {
     let o = confset(args, stdin);
     let err = text(&o.stderr);
     assert_eq!(
@@ -39,7 +39,7 @@ fn exits_with(code: i32, args: &[&str], stdin: Option<&[u8]>) -> String {
         "confset {}: {err}",
         args.join(" ")
     );
-    err
+    (o, err)
 }
 
 fn text(b: &[u8]) -> String {
@@ -138,7 +138,7 @@ fn usage_errors_exit_two_with_clap_messages_and_refused_input_exits_one() {
             "cannot be used with",
         ),
     ] {
-        let err = exits_with(2, args, None);
+        let (o, err) = exits_with(2, args, None);
         assert!(
             err.starts_with("error: "),
             "confset {}: {err}",
@@ -169,7 +169,7 @@ fn usage_errors_exit_two_with_clap_messages_and_refused_input_exits_one() {
             "--panel ubbset is not a panel of the method \"scf\"",
         ),
     ] {
-        let err = exits_with(1, args, Some(stdin));
+        let (_, err) = exits_with(1, args, Some(stdin));
         assert!(err.contains(says), "confset {}: {err}", args.join(" "));
     }
 }

@@ -233,40 +233,40 @@ fn karhunen_loeve_whitens_and_the_svd_spans_a() {
     for target in [Target::Predict, Target::Filter, Target::Smooth(15)] {
         let p = Problem::new(&m, 30, target).unwrap();
         let (u, d) = (&p.kl.u, &p.kl.d);
-        assert_mat_close(
-            &(u.transpose() * u),
-            &DMatrix::identity(30, 30),
-            1e-12,
-            "UᵀU",
-        );
-        assert_mat_close(
-            &(u.transpose() * &p.regression.q2 * u),
-            &DMatrix::from_diagonal(d),
-            1e-9,
-            "UᵀQ″U",
-        );
+        let ua = &p.kl.u_a;
+        // The whitening, the basis and the span, each as (computed, expected, tolerance).
+        for (got, want, tol, what) in [
+            (u.transpose() * u, DMatrix::identity(30, 30), 1e-12, "UᵀU"),
+            (
+                u.transpose() * &p.regression.q2 * u,
+                DMatrix::from_diagonal(d),
+                1e-9,
+                "UᵀQ″U",
+            ),
+            (
+                p.kl.a.clone(),
+                u.transpose() * &p.regression.phi,
+                1e-12,
+                "A = UᵀΦ",
+            ),
+            (
+                ua.transpose() * ua,
+                DMatrix::identity(2, 2),
+                1e-12,
+                "U_AᵀU_A",
+            ),
+            (
+                ua * ua.transpose() * &p.kl.a,
+                p.kl.a.clone(),
+                1e-12,
+                "U_A spans A",
+            ),
+        ] {
+            assert_mat_close(&got, &want, tol, what);
+        }
         assert!(
             d.iter().zip(d.iter().skip(1)).all(|(a, b)| a >= b),
             "{target:?}: D decreasing"
-        );
-        assert_mat_close(
-            &p.kl.a,
-            &(u.transpose() * &p.regression.phi),
-            1e-12,
-            "A = UᵀΦ",
-        );
-        let ua = &p.kl.u_a;
-        assert_mat_close(
-            &(ua.transpose() * ua),
-            &DMatrix::identity(2, 2),
-            1e-12,
-            "U_AᵀU_A",
-        );
-        assert_mat_close(
-            &(ua * ua.transpose() * &p.kl.a),
-            &p.kl.a,
-            1e-12,
-            "U_A spans A",
         );
         let sv = p.kl.a.clone().svd(false, false).singular_values;
         let mut sv: Vec<f64> = sv.iter().copied().collect();
