@@ -13,6 +13,7 @@ import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt3 as fmt, int } from './format.js';
 import { PANELS } from './registry.js';
+import { timeOf } from './cursor.js';
 
 const pct = (p) => `${Number((100 * p).toFixed(1))} %`;
 const LAWS = { gaussian: 'Gaussian', uniform: 'Uniform', truncated: 'Truncated Gaussian' };
@@ -195,12 +196,7 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
     'runs', 'go', 'cancel', 'progress', 'status', 'err', 'study-truth', 'study-how'],
   compute: ['noise', 'target', 'k', 'window', 'scale', 'sv', 'sw', 'alpha', 'seed', 'fix', 'xbar', 'ct', 'm-F', 'm-G', 'm-H'],
   redraw: ['time'],
-  cursor: {
-    control: 'time',
-    animate: 'animate',
-    block: (report) => report.compare,
-    setTime: (s, v) => { s.compare.time = v; },
-  },
+  cursor: timeOf('compare'),
   input: (p) => showInputs(p),
   stem: ({ st, ui }) => `${st.preset.name}-t${ui.time.value}`,
   init(p) {

@@ -12,6 +12,15 @@
 // setTime(scenario, t) → writes the cursor into a scenario (the one the panel shows, downloads
 // and shares), first(report) and last(report) → the cursor's range for the animation.
 
+// The spec of a panel whose cursor is the slider `time` (with its ▶ `animate`) over the steps of
+// the report's block `key`, written into the scenario as its `key.time`.
+export const timeOf = (key) => ({
+  control: 'time',
+  animate: 'animate',
+  block: (report) => report[key],
+  setTime: (s, v) => { s[key].time = v; },
+});
+
 export function timeCursor({ worker, session, st, setBusy, redraw, showError }, spec) {
   const details = new Map(); // step → JSON text of the report's `at` there (this report's cursor)
   let key = null; // the worker's cursor of the kept report

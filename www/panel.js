@@ -85,6 +85,14 @@ function computeNote(staleNote, saveScenario) {
   };
 }
 
+// What the skeleton writes into an element of the view marked data-part="<name>", given the
+// panel's id prefix: the numbers card's downloads, and the notes card's heading and notes.
+const PARTS = {
+  downloads: (p) => `<button type="button" id="${p}dl-report">Download report (JSON)</button>\n`
+    + `<button type="button" id="${p}dl-scenario">Download scenario (JSON)</button>`,
+  notes: (p) => `<h2>About this scenario</h2>\n<p id="${p}notes"></p>`,
+};
+
 // The skeleton of a panel: a wasm Session, the controls ⇄ scenario ⇄ report loop, its figures,
 // preset menu, inline errors, busy flag, downloads (#<prefix>dl-report, #<prefix>dl-scenario) and
 // timing line. The scenarios run in the panel's compute worker (compute.js); the Session here
@@ -104,7 +112,8 @@ function computeNote(staleNote, saveScenario) {
 //   compute, redraw  the inputs that change the scenario, and those that change only the view;
 //   cursor           a time cursor whose report keeps one step's detail (cursor.js): {control
 //                    (the slider's id, in `redraw`), animate (its ▶ button's id, optional),
-//                    block(report) (the report's block holding `at`), setTime(scenario, v)};
+//                    block(report) (the report's block holding `at`), setTime(scenario, v)}
+//                    (cursor.js's timeOf(key) for the slider `time` over report[key]);
 //                    the steps it moves over come from the core with each report
 //                    (st.cursorSteps = Session.cursorSteps(): [first, last]), and a slider value
 //                    outside them shows the nearest (p.cursorTime()); `time` defaults to that step
@@ -128,6 +137,11 @@ export function mountPanel(root, spec) {
   const session = new Session();
   const worker = computeClient(root.id);
   const prefix = spec.prefix || '';
+  // The parts every view marks and the skeleton writes: the notes card and the downloads.
+  for (const el of root.querySelectorAll('[data-part]')) {
+    el.innerHTML = PARTS[el.dataset.part](prefix);
+    el.removeAttribute('data-part');
+  }
   // Every panel's form opens with its preset menu and the preset's description.
   const row = Object.assign(document.createElement('label'), { className: 'row', textContent: 'Scenario' });
   row.append(Object.assign(document.createElement('select'), { id: `${prefix}preset` }));

@@ -13,6 +13,7 @@ import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt, vec, int } from './format.js';
+import { timeOf } from './cursor.js';
 
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
 
@@ -192,12 +193,7 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
     'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err'],
   compute: ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
   redraw: ['time'],
-  cursor: {
-    control: 'time',
-    animate: 'animate',
-    block: (report) => report.ubb,
-    setTime: (s, v) => { s.ubb.time = v; },
-  },
+  cursor: timeOf('ubb'),
   input: (p, id) => { if (id === 'time') showTime(p); },
   stem({ st, cursorTime }) {
     const u = st.report?.ubb;

@@ -11,6 +11,7 @@ import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt, vec } from './format.js';
+import { timeOf } from './cursor.js';
 
 const mat = (m) => (Array.isArray(m) && m.length && m[0].length
   ? `[${m.map((r) => r.map(fmt).join(' ')).join('; ')}]` : '–');
@@ -212,12 +213,7 @@ export const mountUniform = async (root, presets) => mountPanel(root, {
   compute: ['m-F', 'm-H', 'm-B', 'm-D', 'estimator', 'xr', 'yr', 'uhalf', 'prior', 'xrmax', 'yrmax', 'xbound', 'seed',
     'steps', 'window-range', 'window'],
   redraw: ['time'],
-  cursor: {
-    control: 'time',
-    animate: 'animate',
-    block: (report) => report.uniform,
-    setTime: (s, v) => { s.uniform.time = v; },
-  },
+  cursor: timeOf('uniform'),
   input(p, id) {
     const { ui } = p;
     if (id === 'steps') timeRange(p);

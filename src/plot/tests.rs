@@ -25,6 +25,55 @@ fn svg(r: &Report, panel: Panel, time: Option<usize>) -> String {
     report_svg(r, &view, 960, 640).unwrap_or_else(|e| panic!("{}: {e}", panel.name()))
 }
 
+/// Each of `panels` refused on `r`'s report (at w × h): an error on the field `panel` whose
+/// message contains `names` (the panels the report does draw).
+fn refuses(r: &Report, panels: &[&str], (w, h): (u32, u32), names: &str) {
+    for &name in panels {
+        let e = report_svg(r, &View::new(named(name)), w, h)
+            .expect_err("a report draws its own method's panels only");
+        assert_eq!(e.field, "panel", "{name}: {e}");
+        assert!(e.message.contains(names), "{name}: {e}");
+    }
+}
+
+/// Each of `method`'s panels refused on each of the `others` presets' reports: an error on the
+/// field `panel` (they have no part of that method).
+fn others_refuse(method: Method, others: &[&str]) {
+    for &other in others {
+        let (_, r) = preset(other);
+        for panel in method_panels(method).iter().copied() {
+            let e =
+                report_svg(&r, &View::new(panel), 800, 600).expect_err("no part of that method");
+            assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
+        }
+    }
+}
+
+/// `panel` drawn (at w × h) on a copy of `r` that `edit` broke: a broken report is an error,
+/// not a panic.
+fn broken(
+    r: &Report,
+    edit: impl FnOnce(&mut Report),
+    panel: &str,
+    (w, h): (u32, u32),
+) -> Result<String> {
+    let mut bad = r.clone();
+    edit(&mut bad);
+    report_svg(&bad, &View::new(named(panel)), w, h)
+}
+
+/// The field of the error of [`broken`].
+fn broken_field(
+    r: &Report,
+    edit: impl FnOnce(&mut Report),
+    panel: &str,
+    size: (u32, u32),
+) -> String {
+    broken(r, edit, panel, size)
+        .expect_err("a broken report is an error")
+        .field
+}
+
 #[test]
 fn scalar_preset_panels_carry_their_legends() {
     let (_, r) = preset("scf-scalar");
@@ -982,67 +1031,46 @@ fn the_horizon_marker_follows_the_horizon_in_use() {
 #[test]
 fn glls_and_other_panels_do_not_mix() {
     let (_, r) = preset("glls-mixed");
-    for panel in [
-        named("state"),
-        named("series"),
-        named("coverage"),
-        named("region"),
-    ] {
-        let e = report_svg(&r, &View::new(panel), 800, 600)
-            .expect_err("a GLLS report draws GLLS panels only");
-        assert_eq!(e.field, "panel", "{}: {e}", panel.name());
-        assert!(e.message.contains("singular"), "{e}");
-    }
-    for other in ["scf-scalar", "lscr-predict"] {
-        let (_, r) = preset(other);
-        for panel in method_panels(Method::Glls).iter().copied() {
-            let e = report_svg(&r, &View::new(panel), 800, 600).expect_err("no GLLS part");
-            assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
-        }
-    }
+    let size = (800, 600);
+    refuses(
+        &r,
+        &["state", "series", "coverage", "region"],
+        size,
+        "singular",
+    );
+    others_refuse(Method::Glls, &["scf-scalar", "lscr-predict"]);
     // Broken reports are errors, not panics.
     let (_, r) = preset("glls-saturate");
-    let mut bad = r.clone();
-    if let Some(g) = bad.glls.as_mut() {
-        g.curves.log10_floor.pop();
-    }
+    let curves = |r: &mut Report| {
+        if let Some(g) = r.glls.as_mut() {
+            g.curves.log10_floor.pop();
+        }
+    };
     assert_eq!(
-        report_svg(&bad, &View::new(named("singular")), 800, 600)
-            .unwrap_err()
-            .field,
+        broken_field(&r, curves, "singular", size),
         "report.glls.curves"
     );
-    let mut bad = r.clone();
-    if let Some(g) = bad.glls.as_mut() {
-        g.plane = [0, 7];
-    }
-    assert_eq!(
-        report_svg(&bad, &View::new(named("plane")), 800, 600)
-            .unwrap_err()
-            .field,
-        "report.glls.plane"
-    );
-    let mut bad = r.clone();
-    if let Some(g) = bad.glls.as_mut() {
-        g.index = vec![-400.0; g.index.len()];
-        g.index_p = None;
-        if let Some(p) = g.precision.as_mut() {
-            p.bound.pop();
+    let plane = |r: &mut Report| {
+        if let Some(g) = r.glls.as_mut() {
+            g.plane = [0, 7];
         }
-    }
-    assert!(report_svg(&bad, &View::new(named("index")), 800, 600).is_err());
+    };
+    assert_eq!(broken_field(&r, plane, "plane", size), "report.glls.plane");
+    let index = |r: &mut Report| {
+        if let Some(g) = r.glls.as_mut() {
+            g.index = vec![-400.0; g.index.len()];
+            g.index_p = None;
+            if let Some(p) = g.precision.as_mut() {
+                p.bound.pop();
+            }
+        }
+    };
+    assert!(broken(&r, index, "index", size).is_err());
     assert_eq!(
-        report_svg(&bad, &View::new(named("precision")), 800, 600)
-            .unwrap_err()
-            .field,
+        broken_field(&r, index, "precision", size),
         "report.glls.precision"
     );
-    assert_eq!(
-        report_svg(&r, &View::new(named("plane")), 200, 100)
-            .unwrap_err()
-            .field,
-        "size"
-    );
+    assert_eq!(broken_field(&r, |_| {}, "plane", (200, 100)), "size");
 }
 
 #[test]
@@ -1247,68 +1275,45 @@ fn the_uniform_cursor_follows_the_window_time() {
 #[test]
 fn uniform_and_other_panels_do_not_mix() {
     let (_, r) = preset("uniform-paper");
-    for panel in [
-        named("state"),
-        named("series"),
-        named("coverage"),
-        named("region"),
-        named("singular"),
-        named("plane"),
-    ] {
-        let e = report_svg(&r, &View::new(panel), 800, 600)
-            .expect_err("a uniform report draws uniform panels only");
-        assert_eq!(e.field, "panel", "{}: {e}", panel.name());
-        assert!(e.message.contains("ustates"), "{e}");
-    }
-    for other in ["scf-scalar", "lscr-predict", "glls-mixed"] {
-        let (_, r) = preset(other);
-        for panel in method_panels(Method::UniformLp).iter().copied() {
-            let e = report_svg(&r, &View::new(panel), 800, 600).expect_err("no uniform part");
-            assert_eq!(e.field, "panel", "{other} {}: {e}", panel.name());
-        }
-    }
-    // Broken reports are errors, not panics.
-    let mut bad = r.clone();
-    if let Some(u) = bad.uniform.as_mut() {
-        u.kf.as_mut().expect("simulated").pop();
-    }
-    assert_eq!(
-        report_svg(&bad, &View::new(named("ustates")), 800, 600)
-            .unwrap_err()
-            .field,
-        "report.uniform"
+    let size = (800, 600);
+    let others = ["state", "series", "coverage", "region", "singular", "plane"];
+    refuses(&r, &others, size, "ustates");
+    others_refuse(
+        Method::UniformLp,
+        &["scf-scalar", "lscr-predict", "glls-mixed"],
     );
-    let mut bad = r.clone();
-    if let Some(u) = bad.uniform.as_mut() {
-        u.at.face_lo.pop();
-    }
+    // Broken reports are errors, not panics.
+    let kf = |r: &mut Report| {
+        if let Some(u) = r.uniform.as_mut() {
+            u.kf.as_mut().expect("simulated").pop();
+        }
+    };
+    assert_eq!(broken_field(&r, kf, "ustates", size), "report.uniform");
+    let face = |r: &mut Report| {
+        if let Some(u) = r.uniform.as_mut() {
+            u.at.face_lo.pop();
+        }
+    };
     assert_eq!(
-        report_svg(&bad, &View::new(named("upolygon")), 800, 600)
-            .unwrap_err()
-            .field,
+        broken_field(&r, face, "upolygon", size),
         "report.uniform.at"
     );
-    let mut bad = r.clone();
-    if let Some(u) = bad.uniform.as_mut() {
-        u.steps[3].a[1].pop();
-    }
-    assert!(report_svg(&bad, &View::new(named("uparams")), 800, 600).is_err());
-    let mut bad = r.clone();
-    if let Some(u) = bad.uniform.as_mut() {
-        u.plane = Some([0, 0]);
-    }
+    let step = |r: &mut Report| {
+        if let Some(u) = r.uniform.as_mut() {
+            u.steps[3].a[1].pop();
+        }
+    };
+    assert!(broken(&r, step, "uparams", size).is_err());
+    let plane = |r: &mut Report| {
+        if let Some(u) = r.uniform.as_mut() {
+            u.plane = Some([0, 0]);
+        }
+    };
     assert_eq!(
-        report_svg(&bad, &View::new(named("upolygon")), 800, 600)
-            .unwrap_err()
-            .field,
+        broken_field(&r, plane, "upolygon", size),
         "report.uniform.plane"
     );
-    assert_eq!(
-        report_svg(&r, &View::new(named("ustates")), 200, 100)
-            .unwrap_err()
-            .field,
-        "size"
-    );
+    assert_eq!(broken_field(&r, |_| {}, "ustates", (200, 100)), "size");
 }
 
 /// The uniform-paper scenario on its own y and u as `data` (no truth), and a scalar model.
@@ -1476,22 +1481,11 @@ fn ubb_panels_say_what_they_show() {
 #[test]
 fn ubb_and_other_panels_do_not_mix() {
     let (_, r) = preset("ubb-track");
-    for p in [
-        named("state"),
-        named("series"),
-        named("region"),
-        named("plane"),
-        named("upolygon"),
-    ] {
-        let e = report_svg(&r, &View::new(p), 640, 400)
-            .expect_err("a ubb report draws ubb panels only");
-        assert_eq!(e.field, "panel");
-        assert!(e.message.contains("ubbset or ubbwidth"), "{}", e.message);
-    }
+    let size = (640, 400);
+    let others = ["state", "series", "region", "plane", "upolygon"];
+    refuses(&r, &others, size, "ubbset or ubbwidth");
     let (_, other) = preset("uniform-paper");
-    let e = report_svg(&other, &View::new(named("ubbset")), 640, 400).expect_err("no ubb part");
-    assert_eq!(e.field, "panel");
-    assert!(e.message.contains("no ubb part"), "{}", e.message);
+    refuses(&other, &["ubbset"], size, "no ubb part");
     // The set panel draws the polygon of step k only: at another step of the track, its hull
     // and markers without the polygon and the Kalman ellipse, saying so; past the track, an
     // error naming the time.
@@ -1514,44 +1508,31 @@ fn ubb_and_other_panels_do_not_mix() {
         "time"
     );
     // Broken reports are errors, not panics.
-    let mut bad = r.clone();
-    if let Some(u) = bad.ubb.as_mut() {
-        u.at.lo.pop();
-    }
+    let short = |r: &mut Report| {
+        if let Some(u) = r.ubb.as_mut() {
+            u.at.lo.pop();
+        }
+    };
+    assert_eq!(broken_field(&r, short, "ubbset", size), "report.ubb.at");
+    let plane = |r: &mut Report| {
+        if let Some(u) = r.ubb.as_mut() {
+            u.plane = [0, 0];
+        }
+    };
+    assert_eq!(broken_field(&r, plane, "ubbwidth", size), "report.ubb");
+    let empty = |r: &mut Report| {
+        if let Some(u) = r.ubb.as_mut() {
+            u.track.clear();
+        }
+    };
+    assert_eq!(broken_field(&r, empty, "ubbwidth", size), "report.ubb");
+    let nan = |r: &mut Report| {
+        if let Some(u) = r.ubb.as_mut() {
+            u.at.polygon.vertices.push([f64::NAN, 0.0]);
+        }
+    };
     assert_eq!(
-        report_svg(&bad, &View::new(named("ubbset")), 640, 400)
-            .expect_err("short")
-            .field,
-        "report.ubb.at"
-    );
-    let mut bad = r.clone();
-    if let Some(u) = bad.ubb.as_mut() {
-        u.plane = [0, 0];
-    }
-    assert_eq!(
-        report_svg(&bad, &View::new(named("ubbwidth")), 640, 400)
-            .expect_err("plane")
-            .field,
-        "report.ubb"
-    );
-    let mut bad = r.clone();
-    if let Some(u) = bad.ubb.as_mut() {
-        u.track.clear();
-    }
-    assert_eq!(
-        report_svg(&bad, &View::new(named("ubbwidth")), 640, 400)
-            .expect_err("empty")
-            .field,
-        "report.ubb"
-    );
-    let mut bad = r;
-    if let Some(u) = bad.ubb.as_mut() {
-        u.at.polygon.vertices.push([f64::NAN, 0.0]);
-    }
-    assert_eq!(
-        report_svg(&bad, &View::new(named("ubbset")), 640, 400)
-            .expect_err("nan")
-            .field,
+        broken_field(&r, nan, "ubbset", size),
         "report.ubb.at.polygon"
     );
 }

@@ -11,30 +11,19 @@
 //    (10,000 runs) and the set-membership guarantee (ubb-track, 2,000 runs), best of 3 wall
 //    times, one `STUDY <preset> <runs> <1 worker ms> <W workers ms> <W>` line each.
 // It prints; it asserts nothing (timings belong to the machine).
-import { createRequire } from 'node:module';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { PANELS } from '../../www/registry.js';
-import { CHROMIUM, slideToPaint } from '../e2e/helpers.mjs';
+import { slideToPaint } from '../e2e/helpers.mjs';
+import { args, launch, openReady } from './browser.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const { chromium } = createRequire(join(root, 'www', 'package.json'))('playwright-core');
-const base = process.argv[2];
-if (!base) {
-  console.error('usage: node tests/bench/kernels.mjs BASE_URL');
-  process.exit(2);
-}
-const browser = await chromium.launch(CHROMIUM);
-const ready = (page) => page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
+const [base] = args((a) => a[0], 'node tests/bench/kernels.mjs BASE_URL');
+const browser = await launch();
 const settled = (page) => page.waitForFunction(
   () => !Object.keys(document.body.dataset).some((k) => k === 'busy' || k.endsWith('Busy')), null, { timeout: 60_000 });
 const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 
 // 1. Kernels.
 {
-  const page = await browser.newPage();
-  await page.goto(base);
-  await ready(page);
+  const page = await openReady(browser, base);
   for (const key of ['robot_mc', 'lscr_raster', 'glls_curves', 'ubb_step', 'uniform_report']) {
     const r = await page.evaluate((k) => {
       const kernel = new window.confset.BenchKernel(k);
@@ -56,9 +45,7 @@ const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 
 // 2. Every slider of every panel.
 for (const d of PANELS) {
-  const page = await browser.newPage({ viewport: { width: 1366, height: 900 } });
-  await page.goto(`${base}#${d.id}`);
-  await ready(page);
+  const page = await openReady(browser, `${base}#${d.id}`, { viewport: { width: 1366, height: 900 } });
   await settled(page);
   const sliders = await page.evaluate((id) => [...document.getElementById(id).querySelectorAll('input[type=range]')]
     .filter((e) => e.offsetParent && !e.disabled)
@@ -84,9 +71,7 @@ for (const d of PANELS) {
 for (const d of PANELS) {
   const ms = [];
   for (let i = 0; i < 5; i++) {
-    const page = await browser.newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(`${base}#${d.id}`);
-    await ready(page);
+    const page = await openReady(browser, `${base}#${d.id}`, { viewport: { width: 1366, height: 900 } });
     ms.push(await page.evaluate(() => performance.now()));
     await page.close();
   }
@@ -94,9 +79,7 @@ for (const d of PANELS) {
 }
 // 4. Studies on one worker and on every core.
 {
-  const page = await browser.newPage();
-  await page.goto(`${base}#scf`);
-  await ready(page);
+  const page = await openReady(browser, `${base}#scf`);
   await settled(page);
   for (const [name, runs] of [['scf-robots', 10000], ['ubb-track', 2000]]) {
     const r = await page.evaluate(async ([name, runs]) => {

@@ -7,23 +7,15 @@
 //! ([`confset::bench::Kernel`]), one `BENCH <key> <median ms> <what ran>` line each, for
 //! `.ci/bench`'s table beside wasm and NumPy.
 
-use confset::lscr::{self, Construction, Estimator, LscrModel, Options, Target};
+use confset::lscr::{self, Estimator};
 use confset::presets;
 use confset::scenario::lscr::LscrStudy;
 use confset::study::{Chunked, Study as _};
 use std::time::Instant;
 
-fn median_ms(reps: usize, mut f: impl FnMut()) -> f64 {
-    let mut v: Vec<f64> = (0..reps)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
+#[path = "../suite/common/timing.rs"]
+mod timing;
+use timing::median_ms;
 
 /// The comparison's kernels (those named after `kernels`, or all): one warm-up, then the
 /// median of 11 repetitions each.
@@ -117,16 +109,7 @@ fn lscr_figures() {
     println!(
         "LSCR lscr-predict (t = 30, M = 80, n = 2): raster 512x512 {raster:.2} ms (brute force {brute:.1} ms), boundary polygons {boundary:.2} ms"
     );
-    let model =
-        LscrModel::from_spec(&presets::get("lscr-predict").expect("preset").model).expect("model");
-    let o = Options {
-        target: Target::Predict,
-        m: 80,
-        q: 2,
-        construction: Construction::Random,
-        seed: 1,
-        strings: None,
-    };
+    let (model, o) = timing::lscr_predict_fixture();
     for t in [30, 200] {
         let build = median_ms(if t > 100 { 5 } else { 31 }, || {
             std::hint::black_box(Estimator::new(&model, t, &o).expect("estimator"));
@@ -242,32 +225,7 @@ fn ubb_figures() {
 /// The uniform-innovation issue's targets: one window LP (∂ = 5, 2 states) and the full
 /// 120-sample on-line run of the paper's example with the swapping method.
 fn uniform_figures() {
-    use confset::uniform::{estimate_states, simulate, StatePrior, Window};
-    use nalgebra::DVector;
-    let (theta, xr, yr) = confset::presets::uniform_paper_model();
-    let tr = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
-    let prior = StatePrior {
-        x_lo: -5.0,
-        x_hi: 5.0,
-        x0: None,
-        xr_max: DVector::from_element(2, 1.0),
-        yr_max: DVector::from_element(1, 1.0),
-    };
-    let window = median_ms(101, || {
-        std::hint::black_box(
-            estimate_states(
-                &theta,
-                &tr.u,
-                &tr.y,
-                Window {
-                    first: 116,
-                    last: 120,
-                },
-                &prior,
-            )
-            .expect("LP"),
-        );
-    });
+    let window = median_ms(101, timing::uniform_window_lp());
     let s = presets::get("uniform-paper").expect("preset");
     let online = median_ms(5, || {
         std::hint::black_box(s.run().expect("runs"));

@@ -5,22 +5,12 @@
 // comes straight from wasm-bindgen, which keeps the Rust names:
 //   wasm-bindgen --target web --out-dir DIR/pkg target/wasm32-unknown-unknown/release/confset.wasm
 // It prints the top functions by self time; it asserts nothing.
-import { createRequire } from 'node:module';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { CHROMIUM } from '../e2e/helpers.mjs';
+import { args, launch, openReady } from './browser.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const { chromium } = createRequire(join(root, 'www', 'package.json'))('playwright-core');
-const [base, kernel = 'robot_mc', runs = '30'] = process.argv.slice(2);
-if (!base) {
-  console.error('usage: node tests/bench/wasm-profile.mjs BASE_URL [KERNEL] [RUNS]');
-  process.exit(2);
-}
-const browser = await chromium.launch(CHROMIUM);
-const page = await browser.newPage();
-await page.goto(base);
-await page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
+const [base, kernel = 'robot_mc', runs = '30'] = args(
+  (a) => a[0], 'node tests/bench/wasm-profile.mjs BASE_URL [KERNEL] [RUNS]');
+const browser = await launch();
+const page = await openReady(browser, base);
 const cdp = await page.context().newCDPSession(page);
 await cdp.send('Profiler.enable');
 await cdp.send('Profiler.setSamplingInterval', { interval: 100 });

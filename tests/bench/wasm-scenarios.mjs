@@ -3,24 +3,14 @@
 // `CONFSET_WORK_DUMP=target/work cargo test --release --test suite fuzz::work_at_the_limits --
 // --ignored --nocapture`), it gives the wasm side of the README's "Limits":
 //   node tests/bench/wasm-scenarios.mjs http://127.0.0.1:PORT/ target/work/*.json
-import { createRequire } from 'node:module';
 import { readFileSync } from 'node:fs';
-import { basename, dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { CHROMIUM } from '../e2e/helpers.mjs';
+import { basename } from 'node:path';
+import { args, launch, openReady } from './browser.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const { chromium } = createRequire(join(root, 'www', 'package.json'))('playwright-core');
-
-const [base, ...files] = process.argv.slice(2);
-if (!base || files.length === 0) {
-  console.error('usage: node tests/bench/wasm-scenarios.mjs BASE_URL SCENARIO.json…');
-  process.exit(2);
-}
-const browser = await chromium.launch(CHROMIUM);
-const page = await browser.newPage();
-await page.goto(base);
-await page.waitForFunction(() => document.body.dataset.ready === '1', null, { timeout: 60_000 });
+const [base, ...files] = args(
+  (a) => a[0] && a.length > 1, 'node tests/bench/wasm-scenarios.mjs BASE_URL SCENARIO.json…');
+const browser = await launch();
+const page = await openReady(browser, base);
 for (const file of files) {
   const json = readFileSync(file, 'utf8');
   const r = await page.evaluate((text) => {

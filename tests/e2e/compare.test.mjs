@@ -8,7 +8,7 @@
 // the registry's (explorer.test.mjs).
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { text, inked, setField, choosePreset, openApp, shootSection, slideToPaint } from './helpers.mjs';
+import { text, setField, choosePreset, openApp, shootSection, slideToPaint, assertDrawnWell } from './helpers.mjs';
 
 const METHODS = ['kf', 'scf', 'lscr', 'glls', 'ubb', 'uniform_lp'];
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.compareBusy, null, { timeout: 120_000 });
@@ -18,11 +18,7 @@ const rows = (page) => page.$$eval('#c-numbers tbody tr', (trs) => trs.map((tr) 
 const row = async (page, name) => (await rows(page)).find((r) => r.startsWith(name)) || '';
 const www = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'www');
 
-async function drawnWell(page, assert, what) {
-  assert.equal(await text(page, '#fig-compare .fig-err'), '', `${what}: the figure is drawn without error`);
-  const ink = await inked(page, '#fig-compare canvas');
-  assert.ok(ink > 0.02, `${what}: the figure has ink (${(100 * ink).toFixed(1)} %)`);
-}
+const drawnWell = (page, assert, what) => assertDrawnWell(page, assert, ['compare'], what);
 
 export default async function compare(env) {
   const { assert, screenshotDir, newPage, baseUrl, waitReady } = env;

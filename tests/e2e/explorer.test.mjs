@@ -90,11 +90,16 @@ async function moveControls(page, d) {
 }
 
 export default async function explorer({ newPage, baseUrl, assert, screenshotDir }) {
+  // A fresh 1366 × 900 page on a route of the app (`''`: the landing view), loaded.
+  const open = async (route) => {
+    const page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(route ? `${baseUrl}#${route}` : baseUrl);
+    await ready(page);
+    return page;
+  };
   // The landing view: five cards, no panel mounted, so nothing computed.
   {
-    const page = await newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(baseUrl);
-    await ready(page);
+    const page = await open('');
     assert.equal(await page.$$eval('#landing a.promise', (a) => a.length), PANELS.length);
     const drawn = await page.$$eval('canvas', (cs) => cs.filter((c) => c.width !== 300).length);
     assert.equal(drawn, 0, 'the landing view draws no figure');
@@ -109,9 +114,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
   }
 
   for (const d of PANELS) {
-    const page = await newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(`${baseUrl}#${d.id}`);
-    await ready(page);
+    const page = await open(d.id);
     await settled(page);
     const before = await snapshot(page, d.id);
     const moved = await moveControls(page, d);
@@ -251,9 +254,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
 
   // A fixture link of every emitted version (v1: lscr-smooth, seed 7) decodes to those controls.
   {
-    const page = await newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(baseUrl);
-    await ready(page);
+    const page = await open('');
     // A v1 token as this page emitted it for {preset: 'lscr-smooth', fields: {'l-seed': '7'}}:
     // pinned, so that a later change of the format cannot break old links unnoticed.
     const FIXTURE_V1 = 'q1YqKEotTi1RslLKKU4u0i3Ozc8vyVDSUUrLTM1JKVayqlbK0S1OTU0BKjBXqq0FAA';
@@ -269,9 +270,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
   // A scenario file (the panel's own download) loads by the file picker into its panel, from
   // another panel; undo brings the previous scenario back.
   {
-    const page = await newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(`${baseUrl}#scf`);
-    await ready(page);
+    const page = await open('scf');
     await idle(page, 'busy');
     const dir = mkdtempSync(join(tmpdir(), 'confset-scenario-'));
     const file = join(dir, 'my-ubb.json');
@@ -293,9 +292,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
   // report equals the scenario with the same data given directly; a bad cell on row 7 names the
   // row and keeps the picture; a wrong number of columns names both counts.
   {
-    const page = await newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(`${baseUrl}#lscr`);
-    await ready(page);
+    const page = await open('lscr');
     await idle(page, 'lscrBusy');
     const download = async (id) => {
       const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`#${id}`)]);
@@ -431,9 +428,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
   // One view mounted twice (the compare view and the gallery will): ids are looked up under each
   // root, so the second copy computes and draws on its own and leaves the first alone.
   {
-    const page = await newPage({ viewport: { width: 1366, height: 900 } });
-    await page.goto(`${baseUrl}#lscr`);
-    await ready(page);
+    const page = await open('lscr');
     await idle(page, 'lscrBusy');
     const first = (await snapshot(page, 'lscr')).pixels;
     await page.evaluate(async () => {
@@ -462,9 +457,7 @@ export default async function explorer({ newPage, baseUrl, assert, screenshotDir
     assert.ok(existsSync(CLI), `${CLI} is built by the native test layer`);
     const dir = mkdtempSync(join(tmpdir(), 'confset-export-'));
     for (const d of PANELS) {
-      const page = await newPage({ viewport: { width: 1366, height: 900 } });
-      await page.goto(`${baseUrl}#${d.id}`);
-      await ready(page);
+      const page = await open(d.id);
       await settled(page);
       await moveControls(page, d);
       const download = async (kind) => {

@@ -2,7 +2,7 @@
 // moving every figure's marker and the numbers, the state-noise estimator and its QP check on
 // glls-unstable5, the chunked Monte Carlo redrawing the precision figure, bad input shown inline
 // while the last pictures stay, wasm timings measured in the page, and screenshots at DPR 1 and 2.
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+import { text, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio, assertDrawnWell } from './helpers.mjs';
 
 const PANELS = ['singular', 'index', 'plane', 'precision'];
 const idle = (page) => page.waitForFunction(
@@ -11,17 +11,10 @@ const numbers = (page) => page.$eval('#g-numbers', (e) => e.innerText.trim().rep
 const pixels = (page, panel) => page.$eval(`#fig-${panel} canvas`, (c) => c.toDataURL());
 const allPixels = async (page) => Object.fromEntries(await Promise.all(PANELS.map(async (p) => [p, await pixels(page, p)])));
 
-const inked = (page, panel) => inkedFraction(page, `#fig-${panel} canvas`);
 const set = (page, id, value) => setField(page, id, value, idle);
 const choose = (page, name) => choosePreset(page, 'g-preset', name, idle);
 
-async function drawnWell(page, assert, what) {
-  for (const p of PANELS) {
-    assert.equal(await text(page, `#fig-${p} .fig-err`), '', `${what}: the ${p} figure is drawn without error`);
-    const ink = await inked(page, p);
-    assert.ok(ink > 0.02, `${what}: the ${p} figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);
-  }
-}
+const drawnWell = (page, assert, what) => assertDrawnWell(page, assert, PANELS, what);
 
 async function monteCarlo(page, runs) {
   await page.fill('#g-mc-n', String(runs));
@@ -41,12 +34,7 @@ export default async function glls(env) {
 
     // glls-saturate: four figures at the pixel ratio, the Monte Carlo started with the scenario.
     assert.equal(await page.$eval('#g-preset', (e) => e.value), 'glls-saturate');
-    for (const p of PANELS) {
-      const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-      assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-      assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
-      assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
-    }
+    await assertDrawnAtRatio(page, assert, dpr, PANELS, 380);
     assert.match(await text(page, '#g-mc-status'), /^2,000 runs in \d+ ms/, "the preset's 2000-run study ran with the scenario");
     await drawnWell(page, assert, 'glls-saturate');
     let nb = await numbers(page);

@@ -52,6 +52,27 @@ export async function openApp({ newPage, baseUrl, waitReady }, dpr, idle, route)
   return page;
 }
 
+// Each panel's figure canvas (#fig-<panel>) is drawn at the device pixel ratio: its backing store
+// is its CSS size × dpr; with `minWidth`, it is at least that many CSS pixels wide.
+export async function assertDrawnAtRatio(page, assert, dpr, panels, minWidth = 0) {
+  for (const p of panels) {
+    const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
+    assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
+    assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
+    if (minWidth) assert.ok(size[2] >= minWidth, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
+  }
+}
+
+// Each panel's figure (#fig-<panel>) is drawn without an error and has ink (over 2 % of its
+// pixels); `what` names the state of the page in the messages.
+export async function assertDrawnWell(page, assert, panels, what) {
+  for (const p of panels) {
+    assert.equal(await text(page, `#fig-${p} .fig-err`), '', `${what}: the ${p} figure is drawn without error`);
+    const ink = await inked(page, `#fig-${p} canvas`);
+    assert.ok(ink > 0.02, `${what}: the ${p} figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);
+  }
+}
+
 // Screenshot of one panel's section (scrolled into view first) as `<name>.png`.
 export async function shootSection(page, sectionId, screenshotDir, name) {
   await page.$eval(`#${sectionId}`, (e) => e.scrollIntoView());

@@ -2,7 +2,7 @@
 // a click placing the true state, the chunked coverage experiment, bad input shown inline while
 // the last picture stays, the unbounded MA(1) band, wasm timings measured in the page, and
 // screenshots of the panel at DPR 1 and 2 for the three presets.
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio } from './helpers.mjs';
 import { readFile } from 'node:fs/promises';
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy && !document.body.dataset.lscrBusy,
@@ -35,10 +35,7 @@ export default async function lscr(env) {
 
     // Fig. 1's preset: drawn at the pixel ratio, numbers at the paper's 90 %.
     assert.equal(await page.$eval('#l-preset', (e) => e.value), 'lscr-predict');
-    const size = await page.$eval('#fig-region canvas', (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-    assert.equal(size[0], Math.round(size[2] * dpr), `canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-    assert.equal(size[1], Math.round(size[3] * dpr), `canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
-    assert.ok(size[2] >= 600, `the figure is large (${size[2]} CSS px wide)`);
+    await assertDrawnAtRatio(page, assert, dpr, ['region'], 600);
     assert.equal(await text(page, '#fig-region .fig-err'), '', 'the region figure is drawn without error');
     const ink = await inked(page);
     assert.ok(ink > 0.03, `the region figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);

@@ -2,7 +2,7 @@
 // inline while the last picture stays, the chunked Monte Carlo, and screenshots at DPR 1 and 2.
 import { join } from 'node:path';
 import { readFile } from 'node:fs/promises';
-import { openApp } from './helpers.mjs';
+import { openApp, assertDrawnAtRatio } from './helpers.mjs';
 
 const readDownload = async (d) => readFile(await d.path(), 'utf8');
 
@@ -29,9 +29,7 @@ export default async function scf(env) {
     const page = await openApp(env, dpr, idle, 'scf');
 
     // Hi-DPI: the backing store is the CSS size times the pixel ratio, and a figure was drawn.
-    const size = await page.$eval('#fig-state canvas', (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-    assert.equal(size[0], Math.round(size[2] * dpr), `canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-    assert.equal(size[1], Math.round(size[3] * dpr), `canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
+    await assertDrawnAtRatio(page, assert, dpr, ['state']);
     assert.equal(await text(page, '#fig-state .fig-err'), '', 'the state figure is drawn without error');
     assert.match(await text(page, '#t-run'), /^computed in [\d.]+ ms$/);
     assert.match(await text(page, '#t-draw'), /drawn in [\d.]+ ms/);

@@ -5,7 +5,7 @@
 // screenshots at DPR 1 and 2 (www/screenshot-ubb.png from DPR 1 with CONFSET_REFRESH_SCREENSHOTS=1).
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+import { text, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio, assertDrawnWell } from './helpers.mjs';
 
 const PANELS = ['ubbset', 'ubbwidth'];
 const PRESETS = ['ubb-track', 'ubb-series', 'ubb-leontief', 'ubb-markov'];
@@ -13,18 +13,13 @@ const idle = (page) => page.waitForFunction(() => !document.body.dataset.ubbBusy
 const gIdle = (page) => page.waitForFunction(() => !document.body.dataset.ubbGuaranteeBusy, null, { timeout: 120_000 });
 const numbers = (page) => page.$eval('#b-numbers-card', (e) => e.innerText.trim().replace(/\s+/g, ' '));
 const pixels = (page, panel) => page.$eval(`#fig-${panel} canvas`, (c) => c.toDataURL());
-const inked = (page, panel) => inkedFraction(page, `#fig-${panel} canvas`);
 const set = (page, id, value) => setField(page, id, value, idle);
 const choose = (page, name) => choosePreset(page, 'b-preset', name, idle);
 const NUM = '-?[\\d.]+(?:e[+-]?\\d+)?';
 const www = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'www');
 
 async function drawnWell(page, assert, what) {
-  for (const p of PANELS) {
-    assert.equal(await text(page, `#fig-${p} .fig-err`), '', `${what}: the ${p} figure is drawn without error`);
-    const ink = await inked(page, p);
-    assert.ok(ink > 0.02, `${what}: the ${p} figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);
-  }
+  await assertDrawnWell(page, assert, PANELS, what);
   assert.equal(await text(page, '#ubb form .err[data-for="ubb.eps"]'), '', `${what}: no ε error`);
 }
 
@@ -42,12 +37,7 @@ export default async function ubb(env) {
 
     // ubb-track at k = 40: two figures at the pixel ratio, the numbers.
     assert.equal(await page.$eval('#b-preset', (e) => e.value), 'ubb-track');
-    for (const p of PANELS) {
-      const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-      assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-      assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
-      assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
-    }
+    await assertDrawnAtRatio(page, assert, dpr, PANELS, 380);
     await drawnWell(page, assert, 'ubb-track');
     let nb = await numbers(page);
     assert.match(await text(page, '#b-num-title'), /^At step k = 40: the set of x\(41\) from y\(11\) … y\(40\), l∞ bounds$/);

@@ -2,7 +2,7 @@
 // cursor moving every figure and the numbers, the window length and the method changing them,
 // bad input shown inline while the last pictures stay, wasm timings measured in the page
 // (Session.run of the paper's 120 samples; a 5-sample window LP), and screenshots at DPR 1 and 2.
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection } from './helpers.mjs';
+import { text, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio, assertDrawnWell } from './helpers.mjs';
 
 const PANELS = ['ustates', 'uoutput', 'uparams', 'upolygon'];
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.uniformBusy, null, { timeout: 60_000 });
@@ -10,18 +10,11 @@ const idle = (page) => page.waitForFunction(() => !document.body.dataset.uniform
 const numbers = (page) => page.$eval('#u-numbers-card', (e) => e.innerText.trim().replace(/\s+/g, ' ').normalize('NFC'));
 const pixels = (page, panel) => page.$eval(`#fig-${panel} canvas`, (c) => c.toDataURL());
 const allPixels = async (page) => Object.fromEntries(await Promise.all(PANELS.map(async (p) => [p, await pixels(page, p)])));
-const inked = (page, panel) => inkedFraction(page, `#fig-${panel} canvas`);
 const set = (page, id, value) => setField(page, id, value, idle);
 const choose = (page, name) => choosePreset(page, 'u-preset', name, idle);
 const NUM = '-?[\\d.]+(?:e[+-]?\\d+)?';
 
-async function drawnWell(page, assert, what) {
-  for (const p of PANELS) {
-    assert.equal(await text(page, `#fig-${p} .fig-err`), '', `${what}: the ${p} figure is drawn without error`);
-    const ink = await inked(page, p);
-    assert.ok(ink > 0.02, `${what}: the ${p} figure has ink (${(100 * ink).toFixed(1)} % of the pixels)`);
-  }
-}
+const drawnWell = (page, assert, what) => assertDrawnWell(page, assert, PANELS, what);
 
 const shoot = (page, screenshotDir, name) => shootSection(page, 'uniform-section', screenshotDir, name);
 
@@ -39,12 +32,7 @@ export default async function uniform(env) {
 
     // uniform-paper: four figures at the pixel ratio.
     assert.equal(await page.$eval('#u-preset', (e) => e.value), 'uniform-paper');
-    for (const p of PANELS) {
-      const size = await page.$eval(`#fig-${p} canvas`, (c) => [c.width, c.height, c.clientWidth, c.clientHeight]);
-      assert.equal(size[0], Math.round(size[2] * dpr), `${p}: canvas width ${size[0]} for CSS ${size[2]} at DPR ${dpr}`);
-      assert.equal(size[1], Math.round(size[3] * dpr), `${p}: canvas height ${size[1]} for CSS ${size[3]} at DPR ${dpr}`);
-      assert.ok(size[2] >= 380, `${p}: the figure is large enough (${size[2]} CSS px wide)`);
-    }
+    await assertDrawnAtRatio(page, assert, dpr, PANELS, 380);
     await drawnWell(page, assert, 'uniform-paper');
     let nb = await numbers(page);
     assert.match(await text(page, '#u-num-title'), /^At the time cursor t = 120: window 116 … 120 \(∂ = 5\), swapping \(4\.1\)$/);

@@ -5,23 +5,41 @@
 use confset::presets;
 use serde_json::Value;
 use std::io::Write;
-use std::process::{Command, Output, Stdio};
+use std::process::{Child, Command, Output, Stdio};
 
 /// `confset ARGS` with `stdin` (none: an empty one): its status, stdout and stderr.
 pub(crate) fn confset(args: &[&str], stdin: Option<&[u8]>) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_confset"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the confset binary runs");
+    let mut c = spawn(args);
     let mut input = c.stdin.take().expect("stdin");
     if let Some(bytes) = stdin {
         input.write_all(bytes).expect("write stdin");
     }
     drop(input);
     c.wait_with_output().expect("confset finishes")
+}
+
+/// `confset ARGS` started with its stdin, stdout and stderr piped.
+pub(crate) fn spawn(args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_confset"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the confset binary runs")
+}
+
+/// `confset ARGS` with `stdin` exits with `code`: its output and its stderr as text.
+fn exits_with(code: i32, args: &[&str], stdin: Option<&[u8]>) -> (Output, String) {
+    let o = confset(args, stdin);
+    let err = text(&o.stderr);
+    assert_eq!(
+        o.status.code(),
+        Some(code),
+        "confset {}: {err}",
+        args.join(" ")
+    );
+    (o, err)
 }
 
 fn text(b: &[u8]) -> String {
@@ -120,14 +138,7 @@ fn usage_errors_exit_two_with_clap_messages_and_refused_input_exits_one() {
             "cannot be used with",
         ),
     ] {
-        let o = confset(args, None);
-        let err = text(&o.stderr);
-        assert_eq!(
-            o.status.code(),
-            Some(2),
-            "confset {}: {err}",
-            args.join(" ")
-        );
+        let (o, err) = exits_with(2, args, None);
         assert!(
             err.starts_with("error: "),
             "confset {}: {err}",
@@ -158,14 +169,7 @@ fn usage_errors_exit_two_with_clap_messages_and_refused_input_exits_one() {
             "--panel ubbset is not a panel of the method \"scf\"",
         ),
     ] {
-        let o = confset(args, Some(stdin));
-        let err = text(&o.stderr);
-        assert_eq!(
-            o.status.code(),
-            Some(1),
-            "confset {}: {err}",
-            args.join(" ")
-        );
+        let (_, err) = exits_with(1, args, Some(stdin));
         assert!(err.contains(says), "confset {}: {err}", args.join(" "));
     }
 }

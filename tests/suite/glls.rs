@@ -13,6 +13,7 @@
 //!   interval box in every one of ≥ 10,000 runs — random noise in the ball, noise on the
 //!   sphere, and the worst-case patterns that reach the box's faces.
 
+use crate::common::patch::run_json;
 use crate::common::*;
 use confset::glls::{
     fast_forward, history_controllability, noise_map, observability, Curves, GllsModel, Horizon,
@@ -20,6 +21,7 @@ use confset::glls::{
 };
 use confset::model::{normal_vector, MatrixSpec, ModelSpec};
 use confset::presets;
+use confset::scenario::glls::GllsReport;
 use confset::scenario::Scenario;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -76,6 +78,11 @@ fn stack(v: &[DVector<f64>]) -> DVector<f64> {
 
 fn preset_json(name: &str) -> Value {
     serde_json::to_value(presets::get(name).unwrap()).unwrap()
+}
+
+/// The GLLS part of a preset's report.
+fn glls_report(name: &str) -> GllsReport {
+    presets::get(name).unwrap().run().unwrap().glls.unwrap()
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
@@ -402,7 +409,7 @@ fn the_papers_remark_on_gamma_a_minus_s_holds_only_for_orthogonal_a() {
     }
     // The presets: far apart.
     for name in ["glls-saturate", "glls-grow", "glls-unstable5"] {
-        let g = presets::get(name).unwrap().run().unwrap().glls.unwrap();
+        let g = glls_report(name);
         assert!(
             g.prime_gap_log10.unwrap() > 1.0,
             "{name}: gap {:?}",
@@ -472,12 +479,7 @@ fn state_noise_estimator_closed_form_qp_and_kkt_agree() {
         }
     }
     // The preset's report carries the same check.
-    let g = presets::get("glls-unstable5")
-        .unwrap()
-        .run()
-        .unwrap()
-        .glls
-        .unwrap();
+    let g = glls_report("glls-unstable5");
     assert!(
         g.state_noise.as_ref().unwrap().qp_difference < 1e-4,
         "{:?}",
@@ -631,12 +633,7 @@ in_browser!(monte_carlo_mean_error_is_below_the_expected_bound);
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn state_noise_estimator_beats_lls_on_noisy_transitions() {
     // Section 5.2 / Fig. 4 on the preset (2,000 runs at horizons 4..15).
-    let g = presets::get("glls-unstable5")
-        .unwrap()
-        .run()
-        .unwrap()
-        .glls
-        .unwrap();
+    let g = glls_report("glls-unstable5");
     let p = g.precision.unwrap();
     let second = p.second.as_ref().unwrap();
     let better = p
@@ -671,7 +668,7 @@ in_browser!(state_noise_estimator_beats_lls_on_noisy_transitions);
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn presets_report_guarantees_and_best_horizons() {
     for name in ["glls-saturate", "glls-grow", "glls-mixed", "glls-unstable5"] {
-        let g = presets::get(name).unwrap().run().unwrap().glls.unwrap();
+        let g = glls_report(name);
         assert_eq!(
             g.curves.log10_sigma.len(),
             presets::get(name).unwrap().glls.unwrap().max_horizon + 1
@@ -682,20 +679,10 @@ fn presets_report_guarantees_and_best_horizons() {
         }
     }
     // Fig. 2a: σ_n/√s peaks inside the range when σ_n saturates; Fig. 2b: it keeps growing.
-    let sat = presets::get("glls-saturate")
-        .unwrap()
-        .run()
-        .unwrap()
-        .glls
-        .unwrap();
+    let sat = glls_report("glls-saturate");
     let best = sat.best_horizon.unwrap();
     assert!(best > 2 && best < 60, "saturating: best horizon {best}");
-    let grow = presets::get("glls-grow")
-        .unwrap()
-        .run()
-        .unwrap()
-        .glls
-        .unwrap();
+    let grow = glls_report("glls-grow");
     assert_eq!(
         grow.best_horizon,
         Some(60),
@@ -770,12 +757,7 @@ fn worst_case_noise_puts_the_truth_on_the_box_face_and_singular_a_is_explained()
     let mut s = preset_json("glls-saturate");
     s["glls"]["noise"] = json!("worst");
     s["glls"]["monte_carlo"] = Value::Null;
-    let g = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap()
-        .glls
-        .unwrap();
+    let g = run_json(&s).unwrap().glls.unwrap();
     let i = g.plane[0];
     let err = (g.x_true_current.as_ref().unwrap()[i]
         - (g.box_current.lo[i] + g.box_current.hi[i]) / 2.0)
@@ -792,12 +774,7 @@ fn worst_case_noise_puts_the_truth_on_the_box_face_and_singular_a_is_explained()
     s["model"]["F"] = json!([[0.0, 1.0], [0.0, 0.0]]);
     s["glls"]["monte_carlo"] = Value::Null;
     s["glls"]["horizon"] = json!(3);
-    let g = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap()
-        .glls
-        .unwrap();
+    let g = run_json(&s).unwrap().glls.unwrap();
     assert!(g.sigma_prime.is_none() && g.curves.log10_sigma_prime.is_none());
     assert!(
         g.prime_note.as_deref().unwrap_or("").contains("singular"),

@@ -20,6 +20,13 @@ fn refused(v: &Value) -> confset::Error {
     }
 }
 
+/// `v` is refused with an error on `field` whose message says each of `says`.
+fn refused_saying(v: &Value, field: &str, says: &[&str]) {
+    let e = refused(v);
+    assert_eq!(e.field, field, "{e}");
+    assert!(says.iter().all(|w| e.message.contains(w)), "{e}");
+}
+
 /// Whether `svg` is XML 1.0's character set: no control character but tab, line feed and
 /// carriage return, and not U+FFFE or U+FFFF.
 fn xml_chars_only(svg: &str) -> bool {
@@ -75,12 +82,7 @@ in_browser!(a_long_title_is_cut_before_layout);
 fn text_fields_over_the_limit_are_refused_naming_the_field() {
     let mut v = preset("scf-scalar");
     v["title"] = json!("t".repeat(1_000_000));
-    let e = refused(&v);
-    assert_eq!(e.field, "title", "{e}");
-    assert!(
-        e.message.contains("1000000 characters") && e.message.contains("10000"),
-        "{e}"
-    );
+    refused_saying(&v, "title", &["1000000 characters", "10000"]);
     let mut v = preset("scf-scalar");
     v["notes"] = json!("é".repeat(MAX_TEXT_CHARS + 1));
     assert_eq!(refused(&v).field, "notes");
@@ -120,12 +122,7 @@ fn lists_over_their_limits_are_refused_before_reading() {
     };
     let mut v = preset("lscr-predict");
     v["lscr"]["probes"] = json!(vec![[0.0, 0.0]; limit("lscr.probes") + 1]);
-    let e = refused(&v);
-    assert_eq!(e.field, "lscr.probes", "{e}");
-    assert!(
-        e.message.contains("10001 entries") && e.message.contains("10000"),
-        "{e}"
-    );
+    refused_saying(&v, "lscr.probes", &["10001 entries", "10000"]);
     let mut v = preset("uniform-paper");
     let o = json!({"matrix": "A", "row": 0, "col": 0, "lo": -1.0, "hi": 1.0});
     v["uniform"]["prior_overrides"] = json!(vec![o; limit("uniform.prior_overrides") + 1]);
@@ -145,9 +142,7 @@ fn input_rows_past_the_last_step_used_are_refused() {
         .expect("one input row per step");
     // One more is never read: refused, as data.u is.
     v["simulate"]["u"] = json!(vec![row; steps + 1]);
-    let e = refused(&v);
-    assert_eq!(e.field, "simulate.u", "{e}");
-    assert!(e.message.contains(&format!("at most {steps} rows")), "{e}");
+    refused_saying(&v, "simulate.u", &[&format!("at most {steps} rows")]);
 }
 in_browser!(input_rows_past_the_last_step_used_are_refused);
 
@@ -235,9 +230,8 @@ in_browser!(a_small_study_reports_progress_in_many_steps);
 /// The command line's reads: one bounded reader for the scenario, `--data` and merge parts.
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
-    use crate::cli::confset;
+    use crate::cli::{confset, spawn};
     use std::io::Write;
-    use std::process::{Command, Stdio};
 
     fn stderr(o: &std::process::Output) -> String {
         String::from_utf8_lossy(&o.stderr).into_owned()
@@ -291,13 +285,7 @@ mod cli {
     /// then refused: the writer is stopped by the closed pipe, so the test is bounded.
     #[test]
     fn an_endless_scenario_on_stdin_is_read_only_to_the_limit() {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_confset"))
-            .args(["run", "-"])
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("confset runs");
+        let mut c = spawn(&["run", "-"]);
         let mut input = c.stdin.take().expect("stdin");
         let writer = std::thread::spawn(move || {
             let block = vec![b' '; 1 << 16];

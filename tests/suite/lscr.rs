@@ -17,6 +17,7 @@
 //!   level, and the Kalman ellipse collapses far out.
 //! * Bad input names its field; MA(1) is unbounded along [1, 1]ᵀ.
 
+use crate::common::patch::run_json;
 use crate::common::*;
 use confset::lscr::{
     self, choose_m_q, Construction, Estimator, KarhunenLoeve, LscrModel, Options, Problem,
@@ -95,7 +96,7 @@ fn draw_y(est: &Estimator, truth: &[f64], rng: &mut ChaCha8Rng) -> Vec<f64> {
 }
 
 fn run(s: &Value) -> confset::scenario::Report {
-    Scenario::from_json(&s.to_string()).unwrap().run().unwrap()
+    run_json(&s).unwrap()
 }
 
 fn preset_json(name: &str) -> Value {
@@ -232,40 +233,40 @@ fn karhunen_loeve_whitens_and_the_svd_spans_a() {
     for target in [Target::Predict, Target::Filter, Target::Smooth(15)] {
         let p = Problem::new(&m, 30, target).unwrap();
         let (u, d) = (&p.kl.u, &p.kl.d);
-        assert_mat_close(
-            &(u.transpose() * u),
-            &DMatrix::identity(30, 30),
-            1e-12,
-            "UᵀU",
-        );
-        assert_mat_close(
-            &(u.transpose() * &p.regression.q2 * u),
-            &DMatrix::from_diagonal(d),
-            1e-9,
-            "UᵀQ″U",
-        );
+        let ua = &p.kl.u_a;
+        // The whitening, the basis and the span, each as (computed, expected, tolerance).
+        for (got, want, tol, what) in [
+            (u.transpose() * u, DMatrix::identity(30, 30), 1e-12, "UᵀU"),
+            (
+                u.transpose() * &p.regression.q2 * u,
+                DMatrix::from_diagonal(d),
+                1e-9,
+                "UᵀQ″U",
+            ),
+            (
+                p.kl.a.clone(),
+                u.transpose() * &p.regression.phi,
+                1e-12,
+                "A = UᵀΦ",
+            ),
+            (
+                ua.transpose() * ua,
+                DMatrix::identity(2, 2),
+                1e-12,
+                "U_AᵀU_A",
+            ),
+            (
+                ua * ua.transpose() * &p.kl.a,
+                p.kl.a.clone(),
+                1e-12,
+                "U_A spans A",
+            ),
+        ] {
+            assert_mat_close(&got, &want, tol, what);
+        }
         assert!(
             d.iter().zip(d.iter().skip(1)).all(|(a, b)| a >= b),
             "{target:?}: D decreasing"
-        );
-        assert_mat_close(
-            &p.kl.a,
-            &(u.transpose() * &p.regression.phi),
-            1e-12,
-            "A = UᵀΦ",
-        );
-        let ua = &p.kl.u_a;
-        assert_mat_close(
-            &(ua.transpose() * ua),
-            &DMatrix::identity(2, 2),
-            1e-12,
-            "U_AᵀU_A",
-        );
-        assert_mat_close(
-            &(ua * ua.transpose() * &p.kl.a),
-            &p.kl.a,
-            1e-12,
-            "U_A spans A",
         );
         let sv = p.kl.a.clone().svd(false, false).singular_values;
         let mut sv: Vec<f64> = sv.iter().copied().collect();
@@ -708,6 +709,15 @@ fn assert_in(count: usize, band: (usize, usize), what: &str) {
     );
 }
 
+/// The counts of X̂_1 and X̂_2 (`label(1)`, `label(2)`) over RUNS runs are within the band of
+/// their level.
+fn assert_each_in(inside_each: &[usize], each_level: f64, label: impl Fn(usize) -> String) {
+    let band_each = binomial_interval(RUNS, each_level, CONF);
+    for l in 0..2 {
+        assert_in(inside_each[l], band_each, &label(l + 1));
+    }
+}
+
 /// Stationary standard deviations of the state (σ_v² = the model's).
 fn stationary_sd(m: &LscrModel) -> Vec<f64> {
     let pi = lyapunov_kron(&m.f, &(&m.shape * m.sigma_v2));
@@ -734,14 +744,7 @@ fn coverage_holds_at_a_typical_and_a_far_state() {
             let what =
                 format!("{target:?} {construction:?} M={m} q={q} at the {where_} state {truth:?}");
             assert_eq!(c.runs, RUNS);
-            let band_each = binomial_interval(RUNS, each_level, CONF);
-            for l in 0..2 {
-                assert_in(
-                    c.inside_each[l],
-                    band_each,
-                    &format!("X̂_{} of {what}", l + 1),
-                );
-            }
+            assert_each_in(&c.inside_each, each_level, |l| format!("X̂_{l} of {what}"));
             let band = binomial_interval(RUNS, level, CONF);
             assert!(
                 c.inside >= band.0,
@@ -825,14 +828,9 @@ fn ma1_coverage_holds_where_the_kalman_ellipse_fails() {
         .unwrap();
         let (each_level, level) = est.levels();
         let c = experiment(est, &truth, RUNS, 5);
-        let band_each = binomial_interval(RUNS, each_level, CONF);
-        for l in 0..2 {
-            assert_in(
-                c.inside_each[l],
-                band_each,
-                &format!("MA(1) X̂_{} at {truth:?}", l + 1),
-            );
-        }
+        assert_each_in(&c.inside_each, each_level, |l| {
+            format!("MA(1) X̂_{l} at {truth:?}")
+        });
         assert!(c.inside >= binomial_interval(RUNS, level, CONF).0);
         assert!(c.blue.is_none(), "no BLUE for MA(1)");
         let kf = c.kf.unwrap();
@@ -1039,35 +1037,22 @@ fn bad_input_names_the_field() {
     ];
     crate::common::patch::assert_refused(&base, &cases);
     // The experiment needs a fixed state and a coverage block, at the estimated time.
+    let refused_field = |sc: &Value| {
+        Scenario::from_json(&sc.to_string())
+            .unwrap()
+            .lscr_experiment()
+            .err()
+            .unwrap()
+            .field
+    };
     let mut sc = base.clone();
     sc["lscr"]["coverage"] = json!({"runs": 10, "seed": 1});
-    let e = Scenario::from_json(&sc.to_string())
-        .unwrap()
-        .lscr_experiment()
-        .err()
-        .unwrap();
-    assert_eq!(e.field, "simulate.condition");
+    assert_eq!(refused_field(&sc), "simulate.condition");
     sc["simulate"]["condition"] = json!({"t": 30, "x": [0, 0]});
-    assert_eq!(
-        Scenario::from_json(&sc.to_string())
-            .unwrap()
-            .lscr_experiment()
-            .err()
-            .unwrap()
-            .field,
-        "simulate.condition.t"
-    );
+    assert_eq!(refused_field(&sc), "simulate.condition.t");
     sc["simulate"]["condition"] = json!({"t": 31, "x": [0, 0]});
     sc["lscr"]["coverage"] = json!({"runs": 0});
-    assert_eq!(
-        Scenario::from_json(&sc.to_string())
-            .unwrap()
-            .lscr_experiment()
-            .err()
-            .unwrap()
-            .field,
-        "lscr.coverage.runs"
-    );
+    assert_eq!(refused_field(&sc), "lscr.coverage.runs");
 }
 in_browser!(bad_input_names_the_field);
 

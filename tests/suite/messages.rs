@@ -4,6 +4,7 @@
 //! most likely responsible; a block of another method is refused with the right pointer.
 //! One test per class, then every leaf of every preset replaced by a string.
 
+use crate::common::patch::run_json;
 use confset::plot::Panel;
 use confset::scenario::Scenario;
 use confset::{presets, Error, Method};
@@ -162,10 +163,7 @@ fn long_user_strings_are_cut() {
     assert!(!e.message.contains(&"x".repeat(41)), "{e}");
     let mut v = preset("ubb-series");
     v["ubb"]["basis"] = json!(["1", long]);
-    let e = Scenario::from_json(&v.to_string())
-        .unwrap()
-        .run()
-        .unwrap_err();
+    let e = run_json(&v).unwrap_err();
     assert!(
         e.message.contains(&cut) && !e.message.contains(&"x".repeat(41)),
         "{e}"
@@ -173,10 +171,7 @@ fn long_user_strings_are_cut() {
     let mut v = preset("uniform-paper");
     v["uniform"]["prior_overrides"] =
         json!([{"matrix": long, "row": 0, "col": 0, "lo": 0, "hi": 1}]);
-    let e = Scenario::from_json(&v.to_string())
-        .unwrap()
-        .run()
-        .unwrap_err();
+    let e = run_json(&v).unwrap_err();
     assert_eq!(e.field, "uniform.prior_overrides[0].matrix");
     assert!(e.message.ends_with(&cut), "{e}");
     for e in [
@@ -198,10 +193,7 @@ fn contradictory_bounds_name_the_bound() {
     let mut v = preset("ubb-track");
     v["ubb"]["eps"] = json!(1e-6);
     v["ubb"]["sim_eps"] = json!(0.2);
-    let e = Scenario::from_json(&v.to_string())
-        .unwrap()
-        .run()
-        .unwrap_err();
+    let e = run_json(&v).unwrap_err();
     assert_plain(&e);
     assert_eq!(e.field, "ubb.eps");
     assert_eq!(
@@ -349,7 +341,10 @@ fn scf_options_at_the_top_level_still_run_and_the_report_says_they_moved() {
     // The scenario read from the old file writes the new shape, with the same digest.
     let s = Scenario::from_json(&old.to_string()).unwrap();
     assert_eq!(serde_json::to_value(&s).unwrap(), new);
-    assert_eq!(s.digest().unwrap(), presets::get("scf-robots").unwrap().digest().unwrap());
+    assert_eq!(
+        s.digest().unwrap(),
+        presets::get("scf-robots").unwrap().digest().unwrap()
+    );
 
     // Errors name the key where the text has it ...
     let mut v = old.clone();
@@ -359,19 +354,22 @@ fn scf_options_at_the_top_level_still_run_and_the_report_says_they_moved() {
     v["scf"] = json!({"tau": 4});
     let e = parse_error(&v);
     assert_eq!(e.field, "tau");
-    assert!(e.message.contains("given twice") && e.message.contains("scf.tau"), "{e}");
+    assert!(
+        e.message.contains("given twice") && e.message.contains("scf.tau"),
+        "{e}"
+    );
     // ... and the checks of a run name the block's path.
     let mut v = preset("scf-scalar");
     v["scf"]["tau"] = json!(20_000);
-    let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
+    let e = run_json(&v).unwrap_err();
     assert_eq!(e.to_string(), "scf.tau must be at most 10000");
     let mut v = new.clone();
     v["scf"]["collision"]["d_min"] = json!(-1.0);
-    let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
+    let e = run_json(&v).unwrap_err();
     assert_eq!(e.field, "scf.collision.d_min");
     let mut v = old;
     v["collision"]["d_min"] = json!(-1.0);
-    let e = Scenario::from_json(&v.to_string()).unwrap().run().unwrap_err();
+    let e = run_json(&v).unwrap_err();
     assert_eq!(e.field, "scf.collision.d_min");
 }
 in_browser!(scf_options_at_the_top_level_still_run_and_the_report_says_they_moved);
@@ -399,7 +397,10 @@ fn the_scf_block_belongs_to_scf_and_kf_only() {
     v["tau"] = json!(3);
     let e = parse_error(&v);
     assert_eq!(e.field, "tau");
-    assert!(e.message.contains("scf.tau") && e.message.contains("\"ubb\""), "{e}");
+    assert!(
+        e.message.contains("scf.tau") && e.message.contains("\"ubb\""),
+        "{e}"
+    );
     // Every other method's block on an SCF scenario, through the same loop.
     for p in presets::all() {
         let m = p.scenario.method;
@@ -408,10 +409,7 @@ fn the_scf_block_belongs_to_scf_and_kf_only() {
         };
         let mut v = preset("scf-scalar");
         v[block] = serde_json::to_value(&p.scenario).unwrap()[block].clone();
-        let e = Scenario::from_json(&v.to_string())
-            .unwrap()
-            .run()
-            .unwrap_err();
+        let e = run_json(&v).unwrap_err();
         assert_eq!(e.field, block, "{e}");
         assert!(e.message.contains(&format!("\"method\": \"{m}\"")), "{e}");
     }

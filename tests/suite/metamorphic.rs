@@ -24,6 +24,7 @@
 //! Tolerances are relative (see [`Tolerance`]): a point's error is measured against the larger
 //! of its magnitude and its set's size, every other number against its own magnitude.
 
+use crate::common::patch::patched;
 use confset::presets;
 use nalgebra::DMatrix;
 use proptest::prop_assert;
@@ -416,6 +417,31 @@ fn flag(label: impl Into<String>, yes: bool) -> Feature {
     feature(label, Kind::Flag, vec![if yes { 1.0 } else { 0.0 }])
 }
 
+/// A copy of the scenario with its model and data moved by the transformation (what every case
+/// moves; a method's own block is the case's).
+fn moved(sc: &Value, tr: &Transform) -> Value {
+    let mut sc = sc.clone();
+    transform_model(&mut sc["model"], tr);
+    transform_data(&mut sc, tr, 0);
+    sc
+}
+
+/// The corners (lo, hi) of the box around planar points.
+fn bounding_box<V: std::ops::Index<usize, Output = f64>>(points: &[V]) -> (Vec<f64>, Vec<f64>) {
+    let lo: Vec<f64> = (0..2)
+        .map(|k| points.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min))
+        .collect();
+    let hi: Vec<f64> = (0..2)
+        .map(|k| {
+            points
+                .iter()
+                .map(|v| v[k])
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .collect();
+    (lo, hi)
+}
+
 /// A polygon's hull corners (lo, hi), signed-area magnitude and centroid.
 fn polygon_features(label: &str, t: usize, vertices: &[Vec<f64>], out: &mut Vec<Feature>) {
     let n = vertices.len();
@@ -428,17 +454,7 @@ fn polygon_features(label: &str, t: usize, vertices: &[Vec<f64>], out: &mut Vec<
         cy += (a[1] + b[1]) * cross;
     }
     area /= 2.0;
-    let lo: Vec<f64> = (0..2)
-        .map(|k| vertices.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min))
-        .collect();
-    let hi: Vec<f64> = (0..2)
-        .map(|k| {
-            vertices
-                .iter()
-                .map(|v| v[k])
-                .fold(f64::NEG_INFINITY, f64::max)
-        })
-        .collect();
+    let (lo, hi) = bounding_box(vertices);
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     out.push(point(format!("{label}.hull_lo"), t, lo, size));
     out.push(point(format!("{label}.hull_hi"), t, hi, size));
@@ -486,12 +502,7 @@ fn scf_case(method: &'static str) -> Case {
         truth,
         f,
         times: 8,
-        patch: |sc, tr| {
-            let mut sc = sc.clone();
-            transform_model(&mut sc["model"], tr);
-            transform_data(&mut sc, tr, 0);
-            sc
-        },
+        patch: |sc, tr| moved(sc, tr),
         features: |r, truth| {
             let mut out = Vec::new();
             for (i, st) in r["steps"].as_array().unwrap().iter().enumerate() {
@@ -562,9 +573,7 @@ fn glls_case() -> Case {
         f,
         times: steps,
         patch: |sc, tr| {
-            let mut sc = sc.clone();
-            transform_model(&mut sc["model"], tr);
-            transform_data(&mut sc, tr, 0);
+            let mut sc = moved(sc, tr);
             if let Transform::Scale(s) = tr {
                 scale_json(&mut sc["glls"]["mu"], *s);
             }
@@ -638,10 +647,10 @@ fn ubb_case() -> Case {
     let (truth, y) = simulate(&f, &g, &h, &[0.3, -0.5], 0.1, 0.2, steps + 1, 5);
     sc.as_object_mut().unwrap().remove("simulate");
     sc["data"] = json!({ "y": y[..steps] });
-    let ubb = sc["ubb"].as_object_mut().unwrap();
-    ubb.insert("window".into(), json!(6));
-    ubb.insert("time".into(), json!(10));
-    ubb.insert("x0_center".into(), json!([0.0, 0.0]));
+    let sc = patched(
+        &sc,
+        &json!({"ubb": {"window": 6, "time": 10, "x0_center": [0.0, 0.0]}}),
+    );
     Case {
         name: "ubb",
         scenario: sc,
@@ -649,9 +658,7 @@ fn ubb_case() -> Case {
         f,
         times: steps + 1,
         patch: |sc, tr| {
-            let mut sc = sc.clone();
-            transform_model(&mut sc["model"], tr);
-            transform_data(&mut sc, tr, 0);
+            let mut sc = moved(sc, tr);
             let ubb = &mut sc["ubb"];
             transform_state_field(&mut ubb["x0_center"], tr, 0);
             match tr {
@@ -738,11 +745,15 @@ fn uniform_case() -> Case {
     sc.as_object_mut().unwrap().remove("simulate");
     sc["model"]["H"] = rows(&h);
     sc["data"] = json!({ "y": y, "u": u });
-    let uni = sc["uniform"].as_object_mut().unwrap();
-    uni.insert("estimator".into(), json!("states"));
-    uni.insert("prior_overrides".into(), json!([]));
-    uni.insert("x_bound".into(), json!(1000.0));
-    uni.insert("directions".into(), json!(32));
+    let sc = patched(
+        &sc,
+        &json!({"uniform": {
+            "estimator": "states",
+            "prior_overrides": [],
+            "x_bound": 1000.0,
+            "directions": 32
+        }}),
+    );
     Case {
         name: "uniform_lp",
         scenario: sc,
@@ -750,9 +761,7 @@ fn uniform_case() -> Case {
         f,
         times: steps + 1,
         patch: |sc, tr| {
-            let mut sc = sc.clone();
-            transform_model(&mut sc["model"], tr);
-            transform_data(&mut sc, tr, 0);
+            let mut sc = moved(sc, tr);
             let uni = &mut sc["uniform"];
             match tr {
                 Transform::Scale(s) => {
@@ -850,12 +859,7 @@ fn compare_case(name: &'static str, methods: &[&str], shifts: bool) -> Case {
         truth,
         f,
         times: steps + 1,
-        patch: |sc, tr| {
-            let mut sc = sc.clone();
-            transform_model(&mut sc["model"], tr);
-            transform_data(&mut sc, tr, 0);
-            sc
-        },
+        patch: |sc, tr| moved(sc, tr),
         features: |r, truth| {
             let at = &r["compare"]["at"];
             let t = at["target_time"].as_u64().unwrap() as usize - 1;
@@ -901,17 +905,7 @@ fn compare_case(name: &'static str, methods: &[&str], shifts: bool) -> Case {
                 if points.is_empty() {
                     continue;
                 }
-                let lo: Vec<f64> = (0..2)
-                    .map(|k| points.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min))
-                    .collect();
-                let hi: Vec<f64> = (0..2)
-                    .map(|k| {
-                        points
-                            .iter()
-                            .map(|v| v[k])
-                            .fold(f64::NEG_INFINITY, f64::max)
-                    })
-                    .collect();
+                let (lo, hi) = bounding_box(&points);
                 let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
                 out.push(flag(
                     format!("{m}.truth_in_box"),
@@ -1167,20 +1161,24 @@ fn assert_none(failures: Vec<String>) {
     );
 }
 
+/// The case's report agrees with its transformed scenario's: on the fixed grid of scales, shifts
+/// and permutations, then on proptest's draws.
+fn follows_every_transformation(case: &Case) {
+    assert_none(grid(case, &SCALES));
+    property(case);
+}
+
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn scf_and_kf_follow_translation_scaling_permutation() {
     for case in [scf_case("scf"), scf_case("kf")] {
-        assert_none(grid(&case, &SCALES));
-        property(&case);
+        follows_every_transformation(&case);
     }
 }
 in_browser!(scf_and_kf_follow_translation_scaling_permutation);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn glls_follows_translation_scaling_permutation() {
-    let case = glls_case();
-    assert_none(grid(&case, &SCALES));
-    property(&case);
+    follows_every_transformation(&glls_case());
 }
 in_browser!(glls_follows_translation_scaling_permutation);
 
@@ -1193,17 +1191,13 @@ in_browser!(glls_follows_translation_scaling_permutation);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn uniform_lp_follows_translation_scaling_permutation() {
-    let case = uniform_case();
-    assert_none(grid(&case, &SCALES));
-    property(&case);
+    follows_every_transformation(&uniform_case());
 }
 in_browser!(uniform_lp_follows_translation_scaling_permutation);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn ubb_follows_translation_scaling_permutation() {
-    let case = ubb_case();
-    assert_none(grid(&case, &SCALES));
-    property(&case);
+    follows_every_transformation(&ubb_case());
 }
 in_browser!(ubb_follows_translation_scaling_permutation);
 
@@ -1215,8 +1209,7 @@ fn compare_follows_translation_scaling_permutation() {
         compare_case("compare", &["kf", "scf", "lscr", "glls"], false),
         compare_case("compare", &["kf", "scf", "glls"], true),
     ] {
-        assert_none(grid(&case, &SCALES));
-        property(&case);
+        follows_every_transformation(&case);
     }
 }
 in_browser!(compare_follows_translation_scaling_permutation);
@@ -1224,8 +1217,6 @@ in_browser!(compare_follows_translation_scaling_permutation);
 /// compare's set-membership sets (Tempo, Pavelková): as their own methods' tests above.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn compare_lp_sets_follow_translation_scaling_permutation() {
-    let case = compare_case("compare", &["ubb", "uniform_lp"], true);
-    assert_none(grid(&case, &SCALES));
-    property(&case);
+    follows_every_transformation(&compare_case("compare", &["ubb", "uniform_lp"], true));
 }
 in_browser!(compare_lp_sets_follow_translation_scaling_permutation);

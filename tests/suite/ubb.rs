@@ -209,20 +209,27 @@ fn interval_hull_and_polygon_match_vertex_enumeration() {
 }
 in_browser!(interval_hull_and_polygon_match_vertex_enumeration);
 
-/// An l1 measurement bound on m residuals.
-fn l1_set(rng: &mut ChaCha8Rng, n: usize, m: usize, form: L1Form) -> (FeasibleSet, DMatrix<f64>) {
-    let nm = rand_mat(rng, m, n);
-    let f0 = DVector::from_fn(n, |_, _| rng.random::<f64>() - 0.5);
-    let h = &nm * &f0 + DVector::from_fn(m, |_, _| 0.05 * (rng.random::<f64>() - 0.5));
-    let w = DVector::from_fn(m, |_, _| 0.5 + rng.random::<f64>());
-    let set = FeasibleSet {
+/// The sets of these tests: a prior box or ball K, ‖diag(k_weight)·f‖ ≤ 1 in `k_norm` (the field
+/// "K"), and the measurement bound ‖diag(w)(N f − h)‖ ≤ eps in `norm` (the field "eps").
+#[allow(clippy::too_many_arguments)]
+fn k_and_eps(
+    n: usize,
+    (k_norm, k_weight): (Norm, f64),
+    nm: DMatrix<f64>,
+    h: DVector<f64>,
+    w: DVector<f64>,
+    norm: Norm,
+    eps: f64,
+    l1_form: L1Form,
+) -> FeasibleSet {
+    FeasibleSet {
         dim: n,
         bounds: vec![
             NormBound {
                 map: DMatrix::identity(n, n),
                 center: DVector::zeros(n),
-                weights: DVector::from_element(n, 1.0),
-                norm: Norm::Linf,
+                weights: DVector::from_element(n, k_weight),
+                norm: k_norm,
                 bound: 1.0,
                 field: "K".into(),
             },
@@ -230,15 +237,24 @@ fn l1_set(rng: &mut ChaCha8Rng, n: usize, m: usize, form: L1Form) -> (FeasibleSe
                 map: nm,
                 center: h,
                 weights: w,
-                norm: Norm::L1,
-                bound: 0.4,
+                norm,
+                bound: eps,
                 field: "eps".into(),
             },
         ],
         eq: None,
-        l1_form: form,
+        l1_form,
         field: "eps".into(),
-    };
+    }
+}
+
+/// An l1 measurement bound on m residuals.
+fn l1_set(rng: &mut ChaCha8Rng, n: usize, m: usize, form: L1Form) -> (FeasibleSet, DMatrix<f64>) {
+    let nm = rand_mat(rng, m, n);
+    let f0 = DVector::from_fn(n, |_, _| rng.random::<f64>() - 0.5);
+    let h = &nm * &f0 + DVector::from_fn(m, |_, _| 0.05 * (rng.random::<f64>() - 0.5));
+    let w = DVector::from_fn(m, |_, _| 0.5 + rng.random::<f64>());
+    let set = k_and_eps(n, (Norm::Linf, 1.0), nm, h, w, Norm::L1, 0.4, form);
     (set, rand_mat(rng, 3, n))
 }
 
@@ -291,30 +307,17 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     let eps = 0.1;
     let s = rand_mat(&mut rng, 2, n);
     // K: ‖0.1·f‖₂ ≤ 1 (V = 0.01·I), far larger than E(h) = {‖h − Nf‖₂ ≤ ε}.
-    let set = FeasibleSet {
-        dim: n,
-        bounds: vec![
-            NormBound {
-                map: DMatrix::identity(n, n),
-                center: DVector::zeros(n),
-                weights: DVector::from_element(n, 0.1),
-                norm: Norm::L2,
-                bound: 1.0,
-                field: "K".into(),
-            },
-            NormBound {
-                map: nm.clone(),
-                center: h.clone(),
-                weights: DVector::from_element(n, 1.0),
-                norm: Norm::L2,
-                bound: eps,
-                field: "eps".into(),
-            },
-        ],
-        eq: None,
-        l1_form: L1Form::Lifted,
-        field: "eps".into(),
-    };
+    let unit = DVector::from_element(n, 1.0);
+    let set = k_and_eps(
+        n,
+        (Norm::L2, 0.1),
+        nm.clone(),
+        h.clone(),
+        unit.clone(),
+        Norm::L2,
+        eps,
+        L1Form::Lifted,
+    );
     let hull = set.interval_hull(&s).unwrap();
     // Closed form: S_i f ranges over S_i N⁻¹h ± ε‖S_i N⁻¹‖₂.
     let ninv = nm.clone().try_inverse().unwrap();
@@ -342,41 +345,31 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     // The zero case: ‖N‖ ≤ ε, so K ⊆ Δ(ε); then sup over T(0) of S_i f is sup over K (16),
     // i.e. ‖S_i‖₂ for the unit ball, and the optimal estimate is 0.
     let small = &nm * (0.5 * eps / nm.norm());
-    let th0 = hilbert(
-        &DMatrix::identity(n, n),
-        &r,
-        &small,
-        &s,
-        eps,
-        &DVector::zeros(n),
-    )
-    .unwrap();
+    // Theorem 1 with V = I and h = 0, for another N.
+    let theorem_1 = |nm: &DMatrix<f64>| {
+        hilbert(
+            &DMatrix::identity(n, n),
+            &r,
+            nm,
+            &s,
+            eps,
+            &DVector::zeros(n),
+        )
+        .unwrap()
+    };
+    let th0 = theorem_1(&small);
     assert_eq!(th0.case, HilbertCase::Zero);
     assert_eq!(th0.estimate.unwrap(), vec![0.0, 0.0]);
-    let t0 = FeasibleSet {
-        dim: n,
-        bounds: vec![
-            NormBound {
-                map: DMatrix::identity(n, n),
-                center: DVector::zeros(n),
-                weights: DVector::from_element(n, 1.0),
-                norm: Norm::L2,
-                bound: 1.0,
-                field: "K".into(),
-            },
-            NormBound {
-                map: small,
-                center: DVector::zeros(n),
-                weights: DVector::from_element(n, 1.0),
-                norm: Norm::L2,
-                bound: eps,
-                field: "eps".into(),
-            },
-        ],
-        eq: None,
-        l1_form: L1Form::Lifted,
-        field: "eps".into(),
-    };
+    let t0 = k_and_eps(
+        n,
+        (Norm::L2, 1.0),
+        small,
+        DVector::zeros(n),
+        unit,
+        Norm::L2,
+        eps,
+        L1Form::Lifted,
+    );
     let h0 = t0.interval_hull(&s).unwrap();
     for i in 0..2 {
         assert!(
@@ -388,15 +381,7 @@ fn l2_bounds_give_the_ellipsoid_hull_and_theorem_1() {
     }
     // Neither case: N not one-to-one with a small K.
     let rank1 = DMatrix::from_fn(n, n, |i, j| (i + 1) as f64 * (j + 1) as f64);
-    let th2 = hilbert(
-        &DMatrix::identity(n, n),
-        &r,
-        &rank1,
-        &s,
-        eps,
-        &DVector::zeros(n),
-    )
-    .unwrap();
+    let th2 = theorem_1(&rank1);
     assert_eq!(th2.case, HilbertCase::Between);
     assert!(th2.delta_in_k.is_infinite() && th2.estimate.is_none());
 }

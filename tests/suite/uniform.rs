@@ -21,6 +21,7 @@
 //!   ranges on one loaded problem against a fresh LP each.
 
 use crate::common;
+use crate::common::patch::run_json;
 
 use confset::presets;
 use confset::scenario::Scenario;
@@ -415,12 +416,7 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
     let mut s = preset_json();
     s["uniform"]["estimator"] = json!("states");
     s["uniform"]["time"] = json!(60);
-    let k = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap()
-        .uniform
-        .unwrap();
+    let k = run_json(&s).unwrap().uniform.unwrap();
     assert!(k.at.polygon_theta_true);
     assert_eq!(k.at.truth_in_polygon, Some(true));
     assert!(k.rms_lp.unwrap() < 1.0);
@@ -430,12 +426,7 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
     }
     // States known (measured): Θ̂ from the window's parameter LP, inside its prior box.
     s["uniform"]["estimator"] = json!("parameters");
-    let p = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap()
-        .uniform
-        .unwrap();
+    let p = run_json(&s).unwrap().uniform.unwrap();
     assert_eq!(p.rms_lp, Some(0.0), "the states are given");
     let b = &p.steps.last().unwrap().b;
     assert!(
@@ -444,12 +435,7 @@ fn the_preset_runs_swapping_and_the_known_theta_baseline() {
     );
     // Expansion runs too.
     s["uniform"]["estimator"] = json!("expansion");
-    let e = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap()
-        .uniform
-        .unwrap();
+    let e = run_json(&s).unwrap().uniform.unwrap();
     assert!(e.rms_prediction.is_finite());
 }
 in_browser!(the_preset_runs_swapping_and_the_known_theta_baseline);
@@ -631,23 +617,13 @@ fn the_same_data_passed_as_data_give_the_same_estimates_and_no_truth() {
         let mut s = preset_json();
         s["uniform"]["estimator"] = json!(estimator);
         s["simulate"]["steps"] = json!(60);
-        let sim = Scenario::from_json(&s.to_string())
-            .unwrap()
-            .run()
-            .unwrap()
-            .uniform
-            .unwrap();
+        let sim = run_json(&s).unwrap().uniform.unwrap();
         assert!(truth_fields(&serde_json::to_value(&sim).unwrap()).len() >= 8);
         // The report's y_1 … y_T and u_1 … u_T as the user's data.
         let mut d = s.clone();
         d.as_object_mut().unwrap().remove("simulate");
         d["data"] = json!({"y": sim.y[1..], "u": sim.u[1..]});
-        let data = Scenario::from_json(&d.to_string())
-            .unwrap()
-            .run()
-            .unwrap()
-            .uniform
-            .unwrap();
+        let data = run_json(&d).unwrap().uniform.unwrap();
         assert_eq!(data.steps.len(), sim.steps.len());
         for (a, b) in sim.steps.iter().zip(&data.steps) {
             let what = format!("{estimator}, t = {}", a.t);
@@ -679,22 +655,16 @@ fn the_same_data_passed_as_data_give_the_same_estimates_and_no_truth() {
     d.as_object_mut().unwrap().remove("simulate");
     d["data"] = json!({"y": [[0.1], [0.2], [0.3]], "u": [[0.0]]});
     d["uniform"]["estimator"] = json!("parameters");
-    let e = Scenario::from_json(&d.to_string())
-        .unwrap()
-        .run()
-        .unwrap_err();
+    let e = run_json(&d).unwrap_err();
     assert_eq!(e.field, "uniform.estimator", "{e}");
     // Without xr, yr data run; a simulation needs them.
     d["uniform"]["estimator"] = json!("swapping");
     d["uniform"].as_object_mut().unwrap().remove("xr");
     d["uniform"].as_object_mut().unwrap().remove("yr");
-    assert!(Scenario::from_json(&d.to_string()).unwrap().run().is_ok());
+    assert!(run_json(&d).is_ok());
     let mut s = preset_json();
     s["uniform"].as_object_mut().unwrap().remove("xr");
-    let e = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap_err();
+    let e = run_json(&s).unwrap_err();
     assert_eq!(e.field, "uniform.xr", "{e}");
 }
 in_browser!(the_same_data_passed_as_data_give_the_same_estimates_and_no_truth);
@@ -710,7 +680,7 @@ fn a_scalar_state_runs_without_a_polygon() {
     for estimator in ["states", "parameters", "swapping", "expansion"] {
         let mut s = base.clone();
         s["uniform"]["estimator"] = json!(estimator);
-        let r = Scenario::from_json(&s.to_string()).unwrap().run().unwrap();
+        let r = run_json(&s).unwrap();
         assert_eq!(r.plot, vec![0]);
         let u = r.uniform.unwrap();
         assert_eq!((u.n, u.steps.len()), (1, 60), "{estimator}");
@@ -737,19 +707,11 @@ fn a_scalar_state_runs_without_a_polygon() {
     let mut d = base.clone();
     d.as_object_mut().unwrap().remove("simulate");
     d["data"] = json!({"y": (0..30).map(|t| vec![(t as f64 * 0.3).sin()]).collect::<Vec<_>>(), "u": [[0.1]]});
-    let u = Scenario::from_json(&d.to_string())
-        .unwrap()
-        .run()
-        .unwrap()
-        .uniform
-        .unwrap();
+    let u = run_json(&d).unwrap().uniform.unwrap();
     assert!(u.at.polygon.is_none() && u.x_true.is_none() && u.kf.is_none());
     let mut s = base.clone();
     s["uniform"]["plane"] = json!([0, 1]);
-    let e = Scenario::from_json(&s.to_string())
-        .unwrap()
-        .run()
-        .unwrap_err();
+    let e = run_json(&s).unwrap_err();
     assert_eq!(e.field, "uniform.plane", "{e}");
 }
 in_browser!(a_scalar_state_runs_without_a_polygon);
@@ -759,20 +721,9 @@ in_browser!(a_scalar_state_runs_without_a_polygon);
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn timing_of_the_report_and_the_polygon() {
-    use std::time::Instant;
-    let median_ms = |reps: usize, f: &mut dyn FnMut()| {
-        let mut v: Vec<f64> = (0..reps)
-            .map(|_| {
-                let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64() * 1e3
-            })
-            .collect();
-        v.sort_by(|a, b| a.total_cmp(b));
-        v[v.len() / 2]
-    };
+    use crate::common::timing::median_ms;
     let s = presets::get("uniform-paper").unwrap();
-    let report = median_ms(5, &mut || {
+    let report = median_ms(5, || {
         std::hint::black_box(s.run().unwrap());
     });
     let (th, xr, yr) = paper();
@@ -783,7 +734,7 @@ fn timing_of_the_report_and_the_polygon() {
         last: 120,
     };
     let mut poly = None;
-    let polygon = median_ms(11, &mut || {
+    let polygon = median_ms(11, || {
         poly = Some(
             consistent_polygon(&th, &tr.u, &tr.y, w, &p, &p.xr_max, &p.yr_max, [0, 1], 64).unwrap(),
         );
@@ -793,7 +744,7 @@ fn timing_of_the_report_and_the_polygon() {
     // half-widths fixed by lo = hi, and the outer polygon of the supporting lines.
     let (a, b) = fixed_half_width_rows(&th, &tr.u, &tr.y, w, &p);
     let mut outer = Vec::new();
-    let fan = median_ms(11, &mut || {
+    let fan = median_ms(11, || {
         let k = 64;
         let support: Vec<([f64; 2], f64)> = (0..k)
             .map(|i| {
@@ -826,10 +777,10 @@ fn timing_of_the_report_and_the_polygon() {
     // The optimal-face ranges at the cursor: one loaded problem against a fresh LP each.
     let (est, lp) = estimate_states(&th, &tr.u, &tr.y, w, &p).unwrap();
     let all: Vec<usize> = (0..w.states() * 2 + 3).collect();
-    let faces = median_ms(11, &mut || {
+    let faces = median_ms(11, || {
         std::hint::black_box(uniform::face_ranges(&lp, est.objective, &all).unwrap());
     });
-    let faces_fresh = median_ms(11, &mut || {
+    let faces_fresh = median_ms(11, || {
         let tol = 1e-7 * est.objective.abs().max(1.0);
         for &i in &all {
             let mut e = DVector::zeros(lp.c.len());

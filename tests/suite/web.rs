@@ -97,21 +97,41 @@ fn session_runs_a_preset_and_keeps_it_on_error() {
 }
 in_browser!(session_runs_a_preset_and_keeps_it_on_error);
 
+/// The first preset of each method (its `method`, "scf" when unnamed), in the list's order.
+fn first_preset_of_each_method() -> Vec<(String, Value)> {
+    let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
+    let mut firsts: Vec<(String, Value)> = Vec::new();
+    for p in list.as_array().expect("a list") {
+        let method = p["scenario"]["method"].as_str().unwrap_or("scf");
+        if !firsts.iter().any(|(m, _)| m == method) {
+            firsts.push((method.to_string(), p.clone()));
+        }
+    }
+    firsts
+}
+
+/// Steps a study to its end: a first chunk of `first` runs (its counts say so), then chunks of
+/// `then`, in fewer than `max_chunks` chunks; returns the counts after the last.
+fn step_to_end(study: &mut Study, first: u32, then: u32, max_chunks: usize, what: &str) -> Value {
+    let counts: Value = serde_json::from_str(&study.step(first).expect("step")).expect("JSON");
+    assert_eq!(counts["runs"], first);
+    let mut last = counts;
+    let mut chunks = 1;
+    while !study.finished() {
+        last = serde_json::from_str(&study.step(then).expect("step")).expect("JSON");
+        chunks += 1;
+        assert!(chunks < max_chunks, "the {what} does not finish");
+    }
+    last
+}
+
 /// The page's compute worker runs a scenario and the main thread draws its report: a Session
 /// given the report's JSON (`setReport`) draws what the Session that ran it draws, for the first
 /// preset of every method; JSON that is not a report is a `report` error and the kept one stays.
 fn a_report_set_from_json_draws_as_the_run_one() {
-    let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
-    let mut methods = Vec::new();
-    for p in list.as_array().expect("a list") {
-        let method = p["scenario"]["method"]
-            .as_str()
-            .unwrap_or("scf")
-            .to_string();
-        if methods.contains(&method) {
-            continue;
-        }
-        methods.push(method.clone());
+    let firsts = first_preset_of_each_method();
+    let methods: Vec<&String> = firsts.iter().map(|(m, _)| m).collect();
+    for (method, p) in &firsts {
         let mut ran = Session::new();
         let json = ran
             .run(&p["scenario"].to_string())
@@ -150,18 +170,10 @@ in_browser!(a_report_set_from_json_draws_as_the_run_one);
 /// the kept report, draws every figure as the report run at that step does; a detail of
 /// another shape is an `at` error and the kept report stays.
 fn a_cursor_detail_set_into_the_report_draws_as_a_run_at_that_step() {
-    let list: Value = serde_json::from_str(&presets().expect("presets")).expect("preset JSON");
     let mut with_cursor = 0;
-    let mut methods = Vec::new();
-    for p in list.as_array().expect("a list") {
-        let method = p["scenario"]["method"]
-            .as_str()
-            .unwrap_or("scf")
-            .to_string();
-        if methods.contains(&method) {
-            continue;
-        }
-        methods.push(method.clone());
+    let firsts = first_preset_of_each_method();
+    let methods: Vec<&String> = firsts.iter().map(|(m, _)| m).collect();
+    for (method, p) in &firsts {
         let mut kept = Session::new();
         let report: Value =
             serde_json::from_str(&kept.run(&p["scenario"].to_string()).expect("runs"))
@@ -389,15 +401,7 @@ fn lscr_experiment_steps_to_completion() {
         .unwrap_or_else(|err| panic!("experiment: {:?}", thrown(err)));
     assert_eq!(e.total(), 300);
     assert!(!e.finished());
-    let first: Value = serde_json::from_str(&e.step(100).expect("step")).expect("JSON");
-    assert_eq!(first["runs"], 100);
-    let mut last = first;
-    let mut chunks = 1;
-    while !e.finished() {
-        last = serde_json::from_str(&e.step(64).expect("step")).expect("JSON");
-        chunks += 1;
-        assert!(chunks < 100, "the experiment does not finish");
-    }
+    let last = step_to_end(&mut e, 100, 64, 100, "experiment");
     assert_eq!(last["runs"], 300);
     assert_eq!(
         serde_json::from_str::<Value>(&e.result().expect("counts")).expect("JSON"),
@@ -440,36 +444,32 @@ fn lscr_experiment_steps_to_completion() {
     }
 
     // Without a fixed true state, or without the coverage block: errors naming the field.
-    let mut no_cond = sc.clone();
-    no_cond["simulate"]
-        .as_object_mut()
-        .expect("simulate")
-        .remove("condition");
-    let (msg, field) = thrown(
-        Study::new(&no_cond.to_string(), 0)
-            .err()
-            .expect("needs a condition"),
-    );
-    assert_eq!(field, "simulate.condition", "{msg}");
-    let mut no_cov = sc.clone();
-    no_cov["lscr"]
-        .as_object_mut()
-        .expect("lscr")
-        .remove("coverage");
-    let (msg, field) = thrown(
-        Study::new(&no_cov.to_string(), 0)
-            .err()
-            .expect("needs lscr.coverage"),
-    );
-    assert_eq!(field, "lscr.coverage", "{msg}");
-    let mut wrong_t = sc.clone();
-    wrong_t["simulate"]["condition"]["t"] = serde_json::json!(30);
-    let (msg, field) = thrown(
-        Study::new(&wrong_t.to_string(), 0)
-            .err()
-            .expect("condition at the wrong time"),
-    );
-    assert_eq!(field, "simulate.condition.t", "{msg}");
+    let no_condition: fn(&mut Value) = |sc| {
+        sc["simulate"]
+            .as_object_mut()
+            .expect("simulate")
+            .remove("condition");
+    };
+    let no_coverage: fn(&mut Value) = |sc| {
+        sc["lscr"].as_object_mut().expect("lscr").remove("coverage");
+    };
+    let wrong_time: fn(&mut Value) = |sc| {
+        sc["simulate"]["condition"]["t"] = serde_json::json!(30);
+    };
+    for (edit, why, want) in [
+        (no_condition, "needs a condition", "simulate.condition"),
+        (no_coverage, "needs lscr.coverage", "lscr.coverage"),
+        (
+            wrong_time,
+            "condition at the wrong time",
+            "simulate.condition.t",
+        ),
+    ] {
+        let mut bad = sc.clone();
+        edit(&mut bad);
+        let (msg, field) = thrown(Study::new(&bad.to_string(), 0).err().expect(why));
+        assert_eq!(field, want, "{msg}");
+    }
 }
 in_browser!(lscr_experiment_steps_to_completion);
 
@@ -529,17 +529,8 @@ in_browser!(lscr_errors_name_the_field);
 /// no test). `wasm-pack test --headless --chrome --release -- --test suite -- --nocapture lscr_wasm`
 /// shows them.
 fn lscr_wasm_timings() {
-    use confset::lscr::{Construction, Estimator, LscrModel, Options, Target};
-    let model = LscrModel::from_spec(&confset::presets::get("lscr-predict").expect("preset").model)
-        .expect("model");
-    let o = Options {
-        target: Target::Predict,
-        m: 80,
-        q: 2,
-        construction: Construction::Random,
-        seed: 1,
-        strings: None,
-    };
+    use confset::lscr::Estimator;
+    let (model, o) = crate::common::timing::lscr_predict_fixture();
     let mean_ms = |reps: usize, f: &mut dyn FnMut()| {
         let t0 = js_sys::Date::now();
         for _ in 0..reps {
@@ -610,33 +601,11 @@ in_browser!(glls_wasm_timings);
 
 /// The uniform-innovation issue's wasm speed figures, printed like the others.
 fn uniform_wasm_timings() {
-    use confset::uniform::{estimate_states, simulate, StatePrior, Window};
-    use nalgebra::DVector;
-    let (theta, xr, yr) = confset::presets::uniform_paper_model();
-    let tr = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
-    let prior = StatePrior {
-        x_lo: -5.0,
-        x_hi: 5.0,
-        x0: None,
-        xr_max: DVector::from_element(2, 1.0),
-        yr_max: DVector::from_element(1, 1.0),
-    };
+    let mut window_lp = crate::common::timing::uniform_window_lp();
     let reps = 50;
     let t0 = js_sys::Date::now();
     for _ in 0..reps {
-        std::hint::black_box(
-            estimate_states(
-                &theta,
-                &tr.u,
-                &tr.y,
-                Window {
-                    first: 116,
-                    last: 120,
-                },
-                &prior,
-            )
-            .expect("LP"),
-        );
+        window_lp();
     }
     let window = (js_sys::Date::now() - t0) / reps as f64;
     let s = confset::presets::get("uniform-paper").expect("preset");
@@ -696,15 +665,7 @@ fn ubb_guarantee_steps_to_completion() {
     let mut g = Study::new(&sc.to_string(), 120)
         .unwrap_or_else(|err| panic!("guarantee: {:?}", thrown(err)));
     assert!(!g.finished());
-    let first: Value = serde_json::from_str(&g.step(50).expect("step")).expect("JSON");
-    assert_eq!(first["runs"], 50);
-    let mut last = first;
-    let mut chunks = 1;
-    while !g.finished() {
-        last = serde_json::from_str(&g.step(50).expect("step")).expect("JSON");
-        chunks += 1;
-        assert!(chunks < 10, "the guarantee does not finish");
-    }
+    let last = step_to_end(&mut g, 50, 50, 10, "guarantee");
     assert_eq!(last["runs"], 120);
     assert_eq!(last["outside"], 0, "{last}");
     assert!(num(&last["worst_excess"]) <= 1e-5, "{last}");

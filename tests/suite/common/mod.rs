@@ -9,6 +9,7 @@ pub mod contract;
 pub mod limits;
 pub mod mutate;
 pub mod patch;
+pub mod timing;
 
 use nalgebra::{DMatrix, DVector};
 use statrs::distribution::{Binomial, DiscreteCDF};

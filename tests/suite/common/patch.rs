@@ -33,3 +33,10 @@ pub fn assert_refused(base: &Value, cases: &[(&str, Value)]) {
         assert!(!err.message.is_empty(), "{patch}: empty message");
     }
 }
+
+/// A scenario given as JSON, read (it must be readable) and run.
+pub fn run_json(sc: &Value) -> confset::Result<confset::scenario::Report> {
+    Scenario::from_json(&sc.to_string())
+        .expect("a readable scenario")
+        .run()
+}
