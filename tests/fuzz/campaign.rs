@@ -59,7 +59,7 @@ pub struct Args {
     #[arg(long)]
     minutes: Option<f64>,
     /// The kinds of case, comma separated (default: all)
-    #[arg(long, value_delimiter = ',', default_values_t = cases::KINDS.map(String::from))]
+    #[arg(long, value_delimiter = ',', default_values_t = cases::kinds())]
     kinds: Vec<String>,
     /// Where the table, the reproducers and the cached light bases go
     #[arg(long, default_value = "target/campaign")]
@@ -101,10 +101,10 @@ impl Args {
 fn main() -> std::process::ExitCode {
     let args = Args::parse();
     for k in &args.kinds {
-        if !cases::KINDS.contains(&k.as_str()) {
+        if !cases::kinds().contains(k) {
             eprintln!(
                 "--kinds: unknown kind {k:?} (kinds: {})",
-                cases::KINDS.join(", ")
+                cases::kinds().join(", ")
             );
             return std::process::ExitCode::from(2);
         }
