@@ -371,8 +371,8 @@ impl Session {
     /// `run` or `setReport` replaces the kept report (and so drops the study).
     #[wasm_bindgen(js_name = setStudy)]
     pub fn set_study(&mut self, result_json: &str) -> Result<(), JsValue> {
-        let result = crate::scenario::parse::read_json(result_json, "study")
-            .map_err(|e| js_error(&e))?;
+        let result =
+            crate::scenario::parse::read_json(result_json, "study").map_err(|e| js_error(&e))?;
         self.report
             .as_mut()
             .ok_or_else(|| js_error(&Error::field("", "no report yet: run a scenario first")))?
@@ -396,8 +396,8 @@ impl Session {
 /// made radius² with). JSON that is not an ellipsoid is an `ellipsoid` error.
 #[wasm_bindgen(js_name = ellipsoidLevel)]
 pub fn ellipsoid_level(ellipsoid_json: &str) -> Result<f64, JsValue> {
-    let e: crate::sets::Ellipsoid = crate::scenario::parse::from_json(ellipsoid_json, "ellipsoid")
-        .map_err(|e| js_error(&e))?;
+    let e: crate::sets::Ellipsoid =
+        crate::scenario::parse::from_json(ellipsoid_json, "ellipsoid").map_err(|e| js_error(&e))?;
     crate::stats::ellipsoid_level(e.radius2, e.center.len()).ok_or_else(|| {
         js_error(&Error::field(
             "ellipsoid",

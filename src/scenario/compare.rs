@@ -48,12 +48,12 @@
 
 use super::budget::{Job, Work};
 use super::csv::{flag, Table};
+use super::preset::Preset;
 use super::{detail_of, detail_value, Cursor, DataSpec, MethodScenario, Report, Scenario};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, LinearModel, MatrixSpec, ModelSpec};
-use super::preset::Preset;
 use crate::sets::{BoxSet, Ellipsoid, Loop};
 use crate::stats;
 use crate::study::{self, Runs, Study, Tally};
@@ -1192,7 +1192,10 @@ impl MethodScenario for Compare {
         2
     }
     fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
-        &[("holds", "compare: whether each method's set holds the true state")]
+        &[(
+            "holds",
+            "compare: whether each method's set holds the true state",
+        )]
     }
     fn steps(&self) -> RangeInclusive<usize> {
         2..=MAX_STEPS

@@ -19,6 +19,7 @@
 use super::budget::{f, shape, Job, Term, Work};
 use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, Table};
+use super::preset::Preset;
 use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::glls::{
@@ -27,7 +28,6 @@ use crate::glls::{
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{normal_vector, MatrixSpec, ModelSpec};
-use super::preset::Preset;
 use crate::sets::{box_corners, convex_hull, map_ellipse, map_point, BoxSet, Ellipsoid};
 use crate::study::Chunked;
 use nalgebra::{DMatrix, DVector};
@@ -697,13 +697,22 @@ impl MethodScenario for Glls {
     }
     fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
         &[
-            ("truth_in_ball", "glls: whether the guaranteed ball holds the truth"),
+            (
+                "truth_in_ball",
+                "glls: whether the guaranteed ball holds the truth",
+            ),
             ("truth_in_box", "glls: the same for the box"),
             ("x_true_current", "glls: the true current state"),
             ("x_true_past", "glls: the true past state"),
-            ("truth_projected_current", "glls: the truth's regularized projection"),
+            (
+                "truth_projected_current",
+                "glls: the truth's regularized projection",
+            ),
             ("truth_projected_past", "glls: the same, past state"),
-            ("error_current", "glls: the estimate's distance to the truth"),
+            (
+                "error_current",
+                "glls: the estimate's distance to the truth",
+            ),
             ("noise_max", "glls: the largest simulated noise"),
         ]
     }
@@ -782,10 +791,7 @@ impl MethodScenario for Glls {
         let precision: Option<PrecisionReport> =
             crate::scenario::parse::from_value(&result, "glls.precision")?;
         let g = report.glls.as_mut().ok_or_else(|| {
-            Error::field(
-                "report.glls",
-                "is missing: the report is not a GLLS report",
-            )
+            Error::field("report.glls", "is missing: the report is not a GLLS report")
         })?;
         g.precision = precision;
         Ok(())

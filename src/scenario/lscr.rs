@@ -21,13 +21,13 @@
 use super::budget::{f, shape, Job, Term, Work};
 use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, flag, Table};
+use super::preset::Preset;
 use super::{Condition, MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
 use crate::method::Method;
 use crate::model::{ConditionedSampler, Inputs, MatrixSpec, ModelSpec};
-use super::preset::Preset;
 use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
 use crate::study::{self, Chunked, Runs, Study};
 use rand::SeedableRng;

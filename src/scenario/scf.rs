@@ -15,6 +15,7 @@
 use super::budget::{f, shape, Job, Term, Work};
 use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, flag, Table};
+use super::preset::Preset;
 use super::{
     Condition, ExperimentSpec, MethodScenario, MovedKey, Report, Scenario, SimulateSpec, Source,
 };
@@ -22,7 +23,6 @@ use crate::error::{Error, Result};
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec, Trajectory};
-use super::preset::Preset;
 use crate::scf::{
     self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ScfOptions, ScfStep,
 };
@@ -66,7 +66,13 @@ static NO_SCF_OPTIONS: ScfSpec = ScfSpec {
 };
 
 /// The keys of the `"scf"` block that older versions wrote at the top level of a scenario.
-const TOP_LEVEL_KEYS: [&str; 5] = ["components", "tau", "asymptotic", "collision", "coverage_curve"];
+const TOP_LEVEL_KEYS: [&str; 5] = [
+    "components",
+    "tau",
+    "asymptotic",
+    "collision",
+    "coverage_curve",
+];
 
 impl Scenario {
     /// The SCF/KF options: the `"scf"` block, or every option at its default without one.
@@ -208,8 +214,7 @@ impl Scenario {
             asymptotic: o.asymptotic,
             kf_only: self.method == Method::Kf,
         };
-        if o.asymptotic
-            && !(model.is_time_invariant() && model.stationary_prior && model.m() == 0)
+        if o.asymptotic && !(model.is_time_invariant() && model.stationary_prior && model.m() == 0)
         {
             return Err(Error::field(
                 "scf.asymptotic",
@@ -832,7 +837,11 @@ fn presets() -> Vec<Preset> {
 pub fn scalar() -> Scenario {
     let one = DMatrix::from_element(1, 1, 1.0);
     let model = ModelSpec {
-        f: Some(MatrixSpec::of(&DMatrix::from_element(1, 1, (5.0f64 / 6.0).sqrt()))),
+        f: Some(MatrixSpec::of(&DMatrix::from_element(
+            1,
+            1,
+            (5.0f64 / 6.0).sqrt(),
+        ))),
         h: Some(MatrixSpec::of(&one)),
         v: Some(MatrixSpec::of(&one)),
         w: Some(MatrixSpec::of(&one)),
@@ -1031,6 +1040,11 @@ pub fn robots(reading: NoiseReading) -> Scenario {
             if literal { "Δ²·V_A as printed (SCF regions far larger than KF)" } else { "V_A (the reading that matches the paper's \"moderate enlargement\")" }
         ));
     // The study block of SCF, at the top level (see the module docs).
-    s.experiment = Some(ExperimentSpec { runs: 10_000, seed: 2021, components: vec![0, 1, 2, 3], warning_t: Some(36) });
+    s.experiment = Some(ExperimentSpec {
+        runs: 10_000,
+        seed: 2021,
+        components: vec![0, 1, 2, 3],
+        warning_t: Some(36),
+    });
     s
 }

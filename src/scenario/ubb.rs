@@ -24,12 +24,12 @@ use super::compare::{
     Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet, POLYGON_BUDGET,
 };
 use super::csv::{cells, flag, Table};
+use super::preset::Preset;
 use super::{detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, Source};
 use crate::error::{quoted, Error, Result};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::ModelSpec;
-use super::preset::Preset;
 use crate::sets::{box_corners, polygon_area, Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
@@ -1048,7 +1048,10 @@ impl MethodScenario for Ubb {
         &[
             ("truth", "ubb: the true x(k+1) at the step shown"),
             ("inside", "ubb: whether the truth lies in the hull"),
-            ("kf_inside", "ubb: whether the truth lies in the Kalman ellipsoid"),
+            (
+                "kf_inside",
+                "ubb: whether the truth lies in the Kalman ellipsoid",
+            ),
         ]
     }
     fn steps(&self) -> RangeInclusive<usize> {

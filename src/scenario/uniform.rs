@@ -28,6 +28,7 @@ use super::compare::{
     Assumption, CompareMember, ComparePrepared, NoiseLaw, PlaneReading, PlaneSet, POLYGON_BUDGET,
 };
 use super::csv::{cells, Table};
+use super::preset::Preset;
 use super::{
     detail_of, detail_value, Cursor, MethodScenario, Report, Scenario, SimulateSpec, Source,
 };
@@ -36,7 +37,6 @@ use crate::kalman::KalmanGains;
 use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec};
-use super::preset::Preset;
 use crate::sets::{
     box_image_corners, map_point, minkowski_sum, point_in_convex, polygon_area, SupportPolygon,
 };
@@ -769,11 +769,26 @@ impl MethodScenario for Uniform {
             ("theta_true", "uniform: the true Θ"),
             ("xr_true", "uniform: the true state-noise half-widths"),
             ("yr_true", "uniform: the true output-noise half-widths"),
-            ("true_objective", "uniform: the LP objective at the true half-widths"),
-            ("truth_in_polygon", "uniform: whether the consistent polygon holds the truth"),
-            (".uniform.kf", "uniform: the Kalman filter tuned with the true half-widths"),
-            ("rms_kf", "uniform: the Kalman filter's error against the truth"),
-            ("rms_lp", "uniform: the LP estimate's error against the truth"),
+            (
+                "true_objective",
+                "uniform: the LP objective at the true half-widths",
+            ),
+            (
+                "truth_in_polygon",
+                "uniform: whether the consistent polygon holds the truth",
+            ),
+            (
+                ".uniform.kf",
+                "uniform: the Kalman filter tuned with the true half-widths",
+            ),
+            (
+                "rms_kf",
+                "uniform: the Kalman filter's error against the truth",
+            ),
+            (
+                "rms_lp",
+                "uniform: the LP estimate's error against the truth",
+            ),
         ]
     }
     fn steps(&self) -> RangeInclusive<usize> {
@@ -1090,7 +1105,12 @@ pub fn uniform_paper_model() -> (crate::uniform::Theta, DVector<f64>, DVector<f6
 
 pub fn uniform_paper() -> Scenario {
     let (theta, xr, yr) = uniform_paper_model();
-    let model = ModelSpec { f: Some(MatrixSpec::of(&theta.a)), h: Some(MatrixSpec::of(&theta.c)), b: Some(MatrixSpec::of(&theta.b)), ..Default::default() };
+    let model = ModelSpec {
+        f: Some(MatrixSpec::of(&theta.a)),
+        h: Some(MatrixSpec::of(&theta.c)),
+        b: Some(MatrixSpec::of(&theta.b)),
+        ..Default::default()
+    };
     let mut s = Scenario::new(Method::UniformLp, model)
         .with_title("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)")
         .with_simulate(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None })
@@ -1109,7 +1129,13 @@ pub fn uniform_paper() -> Scenario {
         estimator: crate::uniform::Joint::Swapping,
         window: 5,
         prior_rel: 0.3,
-        prior_overrides: vec![PriorOverride { matrix: "A".into(), row: 1, col: 1, lo: -0.3, hi: 0.3 }],
+        prior_overrides: vec![PriorOverride {
+            matrix: "A".into(),
+            row: 1,
+            col: 1,
+            lo: -0.3,
+            hi: 0.3,
+        }],
         xr_max: Some(vec![1.0, 1.0]),
         yr_max: Some(vec![1.0]),
         x_bound: 5.0,

@@ -115,10 +115,15 @@ fn every_method_is_in_every_registry() {
     for m in Method::ALL {
         let steps = &limits["simulate.steps"][m.name()];
         assert!(
-            steps[0].as_u64().is_some_and(|a| steps[1].as_u64().is_some_and(|b| a <= b)),
+            steps[0]
+                .as_u64()
+                .is_some_and(|a| steps[1].as_u64().is_some_and(|b| a <= b)),
             "\"{m}\": no step range in scenario::limits(): {steps}"
         );
-        assert!(confset::scenario::max_states(m) >= 1, "\"{m}\": no state limit");
+        assert!(
+            confset::scenario::max_states(m) >= 1,
+            "\"{m}\": no state limit"
+        );
         let truth = confset::scenario::truth_keys(m);
         assert!(
             truth.iter().any(|(k, _)| *k == "x_true"),

@@ -22,7 +22,10 @@ fn a_reports_cursor_steps_are_its_cursors() {
         // The report's own time is one of them.
         assert!(cursor.steps().contains(&report.time), "{}", p.name);
     }
-    assert!(with_cursor >= 3, "ubb, uniform_lp and compare presets have a cursor");
+    assert!(
+        with_cursor >= 3,
+        "ubb, uniform_lp and compare presets have a cursor"
+    );
     let scf = presets::get("scf-scalar").expect("preset scf-scalar");
     assert_eq!(scf.run().expect("scf-scalar").cursor_steps(), None);
 }
@@ -38,22 +41,38 @@ fn a_study_result_enters_the_report_through_one_path() {
     let mut alone = glls.clone();
     alone.glls.as_mut().expect("glls block").monte_carlo = None;
     let mut report: Report = alone.run().expect("glls-saturate");
-    assert!(report.glls.as_ref().expect("glls block").precision.is_none());
+    assert!(report
+        .glls
+        .as_ref()
+        .expect("glls block")
+        .precision
+        .is_none());
     let mut study = glls.study(Some(40)).expect("the GLLS study");
     study.step(40).expect("40 runs");
     let result: Value = study.result().expect("the study's result");
-    report.set_study(result.clone()).expect("GLLS takes its study");
+    report
+        .set_study(result.clone())
+        .expect("GLLS takes its study");
     let held = serde_json::to_value(&report).expect("report JSON");
     assert_eq!(held["glls"]["precision"], result);
     report.set_study(Value::Null).expect("null removes it");
-    assert!(report.glls.as_ref().expect("glls block").precision.is_none());
-    let err = report.set_study(json!({"runs": "many"})).expect_err("not a precision study");
+    assert!(report
+        .glls
+        .as_ref()
+        .expect("glls block")
+        .precision
+        .is_none());
+    let err = report
+        .set_study(json!({"runs": "many"}))
+        .expect_err("not a precision study");
     assert!(err.field.starts_with("glls.precision"), "{err}");
 
     let ubb = presets::get("ubb-track").expect("preset ubb-track");
     let mut report = ubb.run().expect("ubb-track");
     let before = report.clone();
-    let err = report.set_study(json!({"runs": 1})).expect_err("ubb keeps its study apart");
+    let err = report
+        .set_study(json!({"runs": 1}))
+        .expect_err("ubb keeps its study apart");
     assert_eq!(err.field, "study", "{err}");
     assert!(err.message.contains("\"ubb\""), "{err}");
     assert_eq!(report, before);
