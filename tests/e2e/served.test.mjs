@@ -1,0 +1,51 @@
+// What a visitor's browser is sent: the module precompressed (brotli, else gzip) with
+// Content-Encoding and Content-Type application/wasm, byte for byte the file .ci/build wrote,
+// and the whole of it to a client that accepts neither. Also the bytes a first visit of each
+// view moves over the wire (printed, not asserted: a size target is measured, README).
+import { get } from 'node:http';
+import { readFileSync } from 'node:fs';
+import { join, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const pkg = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'www', 'pkg');
+
+// The raw response (no decoding): status, headers, body bytes.
+function fetchRaw(url, acceptEncoding) {
+  return new Promise((resolve, reject) => {
+    get(url, { headers: { 'Accept-Encoding': acceptEncoding } }, (res) => {
+      const chunks = [];
+      res.on('data', (c) => chunks.push(c));
+      res.on('end', () => resolve({ status: res.statusCode, headers: res.headers, body: Buffer.concat(chunks) }));
+    }).on('error', reject);
+  });
+}
+
+export default async function served({ baseUrl, newPage, waitReady, assert }) {
+  const url = `${baseUrl}pkg/confset_bg.wasm`;
+  for (const [accept, encoding, file] of [
+    ['gzip, deflate, br, zstd', 'br', 'confset_bg.wasm.br'],
+    ['gzip', 'gzip', 'confset_bg.wasm.gz'],
+    ['identity', undefined, 'confset_bg.wasm'],
+  ]) {
+    const r = await fetchRaw(url, accept);
+    assert.equal(r.status, 200, `${url} with Accept-Encoding: ${accept}`);
+    assert.equal(r.headers['content-type'], 'application/wasm', `Content-Type with Accept-Encoding: ${accept}`);
+    assert.equal(r.headers['content-encoding'], encoding, `Content-Encoding with Accept-Encoding: ${accept}`);
+    assert.ok(r.body.equals(readFileSync(join(pkg, file))), `the body sent for Accept-Encoding: ${accept} is not ${file}`);
+  }
+
+  // Bytes over the wire on a first visit of each view, from a fresh context (no cache).
+  const lines = [];
+  for (const route of ['', '#lscr', '#glls', '#uniform', '#ubb', '#compare']) {
+    const page = await newPage({ viewport: { width: 1280, height: 900 } });
+    const cdp = await page.context().newCDPSession(page);
+    await cdp.send('Network.enable');
+    let bytes = 0;
+    cdp.on('Network.loadingFinished', (e) => { bytes += e.encodedDataLength; });
+    await page.goto(baseUrl + route);
+    await waitReady(page);
+    lines.push(`${route || '#scf'} ${(bytes / 1024).toFixed(0)} KiB`);
+    await page.close();
+  }
+  console.log(`    [page bytes] a first visit moves (encoded, workers included): ${lines.join(', ')}`);
+}
