@@ -22,6 +22,8 @@ use clarabel::solver::{
 };
 use nalgebra::{DMatrix, DVector};
 
+pub mod simplex;
+
 /// Most interior-point iterations of one solve (clarabel's default; the presets need at most
 /// a few dozen).
 pub const MAX_ITERATIONS: u32 = 200;

@@ -24,7 +24,7 @@
 
 use crate::error::{Error, Result};
 use crate::sets::{polygon_from_support, SupportPolygon};
-use crate::solve::{self, Blame};
+use crate::solve::{self, simplex, Blame};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -252,6 +252,83 @@ impl Lp {
     }
 }
 
+/// One [`Lp`] (with an optional extra row gᵀX ≤ h) loaded for many objectives: the dense
+/// simplex ([`simplex`]) warm-started from its last optimal basis, and clarabel, loaded on the
+/// first objective the simplex cannot certify (or for every objective under
+/// [`simplex::Engine::Clarabel`], the tests' oracle). Unbounded problems go to clarabel too, for
+/// its error. The simplex's duals cover the rows of 𝒜 (and the extra row) only.
+struct Loaded<'a> {
+    lp: &'a Lp,
+    extra: Option<(&'a DVector<f64>, f64)>,
+    blame: &'a Blame,
+    simplex: Option<simplex::Simplex>,
+    clarabel: Option<solve::Family>,
+    /// The simplex could not be loaded (shapes, non-finite data): clarabel says why.
+    refused: bool,
+}
+
+impl<'a> Loaded<'a> {
+    fn new(lp: &'a Lp, extra: Option<(&'a DVector<f64>, f64)>, blame: &'a Blame) -> Loaded<'a> {
+        Loaded {
+            lp,
+            extra,
+            blame,
+            simplex: None,
+            clarabel: None,
+            refused: false,
+        }
+    }
+
+    fn minimize(&mut self, c: &DVector<f64>) -> Result<solve::Solution> {
+        match self.minimize_if_feasible(c)? {
+            Some(s) => Ok(s),
+            None => Err(self.blame.infeasible()),
+        }
+    }
+
+    fn minimize_if_feasible(&mut self, c: &DVector<f64>) -> Result<Option<solve::Solution>> {
+        if simplex::engine() == simplex::Engine::Simplex && !self.refused {
+            if self.simplex.is_none() {
+                let (a, b) = match self.extra {
+                    None => (self.lp.a.clone(), self.lp.b.clone()),
+                    Some((g, h)) => {
+                        let rows = self.lp.a.nrows();
+                        let a = self.lp.a.clone().insert_row(rows, 0.0);
+                        let mut a = a;
+                        a.row_mut(rows).copy_from(&g.transpose());
+                        (a, self.lp.b.clone().push(h))
+                    }
+                };
+                self.simplex = simplex::Simplex::new(&a, &b, &self.lp.lo, &self.lp.hi);
+                self.refused = self.simplex.is_none();
+            }
+            if let Some(s) = self.simplex.as_mut() {
+                match s.minimize(c) {
+                    simplex::Outcome::Optimal(o) => {
+                        return Ok(Some(solve::Solution {
+                            x: o.x,
+                            objective: o.objective,
+                            duals: o.duals,
+                            iterations: o.iterations,
+                            status: "solved",
+                        }))
+                    }
+                    simplex::Outcome::Infeasible => return Ok(None),
+                    simplex::Outcome::Unbounded | simplex::Outcome::Uncertain(_) => {}
+                }
+            }
+        }
+        if self.clarabel.is_none() {
+            let problem = self.lp.problem(c, self.extra, self.blame);
+            self.clarabel = Some(solve::Family::new(&problem)?);
+        }
+        self.clarabel
+            .as_mut()
+            .expect("loaded")
+            .minimize_if_feasible(Some(c))
+    }
+}
+
 /// The state LP (6)–(10) on a window, given Θ: X = [x_last; …; x_{first−1}; x_r; y_r].
 pub fn state_lp(
     theta: &Theta,
@@ -416,7 +493,7 @@ pub const MAX_EXTENSIONS: usize = 20;
 pub fn solve_extending(lp: &mut Lp, nhw: usize, blame: &Blame) -> Result<(solve::Solution, usize)> {
     let nv = lp.c.len();
     for extended in 0..=MAX_EXTENSIONS {
-        if let Some(s) = solve::quadratic_if_feasible(&lp.problem(&lp.c, None, blame))? {
+        if let Some(s) = Loaded::new(lp, None, blame).minimize_if_feasible(&lp.c)? {
             return Ok((s, extended));
         }
         if extended < MAX_EXTENSIONS {
@@ -503,14 +580,14 @@ pub fn face_ranges(lp: &Lp, objective: f64, indices: &[usize]) -> Result<Vec<(f6
         "point of the optimal face",
         "the LP's optimum was not reproduced within the solver's accuracy",
     );
-    let mut face = solve::Family::new(&lp.problem(&lp.c, Some((&lp.c, objective + tol)), blame))?;
+    let mut face = Loaded::new(lp, Some((&lp.c, objective + tol)), &blame);
     indices
         .iter()
         .map(|&index| {
             let mut e = DVector::zeros(nv);
             e[index] = 1.0;
-            let lo = face.minimize(Some(&e))?.objective;
-            let hi = -face.minimize(Some(&(-e)))?.objective;
+            let lo = face.minimize(&e)?.objective;
+            let hi = -face.minimize(&(-e))?.objective;
             Ok((lo, hi))
         })
         .collect()

@@ -66,6 +66,7 @@ mod report_hooks;
 mod scf_paper;
 mod sets;
 mod shards;
+mod simplex;
 mod ubb;
 mod uniform;
 #[cfg(target_arch = "wasm32")]
