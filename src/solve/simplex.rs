@@ -278,7 +278,10 @@ impl Simplex {
     fn iterate(&mut self, cost: &[f64], phase_one: bool, cap: usize) -> Result<usize, Stop> {
         let (n, m, w) = (self.n, self.m, self.width());
         let entering_limit = if phase_one { w } else { n + m };
-        let cmax = cost.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(f64::MIN_POSITIVE);
+        let cmax = cost
+            .iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
         let dtol = 1e-11 * cmax;
         let mut d = self.reduced_costs(cost);
         let mut degenerate = 0usize;
@@ -408,7 +411,12 @@ impl Simplex {
                 Err(_) => return Err("phase I did not finish"),
             };
             let left: f64 = (0..m).map(|i| self.value[n + m + i]).sum();
-            let magnitude: f64 = self.b.iter().map(|v| v.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
+            let magnitude: f64 = self
+                .b
+                .iter()
+                .map(|v| v.abs())
+                .sum::<f64>()
+                .max(f64::MIN_POSITIVE);
             if left > 1e-12 * magnitude {
                 return if self.certify_infeasible(&cost) {
                     self.infeasible = true;
@@ -690,7 +698,11 @@ impl Simplex {
         let n = self.n;
         let d = DVector::from_column_slice(c) - self.a.tr_mul(lambda);
         let mut bound = lambda.dot(&self.b);
-        let mut size: f64 = lambda.iter().zip(self.b.iter()).map(|(l, b)| (l * b).abs()).sum();
+        let mut size: f64 = lambda
+            .iter()
+            .zip(self.b.iter())
+            .map(|(l, b)| (l * b).abs())
+            .sum();
         for j in 0..n {
             let bd = self.bounds[j];
             let at = if d[j] > 0.0 { bd.lo } else { bd.hi };
@@ -709,7 +721,7 @@ impl Simplex {
     /// Check the current basis's vertex: primal feasible on the data, and within [`CERTIFY`]
     /// of the Lagrangian bound of its own duals. Returns x, cᵀx and λ (scaled rows, ≤ 0).
     fn certify_optimum(&self, c: &DVector<f64>) -> Option<(DVector<f64>, f64, DVector<f64>)> {
-        let (n, m) = (self.n, self.m);
+        let n = self.n;
         let mut cost = vec![0.0; self.width()];
         cost[..n].copy_from_slice(c.as_slice());
         self.check_optimum(c, &cost, false)
@@ -730,8 +742,7 @@ impl Simplex {
         // Primal: every row and bound to CERTIFY of its own terms.
         let ax = &self.a * &x;
         for i in 0..m {
-            let size = self.b[i].abs()
-                + (0..n).map(|j| (self.a[(i, j)] * x[j]).abs()).sum::<f64>();
+            let size = self.b[i].abs() + (0..n).map(|j| (self.a[(i, j)] * x[j]).abs()).sum::<f64>();
             if ax[i] - self.b[i] > CERTIFY * size {
                 return None;
             }
@@ -748,7 +759,11 @@ impl Simplex {
         let lambda = lambda.map(|v| v.min(0.0));
         let (bound, size) = self.lower_bound(&cost[..n], &lambda)?;
         let objective = c.dot(&x);
-        let scale = size + c.iter().zip(x.iter()).map(|(c, x)| (c * x).abs()).sum::<f64>();
+        let scale = size
+            + c.iter()
+                .zip(x.iter())
+                .map(|(c, x)| (c * x).abs())
+                .sum::<f64>();
         if objective - bound > CERTIFY * scale.max(f64::MIN_POSITIVE) {
             return None;
         }
@@ -765,7 +780,11 @@ impl Simplex {
         let lambda = DVector::from_iterator(
             m,
             (0..m).map(|i| {
-                let floor = if cost[n + m + i] > 0.0 { -1.0 } else { f64::NEG_INFINITY };
+                let floor = if cost[n + m + i] > 0.0 {
+                    -1.0
+                } else {
+                    f64::NEG_INFINITY
+                };
                 lambda[i].clamp(floor, 0.0)
             }),
         );

@@ -65,7 +65,13 @@ fn random_lp(
     m: usize,
     n: usize,
     tight: f64,
-) -> (DVector<f64>, DMatrix<f64>, DVector<f64>, DVector<f64>, DVector<f64>) {
+) -> (
+    DVector<f64>,
+    DMatrix<f64>,
+    DVector<f64>,
+    DVector<f64>,
+    DVector<f64>,
+) {
     let a = DMatrix::from_fn(m, n, |_, _| rng.random::<f64>() * 2.0 - 1.0);
     let x0 = DVector::from_fn(n, |_, _| rng.random::<f64>() * 2.0 - 1.0);
     let b = DVector::from_fn(m, |i, _| {
@@ -99,11 +105,16 @@ fn assert_feasible(
     for i in 0..a.nrows() {
         let terms: f64 = b[i].abs() + (0..x.len()).map(|j| (a[(i, j)] * x[j]).abs()).sum::<f64>();
         let ax = (a.row(i) * x)[0];
-        assert!(ax - b[i] <= 1e-9 * terms, "{what}: row {i}: {ax} > {}", b[i]);
+        assert!(
+            ax - b[i] <= 1e-9 * terms,
+            "{what}: row {i}: {ax} > {}",
+            b[i]
+        );
     }
     for j in 0..x.len() {
         assert!(
-            x[j] >= lo[j] - 1e-9 * lo[j].abs().max(1.0) && x[j] <= hi[j] + 1e-9 * hi[j].abs().max(1.0),
+            x[j] >= lo[j] - 1e-9 * lo[j].abs().max(1.0)
+                && x[j] <= hi[j] + 1e-9 * hi[j].abs().max(1.0),
             "{what}: x[{j}] = {} outside [{}, {}]",
             x[j],
             lo[j],
@@ -222,38 +233,129 @@ fn warm_starts_give_the_cold_answers() {
 }
 in_browser!(warm_starts_give_the_cold_answers);
 
-/// The names of the presets whose report has a uniform part (its own or compare's).
-fn uniform_presets() -> Vec<(String, confset::scenario::Scenario)> {
-    presets::all()
-        .into_iter()
-        .filter(|p| {
-            p.scenario
-                .run()
-                .is_ok_and(|r| r.uniform.is_some() || p.name.contains("uniform"))
-        })
-        .map(|p| (p.name.to_string(), p.scenario))
-        .collect()
+/// Rows of a report's matrix.
+fn matrix(v: &serde_json::Value) -> DMatrix<f64> {
+    let rows: Vec<Vec<f64>> = serde_json::from_value(v.clone()).unwrap();
+    let cols = rows.first().map_or(0, |r| r.len());
+    DMatrix::from_fn(rows.len(), cols, |i, j| rows[i][j])
 }
 
+/// Every preset with a uniform report, run with the simplex and with clarabel only. The
+/// paper's optimum is not unique (C·A = 0.5·C): the simplex returns a vertex of the optimal
+/// face, clarabel a point inside it, so the swapping estimator's Θ̂ (fitted to those states)
+/// and everything after differ between the two runs; what is unique is compared instead:
+/// * at every step of the simplex run, the state LP with the Θ̂ that step used has the same
+///   optimal value with either engine (1e-9 of the objective's terms);
+/// * at the cursor, the report's optimum and face ranges equal clarabel's on the same window
+///   and Θ̂ (1e-9 of the optimum; the ranges to 1e-7 of the prior box, the face's own
+///   tolerance);
+/// * the verdicts (truth in the polygon, bound extensions) are the same in both runs.
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn every_uniform_preset_matches_the_clarabel_path() {
-    let presets = uniform_presets();
-    println!("{:?}", presets.iter().map(|p| &p.0).collect::<Vec<_>>());
-    for (name, scenario) in presets {
-        let fast = simplex::with_engine(Engine::Simplex, || scenario.run()).unwrap();
-        let slow = simplex::with_engine(Engine::Clarabel, || scenario.run()).unwrap();
-        let (fast, slow) = (
-            serde_json::to_value(&fast).unwrap(),
-            serde_json::to_value(&slow).unwrap(),
-        );
-        for key in ["rms_lp", "rms_kf", "rms_prediction", "extended"] {
-            println!("{name} {key}: simplex {} clarabel {}", fast["uniform"][key], slow["uniform"][key]);
+    let mut seen = 0;
+    for p in presets::all() {
+        let Some(spec) = p.scenario.uniform.clone() else {
+            continue;
+        };
+        let name = &p.name;
+        let fast = simplex::with_engine(Engine::Simplex, || p.scenario.run()).unwrap();
+        let slow = simplex::with_engine(Engine::Clarabel, || p.scenario.run()).unwrap();
+        let (Some(fast), Some(slow)) = (fast.uniform, slow.uniform) else {
+            continue;
+        };
+        seen += 1;
+        assert_eq!(fast.at.truth_in_polygon, slow.at.truth_in_polygon, "{name}");
+        assert_eq!(fast.extended, slow.extended, "{name}");
+        let report = serde_json::to_value(&fast).unwrap();
+        let rows = |key: &str| -> Vec<DVector<f64>> {
+            serde_json::from_value::<Vec<Vec<f64>>>(report[key].clone())
+                .unwrap()
+                .into_iter()
+                .map(DVector::from_vec)
+                .collect()
+        };
+        let (u, y) = (rows("u"), rows("y"));
+        let prior = confset::uniform::StatePrior {
+            x_lo: -spec.x_bound,
+            x_hi: spec.x_bound,
+            x0: None,
+            xr_max: DVector::from_vec(spec.xr_max.clone().expect("xr_max")),
+            yr_max: DVector::from_vec(spec.yr_max.clone().expect("yr_max")),
+        };
+        let theta_after = |k: usize| confset::uniform::Theta {
+            a: matrix(&report["steps"][k]["a"]),
+            b: matrix(&report["steps"][k]["b"]),
+            c: matrix(&report["steps"][k]["c"]),
+            d: matrix(&report["steps"][k]["d"]),
+        };
+        let steps = fast.steps.len();
+        let window = |t: usize| Window {
+            first: t.saturating_sub(spec.window - 1).max(1),
+            last: t,
+        };
+        for t in 2..=steps {
+            let (theta, w) = (theta_after(t - 2), window(t));
+            let solve = |engine| {
+                simplex::with_engine(engine, || estimate_states(&theta, &u, &y, w, &prior)).unwrap()
+            };
+            let ((a, lp), (b, _)) = (solve(Engine::Simplex), solve(Engine::Clarabel));
+            let x = DVector::from_iterator(
+                lp.c.len(),
+                a.x.iter()
+                    .flat_map(|v| v.iter().copied())
+                    .chain(a.xr.iter().copied())
+                    .chain(a.yr.iter().copied()),
+            );
+            assert_same_optimum(
+                a.objective,
+                b.objective,
+                &lp.c,
+                &x,
+                &format!("{name}, t = {t}"),
+            );
         }
-        println!("{name} at.objective: simplex {} clarabel {}", fast["uniform"]["at"]["objective"], slow["uniform"]["at"]["objective"]);
-        println!("{name} at.face_lo: simplex {} clarabel {}", fast["uniform"]["at"]["face_lo"], slow["uniform"]["at"]["face_lo"]);
-        println!("{name} step 60: simplex {} clarabel {}", fast["uniform"]["steps"][60], slow["uniform"]["steps"][60]);
-        let _ = (&fast, &slow, &name);
+        // The cursor's window, with the Θ̂ after its step.
+        let (theta, w) = (theta_after(fast.at.time - 1), window(fast.at.time));
+        let (est, lp) = simplex::with_engine(Engine::Clarabel, || {
+            estimate_states(&theta, &u, &y, w, &prior)
+        })
+        .unwrap();
+        assert!(
+            (fast.at.objective - est.objective).abs() <= 1e-9 * est.objective.abs().max(1e-300),
+            "{name}: optimum {} at the cursor, clarabel {}",
+            fast.at.objective,
+            est.objective
+        );
+        let all: Vec<usize> = (0..lp.c.len()).collect();
+        let ranges =
+            simplex::with_engine(Engine::Clarabel, || face_ranges(&lp, est.objective, &all))
+                .unwrap();
+        let n = theta.n();
+        let got: Vec<(f64, f64)> = fast
+            .at
+            .face_lo
+            .iter()
+            .flatten()
+            .zip(fast.at.face_hi.iter().flatten())
+            .map(|(l, h)| (*l, *h))
+            .chain(
+                fast.at
+                    .face_xr
+                    .iter()
+                    .chain(&fast.at.face_yr)
+                    .map(|r| (r[0], r[1])),
+            )
+            .collect();
+        assert_eq!(got.len(), ranges.len(), "{name}: {n} states");
+        for (k, (g, want)) in got.iter().zip(&ranges).enumerate() {
+            assert!(
+                (g.0 - want.0).abs() <= 1e-7 * spec.x_bound
+                    && (g.1 - want.1).abs() <= 1e-7 * spec.x_bound,
+                "{name}: range {k} over the face: simplex {g:?}, clarabel {want:?}"
+            );
+        }
     }
+    assert!(seen >= 1, "no uniform preset");
 }
 in_browser!(every_uniform_preset_matches_the_clarabel_path);
 
@@ -263,7 +365,7 @@ in_browser!(every_uniform_preset_matches_the_clarabel_path);
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn uniform_lps_per_step_timed() {
-    use confset::uniform::{parameter_lp, solve_extending, simulate, StatePrior, ThetaPrior};
+    use confset::uniform::{parameter_lp, simulate, solve_extending, StatePrior, ThetaPrior};
     use std::time::Instant;
     let (theta, xr, yr) = presets::uniform_paper_model();
     let traj = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
@@ -330,28 +432,4 @@ fn uniform_lps_per_step_timed() {
             );
         });
     }
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-#[test]
-fn scratch_outcomes() {
-    use confset::uniform::{simulate, StatePrior};
-    use std::time::Instant;
-    let (theta, xr, yr) = presets::uniform_paper_model();
-    let traj = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 120, 1);
-    let prior = StatePrior { x_lo: -5.0, x_hi: 5.0, x0: None, xr_max: DVector::from_element(2, 1.0), yr_max: DVector::from_element(1, 1.0) };
-    let mut stats = std::collections::BTreeMap::new();
-    let (mut build, mut solve) = (0.0, 0.0);
-    for t in 5..=120 {
-        let w = Window { first: t - 4, last: t };
-        let clock = Instant::now();
-        let lp = state_lp(&theta, &traj.u, &traj.y, w, &prior);
-        build += clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
-        let out = simplex::minimize(&lp.c, &lp.a, &lp.b, &lp.lo, &lp.hi);
-        solve += clock.elapsed().as_secs_f64();
-        let key = match out { Outcome::Optimal(o) => format!("optimal {}", o.iterations), other => format!("{other:?}") };
-        *stats.entry(key).or_insert(0) += 1;
-    }
-    println!("build {:.2} ms solve {:.2} ms {stats:?}", build * 1e3, solve * 1e3);
 }
