@@ -76,7 +76,8 @@
 //!   estimator (60)–(64), the chunked Monte Carlo of Section 5
 //! * [`uniform`]: linear models with uniform innovations (Pavelková): the state LP (6)–(10) in the
 //!   Kronecker layout of (8), the parameter LP (11)–(12) with the half-width block derived from
-//!   (4), the optimal face (its ranges from one loaded LP), the exact consistent-state polygon
+//!   (4) (both by the dense simplex of [`solve::simplex`]), the optimal face (its ranges from
+//!   one loaded LP, warm-started per objective), the exact consistent-state polygon
 //!   ([`sets::polygon_from_support`] on one loaded state LP with the half-widths eliminated), the
 //!   sliding window with swapping (4.1) and expansion (4.2, (13)) joint estimation, automatic
 //!   extension of infeasible half-width bounds
@@ -92,7 +93,13 @@
 //!   (infeasible with the caller's hint, unbounded, stopped before converging with the
 //!   coefficients' span); every solve capped at [`solve::MAX_ITERATIONS`] and
 //!   [`solve::TIME_LIMIT_SECONDS`]; a [`solve::Family`] keeps one loaded problem for many
-//!   objectives (support functions)
+//!   objectives (support functions); in [`solve::simplex`] a small dense simplex (dual simplex
+//!   from the slack basis or Phase I, Dantzig's rule turning to Bland's, warm starts across
+//!   objectives) whose every answer is certified on the data (a primal feasible vertex within
+//!   10⁻⁹ of its duals' Lagrangian bound, a Farkas bound for infeasible, a ray for unbounded),
+//!   clarabel taking over whatever it cannot certify: the uniform method's state, parameter and
+//!   face-range LPs go through it ([`solve::simplex::with_engine`] selects clarabel alone, the
+//!   tests' oracle)
 //! * [`scenario`]: Scenario and Report JSON, and the one dispatch from a method to its file.
 //!   - parsing with field paths ([`scenario::parse`]: the text read once into a JSON value, a
 //!     key given twice refused; every type read from that value with serde_path_to_error, then

@@ -20,7 +20,12 @@
 //!   (4.2, the linearization (13)) joint estimation, extending the half-width bounds when the LP
 //!   is infeasible (Section 3.2's note).
 //!
-//! All LPs go through [`crate::solve`].
+//! All LPs go through [`crate::solve`]: the state and parameter LPs and the face ranges
+//! through its dense simplex ([`crate::solve::simplex`], warm-started across the face's
+//! objectives; clarabel for what it cannot certify), the polygon through clarabel. Where the
+//! optimum is not unique the simplex returns a vertex of the optimal face (an interior-point
+//! solver returns a point inside it), so the states of the paper's example, and the Θ̂ the
+//! swapping estimator fits to them, are that vertex's.
 
 use crate::error::{Error, Result};
 use crate::sets::{polygon_from_support, SupportPolygon};

@@ -1118,7 +1118,7 @@ pub fn uniform_paper() -> Scenario {
         .with_notes(
             "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \
              along x₁ − x₂ the LP optimum is a whole face bounded by the prior box (±5). The report gives each state's range over the optimal face; \
-             the estimate drawn is the LP solver's optimal point (an interior-point method returns a point near the face's centre). \
+             the estimate drawn is the optimal vertex the simplex finds (in general one end of the face along x₁ − x₂; an interior-point method would return a point near the face's centre). \
              The polygon is the set of x_t consistent with the window at the half-width bounds x̄_r = ȳ_r = 1 and the Θ in use.",
         );
     s.uniform = Some(UniformSpec {
