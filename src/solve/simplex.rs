@@ -215,8 +215,8 @@ impl Simplex {
             };
             let row = &mut self.tableau[i * w..(i + 1) * w];
             row.iter_mut().for_each(|v| *v = 0.0);
-            for j in 0..n {
-                row[j] = sign * self.a[(i, j)];
+            for (j, v) in row[..n].iter_mut().enumerate() {
+                *v = sign * self.a[(i, j)];
             }
             row[n + i] = sign;
             row[n + m + i] = -sign;
@@ -289,12 +289,11 @@ impl Simplex {
             let bland = degenerate >= DEGENERATE_RUN;
             // Pricing: Dantzig (largest |d_j|) or Bland (smallest index).
             let mut enter: Option<(usize, f64)> = None;
-            for j in 0..entering_limit {
+            for (j, &dj) in d.iter().enumerate().take(entering_limit) {
                 if self.is_basic[j] {
                     continue;
                 }
                 let bd = self.bounds[j];
-                let dj = d[j];
                 let up = dj < -dtol && self.value[j] < bd.hi;
                 let down = dj > dtol && self.value[j] > bd.lo;
                 if !(up || down) {
@@ -480,8 +479,8 @@ impl Simplex {
             let r = self.b[i] - (0..n).map(|j| self.a[(i, j)] * start[j]).sum::<f64>();
             let row = &mut self.tableau[i * w..(i + 1) * w];
             row.iter_mut().for_each(|v| *v = 0.0);
-            for j in 0..n {
-                row[j] = self.a[(i, j)];
+            for (j, v) in row[..n].iter_mut().enumerate() {
+                *v = self.a[(i, j)];
             }
             row[n + i] = 1.0;
             row[n + m + i] = -1.0;

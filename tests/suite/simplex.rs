@@ -58,20 +58,18 @@ fn clarabel(
     })
 }
 
-/// A random LP with a known feasible point x₀ in the box [−2, 2]ⁿ: b = A x₀ + slack, the
-/// slack zero on a share `tight` of the rows (degenerate when more than n rows are tight).
-fn random_lp(
-    rng: &mut ChaCha8Rng,
-    m: usize,
-    n: usize,
-    tight: f64,
-) -> (
+/// c, A, b, lo, hi of min cᵀx, A x ≤ b, lo ≤ x ≤ hi.
+type Lp = (
     DVector<f64>,
     DMatrix<f64>,
     DVector<f64>,
     DVector<f64>,
     DVector<f64>,
-) {
+);
+
+/// A random LP with a known feasible point x₀ in the box [−2, 2]ⁿ: b = A x₀ + slack, the
+/// slack zero on a share `tight` of the rows (degenerate when more than n rows are tight).
+fn random_lp(rng: &mut ChaCha8Rng, m: usize, n: usize, tight: f64) -> Lp {
     let a = DMatrix::from_fn(m, n, |_, _| rng.random::<f64>() * 2.0 - 1.0);
     let x0 = DVector::from_fn(n, |_, _| rng.random::<f64>() * 2.0 - 1.0);
     let b = DVector::from_fn(m, |i, _| {
