@@ -13,7 +13,7 @@
 //!   a simplex returns a vertex of the optimal face where the interior point returns a point
 //!   inside it);
 //! * (native, printed with `--nocapture`) the LPs of the uniform preset per step, by kind and
-//!   size, and their time with each engine.
+//!   size, and their time with each engine, and the time of the preset's whole report.
 
 use confset::presets;
 use confset::solve::simplex::{self, Engine, Outcome};
@@ -395,6 +395,21 @@ fn uniform_lps_per_step_timed() {
         first: t.saturating_sub(4).max(1),
         last: t,
     };
+    let scenario = presets::get("uniform-paper").unwrap();
+    for engine in [Engine::Clarabel, Engine::Simplex] {
+        let mut times: Vec<f64> = (0..5)
+            .map(|_| {
+                let clock = Instant::now();
+                simplex::with_engine(engine, || scenario.run()).unwrap();
+                clock.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        println!(
+            "{engine:?}: the uniform-paper report {:.1} ms (median of 5)",
+            times[2]
+        );
+    }
     for engine in [Engine::Clarabel, Engine::Simplex] {
         simplex::with_engine(engine, || {
             let (mut state, mut param, mut face) = (0.0, 0.0, 0.0);
