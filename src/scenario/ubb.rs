@@ -788,16 +788,9 @@ impl UbbPrepared {
         let prediction = if h_next.nrows() == 0 {
             Vec::new()
         } else {
-            let map = h_next * &step.s_map;
-            let off = h_next * &step.offset;
-            let ph = step.set.interval_hull(&map)?;
-            (0..map.nrows())
-                .map(|i| {
-                    [
-                        ph.lo[i] + off[i] - self.spec.eps,
-                        ph.hi[i] + off[i] + self.spec.eps,
-                    ]
-                })
+            let ph = step.image_hull(h_next)?;
+            (0..h_next.nrows())
+                .map(|i| [ph.lo[i] - self.spec.eps, ph.hi[i] + self.spec.eps])
                 .collect()
         };
         let pl = [self.plane[0], self.plane[1]];
