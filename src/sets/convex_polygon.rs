@@ -11,8 +11,8 @@
 //! can empty a set (the clips) return `None`: the data contradict the bounds.
 //!
 //! Rounding: every predicate (is a vertex on the line? is it collinear with its neighbours?)
-//! is decided with a tolerance of [`REL_TOL`] = 2⁻⁴⁰ times the polygon's extent (its larger
-//! side of the interval hull), so that an intersection point computed twice, or a vertex that
+//! is decided with a tolerance of [`REL_TOL`] = 2⁻⁴⁰ times the polygon's scale (its extent, the
+//! larger side of its interval hull, or its largest |coordinate| when larger), so that an intersection point computed twice, or a vertex that
 //! rounding moved off an edge by 10⁻¹⁶, is merged instead of making a sliver. Cross and dot
 //! products are taken on differences divided by a power of two near the extent (an exact
 //! division), so sets of size 10⁻¹⁵⁰ or 10¹⁵⁰ neither underflow nor overflow.
@@ -56,6 +56,17 @@ fn scaled(u: [f64; 2], s: f64) -> [f64; 2] {
 fn extent(pts: &[[f64; 2]]) -> f64 {
     let h = interval_hull_of(pts);
     (h[1] - h[0]).max(h[3] - h[2])
+}
+
+/// The scale of the predicates' tolerance: the extent, or the largest |coordinate| when that
+/// is larger (a set far smaller than its distance from the origin carries rounding errors of
+/// its coordinates' size, not of its own: a set the data pin to a point must stay a point,
+/// not become empty).
+fn tol_scale(pts: &[[f64; 2]]) -> f64 {
+    let big = pts
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v[0].abs()).max(v[1].abs()));
+    extent(pts).max(big)
 }
 
 fn interval_hull_of(pts: &[[f64; 2]]) -> [f64; 4] {
@@ -105,7 +116,7 @@ impl ConvexPolygon {
             };
         }
         let s = pow2_below(ext);
-        let tol = REL_TOL * ext / s;
+        let tol = REL_TOL * tol_scale(&pts) / s;
         let start = lowest(&pts);
         let n = pts.len();
         let mut st: Vec<[f64; 2]> = Vec::with_capacity(n + 1);
@@ -171,7 +182,7 @@ impl ConvexPolygon {
             });
         }
         let s = pow2_below(ext);
-        let tol = REL_TOL * ext / s;
+        let tol = REL_TOL * tol_scale(&pts) / s;
         let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
         for pass in 0..2 {
             let begin = hull.len();
@@ -260,7 +271,7 @@ impl ConvexPolygon {
             .fold(0.0f64, |m, v| m.max(v[0].abs()).max(v[1].abs()));
         let an = a[0].abs() + a[1].abs();
         // The polygon's own tolerance along a, plus the rounding of a·v − b itself.
-        let tol = REL_TOL * an * self.extent() + 8.0 * f64::EPSILON * (an * big + b.abs());
+        let tol = REL_TOL * an * tol_scale(&self.vertices) + 8.0 * f64::EPSILON * (an * big + b.abs());
         let val: Vec<f64> = self.vertices.iter().map(|v| dot(a, *v) - b).collect();
         if val.iter().all(|&s| s > tol) {
             return None;

@@ -9,16 +9,18 @@
 //!   singular maps, sets of size 10⁻¹⁵⁰ and 10¹⁵⁰;
 //! * Tempo's state estimator: the planar path against the LP path (clarabel, the oracle) on
 //!   every step of the 2-D presets and on 60 seeded random problems (with and without δ,
-//!   smoothing, process noise of 0 … 3 columns, 1 or 2 outputs), support functions in 64
+//!   smoothing, process noise of 0 … 3 columns, 1 or 2 outputs), support functions in 32
 //!   directions and interval hulls equal to 1e-9 of the problem's scale (the largest of the
 //!   set's coordinates, the data and ε: the LP oracle is accurate to ~10⁻¹⁰ of its data);
-//! * Pavelková's consistent polygon for n = 2 against the LP polygon.
+//! * Pavelková's consistent polygon for n = 2 against the LP path's polygon (its vertices
+//!   inside) and support LPs in 32 directions.
 
 use confset::presets::{self, UbbKind};
 use confset::sets::{convex_hull, minkowski_sum, point_in_convex, polygon_area, ConvexPolygon};
 use confset::ubb::{Bounds, L1Form, NoiseMode, Norm, StateProblem, System};
+use confset::solve::Family;
 use confset::uniform::{
-    consistent_polygon, consistent_polygon_lp, simulate, StatePrior, Theta, Window,
+    consistent_polygon, consistent_polygon_lp, simulate, state_lp, Lp, StatePrior, Theta, Window,
 };
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -250,7 +252,9 @@ fn degenerate_sets_empty_parallel_segment_point_and_extreme_scales() {
 }
 in_browser!(degenerate_sets_empty_parallel_segment_point_and_extreme_scales);
 
-/// Compare one ubb step's planar and LP answers; returns the largest relative gap.
+/// Compare one ubb step's planar answer with the LP oracle (clarabel: one support LP per
+/// direction on the LP path's T(h), and its interval hull); returns the largest gap relative to
+/// the problem's scale.
 fn compare_step(problem: &StateProblem, y: &[DVector<f64>], k: usize, what: &str) -> f64 {
     let step = problem.step(y, k).unwrap();
     assert!(step.planar.is_some(), "{what}: the planar path must run");
@@ -258,14 +262,19 @@ fn compare_step(problem: &StateProblem, y: &[DVector<f64>], k: usize, what: &str
     assert_eq!(poly.calls, 0, "{what}: no LP on the planar path");
     let lp_step = problem.step_lp(y, k).unwrap();
     assert!(lp_step.planar.is_none());
-    let (lp_hull, lp_poly, _) = lp_step.hull_and_polygon([0, 1], 200).unwrap();
-    assert!(lp_poly.exact, "{what}: the LP polygon is exact");
+    let lp_hull = lp_step.hull().unwrap();
+    let mut solver = lp_step.set.support_solver().unwrap();
     // The LP's accuracy is relative to its data (clarabel's 1e-10 gap tolerance in the unit
     // of the data and bounds): the scale is the largest of the set's coordinates, the data
     // y(0 … k) and ε.
     let data = y[..=k].iter().map(|v| v.amax()).fold(problem.bounds.eps, f64::max);
-    let scale = scale_of(&lp_poly.vertices).max(data);
-    let mut gap = support_gap(&poly.vertices, &lp_poly.vertices, scale);
+    let scale = scale_of(&poly.vertices).max(data);
+    let mut gap: f64 = 0.0;
+    for d in directions(32) {
+        let dir = lp_step.s_map.row(0).transpose() * d[0] + lp_step.s_map.row(1).transpose() * d[1];
+        let lp = solver.support(&dir).unwrap().0 + d[0] * lp_step.offset[0] + d[1] * lp_step.offset[1];
+        gap = gap.max((support(&poly.vertices, d) - lp).abs() / scale);
+    }
     for i in 0..2 {
         gap = gap.max((hull.lo[i] - lp_hull.lo[i]).abs() / scale);
         gap = gap.max((hull.hi[i] - lp_hull.hi[i]).abs() / scale);
@@ -389,6 +398,40 @@ fn ubb_contradicting_data_name_the_same_field_as_the_lp() {
 }
 in_browser!(ubb_contradicting_data_name_the_same_field_as_the_lp);
 
+/// The support function of the consistent set of x_last (components `plane`) by one LP per
+/// direction: the state LP (6)–(10) with the half-widths fixed, loaded once.
+fn support_lp<'a>(
+    theta: &Theta,
+    u: &[DVector<f64>],
+    y: &[DVector<f64>],
+    w: Window,
+    prior: &StatePrior,
+    hw: &(DVector<f64>, DVector<f64>),
+    plane: [usize; 2],
+) -> impl FnMut([f64; 2]) -> f64 + 'a {
+    let (n, m) = (theta.n(), theta.m());
+    let lp = state_lp(theta, u, y, w, prior);
+    let nx = w.states() * n;
+    let mut fixed = DVector::zeros(n + m);
+    fixed.rows_mut(0, n).copy_from(&hw.0);
+    fixed.rows_mut(n, m).copy_from(&hw.1);
+    let states = Lp {
+        c: DVector::zeros(nx),
+        a: lp.a.columns(0, nx).into_owned(),
+        b: &lp.b - lp.a.columns(nx, n + m) * fixed,
+        lo: lp.lo.rows(0, nx).into_owned(),
+        hi: lp.hi.rows(0, nx).into_owned(),
+        unit: lp.unit,
+    };
+    let mut family = Family::new(&states.problem(&states.c, None, "uniform.window")).unwrap();
+    move |d| {
+        let mut c = DVector::zeros(nx);
+        c[plane[0]] = -d[0];
+        c[plane[1]] = -d[1];
+        -family.minimize(Some(&c)).unwrap().objective
+    }
+}
+
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn uniform_consistent_polygon_equals_the_lp_polygon() {
     let (th, xr, yr) = presets::uniform_paper_model();
@@ -424,13 +467,23 @@ fn uniform_consistent_polygon_equals_the_lp_polygon() {
                     consistent_polygon(theta, &tr.u, &tr.y, w, &prior, &hw.0, &hw.1, plane, 64)
                         .unwrap();
                 assert_eq!(exact.calls, 0, "the planar path ran");
+                // The LP path's polygon (its vertices are points of the set) ...
                 let lp = consistent_polygon_lp(theta, &tr.u, &tr.y, w, &prior, &hw.0, &hw.1, plane, 200)
                     .unwrap();
                 assert!(lp.exact);
                 // Relative to the set and the window's data (the LP's unit, see compare_step).
                 let data = tr.y[w.first..=w.last].iter().map(|v| v.amax()).fold(0.0, f64::max);
                 let scale = scale_of(&lp.vertices).max(data);
-                let gap = support_gap(&exact.vertices, &lp.vertices, scale);
+                for v in &lp.vertices {
+                    assert!(point_in_convex(&exact.vertices, *v, 1e-9), "LP vertex {v:?} outside");
+                }
+                // ... and the support function by one LP per direction (the polygon's edges
+                // are settled only to 1e-7 of its scale).
+                let mut oracle = support_lp(theta, &tr.u, &tr.y, w, &prior, &hw, plane);
+                let gap = directions(32)
+                    .into_iter()
+                    .map(|d| (support(&exact.vertices, d) - oracle(d)).abs() / scale)
+                    .fold(0.0, f64::max);
                 assert!(gap <= 1e-9, "theta {which}, seed {seed}, t = {last}: gap {gap:e}");
                 let truth = [tr.x[last][plane[0]], tr.x[last][plane[1]]];
                 assert!(point_in_convex(&exact.vertices, truth, 1e-9));
