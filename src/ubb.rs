@@ -365,8 +365,11 @@ impl FeasibleSet {
                     size.rows += 2 * m + 1;
                 }
                 (Norm::L1, L1Form::Enumerated) => {
-                    size.rows += 2usize
-                        .saturating_mul(1usize.checked_shl(m.saturating_sub(1) as u32).unwrap_or(usize::MAX))
+                    size.rows += 2usize.saturating_mul(
+                        1usize
+                            .checked_shl(m.saturating_sub(1) as u32)
+                            .unwrap_or(usize::MAX),
+                    )
                 }
                 (Norm::L2, _) => {
                     size.cones += 1;
@@ -1156,16 +1159,17 @@ impl StateStep {
         budget: usize,
     ) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
         if let Some(p) = &self.planar {
-            let p = match plane {
-                [0, 1] => p.clone(),
-                [1, 0] => p.swapped(),
-                _ => {
-                    return Err(Error::field(
+            let p =
+                match plane {
+                    [0, 1] => p.clone(),
+                    [1, 0] => p.swapped(),
+                    _ => return Err(Error::field(
                         "ubb.plane",
-                        format!("must name two different components of the 2 states, found {plane:?}"),
-                    ))
-                }
-            };
+                        format!(
+                            "must name two different components of the 2 states, found {plane:?}"
+                        ),
+                    )),
+                };
             let (ox, oy) = (self.offset[plane[0]], self.offset[plane[1]]);
             let p = p.translate([ox, oy]);
             let polygon = SupportPolygon {

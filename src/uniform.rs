@@ -613,10 +613,7 @@ pub fn consistent_polygon_planar(
     for tau in w.first..=w.last {
         let bu = &theta.b * &u[tau];
         let du = &theta.d * &u[tau];
-        set = set
-            .map(a)
-            .translate([bu[0], bu[1]])
-            .add_box([xr[0], xr[1]]);
+        set = set.map(a).translate([bu[0], bu[1]]).add_box([xr[0], xr[1]]);
         let mut next = set
             .clip_strip([1.0, 0.0], prior.x_lo, prior.x_hi)
             .and_then(|p| p.clip_strip([0.0, 1.0], prior.x_lo, prior.x_hi));

@@ -96,7 +96,11 @@ fn cross_sign(u: [f64; 2], w: [f64; 2]) -> f64 {
 /// Index of the lowest vertex (least y, then least x): the start of the edges' angle order.
 fn lowest(v: &[[f64; 2]]) -> usize {
     (0..v.len())
-        .min_by(|&i, &j| v[i][1].total_cmp(&v[j][1]).then(v[i][0].total_cmp(&v[j][0])))
+        .min_by(|&i, &j| {
+            v[i][1]
+                .total_cmp(&v[j][1])
+                .then(v[i][0].total_cmp(&v[j][0]))
+        })
         .unwrap_or(0)
 }
 
@@ -124,7 +128,10 @@ impl ConvexPolygon {
         for k in 1..=n {
             let p = pts[(start + k) % n];
             let top = st[st.len() - 1];
-            if scaled(sub(p, top), 1.0).iter().all(|c| (c / s).abs() <= tol) {
+            if scaled(sub(p, top), 1.0)
+                .iter()
+                .all(|c| (c / s).abs() <= tol)
+            {
                 continue;
             }
             while st.len() >= 2 {
@@ -134,7 +141,8 @@ impl ConvexPolygon {
                 let c = cross(u, w);
                 let len = w[0].hypot(w[1]);
                 // b is on the line a → p (within tol) and between them, or a reflex turn.
-                let drop = c < -tol * len || (c <= tol * len && dot(u, scaled(sub(p, b), s)) >= 0.0);
+                let drop =
+                    c < -tol * len || (c <= tol * len && dot(u, scaled(sub(p, b), s)) >= 0.0);
                 if drop {
                     st.pop();
                 } else {
@@ -215,7 +223,11 @@ impl ConvexPolygon {
                 out.push(p);
             }
         }
-        while out.len() > 1 && sub(out[0], out[out.len() - 1]).iter().all(|c| (c / s).abs() <= tol) {
+        while out.len() > 1
+            && sub(out[0], out[out.len() - 1])
+                .iter()
+                .all(|c| (c / s).abs() <= tol)
+        {
             out.pop();
         }
         if out.is_empty() {
@@ -271,7 +283,8 @@ impl ConvexPolygon {
             .fold(0.0f64, |m, v| m.max(v[0].abs()).max(v[1].abs()));
         let an = a[0].abs() + a[1].abs();
         // The polygon's own tolerance along a, plus the rounding of a·v − b itself.
-        let tol = REL_TOL * an * tol_scale(&self.vertices) + 8.0 * f64::EPSILON * (an * big + b.abs());
+        let tol =
+            REL_TOL * an * tol_scale(&self.vertices) + 8.0 * f64::EPSILON * (an * big + b.abs());
         let val: Vec<f64> = self.vertices.iter().map(|v| dot(a, *v) - b).collect();
         if val.iter().all(|&s| s > tol) {
             return None;

@@ -22,8 +22,8 @@ pub mod convex_polygon;
 pub mod plane;
 pub mod sign_region;
 pub mod support_polygon;
-pub(crate) use plane::polygon_scale;
 pub use convex_polygon::ConvexPolygon;
+pub(crate) use plane::polygon_scale;
 pub use plane::{
     box_corners, box_image_corners, convex_hull, map_ellipse, map_point, minkowski_sum,
     point_in_convex, polygon_area, signed_area,

@@ -24,7 +24,11 @@ enum Region {
     /// Every e(t) (no bound yet).
     Plane,
     /// lo ≤ a·e ≤ hi.
-    Strip { a: [f64; 2], lo: f64, hi: f64 },
+    Strip {
+        a: [f64; 2],
+        lo: f64,
+        hi: f64,
+    },
     Polygon(ConvexPolygon),
 }
 
@@ -72,11 +76,7 @@ impl Region {
         }
         match self {
             Region::Plane => Some(Region::Strip { a, lo, hi }),
-            Region::Strip {
-                a: b,
-                lo: l,
-                hi: h,
-            } => {
+            Region::Strip { a: b, lo: l, hi: h } => {
                 let na = a[0].hypot(a[1]);
                 let nb = b[0].hypot(b[1]);
                 if cross(a, b).abs() <= REL_TOL * na * nb {
@@ -100,7 +100,8 @@ impl Region {
                 // Two independent strips: the parallelogram of the four corners
                 // b·e ∈ {l, h}, a·e ∈ {lo, hi} (Cramer's rule).
                 let det = cross(b, a);
-                let corner = |u: f64, v: f64| [(u * a[1] - v * b[1]) / det, (b[0] * v - a[0] * u) / det];
+                let corner =
+                    |u: f64, v: f64| [(u * a[1] - v * b[1]) / det, (b[0] * v - a[0] * u) / det];
                 let pts = [corner(l, lo), corner(h, lo), corner(h, hi), corner(l, hi)];
                 if pts.iter().flatten().any(|c| !c.is_finite()) {
                     return Some(Region::Strip { a: b, lo: l, hi: h });

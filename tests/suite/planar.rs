@@ -17,8 +17,8 @@
 
 use confset::presets::{self, UbbKind};
 use confset::sets::{convex_hull, minkowski_sum, point_in_convex, polygon_area, ConvexPolygon};
-use confset::ubb::{Bounds, L1Form, NoiseMode, Norm, StateProblem, System};
 use confset::solve::Family;
+use confset::ubb::{Bounds, L1Form, NoiseMode, Norm, StateProblem, System};
 use confset::uniform::{
     consistent_polygon, consistent_polygon_lp, simulate, state_lp, Lp, StatePrior, Theta, Window,
 };
@@ -85,9 +85,15 @@ fn hull_area_and_support_against_brute_force() {
         let h = ConvexPolygon::hull(&pts).unwrap();
         let v = h.vertices();
         assert!(is_ccw_strictly_convex(v), "trial {trial}: {v:?}");
-        assert!(v.iter().all(|q| pts.contains(q)), "vertices are input points");
+        assert!(
+            v.iter().all(|q| pts.contains(q)),
+            "vertices are input points"
+        );
         for p in &pts {
-            assert!(point_in_convex(v, *p, 1e-12), "trial {trial}: {p:?} outside");
+            assert!(
+                point_in_convex(v, *p, 1e-12),
+                "trial {trial}: {p:?} outside"
+            );
         }
         let brute = convex_hull(pts.clone());
         let area = polygon_area(&brute);
@@ -98,8 +104,14 @@ fn hull_area_and_support_against_brute_force() {
             assert_eq!(val, at[0] * d[0] + at[1] * d[1]);
         }
         let ih = h.interval_hull();
-        assert_eq!(ih[0], pts.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min));
-        assert_eq!(ih[3], pts.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max));
+        assert_eq!(
+            ih[0],
+            pts.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min)
+        );
+        assert_eq!(
+            ih[3],
+            pts.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max)
+        );
     }
 }
 in_browser!(hull_area_and_support_against_brute_force);
@@ -114,25 +126,29 @@ fn clips_agree_with_membership_of_sampled_points() {
         let (lo, hi) = (rng.random::<f64>() * 2.0 - 1.5, rng.random::<f64>() * 2.0);
         let Some(cut) = poly.clip_strip(a, lo, hi) else {
             // Empty: no vertex may be in the strip.
-            assert!(poly
-                .vertices()
-                .iter()
-                .all(|v| { let s = a[0] * v[0] + a[1] * v[1]; s < lo || s > hi }) || lo > hi);
+            assert!(
+                poly.vertices().iter().all(|v| {
+                    let s = a[0] * v[0] + a[1] * v[1];
+                    s < lo || s > hi
+                }) || lo > hi
+            );
             continue;
         };
         assert!(is_ccw_strictly_convex(cut.vertices()), "trial {trial}");
         for p in rand_pts(&mut rng, 400, 1.2) {
             let s = a[0] * p[0] + a[1] * p[1];
             let brute_in = point_in_convex(poly.vertices(), p, 0.0) && s >= lo && s <= hi;
-            let brute_far = !point_in_convex(poly.vertices(), p, 1e-6)
-                || s < lo - 1e-6
-                || s > hi + 1e-6;
+            let brute_far =
+                !point_in_convex(poly.vertices(), p, 1e-6) || s < lo - 1e-6 || s > hi + 1e-6;
             let got = point_in_convex(cut.vertices(), p, 1e-12);
             if brute_in {
                 assert!(got, "trial {trial}: {p:?} lost");
             }
             if brute_far {
-                assert!(!point_in_convex(cut.vertices(), p, 0.0), "trial {trial}: {p:?} kept");
+                assert!(
+                    !point_in_convex(cut.vertices(), p, 0.0),
+                    "trial {trial}: {p:?} kept"
+                );
             }
         }
         // The cut is the polygon's part: its area is at most the polygon's.
@@ -157,7 +173,10 @@ fn minkowski_sums_and_maps_agree_with_the_hull_of_all_points() {
         let sum = p.minkowski(&q);
         assert!(is_ccw_strictly_convex(sum.vertices()), "trial {trial}");
         let brute = minkowski_sum(p.vertices(), q.vertices());
-        assert!(support_gap(sum.vertices(), &brute, 1.0) < 1e-14, "trial {trial}");
+        assert!(
+            support_gap(sum.vertices(), &brute, 1.0) < 1e-14,
+            "trial {trial}"
+        );
         assert!((sum.area() - polygon_area(&brute)).abs() < 1e-12);
         // A box and a segment through their own entry points.
         let v = [rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5];
@@ -165,7 +184,10 @@ fn minkowski_sums_and_maps_agree_with_the_hull_of_all_points() {
         let brute = minkowski_sum(p.vertices(), &[[-v[0], -v[1]], v]);
         assert!(support_gap(seg.vertices(), &brute, 1.0) < 1e-14);
         let bx = p.add_box([0.3, 0.1]);
-        let brute = minkowski_sum(p.vertices(), &[[-0.3, -0.1], [0.3, -0.1], [0.3, 0.1], [-0.3, 0.1]]);
+        let brute = minkowski_sum(
+            p.vertices(),
+            &[[-0.3, -0.1], [0.3, -0.1], [0.3, 0.1], [-0.3, 0.1]],
+        );
         assert!(support_gap(bx.vertices(), &brute, 1.0) < 1e-14);
         // A map, either orientation.
         let m = [
@@ -176,14 +198,22 @@ fn minkowski_sums_and_maps_agree_with_the_hull_of_all_points() {
         let pts: Vec<[f64; 2]> = p
             .vertices()
             .iter()
-            .map(|v| [m[0][0] * v[0] + m[0][1] * v[1], m[1][0] * v[0] + m[1][1] * v[1]])
+            .map(|v| {
+                [
+                    m[0][0] * v[0] + m[0][1] * v[1],
+                    m[1][0] * v[0] + m[1][1] * v[1],
+                ]
+            })
             .collect();
         assert!(is_ccw_strictly_convex(img.vertices()), "trial {trial}");
         assert!(support_gap(img.vertices(), &pts, 1.0) < 1e-14);
         let det = (m[0][0] * m[1][1] - m[0][1] * m[1][0]).abs();
         assert!((img.area() - det * p.area()).abs() < 1e-12);
         let moved = p.translate([1.0, -2.0]);
-        assert_eq!(moved.vertices()[0], [p.vertices()[0][0] + 1.0, p.vertices()[0][1] - 2.0]);
+        assert_eq!(
+            moved.vertices()[0],
+            [p.vertices()[0][0] + 1.0, p.vertices()[0][1] - 2.0]
+        );
     }
 }
 in_browser!(minkowski_sums_and_maps_agree_with_the_hull_of_all_points);
@@ -225,8 +255,18 @@ fn degenerate_sets_empty_parallel_segment_point_and_extreme_scales() {
     assert!((line.support([1.0, 0.0]).0 - 3.0).abs() < 1e-15);
     assert_eq!(sq.map([[0.0, 0.0], [0.0, 0.0]]).vertices(), &[[0.0, 0.0]]);
     // A box with a zero side is a segment; with two, a point.
-    assert_eq!(ConvexPolygon::rectangle([0.0, 1.0], [2.0, 1.0]).vertices().len(), 2);
-    assert_eq!(ConvexPolygon::rectangle([3.0, 1.0], [3.0, 1.0]).vertices().len(), 1);
+    assert_eq!(
+        ConvexPolygon::rectangle([0.0, 1.0], [2.0, 1.0])
+            .vertices()
+            .len(),
+        2
+    );
+    assert_eq!(
+        ConvexPolygon::rectangle([3.0, 1.0], [3.0, 1.0])
+            .vertices()
+            .len(),
+        1
+    );
     // Huge and tiny scales: the same operations on the set scaled by s give the set scaled by s.
     let base = ConvexPolygon::hull(&[[0.0, 0.0], [3.0, 1.0], [2.0, 4.0], [-1.0, 2.0]]).unwrap();
     let run = |p: &ConvexPolygon, s: f64| {
@@ -238,14 +278,32 @@ fn degenerate_sets_empty_parallel_segment_point_and_extreme_scales() {
     };
     let reference = run(&base, 1.0);
     for s in [1e150, 1e-150, 2f64.powi(-1000), 1e300 / 1e10] {
-        let pts: Vec<[f64; 2]> = base.vertices().iter().map(|v| [v[0] * s, v[1] * s]).collect();
+        let pts: Vec<[f64; 2]> = base
+            .vertices()
+            .iter()
+            .map(|v| [v[0] * s, v[1] * s])
+            .collect();
         let scaled = run(&ConvexPolygon::hull(&pts).unwrap(), s);
-        assert_eq!(scaled.vertices().len(), reference.vertices().len(), "scale {s}");
-        let back: Vec<[f64; 2]> = scaled.vertices().iter().map(|v| [v[0] / s, v[1] / s]).collect();
-        assert!(support_gap(&back, reference.vertices(), 1.0) < 1e-13, "scale {s}");
+        assert_eq!(
+            scaled.vertices().len(),
+            reference.vertices().len(),
+            "scale {s}"
+        );
+        let back: Vec<[f64; 2]> = scaled
+            .vertices()
+            .iter()
+            .map(|v| [v[0] / s, v[1] / s])
+            .collect();
+        assert!(
+            support_gap(&back, reference.vertices(), 1.0) < 1e-13,
+            "scale {s}"
+        );
         let area = scaled.area();
         if (s * s).is_finite() && s * s > 0.0 {
-            assert!((area / (s * s) - reference.area()).abs() < 1e-12, "scale {s}: {area}");
+            assert!(
+                (area / (s * s) - reference.area()).abs() < 1e-12,
+                "scale {s}: {area}"
+            );
         }
         assert!(area >= 0.0);
     }
@@ -267,12 +325,16 @@ fn compare_step(problem: &StateProblem, y: &[DVector<f64>], k: usize, what: &str
     // The LP's accuracy is relative to its data (clarabel's 1e-10 gap tolerance in the unit
     // of the data and bounds): the scale is the largest of the set's coordinates, the data
     // y(0 … k) and ε.
-    let data = y[..=k].iter().map(|v| v.amax()).fold(problem.bounds.eps, f64::max);
+    let data = y[..=k]
+        .iter()
+        .map(|v| v.amax())
+        .fold(problem.bounds.eps, f64::max);
     let scale = scale_of(&poly.vertices).max(data);
     let mut gap: f64 = 0.0;
     for d in directions(32) {
         let dir = lp_step.s_map.row(0).transpose() * d[0] + lp_step.s_map.row(1).transpose() * d[1];
-        let lp = solver.support(&dir).unwrap().0 + d[0] * lp_step.offset[0] + d[1] * lp_step.offset[1];
+        let lp =
+            solver.support(&dir).unwrap().0 + d[0] * lp_step.offset[0] + d[1] * lp_step.offset[1];
         gap = gap.max((support(&poly.vertices, d) - lp).abs() / scale);
     }
     for i in 0..2 {
@@ -283,14 +345,22 @@ fn compare_step(problem: &StateProblem, y: &[DVector<f64>], k: usize, what: &str
     let (_, swapped, _) = step.hull_and_polygon([1, 0], 64).unwrap();
     let back: Vec<[f64; 2]> = swapped.vertices.iter().map(|v| [v[1], v[0]]).collect();
     gap = gap.max(support_gap(&back, &poly.vertices, scale));
-    assert!(gap <= 1e-9, "{what}: planar and LP sets differ by {gap:e} of {scale}");
+    assert!(
+        gap <= 1e-9,
+        "{what}: planar and LP sets differ by {gap:e} of {scale}"
+    );
     gap
 }
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn ubb_planar_path_equals_the_lp_on_every_2d_preset_step() {
     let mut checked = 0;
-    for kind in [UbbKind::Track, UbbKind::Series, UbbKind::Leontief, UbbKind::Markov] {
+    for kind in [
+        UbbKind::Track,
+        UbbKind::Series,
+        UbbKind::Leontief,
+        UbbKind::Markov,
+    ] {
         let prep = presets::ubb_preset(kind).prepare_ubb().unwrap();
         let run = prep.run_data();
         let r = prep.problem.system.r();
@@ -362,7 +432,11 @@ fn ubb_planar_path_equals_the_lp_on_random_problems() {
             window: 3 + case % 9,
             sim_levels: (None, None),
         };
-        let mode = if case % 2 == 0 { NoiseMode::Random } else { NoiseMode::Bound };
+        let mode = if case % 2 == 0 {
+            NoiseMode::Random
+        } else {
+            NoiseMode::Bound
+        };
         let steps = 8 + case % 10;
         let run = problem.simulate(steps, mode, None, case as u64);
         let k = steps - 1 - case % 3;
@@ -372,7 +446,10 @@ fn ubb_planar_path_equals_the_lp_on_random_problems() {
                 // The truth lies in the exact set.
                 let (_, poly, _) = step.hull_and_polygon([0, 1], 0).unwrap();
                 let x = &run.x[k + 1];
-                assert!(poly.contains([x[0], x[1]], 1e-9), "case {case}: truth outside");
+                assert!(
+                    poly.contains([x[0], x[1]], 1e-9),
+                    "case {case}: truth outside"
+                );
             }
             Ok(_) => open += 1,
             Err(e) => panic!("case {case}: {e}"),
@@ -391,10 +468,18 @@ fn ubb_contradicting_data_name_the_same_field_as_the_lp() {
     run.y[5][0] += 50.0;
     let err = prep.problem.step(&run.y, 10).unwrap_err();
     // The LP path on the same data: the same message.
-    let lp = prep.problem.step_lp(&run.y, 10).unwrap().hull().unwrap_err();
+    let lp = prep
+        .problem
+        .step_lp(&run.y, 10)
+        .unwrap()
+        .hull()
+        .unwrap_err();
     assert_eq!(err.field, "ubb.eps");
     assert_eq!(err.to_string(), lp.to_string());
-    assert!(err.to_string().contains("consistent with the data"), "{err}");
+    assert!(
+        err.to_string().contains("consistent with the data"),
+        "{err}"
+    );
 }
 in_browser!(ubb_contradicting_data_name_the_same_field_as_the_lp);
 
@@ -448,7 +533,12 @@ fn uniform_consistent_polygon_equals_the_lp_polygon() {
             let prior = StatePrior {
                 x_lo: -5.0,
                 x_hi: 5.0,
-                x0: (seed % 2 == 0).then(|| (DVector::from_element(2, -1.0), DVector::from_element(2, 1.0))),
+                x0: (seed % 2 == 0).then(|| {
+                    (
+                        DVector::from_element(2, -1.0),
+                        DVector::from_element(2, 1.0),
+                    )
+                }),
                 xr_max: DVector::from_element(2, 1.0),
                 yr_max: DVector::from_element(1, 1.0),
             };
@@ -468,14 +558,21 @@ fn uniform_consistent_polygon_equals_the_lp_polygon() {
                         .unwrap();
                 assert_eq!(exact.calls, 0, "the planar path ran");
                 // The LP path's polygon (its vertices are points of the set) ...
-                let lp = consistent_polygon_lp(theta, &tr.u, &tr.y, w, &prior, &hw.0, &hw.1, plane, 200)
-                    .unwrap();
+                let lp =
+                    consistent_polygon_lp(theta, &tr.u, &tr.y, w, &prior, &hw.0, &hw.1, plane, 200)
+                        .unwrap();
                 assert!(lp.exact);
                 // Relative to the set and the window's data (the LP's unit, see compare_step).
-                let data = tr.y[w.first..=w.last].iter().map(|v| v.amax()).fold(0.0, f64::max);
+                let data = tr.y[w.first..=w.last]
+                    .iter()
+                    .map(|v| v.amax())
+                    .fold(0.0, f64::max);
                 let scale = scale_of(&lp.vertices).max(data);
                 for v in &lp.vertices {
-                    assert!(point_in_convex(&exact.vertices, *v, 1e-9), "LP vertex {v:?} outside");
+                    assert!(
+                        point_in_convex(&exact.vertices, *v, 1e-9),
+                        "LP vertex {v:?} outside"
+                    );
                 }
                 // ... and the support function by one LP per direction (the polygon's edges
                 // are settled only to 1e-7 of its scale).
@@ -484,7 +581,10 @@ fn uniform_consistent_polygon_equals_the_lp_polygon() {
                     .into_iter()
                     .map(|d| (support(&exact.vertices, d) - oracle(d)).abs() / scale)
                     .fold(0.0, f64::max);
-                assert!(gap <= 1e-9, "theta {which}, seed {seed}, t = {last}: gap {gap:e}");
+                assert!(
+                    gap <= 1e-9,
+                    "theta {which}, seed {seed}, t = {last}: gap {gap:e}"
+                );
                 let truth = [tr.x[last][plane[0]], tr.x[last][plane[1]]];
                 assert!(point_in_convex(&exact.vertices, truth, 1e-9));
                 checked += 1;
