@@ -112,12 +112,17 @@ impl Kernel {
                 let prep = preset("ubb-track")?.prepare_ubb()?;
                 let run = prep.run_data();
                 Box::new(move || {
+                    // As the page computes it: the step, then its hull and polygon (the planar
+                    // path for this 2-D l∞ preset: no LP).
                     let step = prep.problem.step(&run.y, 40)?;
-                    let (_, poly, _) = step.hull_and_polygon([0, 1], 64)?;
-                    let size = step.set.program()?.1;
+                    let (_, poly, size) = step.hull_and_polygon([0, 1], 64)?;
                     Ok(format!(
-                        "k = 40, window 30: {} variables, {} rows; {} LPs for the polygon",
-                        size.variables, size.rows, poly.calls
+                        "k = 40, window 30: {} variables, {} rows; {} LPs for the polygon ({} path, {} vertices)",
+                        size.variables,
+                        size.rows,
+                        poly.calls,
+                        if step.planar.is_some() { "planar" } else { "LP" },
+                        poly.vertices.len()
                     ))
                 })
             }

@@ -56,10 +56,14 @@
 //!   line pieces, boundary polygons, 2-D slices and recession directions; in
 //!   [`sets::support_polygon`] the exact polygon of a planar convex set known only through its
 //!   support function (one LP per call: each unsettled stretch between two boundary points is
-//!   closed by a support call normal to it; used by `ubb` and `uniform`), and
-//!   [`sets::point_in_convex`]; in [`sets::plane`] the plane geometry every method and compare
-//!   shares (shoelace area, convex hull, box corners, 2×2 maps of points and ellipses, Minkowski
-//!   sums)
+//!   closed by a support call normal to it; used by `ubb` and `uniform` where an LP remains), and
+//!   [`sets::point_in_convex`]; in [`sets::convex_polygon`] the exact planar set engine
+//!   [`sets::ConvexPolygon`] (bounded convex polygons, segments and points: clip by a half-plane
+//!   or a strip, 2×2 maps, Minkowski sums with boxes, segments and polygons by an edge merge,
+//!   hull, area, support, interval hull; predicates to 2⁻⁴⁰ of the extent, any scale 10^±150):
+//!   the ubb state set and the uniform consistent polygon of a 2-D state without an LP; in
+//!   [`sets::plane`] the plane geometry every method and compare shares (shoelace area, convex
+//!   hull, box corners, 2×2 maps of points and ellipses, Minkowski sums)
 //! * [`kalman`]: Kalman filter (35a–c), its data-independent gains, τ-step prediction, steady state
 //! * [`scf`]: State Conditional Filter: ratio matrix by (38) and (41), SCF regions (33)–(34), (40),
 //!   asymptotic filter, components ζ, prediction, inputs; closed-form conditional coverage; in
@@ -78,13 +82,17 @@
 //!   Kronecker layout of (8), the parameter LP (11)–(12) with the half-width block derived from
 //!   (4) (both by the dense simplex of [`solve::simplex`]), the optimal face (its ranges from
 //!   one loaded LP, warm-started per objective), the exact consistent-state polygon
-//!   ([`sets::polygon_from_support`] on one loaded state LP with the half-widths eliminated), the
+//!   (for n = 2 exactly by [`sets::ConvexPolygon`] clips of the per-sample boxes and strips;
+//!   otherwise [`uniform::consistent_polygon_lp`]: [`sets::polygon_from_support`] on one loaded
+//!   state LP with the half-widths eliminated), the
 //!   sliding window with swapping (4.1) and expansion (4.2, (13)) joint estimation, automatic
 //!   extension of infeasible half-width bounds
 //! * [`ubb`]: unknown-but-bounded noise (Tempo): the feasible set T(h) (3) as weighted l∞/l1/l2
 //!   [`ubb::NormBound`]s (l1 either as the paper's 2^{m−1} rows (30)–(34) or lifted with slacks; l2
 //!   as second-order cones), its interval hull and central estimate (31) with the local error (5),
-//!   the exact 2-D polygon, Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear
+//!   the exact 2-D polygon (a 2-D state with l∞ bounds: by the planar recursion of
+//!   [`ubb::planar`], clip by the measurement strips, map by A, add the noise zonotope, with no
+//!   LP; otherwise by support LPs), Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear
 //!   optimal algorithm from the active constraints of (22), by LP duals), Theorems 4 and 5 ((47),
 //!   (55), (58)), and Section IV's state estimator on a window of j + 1 steps with smoothed bounds
 //!   (45)–(46)

@@ -18,10 +18,17 @@
 //! contains it); Theorem 1's "‖N⁻¹‖ > ε⁻¹" is reversed; after Theorem 4 a pole near the unit
 //! circle needs exp(1/α) close to 1 (α large, long memory).
 //!
+//! A 2-D state with per-sample l∞ bounds (every 2-D preset) takes the planar path instead
+//! ([`planar`]): the same set, computed exactly by clipping, mapping and Minkowski sums of a
+//! convex polygon, with no LP; the LP path stays for r ≥ 3, l1/l2 bounds, and as its test
+//! oracle ([`StateProblem::step_lp`]).
+//!
 //! Every LP goes through [`crate::solve`].
 
+pub mod planar;
+
 use crate::error::{Error, Result};
-use crate::sets::{polygon_from_support, SupportPolygon};
+use crate::sets::{polygon_from_support, ConvexPolygon, SupportPolygon};
 use crate::solve::{self, Family, Problem};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -341,6 +348,37 @@ impl FeasibleSet {
             },
             size,
         ))
+    }
+
+    /// The sizes [`FeasibleSet::program`] would build, counted without building it.
+    pub fn size(&self) -> LpSize {
+        let mut size = LpSize {
+            variables: self.dim,
+            ..LpSize::default()
+        };
+        for b in &self.bounds {
+            let m = b.map.nrows();
+            match (b.norm, self.l1_form) {
+                (Norm::Linf, _) => size.rows += 2 * m,
+                (Norm::L1, L1Form::Lifted) => {
+                    size.variables += m;
+                    size.rows += 2 * m + 1;
+                }
+                (Norm::L1, L1Form::Enumerated) => {
+                    size.rows += 2usize.saturating_mul(
+                        1usize
+                            .checked_shl(m.saturating_sub(1) as u32)
+                            .unwrap_or(usize::MAX),
+                    )
+                }
+                (Norm::L2, _) => {
+                    size.cones += 1;
+                    size.cone_rows += m + 1;
+                }
+            }
+        }
+        size.rows += self.eq.as_ref().map_or(0, |(e, _)| e.nrows());
+        size
     }
 
     /// A solver loaded with T(h), ready for many objectives.
@@ -748,6 +786,9 @@ pub struct StateStep {
     /// x(k+1) = offset + S f.
     pub s_map: DMatrix<f64>,
     pub offset: DVector<f64>,
+    /// The planar path ran: the exact polygon of x(k+1) − offset (r = 2, l∞ bounds, the data
+    /// close the set). `None`: the LP path (the set's support LPs) answers.
+    pub planar: Option<ConvexPolygon>,
 }
 
 /// Section IV: the state x(k+1) from y(0 … k) with a window of `window` steps.
@@ -763,8 +804,19 @@ pub struct StateProblem {
 }
 
 impl StateProblem {
-    /// T(h) at time k given y(0 … k) (y may be longer).
+    /// T(h) at time k given y(0 … k) (y may be longer), with its exact polygon when the
+    /// planar path applies (a 2-D state, l∞ bounds): then contradicting data are refused here,
+    /// with the LP path's message.
     pub fn step(&self, y: &[DVector<f64>], k: usize) -> Result<StateStep> {
+        self.build(y, k, true)
+    }
+
+    /// T(h) at time k for the LP path only (the planar path's test oracle).
+    pub fn step_lp(&self, y: &[DVector<f64>], k: usize) -> Result<StateStep> {
+        self.build(y, k, false)
+    }
+
+    fn build(&self, y: &[DVector<f64>], k: usize, exact: bool) -> Result<StateStep> {
         let sys = &self.system;
         let bd = &self.bounds;
         let (r, p) = (sys.r(), sys.p());
@@ -871,6 +923,7 @@ impl StateProblem {
         }
         // The window's initial state z = x(s) − x̄(s): the box of x(0) moved by A^s, plus the
         // noise before the window, each sample bounded by τe^{(k−l)/α} (45) in the noise norm.
+        let mut start_half = None;
         if let Some(delta) = &bd.delta {
             let mut half = DVector::zeros(r);
             for i in 0..r {
@@ -890,6 +943,7 @@ impl StateProblem {
                 half[i] = prior + noise;
             }
             if half.iter().all(|v| v.is_finite()) {
+                start_half = Some(half.clone());
                 let map = state_map(s);
                 // |z_i| ≤ half_i as an l∞ ball of radius h = max half_i with weights h/half_i
                 // (half_i = 0 pins z_i): the bound keeps the problem's unit, so scaling the
@@ -930,19 +984,77 @@ impl StateProblem {
         if bd.delta.is_none() {
             self.check_observable(&pow, s, k, r)?;
         }
+        let set = FeasibleSet {
+            dim,
+            bounds,
+            eq,
+            l1_form: bd.l1_form,
+            field: "ubb.eps".into(),
+        };
+        let planar = if exact && r == 2 && bd.norm == Norm::Linf {
+            match self.planar(y, k, s, &nominal, start_half.as_ref()) {
+                planar::Outcome::Polygon(p) => Some(p),
+                // The LP would be infeasible: its error, word for word.
+                planar::Outcome::Empty => return Err(set.blame().infeasible()),
+                planar::Outcome::Open => None,
+            }
+        } else {
+            None
+        };
         Ok(StateStep {
             k,
             first: s,
-            set: FeasibleSet {
-                dim,
-                bounds,
-                eq,
-                l1_form: bd.l1_form,
-                field: "ubb.eps".into(),
-            },
+            set,
             s_map: state_map(k + 1),
             offset: nominal[k + 1].clone(),
+            planar,
         })
+    }
+
+    /// The planar recursion of the window s … k ([`planar`]): the same constraints as the LP
+    /// (the δ box of e(s), the strips (46), the noise (45), Example 4's Σx(0)), in deviations
+    /// e = x − x̄ from the nominal trajectory.
+    fn planar(
+        &self,
+        y: &[DVector<f64>],
+        k: usize,
+        s: usize,
+        nominal: &[DVector<f64>],
+        start: Option<&DVector<f64>>,
+    ) -> planar::Outcome {
+        let sys = &self.system;
+        let bd = &self.bounds;
+        let a = [
+            [sys.a[(0, 0)], sys.a[(0, 1)]],
+            [sys.a[(1, 0)], sys.a[(1, 1)]],
+        ];
+        let noise: Vec<[f64; 2]> = (0..sys.p())
+            .map(|j| [sys.b[(0, j)], sys.b[(1, j)]])
+            .collect();
+        let samples: Vec<planar::Sample> = (s..=k)
+            .map(|t| {
+                let c = sys.c_at(t);
+                let eps = bd.eps / age_weight(bd.beta, k - t);
+                let strips = (0..c.nrows())
+                    .map(|i| {
+                        // h_i = y_i − C_i x̄(t): the residual (40) in deviations.
+                        let h = y[t][i] - (c[(i, 0)] * nominal[t][0] + c[(i, 1)] * nominal[t][1]);
+                        ([c[(i, 0)], c[(i, 1)]], h - eps, h + eps)
+                    })
+                    .collect();
+                let tau = if sys.p() > 0 {
+                    bd.tau / age_weight(bd.alpha, k - t)
+                } else {
+                    0.0
+                };
+                planar::Sample { strips, tau }
+            })
+            .collect();
+        let equal = match (bd.x0_sum, s) {
+            (Some(total), 0) => Some(([1.0, 1.0], total - bd.x0_center.sum())),
+            _ => None,
+        };
+        planar::propagate(a, &noise, start.map(|h| [h[0], h[1]]), equal, &samples)
     }
 
     /// With δ = ∞ the window's outputs must determine x(s) (the Remark on observability).
@@ -988,10 +1100,41 @@ impl StateProblem {
 }
 
 impl StateStep {
-    /// Interval hull of x(k+1).
+    /// Interval hull of x(k+1): the polygon's min and max on the planar path, 2r LPs on the
+    /// LP path.
     pub fn hull(&self) -> Result<IntervalHull> {
+        if let Some(p) = &self.planar {
+            let h = p.interval_hull();
+            return Ok(self.shift(IntervalHull {
+                lo: vec![h[0], h[2]],
+                hi: vec![h[1], h[3]],
+            }));
+        }
         let h = self.set.interval_hull(&self.s_map)?;
         Ok(self.shift(h))
+    }
+
+    /// Interval hull of M·x(k+1) for a matrix M with r columns (the outputs H(k+1) of the
+    /// prediction interval): support values of the polygon on the planar path, LPs otherwise.
+    pub fn image_hull(&self, m: &DMatrix<f64>) -> Result<IntervalHull> {
+        let off = m * &self.offset;
+        let h = match &self.planar {
+            Some(p) => {
+                let (mut lo, mut hi) = (Vec::new(), Vec::new());
+                for i in 0..m.nrows() {
+                    let d = [m[(i, 0)], m[(i, 1)]];
+                    hi.push(p.support(d).0);
+                    lo.push(-p.support([-d[0], -d[1]]).0);
+                }
+                IntervalHull { lo, hi }
+            }
+            None => self.set.interval_hull(&(m * &self.s_map))?,
+        };
+        let add = |v: &[f64]| crate::linalg::zip_with(v, off.as_slice(), |a, b| a + b);
+        Ok(IntervalHull {
+            lo: add(&h.lo),
+            hi: add(&h.hi),
+        })
     }
 
     fn shift(&self, h: IntervalHull) -> IntervalHull {
@@ -1007,13 +1150,37 @@ impl StateStep {
         DMatrix::from_fn(2, self.s_map.ncols(), |i, j| self.s_map[(plane[i], j)])
     }
 
-    /// Interval hull of all of x(k+1) and the exact polygon of the `plane` components, from
-    /// one loaded solver.
+    /// Interval hull of all of x(k+1) and the exact polygon of the `plane` components: on the
+    /// planar path from the polygon itself (no LP: `calls` = 0, the LP's size reported as
+    /// counted), otherwise from one loaded solver.
     pub fn hull_and_polygon(
         &self,
         plane: [usize; 2],
         budget: usize,
     ) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
+        if let Some(p) = &self.planar {
+            let p =
+                match plane {
+                    [0, 1] => p.clone(),
+                    [1, 0] => p.swapped(),
+                    _ => return Err(Error::field(
+                        "ubb.plane",
+                        format!(
+                            "must name two different components of the 2 states, found {plane:?}"
+                        ),
+                    )),
+                };
+            let (ox, oy) = (self.offset[plane[0]], self.offset[plane[1]]);
+            let p = p.translate([ox, oy]);
+            let polygon = SupportPolygon {
+                vertices: p.vertices().to_vec(),
+                exact: true,
+                gap: 0.0,
+                calls: 0,
+                hull: p.interval_hull(),
+            };
+            return Ok((self.hull()?, polygon, self.set.size()));
+        }
         let mut solver = self.set.support_solver()?;
         let hull = self.shift(solver.interval_hull(&self.s_map)?);
         let mut poly = solver.polygon(&self.plane_map(plane), budget)?;

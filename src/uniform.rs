@@ -14,21 +14,23 @@
 //!   whose (A, C) is not observable: C·A = 0.5·C) — extra LPs give each state's range over the
 //!   optimal face;
 //! * [`consistent_polygon`]: the set of x_t consistent with the window's constraints at given
-//!   half-widths — a projection of a polytope, so a polygon — exact from support LPs on one
-//!   loaded problem ([`crate::sets::polygon_from_support`]);
+//!   half-widths — a projection of a polytope, so a polygon — for n = 2 computed exactly by the
+//!   planar engine ([`crate::sets::ConvexPolygon`]: forward clips of the per-sample boxes and
+//!   strips, no LP), otherwise ([`consistent_polygon_lp`], also the planar path's test oracle)
+//!   from support LPs on one loaded problem ([`crate::sets::polygon_from_support`]);
 //! * [`Online`]: the sliding window of length ∂ (Section 4) with swapping (4.1) or expansion
 //!   (4.2, the linearization (13)) joint estimation, extending the half-width bounds when the LP
 //!   is infeasible (Section 3.2's note).
 //!
 //! All LPs go through [`crate::solve`]: the state and parameter LPs and the face ranges
 //! through its dense simplex ([`crate::solve::simplex`], warm-started across the face's
-//! objectives; clarabel for what it cannot certify), the polygon through clarabel. Where the
+//! objectives; clarabel for what it cannot certify), the polygon (n > 2) through clarabel. Where the
 //! optimum is not unique the simplex returns a vertex of the optimal face (an interior-point
 //! solver returns a point inside it), so the states of the paper's example, and the Θ̂ the
 //! swapping estimator fits to them, are that vertex's.
 
 use crate::error::{Error, Result};
-use crate::sets::{polygon_from_support, SupportPolygon};
+use crate::sets::{polygon_from_support, ConvexPolygon, SupportPolygon};
 use crate::solve::{self, simplex, Blame};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -619,13 +621,112 @@ pub fn optimal_face(
 
 /// The polygon of x_last (components `plane`) consistent with the window's constraints (4) and
 /// the prior box (10) at fixed half-widths x_r, y_r: the projection of a polytope on a plane,
-/// hence a polygon. With the half-widths fixed they leave the LP — the rows of (8) read
+/// hence a polygon. For n = 2 with a finite prior box it is computed exactly without an LP
+/// ([`consistent_polygon_planar`]: `calls` = 0); otherwise by [`consistent_polygon_lp`].
+#[allow(clippy::too_many_arguments)]
+pub fn consistent_polygon(
+    theta: &Theta,
+    u: &[DVector<f64>],
+    y: &[DVector<f64>],
+    w: Window,
+    prior: &StatePrior,
+    xr: &DVector<f64>,
+    yr: &DVector<f64>,
+    plane: [usize; 2],
+    budget: usize,
+) -> Result<SupportPolygon> {
+    match consistent_polygon_planar(theta, u, y, w, prior, xr, yr, plane)? {
+        Some(p) => Ok(p),
+        None => consistent_polygon_lp(theta, u, y, w, prior, xr, yr, plane, budget),
+    }
+}
+
+/// The consistent polygon of a 2-D state by forward recursion over the window: the box of
+/// x_{first−1} (x̲_0, x̄_0 or the prior box (10)); then per τ the transition (4)
+/// x_τ ∈ A x_{τ−1} + B u_τ ⊕ [−x_r, x_r] (a map, a shift and a Minkowski sum), the prior box
+/// of x_τ and the measurement strips |y_τ − C x_τ − D u_τ| ≤ y_r, one per output. The chain
+/// links only consecutive states, so the last set is the projection of the LP's polytope on
+/// x_last: the same polygon, exact. `None` when it does not apply (n ≠ 2, an infinite bound).
+#[allow(clippy::too_many_arguments)]
+pub fn consistent_polygon_planar(
+    theta: &Theta,
+    u: &[DVector<f64>],
+    y: &[DVector<f64>],
+    w: Window,
+    prior: &StatePrior,
+    xr: &DVector<f64>,
+    yr: &DVector<f64>,
+    plane: [usize; 2],
+) -> Result<Option<SupportPolygon>> {
+    let (n, m) = (theta.n(), theta.m());
+    if n != 2 || !matches!(plane, [0, 1] | [1, 0]) {
+        return Ok(None);
+    }
+    let (lo0, hi0) = match &prior.x0 {
+        Some((l, h)) => ([l[0], l[1]], [h[0], h[1]]),
+        None => ([prior.x_lo; 2], [prior.x_hi; 2]),
+    };
+    let finite = lo0
+        .iter()
+        .chain(&hi0)
+        .chain(xr.iter())
+        .chain(yr.iter())
+        .chain([&prior.x_lo, &prior.x_hi])
+        .all(|v| v.is_finite());
+    if !finite {
+        return Ok(None);
+    }
+    let empty = || {
+        Blame::new(
+            "uniform.window",
+            "state",
+            "the window's estimated half-widths admit no state within the solver's accuracy",
+        )
+        .infeasible()
+    };
+    if lo0[0] > hi0[0] || lo0[1] > hi0[1] || prior.x_lo > prior.x_hi {
+        return Err(empty());
+    }
+    let a = [
+        [theta.a[(0, 0)], theta.a[(0, 1)]],
+        [theta.a[(1, 0)], theta.a[(1, 1)]],
+    ];
+    let mut set = ConvexPolygon::rectangle(lo0, hi0);
+    for tau in w.first..=w.last {
+        let bu = &theta.b * &u[tau];
+        let du = &theta.d * &u[tau];
+        set = set.map(a).translate([bu[0], bu[1]]).add_box([xr[0], xr[1]]);
+        let mut next = set
+            .clip_strip([1.0, 0.0], prior.x_lo, prior.x_hi)
+            .and_then(|p| p.clip_strip([0.0, 1.0], prior.x_lo, prior.x_hi));
+        for i in 0..m {
+            let v = y[tau][i] - du[i];
+            next = next.and_then(|p| {
+                p.clip_strip([theta.c[(i, 0)], theta.c[(i, 1)]], v - yr[i], v + yr[i])
+            });
+        }
+        set = next.ok_or_else(empty)?;
+    }
+    if plane == [1, 0] {
+        set = set.swapped();
+    }
+    Ok(Some(SupportPolygon {
+        vertices: set.vertices().to_vec(),
+        exact: true,
+        gap: 0.0,
+        calls: 0,
+        hull: set.interval_hull(),
+    }))
+}
+
+/// [`consistent_polygon`] by support LPs, for any n (the planar path's oracle). With the
+/// half-widths fixed they leave the LP — the rows of (8) read
 /// 𝒜_x X ≤ ℬ − 𝒜_r (x_r; y_r) — and the state LP is loaded once in a [`solve::Family`]; the
 /// exact polygon comes from [`polygon_from_support`] with at most `budget` support LPs (every
 /// stretch between two boundary points closed by a support call normal to it), with `exact`
 /// and the remaining `gap` when the budget runs out. Its vertices are points of the set.
 #[allow(clippy::too_many_arguments)]
-pub fn consistent_polygon(
+pub fn consistent_polygon_lp(
     theta: &Theta,
     u: &[DVector<f64>],
     y: &[DVector<f64>],

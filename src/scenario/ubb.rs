@@ -788,16 +788,9 @@ impl UbbPrepared {
         let prediction = if h_next.nrows() == 0 {
             Vec::new()
         } else {
-            let map = h_next * &step.s_map;
-            let off = h_next * &step.offset;
-            let ph = step.set.interval_hull(&map)?;
-            (0..map.nrows())
-                .map(|i| {
-                    [
-                        ph.lo[i] + off[i] - self.spec.eps,
-                        ph.hi[i] + off[i] + self.spec.eps,
-                    ]
-                })
+            let ph = step.image_hull(h_next)?;
+            (0..h_next.nrows())
+                .map(|i| [ph.lo[i] - self.spec.eps, ph.hi[i] + self.spec.eps])
                 .collect()
         };
         let pl = [self.plane[0], self.plane[1]];
@@ -1458,7 +1451,7 @@ pub fn ubb_preset(kind: UbbKind) -> Scenario {
                 "ubb": {"eps": 0.2, "tau": 0.1, "delta": [2.0], "alpha": 50.0, "beta": 50.0, "gamma": 0.1, "time": 40}}"#,
             "x(k+1) = A x(k) + B u(k), y(k) = C x(k) + η(k) with |u(k)| ≤ τ = 0.1, |η(k)| ≤ ε = 0.2 and |x_i(0)| ≤ δ = 2. \
              ‖A‖∞ = 0.9 and α = 50 give ‖A‖e^{1/α} = 0.918 < 1, so Theorem 4 bounds the state and Theorem 5 with γ = 0.1 gives j = 29: \
-             each step solves LPs in x(k−29 … k+1) and u(k−29 … k) with the dynamics as equalities, a constant 92 unknowns. The window's initial state is bounded by the Theorem 4 series, \
+             each step's feasible set lives in x(k−29 … k+1) and u(k−29 … k) with the dynamics as equalities, a constant 92 unknowns; with a 2-D state and l∞ bounds it is computed exactly as a polygon (clip by each measurement strip, map by A, add the noise segment), with no LP. The window's initial state is bounded by the Theorem 4 series, \
              so the set is guaranteed exactly (not only up to γ).",
         ),
         UbbKind::Series => (

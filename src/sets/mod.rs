@@ -5,7 +5,10 @@
 //! boundary polygons [`Loop`] and line pieces [`Span`]. Polytopes join here with the
 //! set-membership methods, so that plots and reports speak one vocabulary of sets: the exact
 //! [`SupportPolygon`] of a planar convex set known through its support function (Tempo's
-//! feasible set, Pavelková's consistent states). The geometry of the plane those sets share
+//! feasible set, Pavelková's consistent states, where an LP is still needed), and the exact
+//! [`ConvexPolygon`] engine (clip by a half-plane or a strip, 2×2 map, Minkowski sum, hull,
+//! area, support) that computes those sets without an LP when the state is 2-D and the bounds
+//! are per-sample l∞. The geometry of the plane those sets share
 //! (areas, convex hulls, [`point_in_convex`], box corners, 2×2 maps of points and ellipses,
 //! Minkowski sums) is written once in [`plane`].
 
@@ -15,9 +18,11 @@ use crate::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
+pub mod convex_polygon;
 pub mod plane;
 pub mod sign_region;
 pub mod support_polygon;
+pub use convex_polygon::ConvexPolygon;
 pub(crate) use plane::polygon_scale;
 pub use plane::{
     box_corners, box_image_corners, convex_hull, map_ellipse, map_point, minkowski_sum,

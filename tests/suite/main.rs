@@ -60,6 +60,7 @@ mod lscr;
 mod merge_checks;
 mod messages;
 mod metamorphic;
+mod planar;
 mod precision;
 mod registry;
 mod report_hooks;
