@@ -117,7 +117,9 @@
 //!   - one file per method, each ending with its presets (`// Presets`) above which stands
 //!     what a compare asks of it (`// Compare`, [`scenario::compare`]'s `CompareMember`: its
 //!     assumption under a noise law, its scenario derived from the record, its set for the
-//!     target state read from its report): [`scenario::scf`] (the `scf` block; KF and SCF are
+//!     target state read from its report, and the verdict a study's run counts, `holds_at`:
+//!     by default read from that report, for ubb and uniform_lp computed from the target
+//!     time's window alone): [`scenario::scf`] (the `scf` block; KF and SCF are
 //!     two descriptors of this file), [`scenario::lscr`], [`scenario::glls`],
 //!     [`scenario::uniform`], [`scenario::ubb`];
 //!   - [`scenario::compare`] (method `compare`): one record under one noise law (Gaussian,

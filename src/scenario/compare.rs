@@ -44,7 +44,10 @@
 //! records from their law given it: exactly, by the backward representation, for Gaussian
 //! noise ([`crate::model::ConditionedSampler`]); for the other laws no exact conditional
 //! sampler exists, so the study counts unconditional coverage (x_1 from the model's prior) and
-//! says so in its result.
+//! says so in its result. A study's run asks each member only for its verdict
+//! (`CompareMember::holds_at`): the report's set by default, or the member's own cheaper path
+//! to the same verdict (ubb: the target step's window; uniform_lp: the on-line run to t and the
+//! polygon at t), tested run for run against the report's (`tests` below).
 
 use super::budget::{Job, Work};
 use super::csv::{flag, Table};
