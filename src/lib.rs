@@ -132,7 +132,9 @@
 //!   - one file per method, each ending with its presets (`// Presets`) above which stands
 //!     what a compare asks of it (`// Compare`, [`scenario::compare`]'s `CompareMember`: its
 //!     assumption under a noise law, its scenario derived from the record, its set for the
-//!     target state read from its report): [`scenario::scf`] (the `scf` block; KF and SCF are
+//!     target state read from its report, and the verdict a study's run counts, `holds_at`:
+//!     by default read from that report, for ubb and uniform_lp computed from the target
+//!     time's window alone): [`scenario::scf`] (the `scf` block; KF and SCF are
 //!     two descriptors of this file), [`scenario::lscr`], [`scenario::glls`],
 //!     [`scenario::uniform`], [`scenario::ubb`];
 //!   - [`scenario::compare`] (method `compare`): one record under one noise law (Gaussian,
@@ -311,7 +313,8 @@
 //!   [`error::quoted`]. Solver failures name the field most likely responsible with a hint
 //!   ([`solve::Blame`]), and every solve is capped in iterations and time
 //!   ([`solve::MAX_ITERATIONS`], [`solve::TIME_LIMIT_SECONDS`]).
-//! * Every random stream takes a seed and is a named generator (ChaCha8), so a scenario with a
+//! * Every random stream takes a seed and is a named generator (ChaCha8; the SCF Monte Carlo's
+//!   `experiment.rng` may name xoshiro256++ instead, [`scf::Generator`]), so a scenario with a
 //!   seed gives the same report natively and in the browser; given explicit `data`, a report is
 //!   deterministic and native = wasm to 1e-9 relative (`tests/suite/determinism.rs`; every
 //!   preset's report against a native golden digest in `tests/suite/registry.rs`). Exceptions:
@@ -321,7 +324,8 @@
 //! * A study's run i draws its randomness from a stream fixed by the study's seed and i
 //!   ([`study::run_stream`]: ChaCha8 stream i of the seed; the set-membership guarantee: seed
 //!   base + i), or by the seed and i's batch for a study that draws [`study::Runs::batch`] runs
-//!   side by side (SCF: one stream per independent block of the model, read in batches of 8
+//!   side by side (SCF: one stream per independent block of the model, of the generator
+//!   `experiment.rng` names (ChaCha8 when absent, so older scenarios keep their counts), read in batches of 8
 //!   runs; a shard that starts at run a draws and drops what runs 0 … a − 1 drew). Never from
 //!   what ran before it in the same process: so the counts of any run range are the same
 //!   whatever the chunking, the sharding or the number of workers, and merged parts give the
@@ -411,7 +415,8 @@
 //!   runs of `tests/suite/ubb.rs` and `tests/suite/uniform.rs` call it.
 //! * `std::time::Instant` panics on wasm32-unknown-unknown: the core never reads the clock
 //!   (see Invariants); only native-only code (the figure tests, `cargo bench`) uses it.
-//! * rand 0.10 with `default-features = false, features = ["std"]` and seeded ChaCha8 only: no
+//! * rand 0.10 with `default-features = false, features = ["std"]` and seeded ChaCha8 or
+//!   xoshiro256++ (`rand::rngs::Xoshiro256PlusPlus`, built without a feature) only: no
 //!   getrandom is built on either target (OS entropy would need getrandom 0.4 with `wasm_js` in
 //!   the browser). nalgebra and statrs are built without rand, so there is one rand line
 //!   (`cargo tree -d`). Never `StdRng` or `thread_rng` (not portable across versions);

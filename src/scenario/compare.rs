@@ -44,7 +44,10 @@
 //! records from their law given it: exactly, by the backward representation, for Gaussian
 //! noise ([`crate::model::ConditionedSampler`]); for the other laws no exact conditional
 //! sampler exists, so the study counts unconditional coverage (x_1 from the model's prior) and
-//! says so in its result.
+//! says so in its result. A study's run asks each member only for its verdict
+//! (`CompareMember::holds_at`): the report's set by default, or the member's own cheaper path
+//! to the same verdict (ubb: the target step's window; uniform_lp: the on-line run to t and the
+//! polygon at t), tested run for run against the report's (`tests` below).
 
 use super::budget::{Job, Work};
 use super::csv::{flag, Table};
@@ -553,6 +556,28 @@ pub(crate) trait CompareMember: Sync {
         report: &Report,
         truth: Option<[f64; 2]>,
     ) -> Result<PlaneReading>;
+    /// Whether the method's set of the target state holds `truth`: what a study's run counts
+    /// (an error: the method gives no set, counted as such). `scenario` is
+    /// [`Self::derived_scenario`]'s. The default builds the method's whole report and reads the
+    /// set from it, as the report and the cursor do ([`Self::plane_set`]); a member overrides it
+    /// with only the work the set at the target time needs, and must give the same verdict
+    /// (`compare::tests::the_study_counts_what_the_reports_count`).
+    fn holds_at(&self, p: &ComparePrepared, scenario: &Scenario, truth: [f64; 2]) -> Result<bool> {
+        let report = scenario.run()?;
+        self.plane_set(p, &report, Some(truth))?
+            .holds
+            .ok_or_else(|| {
+                Error::field("compare", "the set could not be checked against the state")
+            })
+    }
+}
+
+/// What [`Scenario::run`] checks of a derived scenario before its method runs (its blocks,
+/// its work budget): a member's [`CompareMember::holds_at`] that skips the report checks
+/// them first, so it refuses exactly what the report refuses.
+pub(crate) fn checked_as_run(s: &Scenario) -> Result<()> {
+    s.check_method_blocks()?;
+    s.work(Job::Report).check(Job::Report)
 }
 
 /// A method's assumption and promise: its row of the compare table without the method.
@@ -944,6 +969,15 @@ pub struct CompareStudyReport {
     pub methods: Vec<MethodCount>,
 }
 
+/// How a study's run reaches each method's verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Path {
+    /// The member's [`CompareMember::holds_at`]: only the set at the target time.
+    Fast,
+    /// The method's whole report, as the compare's report and cursor read it.
+    Report,
+}
+
 /// The compare study: records given the target state, every method's set counted.
 struct CompareStudy {
     prepared: ComparePrepared,
@@ -999,6 +1033,37 @@ impl CompareStudy {
         })
     }
 
+    /// The counts of `range`: each run's record drawn, each member's verdict on it, by the
+    /// members' own [`CompareMember::holds_at`] (`Path::Fast`, what the study runs) or read
+    /// from the sets the report shows (`Path::Report`, what the fast path is tested against).
+    fn counts(&mut self, range: std::ops::Range<usize>, path: Path) -> CompareCounts {
+        let mut c = self.zero();
+        let t = self.prepared.time;
+        for i in range {
+            let (y, truth) = self.draw(i);
+            let saved = std::mem::replace(&mut self.prepared.y, y);
+            for (j, &m) in self.prepared.members.iter().enumerate() {
+                let p = &self.prepared;
+                let holds = match path {
+                    Path::Fast => {
+                        m.of.derived_scenario(p, t)
+                            .and_then(|s| m.of.holds_at(p, &s, truth))
+                            .ok()
+                    }
+                    Path::Report => p.method_set(m, t, Some(truth)).holds,
+                };
+                match holds {
+                    Some(true) => c.holds[j] += 1,
+                    Some(false) => {}
+                    None => c.no_set[j] += 1,
+                }
+            }
+            self.prepared.y = saved;
+            c.runs += 1;
+        }
+        c
+    }
+
     /// Run i's record up to y_t and its true target state.
     fn draw(&self, i: usize) -> (Vec<Vec<f64>>, [f64; 2]) {
         let p = &self.prepared;
@@ -1048,23 +1113,7 @@ impl Runs for CompareStudy {
         }
     }
     fn run(&mut self, range: std::ops::Range<usize>) -> Result<CompareCounts> {
-        let mut c = self.zero();
-        let t = self.prepared.time;
-        for i in range {
-            let (y, truth) = self.draw(i);
-            let saved = std::mem::replace(&mut self.prepared.y, y);
-            for (j, &m) in self.prepared.members.iter().enumerate() {
-                let s = self.prepared.method_set(m, t, Some(truth));
-                match s.holds {
-                    Some(true) => c.holds[j] += 1,
-                    Some(false) => {}
-                    None => c.no_set[j] += 1,
-                }
-            }
-            self.prepared.y = saved;
-            c.runs += 1;
-        }
-        Ok(c)
+        Ok(self.counts(range, Path::Fast))
     }
     fn report(&self, c: &CompareCounts) -> CompareStudyReport {
         let p = &self.prepared;
@@ -1319,4 +1368,87 @@ fn presets() -> Vec<Preset> {
             scenario: compare_cascade(NoiseLaw::Uniform),
         },
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The study's fast path (each member's `holds_at`: only the set at the target time) gives
+    /// run for run the verdict the full path reads from the sets the report shows (each
+    /// method's whole report, `plane_set`): over the two presets' 200 runs, bounds below the
+    /// truth (where windows turn infeasible: no set), a filtered target (Tempo has no set) and
+    /// the truncated law. The native run prints each path's time per run.
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    fn the_study_counts_what_the_reports_count() {
+        let cases = [
+            ("gaussian", NoiseLaw::Gaussian, 1.0, Target::Predict, 200),
+            ("uniform", NoiseLaw::Uniform, 1.0, Target::Predict, 200),
+            (
+                "uniform, bounds × 0.7",
+                NoiseLaw::Uniform,
+                0.7,
+                Target::Predict,
+                60,
+            ),
+            (
+                "gaussian, bounds × 0.5",
+                NoiseLaw::Gaussian,
+                0.5,
+                Target::Predict,
+                60,
+            ),
+            (
+                "uniform, filter",
+                NoiseLaw::Uniform,
+                1.0,
+                Target::Filter,
+                30,
+            ),
+            ("truncated", NoiseLaw::Truncated, 1.0, Target::Predict, 30),
+        ];
+        for (name, noise, scale, target, runs) in cases {
+            let mut s = compare_cascade(noise);
+            let c = s.compare.as_mut().expect("compare block");
+            c.bound_scale = scale;
+            c.target = target;
+            let mut study = CompareStudy::new(s.prepare_compare().expect("prepared"), Some(runs))
+                .expect("study");
+            let (mut fast, mut full) = (study.zero(), study.zero());
+            let (mut fast_s, mut full_s) = (0.0, 0.0);
+            for i in 0..runs {
+                let (a, da) = timed(|| study.counts(i..i + 1, Path::Fast));
+                let (b, db) = timed(|| study.counts(i..i + 1, Path::Report));
+                assert_eq!(a, b, "{name}: run {i}");
+                fast.add(&a).expect("adds");
+                full.add(&b).expect("adds");
+                fast_s += da;
+                full_s += db;
+            }
+            assert_eq!(fast, full, "{name}");
+            assert_eq!(fast.runs, runs);
+            eprintln!(
+                "compare study, {name}: {runs} runs; per run {:.1} ms full reports, {:.1} ms fast; holds {:?}, no set {:?}",
+                1e3 * full_s / runs as f64,
+                1e3 * fast_s / runs as f64,
+                fast.holds,
+                fast.no_set
+            );
+        }
+    }
+
+    /// `f`'s value and its time in seconds (0 on wasm, where the core has no clock).
+    fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let start = std::time::Instant::now();
+            let v = f();
+            (v, start.elapsed().as_secs_f64())
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            (f(), 0.0)
+        }
+    }
 }

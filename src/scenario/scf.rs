@@ -24,7 +24,8 @@ use crate::linalg::{self, to_rows};
 use crate::method::Method;
 use crate::model::{Inputs, LinearModel, MatrixSpec, ModelSpec, Trajectory};
 use crate::scf::{
-    self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ScfOptions, ScfStep,
+    self, CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, Generator, ScfOptions,
+    ScfStep,
 };
 use crate::sets::{Ellipsoid, PlanarEllipse};
 use crate::study::{Chunked, Study};
@@ -1045,6 +1046,9 @@ pub fn robots(reading: NoiseReading) -> Scenario {
         seed: 2021,
         components: vec![0, 1, 2, 3],
         warning_t: Some(36),
+        // xoshiro256++ since issue 27 (the earlier presets ran ChaCha8: SCF 9514 of 10,000,
+        // now 9481, both inside the exact band 9427–9570 around α).
+        rng: Generator::Xoshiro256PlusPlus,
     });
     s
 }

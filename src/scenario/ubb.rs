@@ -1370,12 +1370,7 @@ impl CompareMember for Ubb {
         r: &Report,
         truth: Option<[f64; 2]>,
     ) -> Result<PlaneReading> {
-        if !p.predicts() {
-            return Err(Error::field(
-                "compare.target",
-                "is \"filter\", but Tempo's set is of x(k+1) from y(0 … k): a prediction only (choose \"predict\")",
-            ));
-        }
+        predicts_only(p)?;
         let u = r
             .ubb
             .as_ref()
@@ -1391,6 +1386,42 @@ impl CompareMember for Ubb {
             outline: Some(box_corners(&u.at.lo, &u.at.hi)),
             note: Some(format!("window {} steps", u.window)),
         })
+    }
+    /// The window at the target step k = t − 1 (its hull and exact polygon, as the report's
+    /// `at`); of the steps before it only whether each bounded window is feasible (one LP,
+    /// where the report's track solves its interval hull, 2n LPs): the report refuses the
+    /// whole record when an earlier window contradicts the bounds, and so must this.
+    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: [f64; 2]) -> Result<bool> {
+        predicts_only(p)?;
+        super::compare::checked_as_run(s)?;
+        let prepared = s.prepare_ubb()?;
+        let run = prepared.run_data();
+        let k = s
+            .ubb
+            .as_ref()
+            .and_then(|u| u.time)
+            .ok_or_else(|| Error::field("ubb.time", "is missing"))?;
+        for earlier in 0..k {
+            if let Some(step) = prepared.bounded_step(&run.y, earlier)? {
+                let first_row = step.s_map.row(0).transpose();
+                step.set.support_solver()?.support(&first_row)?;
+            }
+        }
+        let step = prepared.problem.step(&run.y, k)?;
+        let (_, poly, _) = step.hull_and_polygon(prepared.plane, prepared.spec.budget)?;
+        Ok(poly.contains(truth, 1e-9))
+    }
+}
+
+/// Tempo's set is of x(k+1) from y(0 … k): a compare of the filtered state has none.
+fn predicts_only(p: &ComparePrepared) -> Result<()> {
+    if p.predicts() {
+        Ok(())
+    } else {
+        Err(Error::field(
+            "compare.target",
+            "is \"filter\", but Tempo's set is of x(k+1) from y(0 … k): a prediction only (choose \"predict\")",
+        ))
     }
 }
 

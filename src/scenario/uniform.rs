@@ -1045,19 +1045,10 @@ impl CompareMember for Uniform {
                 w.at.extended
             ));
         }
-        // The polygon P is of x_t; x_{t+1} = F·x_t + G·v with |v_i| ≤ b_v, so the prediction
-        // set is the Minkowski sum F·P ⊕ G·[−b_v, b_v]^p (exact, a polygon).
-        let (vertices, holds) = if p.predicts() {
-            let f = p.model().f(1);
-            let image: Vec<[f64; 2]> = poly.vertices.iter().map(|&v| map_point(f, v)).collect();
-            let noise = box_image_corners(p.noise_g(), p.bounds().0);
-            let vertices = minkowski_sum(&image, &noise);
+        if p.predicts() {
             note.push("F·P ⊕ G·[−b_v, b_v]".to_string());
-            let holds = truth.map(|x| point_in_convex(&vertices, x, 1e-9));
-            (vertices, holds)
-        } else {
-            (poly.vertices.clone(), truth.map(|x| poly.contains(x, 1e-9)))
-        };
+        }
+        let (vertices, holds) = target_set(p, poly, truth);
         Ok(PlaneReading {
             area: Some(polygon_area(&vertices)),
             holds,
@@ -1065,6 +1056,68 @@ impl CompareMember for Uniform {
             set: PlaneSet::Polygon { vertices },
             outline: None,
         })
+    }
+    /// The on-line run up to t (each window's Θ and bounds depend on the steps before) and
+    /// the consistent polygon at t, without the optimal face and half-width ranges the
+    /// report adds there.
+    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: [f64; 2]) -> Result<bool> {
+        super::compare::checked_as_run(s)?;
+        let mut prepared = s.prepare_uniform()?;
+        let time = prepared.spec.time.unwrap_or(prepared.steps);
+        prepared.check_time(time)?;
+        prepared.run_online()?;
+        let poly = prepared.polygon_at(time)?;
+        Ok(target_set(p, &poly, Some(truth)).1 == Some(true))
+    }
+}
+
+/// The target's set from the consistent polygon P of x_t, and whether it holds `truth`. P is
+/// of x_t; x_{t+1} = F·x_t + G·v with |v_i| ≤ b_v, so the prediction set is the Minkowski sum
+/// F·P ⊕ G·[−b_v, b_v]^p (exact, a polygon).
+fn target_set(
+    p: &ComparePrepared,
+    poly: &SupportPolygon,
+    truth: Option<[f64; 2]>,
+) -> (Vec<[f64; 2]>, Option<bool>) {
+    if p.predicts() {
+        let f = p.model().f(1);
+        let image: Vec<[f64; 2]> = poly.vertices.iter().map(|&v| map_point(f, v)).collect();
+        let noise = box_image_corners(p.noise_g(), p.bounds().0);
+        let vertices = minkowski_sum(&image, &noise);
+        let holds = truth.map(|x| point_in_convex(&vertices, x, 1e-9));
+        (vertices, holds)
+    } else {
+        (poly.vertices.clone(), truth.map(|x| poly.contains(x, 1e-9)))
+    }
+}
+
+impl UniformPrepared {
+    /// The consistent-state polygon of the window at `time` alone: [`Self::window_at`]'s, at
+    /// the bounds the window's LP ends with, after [`Self::run_online`].
+    fn polygon_at(&self, time: usize) -> Result<SupportPolygon> {
+        let plane = self
+            .plane
+            .ok_or_else(|| Error::field("report.uniform.at.polygon", NO_PLANE))?;
+        let (n, m) = (self.n, self.m);
+        let theta_at = &self.thetas[time - 1];
+        let w = Window {
+            first: time.saturating_sub(self.spec.window - 1).max(1),
+            last: time,
+        };
+        let (_, lp) =
+            uniform::estimate_states(theta_at, &self.traj.u, &self.traj.y, w, &self.state_prior)?;
+        let nx = w.states() * n;
+        uniform::consistent_polygon(
+            theta_at,
+            &self.traj.u,
+            &self.traj.y,
+            w,
+            &self.state_prior,
+            &lp.hi.rows(nx, n).into_owned(),
+            &lp.hi.rows(nx + n, m).into_owned(),
+            plane,
+            self.spec.directions,
+        )
     }
 }
 

@@ -6,7 +6,8 @@
 //!   backwards from a fixed state x_c at t_c (footnote 2), both filters run on each, inclusion at
 //!   t_c and τ-step collision warnings counted. Runs in chunks so a page can show progress and
 //!   cancel. Gains, ratio matrices, backward matrices and noise square roots are computed once;
-//!   the loop is sparse matrix-vector products and normal draws.
+//!   the loop is sparse matrix-vector products and normal draws, from the scenario's
+//!   [`Generator`] (`experiment.rng`: ChaCha8 when absent, or xoshiro256++).
 
 use crate::error::{Error, Result};
 use crate::kalman::{self, Offline};
@@ -16,7 +17,8 @@ use crate::scf::{self, ScfOptions};
 use crate::sets::{Ellipsoid, PlanarEllipse};
 use crate::stats::chi2_quantile;
 use nalgebra::{DMatrix, DVector};
-use rand::{RngExt, SeedableRng};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
@@ -58,6 +60,36 @@ pub struct ExperimentSpec {
     /// Time from which the τ-step collision warning is issued (needs `collision`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub warning_t: Option<usize>,
+    /// The random generator of the runs (`"chacha8"` when absent, and then not written, so a
+    /// scenario saved before the field existed reads, runs and writes exactly as it did).
+    #[serde(default, skip_serializing_if = "Generator::is_default")]
+    pub rng: Generator,
+}
+
+/// The Monte Carlo's random generator: a versioned choice, so that a scenario keeps its
+/// streams (its counts, its golden digest, its share link) whatever a later version prefers.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum Generator {
+    /// ChaCha8 (`rand_chacha`): stream b of the seed for block b. The generator of every
+    /// scenario written before `experiment.rng` existed.
+    #[default]
+    #[serde(rename = "chacha8")]
+    ChaCha8,
+    /// xoshiro256++ (Blackman & Vigna; `rand::rngs::Xoshiro256PlusPlus`): block b starts from
+    /// the words 4b + 1 … 4b + 4 of SplitMix64 started at the seed. Four 64-bit words of state
+    /// and a few adds, shifts and rotations per word instead of ChaCha8's 64-byte block
+    /// function: the robot Monte Carlo's generator in wasm, where ChaCha8 has no SIMD.
+    #[serde(rename = "xoshiro256++")]
+    Xoshiro256PlusPlus,
+}
+
+impl Generator {
+    /// The scenario's names, in the order the error messages list them.
+    pub const NAMES: [&'static str; 2] = ["chacha8", "xoshiro256++"];
+
+    fn is_default(&self) -> bool {
+        *self == Generator::default()
+    }
 }
 
 /// Fig. 1 curve.
@@ -570,16 +602,17 @@ pub struct ExperimentResult {
 /// Monte Carlo over realizations conditioned on x_{t_c} = x_c, run in ranges of runs
 /// ([`crate::study::Runs`]; as a study: `Chunked::new(experiment)`).
 ///
-/// Randomness: one ChaCha8 stream per independent block of the model (stream b of the seed),
-/// read in whole batches of [`LANES`] runs, each run taking t_c·q_b normals of block b. So
+/// Randomness: one stream of the scenario's [`Generator`] per independent block of the model
+/// (see [`block_streams`]), read in whole batches of [`LANES`] runs, each run taking t_c·q_b normals of block b. So
 /// batch k always reads the k-th stretch of each stream's normals: run i depends only on the
 /// seed and i's batch. A range that starts past the streams' position first draws and drops
 /// the normals of the runs before it (a normal takes a varying number of words, so the
 /// position cannot be computed); that costs a few percent of those runs' time.
 pub struct ConditionalExperiment {
     seed: u64,
+    generator: Generator,
     /// One random stream per independent block.
-    rngs: Vec<ChaCha8Rng>,
+    rngs: Streams,
     /// The run the streams stand at.
     position: usize,
     blocks: Vec<Block>,
@@ -599,15 +632,48 @@ pub struct ConditionalExperiment {
     result: ExperimentResult,
 }
 
-/// Stream b of `seed` for each of `blocks` independent blocks.
-fn block_streams(seed: u64, blocks: usize) -> Vec<ChaCha8Rng> {
-    (0..blocks)
-        .map(|b| {
-            let mut r = ChaCha8Rng::seed_from_u64(seed);
-            r.set_stream(b as u64);
-            r
-        })
-        .collect()
+/// One random stream per independent block, of the scenario's generator.
+enum Streams {
+    ChaCha8(Vec<ChaCha8Rng>),
+    Xoshiro256PlusPlus(Vec<Xoshiro256PlusPlus>),
+}
+
+/// The golden-ratio increment of SplitMix64 (Steele, Lea & Flood 2014), the step between two of
+/// its words.
+const SPLITMIX64_GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
+
+/// The streams of `seed` for each of `blocks` independent blocks. ChaCha8: stream b of the
+/// seed. xoshiro256++: `seed_from_u64(s)` fills the four state words with SplitMix64's words
+/// from state s, so starting block b at s = seed + 4b·γ gives it words 4b + 1 … 4b + 4 of one
+/// SplitMix64 sequence: distinct, well-mixed states whatever the seed, and each block's stream
+/// depends only on the seed and b (shards and chunks stay deterministic and mergeable).
+fn block_streams(rng: Generator, seed: u64, blocks: usize) -> Streams {
+    match rng {
+        Generator::ChaCha8 => Streams::ChaCha8(
+            (0..blocks)
+                .map(|b| {
+                    let mut r = ChaCha8Rng::seed_from_u64(seed);
+                    r.set_stream(b as u64);
+                    r
+                })
+                .collect(),
+        ),
+        Generator::Xoshiro256PlusPlus => Streams::Xoshiro256PlusPlus(
+            (0..blocks)
+                .map(|b| {
+                    let start = seed.wrapping_add((4 * b as u64).wrapping_mul(SPLITMIX64_GAMMA));
+                    Xoshiro256PlusPlus::seed_from_u64(start)
+                })
+                .collect(),
+        ),
+    }
+}
+
+/// Draw and drop `count` standard normals.
+fn skip_normals<R: Rng>(rng: &mut R, count: usize) {
+    for _ in 0..count {
+        let _: f64 = rng.sample(StandardNormal);
+    }
 }
 
 impl ConditionalExperiment {
@@ -745,7 +811,8 @@ impl ConditionalExperiment {
         }
         Ok(ConditionalExperiment {
             seed: e.seed,
-            rngs: block_streams(e.seed, blocks.len()),
+            generator: e.rng,
+            rngs: block_streams(e.rng, e.seed, blocks.len()),
             position: 0,
             blocks,
             n,
@@ -791,12 +858,16 @@ impl ConditionalExperiment {
         for b in 0..self.blocks.len() {
             let (nb, qb) = (self.blocks[b].states.len(), self.blocks[b].outputs.len());
             let out = (&mut at_tc[..], &mut at_tw[..]);
-            match (nb, qb) {
-                (n, q) if n <= 2 && q <= 1 => self.run_block::<2, 1>(b, todo, tw, out),
-                (n, q) if n <= 4 && q <= 2 => self.run_block::<4, 2>(b, todo, tw, out),
-                (n, q) if n <= 8 && q <= 4 => self.run_block::<8, 4>(b, todo, tw, out),
-                _ => self.run_block::<16, 8>(b, todo, tw, out),
+            // The generator is chosen once per block, not per draw: each pairing is its own
+            // monomorphic loop.
+            let mut rngs = std::mem::replace(&mut self.rngs, Streams::ChaCha8(Vec::new()));
+            match &mut rngs {
+                Streams::ChaCha8(r) => self.run_sized(b, &mut r[b], (nb, qb), todo, tw, out),
+                Streams::Xoshiro256PlusPlus(r) => {
+                    self.run_sized(b, &mut r[b], (nb, qb), todo, tw, out)
+                }
             }
+            self.rngs = rngs;
         }
         self.position = range.end;
         let mut counts = ConditionalCounts {
@@ -822,23 +893,44 @@ impl ConditionalExperiment {
     /// draw and drop the t_c·q_b normals per run of block b that the runs before it take.
     fn seek(&mut self, start: usize) {
         if start < self.position {
-            self.rngs = block_streams(self.seed, self.blocks.len());
+            self.rngs = block_streams(self.generator, self.seed, self.blocks.len());
             self.position = 0;
         }
         let skip = start - self.position;
-        for (rng, block) in self.rngs.iter_mut().zip(&self.blocks) {
-            for _ in 0..skip * self.t_c * block.outputs.len() {
-                let _: f64 = rng.sample(StandardNormal);
+        for (b, block) in self.blocks.iter().enumerate() {
+            let count = skip * self.t_c * block.outputs.len();
+            match &mut self.rngs {
+                Streams::ChaCha8(r) => skip_normals(&mut r[b], count),
+                Streams::Xoshiro256PlusPlus(r) => skip_normals(&mut r[b], count),
             }
         }
         self.position = start;
     }
 
+    /// [`Self::run_block`] on the smallest padded size that holds block `b`'s (states, outputs).
+    fn run_sized<R: Rng>(
+        &self,
+        b: usize,
+        rng: &mut R,
+        (nb, qb): (usize, usize),
+        todo: usize,
+        tw: Option<usize>,
+        out: (&mut [f64], &mut [f64]),
+    ) {
+        match (nb, qb) {
+            (n, q) if n <= 2 && q <= 1 => self.run_block::<2, 1, R>(b, rng, todo, tw, out),
+            (n, q) if n <= 4 && q <= 2 => self.run_block::<4, 2, R>(b, rng, todo, tw, out),
+            (n, q) if n <= 8 && q <= 4 => self.run_block::<8, 4, R>(b, rng, todo, tw, out),
+            _ => self.run_block::<16, 8, R>(b, rng, todo, tw, out),
+        }
+    }
+
     /// `todo` runs of block `b`: KF estimates at t_c (and at the warning time) are written into
     /// the block's components of `out.0` (and `out.1`), one row of n per run.
-    fn run_block<const N: usize, const Q: usize>(
-        &mut self,
+    fn run_block<const N: usize, const Q: usize, R: Rng>(
+        &self,
         b: usize,
+        rng: &mut R,
         todo: usize,
         tw: Option<usize>,
         out: (&mut [f64], &mut [f64]),
@@ -875,7 +967,6 @@ impl ConditionalExperiment {
         let x_c_dev: [f64; N] = fixed_vec(&subv(&DVector::from_column_slice(&self.x_c_dev), si));
         let x1_mean: [f64; N] = fixed_vec(&subv(&self.x1_mean, si));
         let qb = oi.len();
-        let rng = &mut self.rngs[b];
         let mut y = vec![[[0.0; LANES]; Q]; tc];
         for first in (0..todo).step_by(LANES) {
             let lanes = LANES.min(todo - first);
@@ -1018,6 +1109,7 @@ mod tests {
                 seed: 11,
                 components: vec![0],
                 warning_t: None,
+                rng: Generator::ChaCha8,
             });
             let p = s.prepare_scf().unwrap();
             let r = run_all(p.conditional_experiment().unwrap(), 333);

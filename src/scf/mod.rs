@@ -18,7 +18,7 @@
 pub mod experiment;
 pub use experiment::{
     CollisionSpec, ConditionalExperiment, CoverageCurve, CurveSpec, ExperimentResult,
-    ExperimentSpec,
+    ExperimentSpec, Generator,
 };
 
 use crate::error::{Error, Result};

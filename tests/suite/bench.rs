@@ -12,7 +12,7 @@ fn every_kernel_runs_and_says_what_it_computed() {
         let what = run().expect("runs");
         let expected = match kernel {
             // The robot counts of scf-robots (tests/suite/scf_paper.rs: paper 0 and 9498).
-            Kernel::RobotMc => "10000 runs x 40 steps; inside X^KF 2, X^SCF 9514",
+            Kernel::RobotMc => "10000 runs x 40 steps; inside X^KF 2, X^SCF 9481",
             Kernel::LscrRaster => "512 x 512 pixels",
             Kernel::GllsCurves => "s = 0..500, n = 10, m = 2",
             Kernel::UbbStep => "k = 40, window 30: 92 variables, 184 rows",

@@ -54,6 +54,7 @@ mod csv;
 mod determinism;
 mod fuzz;
 mod gallery;
+mod generator;
 mod glls;
 mod limits_io;
 mod lscr;
