@@ -2,7 +2,8 @@
 // of the registry), mount a panel on its first visit only, and keep its share link, scenario
 // import and reset. The page computes nothing itself: every number and every picture comes from
 // ./pkg/confset.js through the panels.
-import init, * as confset from './pkg/confset.js';
+import * as confset from './pkg/confset.js';
+import { load } from './wasm.js';
 import { PANELS, panelById, panelOf } from './registry.js';
 import { int } from './format.js';
 import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
@@ -438,7 +439,7 @@ function landing() {
 async function main() {
   landing();
   try {
-    await init();
+    await load();
   } catch (e) {
     status.textContent = `The WebAssembly module could not be loaded: ${e.message}`;
     status.classList.add('bad');

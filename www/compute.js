@@ -1,6 +1,6 @@
 // The panels' compute client: each mounted panel runs its scenarios in a Web Worker of its own
-// (worker.js, with its own wasm instance), so the page's input is never blocked by a long run
-// and a fault of the core (a panic or an allocation failure aborts a wasm instance, and every
+// (worker.js, with its own wasm instance of the module the page compiled once: wasm.js), so the
+// page's input is never blocked by a long run and a fault of the core (a panic or an allocation failure aborts a wasm instance, and every
 // later call into it fails) takes down that worker only. The client then replaces the worker;
 // the panel keeps its last picture. Drawing stays on the main thread (plotters' text layout
 // panics inside a worker): the panel hands the report to its own Session (setReport).
@@ -25,6 +25,8 @@ export const workerStarts = [];
 // The live clients by panel (the panel root's id), so a browser test can reach one
 // (`testOnlyAbortNextRun`, `testOnlySlowMs`); nothing in the page looks them up.
 export const computeClients = new Map();
+
+import { startWorker } from './wasm.js';
 
 const WORKER_URL = new URL('./worker.js', import.meta.url);
 
@@ -96,7 +98,8 @@ export function computeClient(panel) {
     const t0 = performance.now();
     const entry = { panel, reason, readyMs: null };
     workerStarts.push(entry);
-    const w = new Worker(WORKER_URL, { type: 'module' });
+    // Sent the module the page compiled once (wasm.js) before any job: it never fetches it.
+    const w = startWorker(WORKER_URL);
     worker = w;
     epoch++;
     let ready = false;

@@ -7,6 +7,7 @@
 // the number of workers (tests/suite/study.rs). A crash or a silent worker fails the study only;
 // Cancel (or a newer scenario) ends it by terminating its workers.
 import { WATCHDOG_MS } from './compute.js';
+import { startWorker } from './wasm.js';
 
 const WORKER_URL = new URL('./worker.js', import.meta.url);
 
@@ -20,7 +21,7 @@ export const studiesRun = [];
 let idle = []; // warm workers, module loaded or loading
 
 function spawn() {
-  return new Worker(WORKER_URL, { type: 'module' });
+  return startWorker(WORKER_URL);
 }
 
 // `size` warm workers (started on the first study, kept between studies).

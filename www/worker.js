@@ -4,7 +4,8 @@
 // never draws: plotters' text layout panics inside a worker, so the page draws on the main
 // thread from the report this worker sends back (Session.setReport).
 //
-// Messages in:  {id, scenario: JSON text} — run it; {id, scenario, testOnlyAbort: true} — the
+// Messages in:  first {module: WebAssembly.Module} (compiled once by the page: wasm.js);
+//               then {id, scenario: JSON text} — run it; {id, scenario, testOnlyAbort: true} — the
 //               page tests' crash: abort the instance instead (no scenario can ask for it);
 //               {id, scenario, testOnlySlowMs: ms} — the page tests' long run: hold the worker
 //               that long first, as a long wasm call would (the work budget keeps every
@@ -58,10 +59,18 @@ function studyJob({ id, study: { scenario, runs, shard: [i, n] } }) {
 }
 
 const t0 = performance.now();
+// The module comes compiled from the main thread (wasm.js), in the first message: {module}
+// (or {moduleError: message} when the page could not compile it); the worker never fetches it.
+let arrived;
+const compiled = new Promise((resolve, reject) => { arrived = { resolve, reject }; });
 // Each method of a compare is timed by this worker's clock (the core reads none).
-const loaded = init().then(() => { timeCompare(); postMessage({ ready: true, initMs: performance.now() - t0 }); });
+const loaded = compiled
+  .then((module) => init({ module_or_path: module }))
+  .then(() => { timeCompare(); postMessage({ ready: true, initMs: performance.now() - t0 }); });
 
 self.onmessage = async ({ data }) => {
+  if (data.module) { arrived.resolve(data.module); return; }
+  if (data.moduleError) { arrived.reject(new Error(data.moduleError)); return; }
   try {
     await loaded;
   } catch (e) {
