@@ -8,7 +8,8 @@
 //    of 10 moves, one `SLIDER <panel> <slider> <median> <max>` line each.
 // 3. Load → first panel interactive (navigation start → the panel's ready flag), median of 5.
 // 4. The page's studies (studypool.js) on one worker and on every core: the robot Monte Carlo
-//    (10,000 runs) and the set-membership guarantee (ubb-track, 2,000 runs), best of 3 wall
+//    (10,000 runs), the set-membership guarantee (ubb-track, 2,000 runs) and the compare study
+//    (compare-gaussian and compare-uniform, 200 runs each), best of 3 wall
 //    times, one `STUDY <preset> <runs> <1 worker ms> <W workers ms> <W>` line each.
 // It prints; it asserts nothing (timings belong to the machine).
 import { PANELS } from '../../www/registry.js';
@@ -81,7 +82,8 @@ for (const d of PANELS) {
 {
   const page = await openReady(browser, `${base}#scf`);
   await settled(page);
-  for (const [name, runs] of [['scf-robots', 10000], ['ubb-track', 2000]]) {
+  for (const [name, runs] of [['scf-robots', 10000], ['ubb-track', 2000],
+    ['compare-gaussian', 200], ['compare-uniform', 200]]) {
     const r = await page.evaluate(async ([name, runs]) => {
       const { runStudy, poolSize } = await import(new URL('studypool.js', document.baseURI).href);
       const { Study, presets } = window.confset;
