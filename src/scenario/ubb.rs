@@ -1401,10 +1401,15 @@ impl CompareMember for Ubb {
             .as_ref()
             .and_then(|u| u.time)
             .ok_or_else(|| Error::field("ubb.time", "is missing"))?;
+        // A record the report refuses (an earlier window's data contradict the bounds) is no
+        // set: every earlier window is checked. The planar path has already clipped its polygon
+        // (an empty one is the error); the LP path needs one support LP to find out.
         for earlier in 0..k {
             if let Some(step) = prepared.bounded_step(&run.y, earlier)? {
-                let first_row = step.s_map.row(0).transpose();
-                step.set.support_solver()?.support(&first_row)?;
+                if step.planar.is_none() {
+                    let first_row = step.s_map.row(0).transpose();
+                    step.set.support_solver()?.support(&first_row)?;
+                }
             }
         }
         let step = prepared.problem.step(&run.y, k)?;
