@@ -1159,17 +1159,18 @@ impl StateStep {
         budget: usize,
     ) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
         if let Some(p) = &self.planar {
-            let p =
-                match plane {
-                    [0, 1] => p.clone(),
-                    [1, 0] => p.swapped(),
-                    _ => return Err(Error::field(
+            let p = match plane {
+                [0, 1] => p.clone(),
+                [1, 0] => p.swapped(),
+                _ => {
+                    return Err(Error::field(
                         "ubb.plane",
                         format!(
                             "must name two different components of the 2 states, found {plane:?}"
                         ),
-                    )),
-                };
+                    ))
+                }
+            };
             let (ox, oy) = (self.offset[plane[0]], self.offset[plane[1]]);
             let p = p.translate([ox, oy]);
             let polygon = SupportPolygon {
