@@ -91,6 +91,25 @@ const PIVOT: f64 = 1e-9;
 /// Degenerate pivots in a row after which Bland's rule takes over.
 const DEGENERATE_RUN: usize = 30;
 
+/// a · b with four partial sums (a plain `sum` keeps the order of the additions, which stops
+/// the compiler from vectorizing it: this dot was a quarter of a long window's solve).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca
+        .remainder()
+        .iter()
+        .zip(cb.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 /// The bounds a variable is held between.
 #[derive(Debug, Clone, Copy)]
 struct Bounds {
@@ -121,6 +140,8 @@ pub struct Simplex {
     feasible: bool,
     /// The problem has been certified infeasible.
     infeasible: bool,
+    /// The artificial block of the tableau is kept up to date (Phase I may run).
+    artificials_live: bool,
 }
 
 impl Simplex {
@@ -182,6 +203,7 @@ impl Simplex {
             value: vec![0.0; width],
             feasible: false,
             infeasible: false,
+            artificials_live: true,
         };
         s.slack_basis();
         Some(s)
@@ -232,21 +254,31 @@ impl Simplex {
         }
         self.feasible = false;
         self.infeasible = false;
+        self.artificials_live = true;
     }
 
     /// Gauss–Jordan pivot on (row r, column j).
     fn pivot(&mut self, r: usize, j: usize) {
         let w = self.width();
+        // The artificial block is read only by Phase I; outside it, it is left stale (every
+        // path into Phase I rebuilds the tableau: `slack_basis`).
+        let live = if self.artificials_live {
+            w
+        } else {
+            self.n + self.m
+        };
         let p = self.tableau[r * w + j];
         let (before, rest) = self.tableau.split_at_mut(r * w);
         let (prow, after) = rest.split_at_mut(w);
-        prow.iter_mut().for_each(|v| *v /= p);
+        prow[..live].iter_mut().for_each(|v| *v /= p);
         prow[j] = 1.0;
+        // The pivot row's nonzeros: the LPs' rows are sparse, and so mostly stays B⁻¹ M.
+        let nonzero: Vec<usize> = (0..live).filter(|&k| prow[k] != 0.0).collect();
         for row in before.chunks_mut(w).chain(after.chunks_mut(w)) {
             let f = row[j];
             if f != 0.0 {
-                for (v, &pv) in row.iter_mut().zip(prow.iter()) {
-                    *v -= f * pv;
+                for &k in &nonzero {
+                    row[k] -= f * prow[k];
                 }
                 row[j] = 0.0;
             }
@@ -450,6 +482,7 @@ impl Simplex {
             self.value[n + m + i] = 0.0;
         }
         self.feasible = true;
+        self.artificials_live = false;
         Ok((true, iterations))
     }
 
@@ -490,6 +523,8 @@ impl Simplex {
             self.value[n + m + i] = 0.0;
             self.bounds[n + m + i] = Bounds { lo: 0.0, hi: 0.0 };
         }
+        // No artificial is basic or may enter: the dual simplex and Phase II never read them.
+        self.artificials_live = false;
         true
     }
 
@@ -654,6 +689,58 @@ impl Simplex {
         })
     }
 
+    /// B⁻¹ v, B⁻¹ being the tableau's slack block.
+    fn inverse_mul(&self, v: &DVector<f64>) -> DVector<f64> {
+        let (n, m, w) = (self.n, self.m, self.width());
+        DVector::from_fn(m, |i, _| {
+            dot(&self.tableau[i * w + n..i * w + n + m], v.as_slice())
+        })
+    }
+
+    /// B⁻ᵀ v.
+    fn inverse_tr_mul(&self, v: &DVector<f64>) -> DVector<f64> {
+        let (n, m, w) = (self.n, self.m, self.width());
+        let mut out = DVector::zeros(m);
+        for (i, &vi) in v.iter().enumerate() {
+            if vi != 0.0 {
+                let row = &self.tableau[i * w + n..i * w + n + m];
+                out.iter_mut().zip(row).for_each(|(o, a)| *o += vi * a);
+            }
+        }
+        out
+    }
+
+    /// B x over the basic columns of [A I −E] (unit columns for slacks and artificials).
+    fn basis_mul(&self, x: &DVector<f64>) -> DVector<f64> {
+        let (n, m) = (self.n, self.m);
+        let mut out = DVector::zeros(m);
+        for (k, &v) in self.basis.iter().enumerate() {
+            if v < n {
+                out.axpy(x[k], &self.a.column(v), 1.0);
+            } else if v < n + m {
+                out[v - n] += x[k];
+            } else {
+                out[v - n - m] -= x[k];
+            }
+        }
+        out
+    }
+
+    /// Bᵀ λ.
+    fn basis_tr_mul(&self, lambda: &DVector<f64>) -> DVector<f64> {
+        let (n, m) = (self.n, self.m);
+        DVector::from_fn(m, |k, _| {
+            let v = self.basis[k];
+            if v < n {
+                self.a.column(v).dot(lambda)
+            } else if v < n + m {
+                lambda[v - n]
+            } else {
+                -lambda[v - n - m]
+            }
+        })
+    }
+
     /// The basic solution recomputed from the data, and the duals λ of cost `cost` (over all
     /// variables): B x_B = b − N x_N, Bᵀλ = c_B, by a fresh LU.
     fn recompute(&self, cost: &[f64], fresh: bool) -> Option<(Vec<f64>, DVector<f64>)> {
@@ -671,14 +758,16 @@ impl Simplex {
             let xb = bm.clone().lu().solve(&rhs)?;
             (xb, bm.transpose().lu().solve(&cb)?)
         } else {
-            // B⁻¹ is the tableau's slack block (B⁻¹ [A I −E]); one step of refinement on the
-            // data's residual.
-            let w = self.width();
-            let inv = DMatrix::from_fn(m, m, |i, k| self.tableau[i * w + n + k]);
-            let mut xb = &inv * &rhs;
-            let residual = &rhs - self.basis_matrix() * &xb;
-            xb += &inv * residual;
-            (xb, inv.tr_mul(&cb))
+            // B⁻¹ is the tableau's slack block (B⁻¹ [A I −E]); two steps of refinement on the
+            // data's residuals, for x_B and for λ (without them the check failed on most
+            // optimal-face solves of a long window, and each fell back to two LUs).
+            let mut xb = self.inverse_mul(&rhs);
+            let mut lambda = self.inverse_tr_mul(&cb);
+            for _ in 0..2 {
+                xb += self.inverse_mul(&(&rhs - self.basis_mul(&xb)));
+                lambda += self.inverse_tr_mul(&(&cb - self.basis_tr_mul(&lambda)));
+            }
+            (xb, lambda)
         };
         if !xb.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
             return None;
