@@ -669,6 +669,16 @@ fn block_streams(rng: Generator, seed: u64, blocks: usize) -> Streams {
     }
 }
 
+/// The next `buf.len()` standard normals of `rng`, in order.
+fn fill_normals<R: Rng>(rng: &mut R, buf: &mut [f64]) {
+    for v in buf {
+        *v = rng.sample(StandardNormal);
+    }
+}
+
+/// A block's source of standard normals: fills a slice with the stream's next draws.
+type Normals<'a> = dyn FnMut(&mut [f64]) + 'a;
+
 /// Draw and drop `count` standard normals.
 fn skip_normals<R: Rng>(rng: &mut R, count: usize) {
     for _ in 0..count {
@@ -858,13 +868,20 @@ impl ConditionalExperiment {
         for b in 0..self.blocks.len() {
             let (nb, qb) = (self.blocks[b].states.len(), self.blocks[b].outputs.len());
             let out = (&mut at_tc[..], &mut at_tw[..]);
-            // The generator is chosen once per block, not per draw: each pairing is its own
-            // monomorphic loop.
+            // The generator is chosen once per block, not per draw: each fills a batch's
+            // normals in its own monomorphic loop, and the runs' arithmetic is compiled once
+            // (generic over the generator it was two copies of ~110 KB in the page's module).
             let mut rngs = std::mem::replace(&mut self.rngs, Streams::ChaCha8(Vec::new()));
             match &mut rngs {
-                Streams::ChaCha8(r) => self.run_sized(b, &mut r[b], (nb, qb), todo, tw, out),
+                Streams::ChaCha8(r) => {
+                    let rng = &mut r[b];
+                    let mut fill = |buf: &mut [f64]| fill_normals(rng, buf);
+                    self.run_sized(b, &mut fill, (nb, qb), todo, tw, out)
+                }
                 Streams::Xoshiro256PlusPlus(r) => {
-                    self.run_sized(b, &mut r[b], (nb, qb), todo, tw, out)
+                    let rng = &mut r[b];
+                    let mut fill = |buf: &mut [f64]| fill_normals(rng, buf);
+                    self.run_sized(b, &mut fill, (nb, qb), todo, tw, out)
                 }
             }
             self.rngs = rngs;
@@ -908,29 +925,29 @@ impl ConditionalExperiment {
     }
 
     /// [`Self::run_block`] on the smallest padded size that holds block `b`'s (states, outputs).
-    fn run_sized<R: Rng>(
+    fn run_sized(
         &self,
         b: usize,
-        rng: &mut R,
+        normals: &mut Normals,
         (nb, qb): (usize, usize),
         todo: usize,
         tw: Option<usize>,
         out: (&mut [f64], &mut [f64]),
     ) {
         match (nb, qb) {
-            (n, q) if n <= 2 && q <= 1 => self.run_block::<2, 1, R>(b, rng, todo, tw, out),
-            (n, q) if n <= 4 && q <= 2 => self.run_block::<4, 2, R>(b, rng, todo, tw, out),
-            (n, q) if n <= 8 && q <= 4 => self.run_block::<8, 4, R>(b, rng, todo, tw, out),
-            _ => self.run_block::<16, 8, R>(b, rng, todo, tw, out),
+            (n, q) if n <= 2 && q <= 1 => self.run_block::<2, 1>(b, normals, todo, tw, out),
+            (n, q) if n <= 4 && q <= 2 => self.run_block::<4, 2>(b, normals, todo, tw, out),
+            (n, q) if n <= 8 && q <= 4 => self.run_block::<8, 4>(b, normals, todo, tw, out),
+            _ => self.run_block::<16, 8>(b, normals, todo, tw, out),
         }
     }
 
     /// `todo` runs of block `b`: KF estimates at t_c (and at the warning time) are written into
     /// the block's components of `out.0` (and `out.1`), one row of n per run.
-    fn run_block<const N: usize, const Q: usize, R: Rng>(
+    fn run_block<const N: usize, const Q: usize>(
         &self,
         b: usize,
-        rng: &mut R,
+        normals: &mut Normals,
         todo: usize,
         tw: Option<usize>,
         out: (&mut [f64], &mut [f64]),
@@ -968,8 +985,12 @@ impl ConditionalExperiment {
         let x1_mean: [f64; N] = fixed_vec(&subv(&self.x1_mean, si));
         let qb = oi.len();
         let mut y = vec![[[0.0; LANES]; Q]; tc];
+        // A batch's normals in the order they are used: t = t_c … 1, output, lane.
+        let mut draws = vec![0.0; tc * qb * LANES];
         for first in (0..todo).step_by(LANES) {
             let lanes = LANES.min(todo - first);
+            normals(&mut draws[..tc * qb * lanes]);
+            let mut next = draws.iter();
             // y_{t_c}, …, y_1 from their exact law given x_{t_c} = x_c: a Kalman filter run
             // backwards in time on the backward representation (45), in innovations form.
             let mut zhat = [[0.0; LANES]; N];
@@ -981,7 +1002,7 @@ impl ConditionalExperiment {
                 let mut z = [[0.0; LANES]; Q];
                 for zi in z.iter_mut().take(qb) {
                     for zl in zi.iter_mut().take(lanes) {
-                        *zl = rng.sample(StandardNormal);
+                        *zl = *next.next().expect("t_c · q_b · lanes normals drawn");
                     }
                 }
                 let e = lanes_mat_vec(&st.l_s, &z);

@@ -1,6 +1,6 @@
 // What a visitor's browser is sent: the module precompressed (brotli, else gzip) with
 // Content-Encoding and Content-Type application/wasm, byte for byte the file .ci/build wrote,
-// and the whole of it to a client that accepts neither. Also the bytes a first visit of each
+// and the whole of it to a client that accepts neither; the page's text files as brotli. Also the bytes a first visit of each
 // view moves over the wire (printed, not asserted: a size target is measured, README).
 import { get } from 'node:http';
 import { readFileSync } from 'node:fs';
@@ -32,6 +32,20 @@ export default async function served({ baseUrl, newPage, waitReady, assert }) {
     assert.equal(r.headers['content-type'], 'application/wasm', `Content-Type with Accept-Encoding: ${accept}`);
     assert.equal(r.headers['content-encoding'], encoding, `Content-Encoding with Accept-Encoding: ${accept}`);
     assert.ok(r.body.equals(readFileSync(join(pkg, file))), `the body sent for Accept-Encoding: ${accept} is not ${file}`);
+  }
+
+  // The page's scripts, styles and pages are sent precompressed too (.ci/build writes their
+  // .br/.gz), with their own Content-Type, and decode to the file as written.
+  const www = join(pkg, '..');
+  for (const [path, type] of [['', 'text/html'], ['app.js', 'application/javascript'],
+    ['style.css', 'text/css'], ['views/ubb.html', 'text/html'], ['pkg/confset.js', 'application/javascript']]) {
+    const r = await fetchRaw(baseUrl + path, 'gzip, deflate, br');
+    assert.equal(r.status, 200, `/${path}`);
+    assert.equal(r.headers['content-encoding'], 'br', `/${path} is sent as brotli`);
+    assert.ok(String(r.headers['content-type']).startsWith(type), `/${path}: Content-Type ${r.headers['content-type']}`);
+    const { brotliDecompressSync } = await import('node:zlib');
+    assert.ok(brotliDecompressSync(r.body).equals(readFileSync(join(www, path || 'index.html'))),
+      `/${path}: the brotli body decodes to the file as written (a stale .br?)`);
   }
 
   // Bytes over the wire on a first visit of each view, from a fresh context (no cache), counted
