@@ -719,6 +719,43 @@ pub fn consistent_polygon_planar(
     }))
 }
 
+/// The consistent polygon of a window at the half-width bounds its state LP ends with, found
+/// without the LP: [`solve_extending`] doubles the bounds (x̄_r, ȳ_r) until the LP is feasible,
+/// and the LP is feasible exactly when the polygon at those bounds is not empty, so the first
+/// k ≤ [`MAX_EXTENSIONS`] whose polygon at 2ᵏ·(x̄_r, ȳ_r) is not empty is the LP's (the
+/// doublings are exact in binary). Returns the polygon and k; `None` where the planar path does
+/// not apply; the state LP's error when no k is feasible. What it leaves out is the LP's
+/// optimum (the MAP half-widths and states), which the polygon does not depend on.
+pub fn consistent_polygon_extending(
+    theta: &Theta,
+    u: &[DVector<f64>],
+    y: &[DVector<f64>],
+    w: Window,
+    prior: &StatePrior,
+    plane: [usize; 2],
+) -> Result<Option<(SupportPolygon, usize)>> {
+    let (mut xr, mut yr) = (prior.xr_max.clone(), prior.yr_max.clone());
+    for extended in 0..=MAX_EXTENSIONS {
+        match consistent_polygon_planar(theta, u, y, w, prior, &xr, &yr, plane) {
+            Ok(None) => return Ok(None),
+            Ok(Some(polygon)) => return Ok(Some((polygon, extended))),
+            // Empty: the bounds are doubled, as the LP's are.
+            Err(_) => {
+                xr *= 2.0;
+                yr *= 2.0;
+            }
+        }
+    }
+    let e = state_blame().infeasible();
+    Err(Error::field(
+        e.field,
+        format!(
+            "{} (the half-width bounds were doubled {MAX_EXTENSIONS} times first)",
+            e.message
+        ),
+    ))
+}
+
 /// [`consistent_polygon`] by support LPs, for any n (the planar path's oracle). With the
 /// half-widths fixed they leave the LP — the rows of (8) read
 /// 𝒜_x X ≤ ℬ − 𝒜_r (x_r; y_r) — and the state LP is loaded once in a [`solve::Family`]; the

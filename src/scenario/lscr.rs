@@ -1110,6 +1110,30 @@ impl CompareMember for Lscr {
             outline: None,
         })
     }
+    /// Whether X̂ (18) holds the true state: its sign-perturbed sums evaluated at that one
+    /// point, as [`plane_set`](Self::plane_set) reads `region.contains` from the report; the
+    /// report's boundary, window, area, BLUE and Kalman ellipses are not needed for it (they
+    /// were most of a compare study's run). The state is the plane (compare's models are 2-D;
+    /// a larger one takes the report's path).
+    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: [f64; 2]) -> Result<bool> {
+        super::compare::checked_as_run(s)?;
+        let prepared = s.prepare_lscr()?;
+        let est = &prepared.estimator;
+        if est.problem.n() != 2 {
+            let report = s.run()?;
+            return self
+                .plane_set(p, &report, Some(truth))?
+                .holds
+                .ok_or_else(|| {
+                    Error::field("compare", "the set could not be checked against the state")
+                });
+        }
+        let sums = est.problem.s(&prepared.y);
+        Ok(est
+            .problem
+            .region(&sums, &est.strings, est.q)
+            .contains(&truth))
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1065,8 +1065,13 @@ impl CompareMember for Uniform {
         let mut prepared = s.prepare_uniform()?;
         let time = prepared.spec.time.unwrap_or(prepared.steps);
         prepared.check_time(time)?;
-        prepared.run_online()?;
-        let poly = prepared.polygon_at(time)?;
+        let poly = match prepared.polygon_without_lp(time)? {
+            Some(poly) => poly,
+            None => {
+                prepared.run_online()?;
+                prepared.polygon_at(time)?
+            }
+        };
         Ok(target_set(p, &poly, Some(truth)).1 == Some(true))
     }
 }
@@ -1092,6 +1097,40 @@ fn target_set(
 }
 
 impl UniformPrepared {
+    /// With Θ known ([`Joint::States`]) and a planar state, each window's estimate depends on
+    /// nothing before it, and its polygon only on the bounds its LP is extended to
+    /// ([`uniform::consistent_polygon_extending`]): the polygon at `time` with no LP. Every
+    /// window up to `time` is checked for feasibility, as the on-line run's LPs are (the report
+    /// refuses a record whose earlier window admits no state). `None`: the LP path is needed.
+    fn polygon_without_lp(&self, time: usize) -> Result<Option<SupportPolygon>> {
+        let Some(plane) = self.plane else {
+            return Ok(None);
+        };
+        if self.online.joint != Joint::States {
+            return Ok(None);
+        }
+        let mut last = None;
+        for t in 1..=time {
+            let w = Window {
+                first: t.saturating_sub(self.spec.window - 1).max(1),
+                last: t,
+            };
+            let theta = &self.online.theta;
+            match uniform::consistent_polygon_extending(
+                theta,
+                &self.traj.u,
+                &self.traj.y,
+                w,
+                &self.state_prior,
+                plane,
+            )? {
+                Some((polygon, _)) => last = Some(polygon),
+                None => return Ok(None),
+            }
+        }
+        Ok(last)
+    }
+
     /// The consistent-state polygon of the window at `time` alone: [`Self::window_at`]'s, at
     /// the bounds the window's LP ends with, after [`Self::run_online`].
     fn polygon_at(&self, time: usize) -> Result<SupportPolygon> {

@@ -366,6 +366,68 @@ fn tight_half_width_bounds_are_extended_and_reported() {
 }
 in_browser!(tight_half_width_bounds_are_extended_and_reported);
 
+/// The polygon at the bounds the state LP is extended to, found without the LP
+/// (`consistent_polygon_extending`: the first doubling whose polygon is not empty), is the LP's:
+/// the same number of doublings and the same polygon as the LP path's `estimate_states` then
+/// `consistent_polygon` at its extended bounds, on windows that need 0 to 7 doublings, on the
+/// paper's model and an observable one, and the same refusal where no doubling is feasible.
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_extension_without_the_lp_is_the_lps() {
+    let (th, xr, yr) = paper();
+    let mut needed = std::collections::BTreeSet::new();
+    for (theta, seed) in [(th.clone(), 5), (observable(), 8)] {
+        let tr = simulate(&theta, &xr, &yr, &DVector::zeros(2), 0.5, 30, seed);
+        for hw in [0.5, 0.1, 0.01, 0.003] {
+            for (first, last) in [(1, 1), (1, 6), (20, 30), (25, 30)] {
+                let w = Window { first, last };
+                let pr = prior(5.0, hw);
+                let (est, lp) = estimate_states(&theta, &tr.u, &tr.y, w, &pr).unwrap();
+                let (planar, extended) =
+                    uniform::consistent_polygon_extending(&theta, &tr.u, &tr.y, w, &pr, [0, 1])
+                        .unwrap()
+                        .expect("n = 2 with a finite box: the planar path applies");
+                assert_eq!(extended, est.extended, "hw {hw}, window {first}…{last}");
+                needed.insert(extended);
+                let nx = w.states() * 2;
+                let by_lp = consistent_polygon(
+                    &theta,
+                    &tr.u,
+                    &tr.y,
+                    w,
+                    &pr,
+                    &lp.hi.rows(nx, 2).into_owned(),
+                    &lp.hi.rows(nx + 2, 1).into_owned(),
+                    [0, 1],
+                    64,
+                )
+                .unwrap();
+                assert_eq!(
+                    planar.vertices, by_lp.vertices,
+                    "hw {hw}, window {first}…{last}"
+                );
+            }
+        }
+    }
+    assert!(
+        needed.len() >= 4 && needed.contains(&0),
+        "doublings seen: {needed:?}"
+    );
+    // The oldest state's box 10⁷ away from every later state's: 20 doublings of 0.2 reach
+    // 2·10⁵, and both refuse.
+    let tr = simulate(&th, &xr, &yr, &DVector::zeros(2), 0.5, 30, 5);
+    let w = Window { first: 1, last: 10 };
+    let mut tight = prior(5.0, 0.2);
+    tight.x0 = Some((
+        DVector::from_element(2, 1e7),
+        DVector::from_element(2, 1e7 + 1.0),
+    ));
+    let lp = estimate_states(&th, &tr.u, &tr.y, w, &tight).unwrap_err();
+    let planar =
+        uniform::consistent_polygon_extending(&th, &tr.u, &tr.y, w, &tight, [0, 1]).unwrap_err();
+    assert_eq!(planar.to_string(), lp.to_string());
+}
+in_browser!(the_extension_without_the_lp_is_the_lps);
+
 fn preset_json() -> Value {
     serde_json::to_value(presets::get("uniform-paper").unwrap()).unwrap()
 }
