@@ -133,8 +133,10 @@
 //!     what a compare asks of it (`// Compare`, [`scenario::compare`]'s `CompareMember`: its
 //!     assumption under a noise law, its scenario derived from the record, its set for the
 //!     target state read from its report, and the verdict a study's run counts, `holds_at`:
-//!     by default read from that report, for ubb and uniform_lp computed from the target
-//!     time's window alone): [`scenario::scf`] (the `scf` block; KF and SCF are
+//!     by default read from that report; for ubb and uniform_lp computed from the target
+//!     time's window alone, the uniform LP's with Θ known by the exact planar polygon with no
+//!     LP ([`uniform::consistent_polygon_extending`]); for LSCR its sums at the state alone):
+//!     [`scenario::scf`] (the `scf` block; KF and SCF are
 //!     two descriptors of this file), [`scenario::lscr`], [`scenario::glls`],
 //!     [`scenario::uniform`], [`scenario::ubb`];
 //!   - [`scenario::compare`] (method `compare`): one record under one noise law (Gaussian,
