@@ -289,6 +289,51 @@ fn the_report_carries_the_figure_context() {
 /// parsed from `{"panel": …}`) and the CLI path (`presets::get` → `run` → `View::new(panel)`,
 /// as `confset figure`/`figures` do) draw byte-identical SVG for every useful panel of every
 /// preset; `scenario_svg` is the first of them.
+/// Issue 28: no text of any figure is cut, at the widths the page and slides use (a 2 × 2 grid
+/// cell at 1366 px is about 480 px wide, a phone 390 px at DPR 2 draws 660, a single figure 891,
+/// a slide 1280), at the page's figure shapes: no `<text>` of the SVG ends in "…" (titles
+/// wrap, notes that do not fit are left out whole, axis labels drop their qualifiers).
+#[test]
+fn no_text_is_cut_at_any_supported_width() {
+    let mut cut = Vec::new();
+    let mut drawn = 0;
+    for p in presets::all() {
+        let r = p.scenario.run().expect("preset runs");
+        for panel in useful_panels(&r) {
+            for w in [480u32, 660, 891, 1280] {
+                // The page's shapes (www/style.css): 16:8 for the time series, else 16:10.
+                let h = match panel.name() {
+                    "series" | "coverage" => w / 2,
+                    _ => w * 5 / 8,
+                };
+                let svg = report_svg(&r, &View::new(panel), w, h)
+                    .unwrap_or_else(|e| panic!("{} {} {w}: {e}", p.name, panel.name()));
+                drawn += 1;
+                for piece in svg.split("<text").skip(1) {
+                    let content = piece
+                        .split_once('>')
+                        .and_then(|(_, rest)| rest.split_once("</text>"))
+                        .map_or("", |(t, _)| t.trim());
+                    if content.ends_with('…') {
+                        cut.push(format!(
+                            "{} {} at {w} px: {content:?}",
+                            p.name,
+                            panel.name()
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    assert!(drawn >= 150, "only {drawn} figures drawn");
+    assert!(
+        cut.is_empty(),
+        "{} cut lines:\n{}",
+        cut.len(),
+        cut.join("\n")
+    );
+}
+
 #[test]
 fn page_and_cli_draw_the_same_figure_for_every_preset() {
     for p in presets::all() {

@@ -261,12 +261,15 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         if stacked {
             let (xr, yr) = chart.plotting_area().get_pixel_range();
             let top = yr.start - 12;
-            let head = style::shorten(
-                root,
-                &yd,
-                &heading_style,
-                (xr.end - xr.start).max(40) as u32,
-            )?;
+            // The heading names the chart: without its qualifiers, else in the notes' smaller
+            // type, before it is ever cut.
+            let room = (xr.end - xr.start).max(40) as u32;
+            let small = fonts.subtitle();
+            let (head, heading_style) =
+                match style::without_qualifiers(root, &yd, &heading_style, room)? {
+                    Some(h) => (h, heading_style),
+                    None => (style::fit_label(root, &yd, &small, room)?, small),
+                };
             style::text(
                 root,
                 &head,

@@ -240,8 +240,12 @@ fn chart_with<'a, DB: DrawingBackend>(
     } else {
         decimals(win.x1 - win.x0)
     };
-    let y_desc = shorten(area, axes.y_desc, &desc, (ph + x_area / 2).max(40) as u32)?;
-    let x_desc = shorten(area, axes.x_desc, &desc, pw.max(40) as u32)?;
+    // An axis name that does not fit even without its qualifiers is left out rather than cut
+    // (a stack of short charts: each has its name as a heading above it).
+    let y_desc = without_qualifiers(area, axes.y_desc, &desc, (ph + x_area / 2).max(0) as u32)?
+        .unwrap_or_default();
+    let x_desc =
+        without_qualifiers(area, axes.x_desc, &desc, pw.max(0) as u32)?.unwrap_or_default();
     let mut chart = ChartBuilder::on(area)
         .margin_top(M_TOP)
         .margin_right(M_RIGHT)

@@ -165,9 +165,11 @@ pub fn wrap<DB: DrawingBackend>(
 /// Outer padding of a figure.
 pub const PAD: i32 = 12;
 
-/// Draw the title (one line, shortened if needed) and the wrapped subtitle at the top of
-/// `root`; returns the area below. Subtitle lines beyond the room of the figure are dropped
-/// (put the important facts first).
+/// Draw the title and the subtitle at the top of `root`, both wrapped and never cut; returns the
+/// area below. The title is drawn in two lines at most ([`title_lines`]). The subtitle's notes (its " · "-separated facts, the
+/// important ones first) are drawn whole in the lines the chart can spare (1 to 4 by the
+/// figure's shape); the notes after the last that fits are left out whole (they are in the
+/// report), so no line ends in "…" (issue 28: a cut line on a slide reads as a broken figure).
 pub fn title_block<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     fonts: &Fonts,
@@ -180,21 +182,16 @@ pub fn title_block<DB: DrawingBackend>(
     let max_w = (w as i32 - 2 * pad).max(40) as u32;
     let mut y = y0 + pad;
     let ts = fonts.title();
-    // Up to two lines of title before anything is cut: the page's 2 × 2 grids give a panel
-    // about 480 px at 1366 px, narrower than most titles.
-    let lines = wrap(root, title, &ts, max_w)?;
-    for (i, line) in lines.iter().take(2).enumerate() {
-        let line = if i == 1 && lines.len() > 2 {
-            shorten(root, rest_after(title, &lines[..1]), &ts, max_w)?
-        } else {
-            line.clone()
-        };
+    for line in title_lines(root, title, &ts, max_w)? {
         text(root, &line, (x0 + pad, y), &ts, (HPos::Left, VPos::Top))?;
         y += text_size(root, &line, &ts)?.1 as i32 + 2;
     }
     y += 2;
-    // A figure taller than wide (a phone's) has height to spare for the notes.
-    let max_lines = if h < 300 {
+    let ss = fonts.subtitle();
+    let line_h = text_size(root, "Ag", &ss)?.1 as i32 + 3;
+    // Lines for the notes: what the chart can spare (a figure taller than wide, a phone's, has
+    // height to spare; the stacked charts of a small one have none).
+    let room = if h < 300 {
         1
     } else if h > w {
         4
@@ -203,31 +200,127 @@ pub fn title_block<DB: DrawingBackend>(
     } else {
         4
     };
-    let ss = fonts.subtitle();
-    let lines = wrap(root, subtitle, &ss, max_w)?;
-    for (i, line) in lines.iter().take(max_lines).enumerate() {
-        // The last line that fits says, with "…", that the notes go on (in the report).
-        let line = if i + 1 == max_lines && lines.len() > max_lines {
-            shorten(root, rest_after(subtitle, &lines[..i]), &ss, max_w)?
-        } else {
-            line.clone()
-        };
+    for line in notes_that_fit(root, subtitle, &ss, max_w, room)? {
         text(root, &line, (x0 + pad, y), &ss, (HPos::Left, VPos::Top))?;
-        y += text_size(root, &line, &ss)?.1 as i32 + 3;
+        y += line_h;
     }
     let used = (y - y0 + 2).max(0);
     Ok(root.split_vertically(used).1)
 }
 
-/// What of `s` follows its first wrapped `lines` (as [`wrap`] made them), with its separators
-/// (" · ", spaces) kept, so a shortened last line reads as the text does.
-fn rest_after<'a>(s: &'a str, lines: &[String]) -> &'a str {
-    let mut rest = s;
-    for line in lines {
-        rest = rest.trim_start_matches([' ', '·', '\n']);
-        rest = rest.strip_prefix(line.as_str()).unwrap_or(rest);
+/// The wrapped lines of the longest run of `notes`' first facts (split at " · " and at line
+/// breaks) that wraps into at most `room` lines; a first fact that alone needs more is wrapped
+/// and its lines beyond `room` are left out whole.
+fn notes_that_fit<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    notes: &str,
+    style: &TextStyle,
+    max_w: u32,
+    room: usize,
+) -> Result<Vec<String>> {
+    let all = wrap(area, notes, style, max_w)?;
+    if all.len() <= room {
+        return Ok(all);
     }
-    rest.trim_start_matches([' ', '·', '\n'])
+    // Facts with the separator that follows each (" · " or a line break), in order.
+    let mut facts: Vec<(&str, &str)> = Vec::new();
+    for (p, para) in notes.split('\n').enumerate() {
+        if p > 0 {
+            if let Some(last) = facts.last_mut() {
+                last.1 = "\n";
+            }
+        }
+        for piece in para.split(" · ").filter(|f| !f.trim().is_empty()) {
+            facts.push((piece, " · "));
+        }
+    }
+    let mut best: Vec<String> = Vec::new();
+    let mut prefix = String::new();
+    for (fact, sep) in &facts {
+        prefix.push_str(fact);
+        let lines = wrap(area, &prefix, style, max_w)?;
+        if lines.len() > room {
+            break;
+        }
+        best = lines;
+        prefix.push_str(sep);
+    }
+    if best.is_empty() {
+        best = all.into_iter().take(room).collect();
+    }
+    Ok(best)
+}
+
+/// Separators before a title's or label's trailing qualifiers, the last of which goes first
+/// when it does not fit.
+const QUALIFIERS: [&str; 6] = [" — ", " (", ", ", " · ", ": ", " at "];
+
+/// `s` without its last trailing qualifier (None when it has none).
+fn drop_qualifier(s: &str) -> Option<&str> {
+    QUALIFIERS
+        .iter()
+        .filter_map(|sep| s.rfind(sep))
+        .max()
+        .filter(|&at| at > 0)
+        .map(|at| s[..at].trim_end())
+}
+
+/// A title in at most two wrapped lines (a grid cell has room for no more): whole, else without
+/// its trailing qualifiers ("…, Fig. 3", " (n = 4)") until it fits, else cut as a last resort.
+fn title_lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    style: &TextStyle,
+    max_w: u32,
+) -> Result<Vec<String>> {
+    let mut t = title.trim();
+    loop {
+        let lines = wrap(area, t, style, max_w)?;
+        if lines.len() <= 2 {
+            return Ok(lines);
+        }
+        match drop_qualifier(t) {
+            Some(shorter) => t = shorter,
+            None => {
+                let first = lines[0].clone();
+                let rest = t[t.find(first.as_str()).map_or(0, |i| i + first.len())..].trim_start();
+                return Ok(vec![first, shorten(area, rest, style, max_w)?]);
+            }
+        }
+    }
+}
+
+/// An axis label that fits `max_w`: `s` itself, else `s` without its trailing qualifiers (the
+/// part from its last " — ", " (", ", ", " · ", ": " or " at " on, again while it is too long: "horizon s
+/// (estimates from y(k−s) … y(k))" becomes "horizon s"), else [`shorten`]'s cut.
+pub fn fit_label<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    s: &str,
+    style: &TextStyle,
+    max_w: u32,
+) -> Result<String> {
+    match without_qualifiers(area, s, style, max_w)? {
+        Some(label) => Ok(label),
+        None => shorten(area, s, style, max_w),
+    }
+}
+
+/// `s`, or `s` without as few trailing qualifiers as make it fit `max_w`; None when even its
+/// head does not fit.
+pub fn without_qualifiers<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    s: &str,
+    style: &TextStyle,
+    max_w: u32,
+) -> Result<Option<String>> {
+    let mut label = s.trim();
+    while text_size(area, label, style)?.0 > max_w {
+        match drop_qualifier(label) {
+            Some(shorter) => label = shorter,
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(label.to_string()))
 }
 
 /// `s`, cut with "…" to fit `max_w`.
@@ -257,22 +350,4 @@ pub fn shorten<DB: DrawingBackend>(
         .trim_end()
         .to_string()
         + "…")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::rest_after;
-
-    #[test]
-    fn the_rest_of_a_wrapped_text_keeps_its_separators() {
-        let s = "in ball: yes, in box: yes · n = 3: projection on x₂, x₃ · more";
-        // Broken at words inside the first piece, then at a " · ".
-        let lines = ["in ball: yes,".to_string(), "in box: yes".to_string()];
-        assert_eq!(
-            rest_after(s, &lines[..1]),
-            "in box: yes · n = 3: projection on x₂, x₃ · more"
-        );
-        assert_eq!(rest_after(s, &lines), "n = 3: projection on x₂, x₃ · more");
-        assert_eq!(rest_after(s, &[]), s);
-    }
 }
