@@ -80,7 +80,7 @@ export class Figure {
     this.cursor = card.querySelector('.cursor');
     this.frame = null;
     this.time = null;
-    this.zoom = 1; // CSS pixels per pixel of the frame (presentZoom)
+    this.cssPerPx = 1; // CSS pixels per pixel of the frame (presentZoom)
     this.canvas.addEventListener('mousemove', (e) => this.showCursor(e.offsetX, e.offsetY));
     this.canvas.addEventListener('mouseleave', () => { this.cursor.textContent = ''; });
     card.querySelector('[data-dl=svg]').addEventListener('click', () => this.downloadSvg());
@@ -119,7 +119,7 @@ export class Figure {
     this.fit();
     try {
       const zoom = this.presentZoom();
-      this.zoom = zoom;
+      this.cssPerPx = zoom;
       this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), (window.devicePixelRatio || 1) * zoom));
       // Where the charts and the legends landed (CSS pixels), for the page's layout checks.
       const css = (r) => (zoom === 1 || !Array.isArray(r) ? r : r.map((v) => (typeof v === 'number' ? v * zoom : v)));
@@ -139,7 +139,7 @@ export class Figure {
   // charts (`stacked`) finds the others in frame.more.
   locate(cssX, cssY) {
     const f = this.frame;
-    const px = cssX / this.zoom, py = cssY / this.zoom; // the frame's pixels (presentZoom)
+    const px = cssX / this.cssPerPx, py = cssY / this.cssPerPx; // the frame's pixels (presentZoom)
     const chart = (this.stacked ? [f, ...(f.more || [])] : [f])
       .find(({ plot_area: [l, t, r, b] }) => px >= l && px <= r && py >= t && py <= b && r > l && b > t);
     if (!chart) return null;
