@@ -106,11 +106,11 @@ export class Figure {
   }
 
   // Present mode (body.present): a figure filling a lecture hall's screen is drawn as one of
-  // about 1000 × 480 CSS pixels scaled up (its type, lines and marks grow with it), at the full
+  // at least 640 × 480 CSS pixels scaled up (its type, lines and marks grow with it), at the full
   // resolution of the screen; elsewhere 1.
   presentZoom() {
     if (!document.body.classList.contains('present')) return 1;
-    return Math.max(1, Math.min(this.canvas.clientWidth / 1000, this.canvas.clientHeight / 480, 3));
+    return Math.max(1, Math.min(this.canvas.clientWidth / 640, this.canvas.clientHeight / 480, 3));
   }
 
   draw(time) {
