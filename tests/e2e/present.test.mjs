@@ -7,7 +7,8 @@
 // 1024×576 and 1920×1080 and as the embed code's 960×540 iframe: no scrolling, the figure's
 // canvas inside the window (large, redrawn at its size), the step and play controls visible and
 // inside it, the chrome (menu, toolbar, numbers) hidden; → steps the cursor; the link keeps
-// &present as the page rewrites it. "Copy embed code" copies the iframe snippet. Screenshots of
+// &present as the page rewrites it. "Copy embed code" copies the iframe snippet (or, without a
+// clipboard, shows it to copy by hand). Screenshots of
 // ubb's present mode: /tmp/present-1024.png and /tmp/present-1920.png (and tests/e2e/out/).
 // No timing is asserted: only that the cursor moved, or stopped.
 import { join } from 'node:path';
@@ -230,6 +231,13 @@ export default async function present(env) {
     const m = code.match(/^<iframe src="([^"]+)" width="960" height="540" style="border:0" allowfullscreen><\/iframe>$/);
     assert.ok(m, `the embed code: ${code}`);
     assert.match(m[1], /#ubb\/v1\/[A-Za-z0-9_-]+&present$/);
+    // Without a clipboard the code is shown, selected, in a read-only box.
+    await page.evaluate(() => Object.defineProperty(navigator, 'clipboard', { value: undefined, configurable: true }));
+    await page.click('#ubb-section [data-act=embed]');
+    await page.waitForSelector('#ubb-section .embed-box textarea', { state: 'visible' });
+    assert.equal(await page.$eval('#ubb-section .embed-box textarea', (t) => t.value), code, 'the code to copy by hand');
+    assert.ok(await page.$eval('#ubb-section .embed-box textarea', (t) => t.readOnly), 'read-only');
+    assert.match(await page.$eval('#ubb-section .share-status', (e) => e.textContent), /^the clipboard is not available here: copy the embed code/);
     const host = await newPage({ viewport: { width: 1100, height: 700 } });
     await host.setContent(`<!doctype html><body style="margin:0">${code}</body>`);
     const frame = await (await host.waitForSelector('iframe')).contentFrame();
