@@ -417,6 +417,8 @@ async function route() {
   delete document.body.dataset.ready;
   const r = await parseFragment(location.hash);
   const d = panelById(r.id) || null;
+  // A playing animation (one that loops never ends) pauses: the route waits for the view to be idle.
+  if (d && mounted.has(d.id)) (await mounted.get(d.id).catch(() => null))?.pause?.();
   if (r.id && !d) {
     await show(null);
     homeNote(`There is no view “${r.id.slice(0, 24)}”: here are the five.`);

@@ -387,5 +387,7 @@ export function mountPanel(root, spec) {
   // The first compute is the shell's to start (`start()`), once it knows whether a share link
   // sets the controls first; a compute already scheduled (by the link's preset) makes it a no-op.
   const start = () => { if (!computed) schedule('compute'); };
-  return panelApi(ui.preset, menu, () => st.scenario, start);
+  // pause(): the shell stops a playing animation before it routes to the view again (a loop
+  // would hold the busy flag it waits on).
+  return { ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop() };
 }

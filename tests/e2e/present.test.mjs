@@ -207,15 +207,25 @@ export default async function present(env) {
     await waitValue(page, d, '=', v - 1);
     await page.close();
     const ubb = VIEWS[2];
+    const p = await newPage({ viewport: { width: 1920, height: 1080 } });
     for (const [panel, figures] of [['ubbwidth', 1], ['ubbset,ubbwidth', 2]]) {
-      const p = await newPage({ viewport: { width: 1920, height: 1080 } });
-      await p.goto(`${baseUrl}#ubb&present&panel=${panel}`);
-      await waitReady(p);
+      if (figures === 1) {
+        await p.goto(`${baseUrl}#ubb&present&panel=${panel}`);
+        await waitReady(p);
+      } else {
+        // A new fragment while the animation loops (it never ends by itself): the view pauses
+        // and shows what the fragment asks for.
+        await p.check(anim(ubb, 'loop'));
+        await p.click(anim(ubb, 'play'));
+        await p.evaluate((x) => { location.hash = `#ubb&present&panel=${x}`; }, panel);
+        await p.waitForFunction(() => document.body.dataset.ready === '1' && document.body.dataset.presentFigures === '2', null, { timeout: 60_000 });
+        assert.ok(!(await playing(p, ubb)), 'the new route paused the loop');
+      }
       await idle(p, ubb);
       await checkPresent(p, assert, ubb, `ubb &panel=${panel}`, { figures });
       assert.deepEqual(await p.$$eval('.present-fig', (fs) => fs.map((f) => f.dataset.panel)), panel.split(','));
-      await p.close();
     }
+    await p.close();
   }
 
   // The embed code: copied, and the iframe it makes (960 × 540) shows the view in present mode.
