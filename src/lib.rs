@@ -209,7 +209,8 @@
 //! redraws: the report keeps one step's detail (`at`), the worker computes every step's once
 //! from the scenario's [`scenario::Cursor`] (prefetched after each report, nearest to the
 //! cursor first, and sent to the page's cache), `Session::setAt` puts the detail of the step
-//! shown into the kept report, and ▶ animate steps once per display frame. A long run never blocks input (Cancel after 1 s; a newer scenario
+//! shown into the kept report, and the animation (◀ ▶ play/pause, 0.5–20 steps/s) waits for a
+//! step's detail rather than skipping it. A long run never blocks input (Cancel after 1 s; a newer scenario
 //! replaces it), and a crash (a panic aborts the instance) takes only the worker down: it is
 //! replaced, the panel keeps its last picture and offers the scenario to report. The page runs
 //! under a strict Content-Security-Policy (`index.html`: own files only, `'wasm-unsafe-eval'`,

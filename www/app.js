@@ -6,7 +6,7 @@ import * as confset from './pkg/confset.js';
 import { load } from './wasm.js';
 import { PANELS, panelById, panelOf } from './registry.js';
 import { int } from './format.js';
-import { parseFragment, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
+import { parseFragment, fragmentOptions, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
 
 // No form submits (Enter in a field must not reload the page); a listener, not an inline
 // handler, so the page runs under a strict Content-Security-Policy.
@@ -53,6 +53,7 @@ function toolbar(d) {
   bar.className = 'toolbar';
   bar.innerHTML = `
     <button type="button" data-act="link">Copy link</button>
+    <button type="button" data-act="embed" title="an iframe of this view in present mode, for slides or a web page">Copy embed code</button>
     <label class="file-btn"><input type="file" accept=".json,application/json" data-act="file"><span>Load scenario file…</span></label>
     <label class="file-btn"><input type="file" accept=".csv,.tsv,.txt,text/csv,text/plain" data-act="csv"><span>Load data (CSV)…</span></label>
     <button type="button" data-act="paste" aria-expanded="false">Paste data…</button>
@@ -60,6 +61,8 @@ function toolbar(d) {
     <button type="button" data-act="undo" hidden>Undo load</button>
     <span class="share-status" role="status" aria-live="polite"></span>
     <p class="banner" role="alert" hidden></p>
+    <label class="embed-box row" hidden>Embed code <span class="hint">copy it into a web page or slides</span>
+      <textarea rows="3" readonly spellcheck="false" data-act="embed-text"></textarea></label>
     <div class="data-box card" hidden>
       <label class="row">Measured data <span class="hint">one row per time: columns y1 … yq, then u1 … ur;
         a header row is optional; comma, semicolon, tab or spaces</span>
@@ -83,6 +86,25 @@ function toolbar(d) {
       say(`link copied (${int(link.length)} characters)`);
     } catch {
       say(`copy this link: ${link}`);
+    }
+  });
+  // The view in present mode, as an iframe for a web page or slides.
+  q('embed').addEventListener('click', async () => {
+    const link = await linkOf(d);
+    if (!link) return;
+    const code = `<iframe src="${link.replace(/"/g, '%22')}&present" width="960" height="540" style="border:0" allowfullscreen></iframe>`;
+    const box = bar.querySelector('.embed-box');
+    const area = q('embed-text');
+    area.value = code;
+    try {
+      await navigator.clipboard.writeText(code);
+      box.hidden = true;
+      say('embed code copied: paste it into a web page or slides to show this view in present mode');
+    } catch {
+      box.hidden = false;
+      area.focus();
+      area.select();
+      say('the clipboard is not available here: copy the embed code from the box below');
     }
   });
   q('file').addEventListener('change', async (e) => {
@@ -206,7 +228,7 @@ async function useData(d, text, name) {
   d.showUndo();
   d.say(`running on ${name}: ${scenario.data.y.length} rows`);
   const link = await linkOf(d);
-  history.replaceState(null, '', link ? link.slice(link.indexOf('#')) : `#${d.id}`);
+  history.replaceState(null, '', (link ? link.slice(link.indexOf('#')) : `#${d.id}`) + keptOptions());
 }
 
 // ----- share links -----
@@ -231,13 +253,17 @@ async function linkOf(d) {
   return link;
 }
 
+// The display options of the fragment (&present, &panel=…): the page rewrites the link part of
+// the fragment as the controls move, and keeps them.
+const keptOptions = () => fragmentOptions(location.hash).suffix;
+
 // The URL follows the controls, debounced, so a slider's redraw never waits for it.
 function syncUrl(d) {
   let timer = 0;
   const update = async () => {
     if (current !== d || navigating) return;
     const link = await linkOf(d);
-    if (link && current === d) history.replaceState(null, '', link.slice(link.indexOf('#')));
+    if (link && current === d) history.replaceState(null, '', link.slice(link.indexOf('#')) + keptOptions());
   };
   for (const ev of ['input', 'change']) {
     d.root().addEventListener(ev, () => { clearTimeout(timer); timer = setTimeout(update, 400); });
@@ -312,7 +338,7 @@ async function openScenario(scenario, fileName) {
   }
   d.showUndo();
   d.say(`loaded ${file.name}`);
-  history.replaceState(null, '', (await linkOf(d) || `#${d.id}`).replace(/^[^#]*/, ''));
+  history.replaceState(null, '', (await linkOf(d) || `#${d.id}`).replace(/^[^#]*/, '') + keptOptions());
 }
 
 // ----- the core's limits on the controls -----
@@ -391,6 +417,8 @@ async function route() {
   delete document.body.dataset.ready;
   const r = await parseFragment(location.hash);
   const d = panelById(r.id) || null;
+  // A playing animation (one that loops never ends) pauses: the route waits for the view to be idle.
+  if (d && mounted.has(d.id)) (await mounted.get(d.id).catch(() => null))?.pause?.();
   if (r.id && !d) {
     await show(null);
     homeNote(`There is no view “${r.id.slice(0, 24)}”: here are the five.`);
@@ -413,8 +441,37 @@ async function route() {
       await idle(d.busy);
     }
   }
+  presentMode(d, !!d && r.present, r.panels);
   document.body.dataset.route = d ? d.id : '';
   document.body.dataset.ready = '1';
+}
+
+// ----- present mode (&present, &panel=…): for a lecture hall or an iframe -----
+
+// The body's class `present`; in the view, everything but its title, the chosen figure cards
+// (the names in `panels`, or the first figure shown) and its animation's controls (its
+// .cursor-box) is marked present-off (style.css hides it and lays the rest out in the window).
+function presentMode(d, on, panels = []) {
+  document.body.classList.toggle('present', on);
+  for (const c of ['present-off', 'present-path', 'present-fig', 'present-keep']) {
+    for (const e of document.querySelectorAll(`.${c}`)) e.classList.remove(c);
+  }
+  delete document.body.dataset.presentFigures;
+  if (!on) return;
+  const section = d.section();
+  const cards = [...d.root().querySelectorAll('figure.card[data-panel]')];
+  let chosen = panels.map((n) => cards.find((c) => c.dataset.panel === n && !c.hidden)).filter(Boolean);
+  if (!chosen.length) chosen = cards.filter((c) => !c.hidden).slice(0, 1);
+  for (const c of chosen) c.classList.add('present-fig');
+  document.body.dataset.presentFigures = String(chosen.length);
+  const keep = [...chosen, ...section.querySelectorAll('.section-head, .cursor-box')];
+  for (const k of keep) k.classList.add('present-keep');
+  const path = new Set();
+  for (const k of keep) for (let e = k.parentElement; e && e !== section.parentElement; e = e.parentElement) path.add(e);
+  for (const e of path) {
+    e.classList.add('present-path');
+    for (const child of e.children) if (!path.has(child) && !keep.includes(child)) child.classList.add('present-off');
+  }
 }
 
 function homeNote(msg) {

@@ -5,14 +5,14 @@
 // after each report, nearest to the cursor first, and answers a step asked for at once) and sends
 // it here; nothing is run again. A step whose detail has not come yet is drawn from what the
 // report holds for every step, and completed when it comes (the panel stays busy until then).
-// ▶ animate steps the cursor once per display frame over the cached steps, waiting only for a
-// step whose detail has not come yet.
+// The animation (animation() below) steps the cursor at a chosen speed over the cached steps,
+// waiting only for a step whose detail has not come yet.
 //
 // `spec` is the panel's: block(report) → the report's block holding `at` (report.ubb, …),
 // setTime(scenario, t) → writes the cursor into a scenario (the one the panel shows, downloads
 // and shares), first(report) and last(report) → the cursor's range for the animation.
 
-// The spec of a panel whose cursor is the slider `time` (with its ▶ `animate`) over the steps of
+// The spec of a panel whose cursor is the slider `time` (with its play button `animate`) over the steps of
 // the report's block `key`, written into the scenario as its `key.time`.
 export const timeOf = (key) => ({
   control: 'time',
@@ -120,50 +120,156 @@ export function timeCursor({ worker, session, st, setBusy, redraw, showError }, 
   return cursor;
 }
 
-// ▶ animate: the cursor control steps once per display frame from where it is (from the first
-// step when it is at the end) to the last, drawing each step from the cache and waiting only for
-// a detail that has not come yet. `at(value)` is the step a control value shows, `moved()` what
-// the panel does when the control moves (its outputs; the scenario's time), `draw()` its redraw.
-export function animation({ button, control, cursor, setBusy, first, last, at, moved, draw, showError }) {
+// The narratable animation of a cursor control (a time slider): ◀ and ▶ step it once, the
+// play/pause toggle steps it at the chosen speed (0.5–20 steps/s, by elapsed time, not by display
+// frames) from where it is (from the first step when it is at the last) to the last, or round and
+// round with "loop"; a step whose detail has not come yet is waited for (cursor.ready), never
+// skipped. The controls are made here, around the view's play button (its id is the view's), in
+// a bar after the slider's row. Keys, while the view is shown and the focus is not in a text
+// field or menu: ← and → step, Space or k plays and pauses. The step's read-out (the slider's
+// <output>) is a polite live region while paused and silent while playing.
+//   button     the view's play button; control: the slider; root: the panel (is it shown?)
+//   cursor     the panel's time cursor (timeCursor), or null when every step is drawn at once
+//   first(), last()  the steps played over; at(value): the step a slider value shows
+//   moved()    what the panel does when the slider moves (its outputs; the scenario's time)
+//   draw()     its redraw
+export const SPEEDS = [0.5, 1, 2, 5, 10, 20]; // steps per second
+export const DEFAULT_SPEED = 2;
+const PLAY = '▶ play';
+const PAUSE = '❚❚ pause';
+
+const el = (tag, props = {}, attrs = {}) => {
+  const e = Object.assign(document.createElement(tag), props);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  return e;
+};
+
+export function animation({ button, control, root, cursor = null, setBusy, first, last, at = (v) => v, moved, draw, showError }) {
+  // The bar: ◀ play ▶, speed, loop.
+  const bar = el('div', { className: 'anim-bar' });
+  const prev = el('button', { type: 'button', textContent: '◀', title: 'previous step (←)' }, { 'aria-label': 'previous step', 'data-anim': 'prev' });
+  const next = el('button', { type: 'button', textContent: '▶', title: 'next step (→)' }, { 'aria-label': 'next step', 'data-anim': 'next' });
+  const speed = el('select', { title: 'steps per second' }, { 'aria-label': 'animation speed', 'data-anim': 'speed' });
+  speed.append(...SPEEDS.map((v) => new Option(`${v} steps/s`, String(v), v === DEFAULT_SPEED, v === DEFAULT_SPEED)));
+  const loop = el('input', { type: 'checkbox' }, { 'data-anim': 'loop' });
+  const loopLabel = el('label', { className: 'anim-loop' });
+  loopLabel.append(loop, ' loop');
+  const row = button.closest('.slider-num') || button.parentElement;
+  row.after(bar);
+  button.classList.add('anim-play');
+  button.dataset.anim = 'play';
+  button.title = 'play or pause (Space or k)';
+  bar.append(prev, button, next, speed, loopLabel);
+  const out = root.querySelector(`label[for="${control.id}"] output`) || control.closest('label')?.querySelector('output')
+    || root.querySelector(`#${control.id}-out`);
+  out?.setAttribute('aria-live', 'polite');
+  const label = (on) => {
+    button.textContent = on ? PAUSE : PLAY;
+    button.setAttribute('aria-label', on ? 'pause' : 'play');
+    button.setAttribute('aria-pressed', String(on));
+    out?.setAttribute('aria-live', on ? 'off' : 'polite');
+  };
+  label(false);
+
   let playing = null;
-  const label = button.textContent;
+  let timer = 0;
+  let resched = null; // a new speed: the next step one new interval after the last shown
+  const interval = () => 1000 / Number(speed.value || DEFAULT_SPEED);
   function stop() {
     if (!playing) return;
     playing = null;
-    button.textContent = label;
+    clearTimeout(timer);
+    label(false);
     setBusy(-1);
     // The share link follows the cursor (it listens to change events).
     control.dispatchEvent(new Event('change', { bubbles: true }));
   }
+  // Show slider value v: drawn from the cache (the caller has waited for its detail).
+  const showValue = (v) => {
+    control.value = String(v);
+    moved();
+    draw();
+  };
   function start() {
     if (playing) return;
     const me = {};
     playing = me;
     setBusy(+1);
-    button.textContent = '■ stop';
+    label(true);
     let v = Number(control.value);
     if (v >= last()) v = first() - 1;
-    const frame = () => {
+    let due = performance.now();
+    let shownAt = due;
+    resched = () => {
+      if (playing !== me || !timer) return;
+      clearTimeout(timer);
+      due = shownAt + interval();
+      timer = setTimeout(tick, Math.max(0, due - performance.now()));
+    };
+    const tick = () => {
+      timer = 0;
       if (playing !== me) return;
-      const next = v + 1;
-      if (next > last()) { stop(); return; }
-      if (!cursor.has(at(next))) {
-        // Wait for this step's detail, then go on at the next frame.
-        cursor.ready(at(next)).then(() => requestAnimationFrame(frame), (e) => {
+      let n = v + 1;
+      if (n > last()) {
+        if (!loop.checked) { stop(); return; }
+        n = first();
+      }
+      if (n < first()) n = first();
+      if (cursor && !cursor.has(at(n))) {
+        // Wait for this step's detail, then show it at once.
+        cursor.ready(at(n)).then(() => { if (playing === me) tick(); }, (e) => {
           if (playing !== me) return;
           stop();
           showError(e);
         });
         return;
       }
-      v = next;
-      control.value = String(v);
-      moved();
-      draw();
-      requestAnimationFrame(frame);
+      v = n;
+      showValue(v);
+      // The next step one interval after this one was due (later, if drawing or waiting fell behind).
+      const now = performance.now();
+      shownAt = now;
+      due = Math.max(due + interval(), now);
+      if (due - now > interval()) due = now + interval();
+      timer = setTimeout(tick, due - now);
     };
-    requestAnimationFrame(frame);
+    timer = setTimeout(tick, 0);
   }
-  button.addEventListener('click', () => (playing ? stop() : start()));
-  return { stop, get playing() { return !!playing; } };
+  const toggle = () => (playing ? stop() : start());
+
+  // One step back or forward, as the user moving the slider (its input and change events): the
+  // animation pauses, the panel redraws through its usual path, the share link follows.
+  function step(d) {
+    stop();
+    const v = Number(control.value);
+    let n = Math.min(Math.max(v + d, Math.max(first(), Number(control.min))), Math.min(last(), Number(control.max)));
+    if (d < 0 && v > last()) n = last();
+    if (n === v) return;
+    control.value = String(n);
+    control.dispatchEvent(new Event('input', { bubbles: true }));
+    control.dispatchEvent(new Event('change', { bubbles: true }));
+  }
+
+  button.addEventListener('click', toggle);
+  prev.addEventListener('click', () => step(-1));
+  next.addEventListener('click', () => step(+1));
+  speed.addEventListener('change', () => resched?.());
+
+  // Keys, for the view that is shown, unless the focus is where they mean something else.
+  document.addEventListener('keydown', (e) => {
+    if (e.defaultPrevented || e.ctrlKey || e.altKey || e.metaKey) return;
+    if (root.closest('[hidden]') || !root.isConnected) return;
+    const t = e.target;
+    if (t instanceof Element && t.closest('input:not([type=checkbox]), select, textarea, [contenteditable=""], [contenteditable=true]')) return;
+    const onButton = t instanceof Element && t.closest('button, a[href], summary, input[type=checkbox]');
+    if (e.key === 'ArrowLeft' || e.key === 'ArrowRight') {
+      e.preventDefault();
+      step(e.key === 'ArrowLeft' ? -1 : +1);
+    } else if ((e.key === ' ' && !onButton) || e.key === 'k' || e.key === 'K') {
+      e.preventDefault();
+      toggle();
+    }
+  });
+
+  return { stop, step, toggle, get playing() { return !!playing; } };
 }

@@ -80,6 +80,7 @@ export class Figure {
     this.cursor = card.querySelector('.cursor');
     this.frame = null;
     this.time = null;
+    this.cssPerPx = 1; // CSS pixels per pixel of the frame (presentZoom)
     this.canvas.addEventListener('mousemove', (e) => this.showCursor(e.offsetX, e.offsetY));
     this.canvas.addEventListener('mouseleave', () => { this.cursor.textContent = ''; });
     card.querySelector('[data-dl=svg]').addEventListener('click', () => this.downloadSvg());
@@ -104,16 +105,27 @@ export class Figure {
     return true;
   }
 
+  // Present mode (body.present): a figure filling a lecture hall's screen is drawn as one of
+  // at least 640 × 480 CSS pixels scaled up (its type, lines and marks grow with it), at the full
+  // resolution of the screen; elsewhere 1.
+  presentZoom() {
+    if (!document.body.classList.contains('present')) return 1;
+    return Math.max(1, Math.min(this.canvas.clientWidth / 640, this.canvas.clientHeight / 480, 3));
+  }
+
   draw(time) {
     this.time = time;
     if (!this.visible) return;
     this.fit();
     try {
-      this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), window.devicePixelRatio || 1));
+      const zoom = this.presentZoom();
+      this.cssPerPx = zoom;
+      this.frame = JSON.parse(this.session.draw(this.canvas, this.view(), (window.devicePixelRatio || 1) * zoom));
       // Where the charts and the legends landed (CSS pixels), for the page's layout checks.
+      const css = (r) => (zoom === 1 || !Array.isArray(r) ? r : r.map((v) => (typeof v === 'number' ? v * zoom : v)));
       this.canvas.dataset.layout = JSON.stringify({
-        plots: [this.frame, ...(this.frame.more || [])].map((f) => f.plot_area),
-        legends: this.frame.legends || [],
+        plots: [this.frame, ...(this.frame.more || [])].map((f) => css(f.plot_area)),
+        legends: (this.frame.legends || []).map(css),
       });
       this.err.textContent = '';
     } catch (e) {
@@ -122,11 +134,12 @@ export class Figure {
     }
   }
 
-  // The chart under (px, py) (CSS pixels, as offsetX/Y) and the point there in its axis units, by
+  // The chart under (cssX, cssY) (CSS pixels, as offsetX/Y) and the point there in its axis units, by
   // a linear map of its plotting box to its ranges; null off the charts. A figure that stacks
   // charts (`stacked`) finds the others in frame.more.
-  locate(px, py) {
+  locate(cssX, cssY) {
     const f = this.frame;
+    const px = cssX / this.cssPerPx, py = cssY / this.cssPerPx; // the frame's pixels (presentZoom)
     const chart = (this.stacked ? [f, ...(f.more || [])] : [f])
       .find(({ plot_area: [l, t, r, b] }) => px >= l && px <= r && py >= t && py <= b && r > l && b > t);
     if (!chart) return null;

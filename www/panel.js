@@ -111,12 +111,15 @@ const PARTS = {
 //   errorsWithin     what the inline errors clear ('form ' by default)
 //   compute, redraw  the inputs that change the scenario, and those that change only the view;
 //   cursor           a time cursor whose report keeps one step's detail (cursor.js): {control
-//                    (the slider's id, in `redraw`), animate (its ▶ button's id, optional),
+//                    (the slider's id, in `redraw`), animate (its play button's id, optional:
+//                    the animation's controls, cursor.js),
 //                    block(report) (the report's block holding `at`), setTime(scenario, v)}
 //                    (cursor.js's timeOf(key) for the slider `time` over report[key]);
 //                    the steps it moves over come from the core with each report
 //                    (st.cursorSteps = Session.cursorSteps(): [first, last]), and a slider value
 //                    outside them shows the nearest (p.cursorTime()); `time` defaults to that step
+//   animate          {control, button}: a time slider without a cursor (every step drawn from the
+//                    report) and its play button: the same animation controls (cursor.js)
 //   input(p, id)     what a control shows at once (before the run, next frame)
 //   stem(p)          the stem of the file names
 //   init(p)          the panel's own wiring, once, before the first preset loads
@@ -149,7 +152,7 @@ export function mountPanel(root, spec) {
   root.querySelector('form').prepend(row, Object.assign(document.createElement('p'), { id: `${prefix}preset-desc`, className: 'desc' }));
   const ids = new Set(['preset', 'preset-desc', 'custom', 'stale', 'notes', 'numbers', ...(spec.timing ? [] : ['timing']),
     ...(spec.model || []).map((k) => `m-${k}`), ...(spec.compute || []), ...(spec.redraw || []), ...(spec.ids || []),
-    ...(spec.cursor?.animate ? [spec.cursor.animate] : [])]);
+    ...(spec.cursor?.animate ? [spec.cursor.animate] : []), ...(spec.animate ? [spec.animate.button] : [])]);
   // Ids are looked up under the panel's root only, so the same view can be mounted twice.
   const byId = (id) => root.querySelector(`#${CSS.escape(id)}`);
   const ui = Object.fromEntries([...ids].map((id) => [id, byId(`${prefix}${id}`)]));
@@ -312,18 +315,32 @@ export function mountPanel(root, spec) {
     };
     p.cursor = timeCursor({ worker, session, st, setBusy, redraw, showError }, cur);
     const moved = () => p.cursor.moved(Number(ui[cur.control].value));
-    ui[cur.control].addEventListener('input', () => { p.animation?.stop(); moved(); });
+    ui[cur.control].addEventListener('input', moved);
     if (cur.animate) {
       p.animation = animation({
-        button: ui[cur.animate], control: ui[cur.control], cursor: p.cursor, setBusy,
-        first: () => st.cursorSteps[0], last: () => st.cursorSteps[1],
-        at: shown,
+        button: ui[cur.animate], control: ui[cur.control], root, cursor: p.cursor, setBusy,
+        first: () => st.cursorSteps?.[0] ?? Number(ui[cur.control].min),
+        last: () => st.cursorSteps?.[1] ?? Number(ui[cur.control].max),
+        at: (v) => (st.cursorSteps ? shown(v) : v),
         moved: () => { spec.input?.(p, cur.control); moved(); },
         draw: redraw,
         showError,
       });
     }
+  } else if (spec.animate) {
+    // A time slider that only redraws (every step is in the report): its animation needs no cursor.
+    const { control, button } = spec.animate;
+    p.animation = animation({
+      button: ui[button], control: ui[control], root, setBusy,
+      first: () => Number(ui[control].min), last: () => Number(ui[control].max),
+      moved: () => spec.input?.(p, control),
+      draw: redraw,
+      showError: (e) => errors.show(e, true),
+    });
   }
+  // Moving the slider by hand pauses the animation.
+  const animated = cur?.animate ? cur.control : spec.animate?.control;
+  if (animated) ui[animated].addEventListener('input', () => p.animation?.stop());
 
   ui.preset.addEventListener('change', () => {
     presetChoice++;
@@ -370,5 +387,7 @@ export function mountPanel(root, spec) {
   // The first compute is the shell's to start (`start()`), once it knows whether a share link
   // sets the controls first; a compute already scheduled (by the link's preset) makes it a no-op.
   const start = () => { if (!computed) schedule('compute'); };
-  return panelApi(ui.preset, menu, () => st.scenario, start);
+  // pause(): the shell stops a playing animation before it routes to the view again (a loop
+  // would hold the busy flag it waits on).
+  return { ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop() };
 }

@@ -200,6 +200,7 @@ export const mountScf = async (root, presets) => mountPanel(root, {
     'alpha-out', 'sv-out', 'sw-out', 'time-out', 'm-P1'],
   compute: ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'm-P1', 'rare'],
   redraw: ['time'],
+  animate: { control: 'time', button: 'animate' },
   input(p, id) {
     if (id === 'rare') updateVisibility(p); else showOutputs(p);
     if (id === 'm-F' || id === 'm-H') componentOptions(p);

@@ -5,6 +5,7 @@
 //   #<panel>                      the panel with its first preset
 //   #<panel>/preset/<name>        the panel with that preset
 //   #<panel>/v1/<token>           token = base64url(deflate-raw(JSON {preset, fields, scenario?}))
+//   any of them + &present[&panel=<figure>[,<figure>]]   present/embed mode (fragmentOptions)
 //
 // The fragment, never the query string: static hosts answer long queries with 414. Every version
 // ever emitted keeps a decoder in DECODERS; a renamed preset keeps an alias in PRESET_ALIASES.
@@ -51,9 +52,33 @@ const DECODERS = {
   },
 };
 
-// The route of a fragment: { id, state?, preset?, error? }. `id` is '' for the landing view.
+// A fragment's display options after the link proper, each after a "&" (a token, a preset
+// name encoded with encodeURIComponent and a view id never hold one):
+//   &present              present mode: the figure, the animation's controls and a title only
+//   &panel=<a>[,<b>]      the figure(s) present mode shows (the core's panel names)
+// → { present, panels, suffix } where suffix is the options' text as given ("" for none), kept
+// on the fragment when the page rewrites the link part.
+export function fragmentOptions(hash) {
+  const [, ...opts] = hash.replace(/^#/, '').split('&');
+  const present = opts.includes('present');
+  const panel = opts.find((o) => o.startsWith('panel='));
+  let names = '';
+  try { names = panel ? decodeURIComponent(panel.slice(6)) : ''; } catch { names = ''; }
+  const panels = names.split(',').map((x) => x.trim()).filter(Boolean).slice(0, 2);
+  return { present, panels, suffix: opts.length ? `&${opts.join('&')}` : '' };
+}
+
+// The route of a fragment: { id, state?, preset?, error?, present, panels, suffix } (the display
+// options: fragmentOptions). `id` is '' for the landing view.
 export async function parseFragment(hash) {
-  const parts = hash.replace(/^#/, '').split('/');
+  const options = fragmentOptions(hash);
+  const link = hash.replace(/^#/, '').split('&')[0];
+  const route = await parseLink(link);
+  return { ...route, ...options };
+}
+
+async function parseLink(link) {
+  const parts = link.split('/');
   const id = parts[0].replace(/-(head|section)$/, ''); // old in-page anchors
   if (parts.length === 1) return { id };
   if (parts[1] === 'preset' && parts.length === 3) {
@@ -64,7 +89,7 @@ export async function parseFragment(hash) {
   if (!decode || parts.length !== 3) {
     return { id, error: `this link has a format this page does not know (“${parts.slice(1).join('/').slice(0, 24)}”)` };
   }
-  if (hash.length > MAX_LINK_CHARS) return { id, error: `this link is longer than ${int(MAX_LINK_CHARS)} characters` };
+  if (link.length + 1 > MAX_LINK_CHARS) return { id, error: `this link is longer than ${int(MAX_LINK_CHARS)} characters` };
   try {
     const state = await decode(parts[2]);
     state.preset = PRESET_ALIASES[state.preset] || state.preset;

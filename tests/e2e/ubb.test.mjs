@@ -136,13 +136,14 @@ export default async function ubb(env) {
       // animation steps k to the last step, and the share link follows.
       await set(page, 'b-time', '20');
       assert.match(await text(page, '#b-num-title'), /^At step k = 20: the set of x\(21\) from y\(0\) … y\(20\)/);
+      await page.selectOption('#ubb .anim-bar [data-anim=speed]', '20');
       await page.click('#b-animate');
       await page.waitForFunction(() => Number(document.querySelector('#b-time').value) >= 22, null, { timeout: 30_000 });
       await idle(page);
       const k = Number(await page.$eval('#b-time', (e) => e.value));
       assert.equal(k, 59, `animated to the last step k = ${k}`);
       assert.match(await text(page, '#b-num-title'), new RegExp(`^At step k = ${k}: the set of x\\(${k + 1}\\) from`));
-      assert.equal(await text(page, '#b-animate'), '▶ animate');
+      assert.equal(await text(page, '#b-animate'), '▶ play');
       await set(page, 'b-time', '40');
 
       // The cursor read-out of both figures.
