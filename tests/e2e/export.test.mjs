@@ -89,7 +89,7 @@ export default async function exportTest(env) {
     assert.equal(csv, core.kept, `${v.id}: the CSV is Session.csv() of the page's report`);
     assert.equal(csv, core.ran, `${v.id}: the CSV is what running the page's scenario gives (confset run --format csv)`);
     assert.equal(lines(csv).length - 1, v.steps(JSON.parse(reportJson)), `${v.id}: one row per time step`);
-    assert.match(lines(csv)[0], v.id === 'ubb' ? /^k,center1,/ : /^t,y1,/);
+    assert.match(lines(csv)[0], v.id === 'ubb' ? /^k,center_1,/ : /^t,y_1,/);
     assert.equal(core.before, 'no report yet: run a scenario first', 'a Session with no report says so in words');
     assert.equal(await text(page, `#${v.prefix}dl-err`), '', `${v.id}: no CSV error`);
 
