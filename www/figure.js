@@ -19,7 +19,8 @@ const el = (tag, props = {}) => Object.assign(document.createElement(tag), props
 
 // A figure card's export choices: SVG text from the core at the figure's size or a slide's, and
 // PNG at 1×, 2×, 4× the figure's size, rasterised by the browser from that SVG (the core's
-// renderer, so a larger PNG is drawn sharper, not scaled up). `size` null: the figure's CSS size.
+// renderer, so a larger PNG is drawn sharper, not scaled up). `text` is the menu's, `says` ends
+// the Download button's accessible name; `size` null: the figure's CSS size.
 export const EXPORTS = [
   { value: 'svg', text: 'SVG', kind: 'svg', size: null, says: 'SVG at its size on the page' },
   { value: 'svg-1280x720', text: 'SVG 1280×720', kind: 'svg', size: [1280, 720], says: 'SVG, 1280 by 720' },
@@ -56,8 +57,9 @@ export async function svgToPng(svg, w, h, scale) {
 // <figure class="card" data-panel="…"> of the view is filled with its caption (cursor read-out,
 // an export menu and its Download button), a canvas whose text alternative is the core's (plus
 // the card's data-hint) and an error line. What the view put into a card is kept: [data-caption]
-// children go into the caption, the others below the canvas. A figure of the method the view has no place for is
-// added to its figure grid; a card naming no figure of the method is a mistake in the view.
+// children go into the caption, the others below the canvas. A figure of the method the view has
+// no place for is added to its figure grid; a card naming no figure of the method is a mistake in
+// the view.
 export function figureCards(root, methods) {
   const panels = new Map(methods.flatMap((m) => JSON.parse(methodPanels(m))).map((f) => [f.panel, f.alt]));
   for (const card of root.querySelectorAll('figure.card[data-panel]')) {
@@ -215,7 +217,6 @@ export class Figure {
     const svg = this.session.svg(this.view(), w, h);
     const tag = size ? `-${w}x${h}` : '';
     download(`${this.fileStem()}-${this.panel}${tag}.svg`, new Blob([svg], { type: 'image/svg+xml' }));
-    this.err.textContent = '';
   }
 
   // PNG at `scale` × the figure's size, rasterised from the core's SVG of it.
@@ -224,6 +225,5 @@ export class Figure {
     const name = `${this.fileStem()}-${this.panel}-${scale}x.png`;
     const svg = this.session.svg(this.view(), w, h);
     download(name, await svgToPng(svg, w, h, scale));
-    this.err.textContent = '';
   }
 }
