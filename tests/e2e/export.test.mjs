@@ -2,11 +2,15 @@
 // export menu gives PNG at 1×, 2× and 4× the figure's size (rasterised from the core's SVG: the 4×
 // image is exactly 4 × 4 the 1× one, read from the PNG header) and SVG at the figure's size or a
 // slide's (1920 × 1080 in its root); the view's "Download table (CSV)" is the core's table
-// (Session.csv: what `confset run --format csv` prints), the same text a Session given the page's
-// report returns, one row per time step of the report. No download leaves an error in the page
+// (Session.csv), the same text a Session given the page's report returns, one row per time step of
+// the report, and what `confset run --format csv` prints for the downloaded scenario (to 1e-9). No download leaves an error in the page
 // (the harness also fails on any page error or console error).
 import { readFile, writeFile } from 'node:fs/promises';
+import { existsSync, mkdtempSync, writeFileSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { fileURLToPath } from 'node:url';
 import { openApp, downloadFigure, text } from './helpers.mjs';
 
 // The PNG's width and height: big-endian uint32 at bytes 16..24 of its IHDR chunk.
@@ -14,6 +18,29 @@ function pngSize(buf, what, assert) {
   assert.equal(buf.subarray(0, 8).toString('latin1'), '\x89PNG\r\n\x1a\n', `${what}: a PNG signature`);
   assert.equal(buf.subarray(12, 16).toString('latin1'), 'IHDR', `${what}: IHDR first`);
   return [buf.readUInt32BE(16), buf.readUInt32BE(20)];
+}
+
+const CLI = fileURLToPath(new URL('../../target/release/confset', import.meta.url));
+
+// CSV texts with the same header and rows, every number equal to 1e-9 (relative to its size, at
+// least 1): the page's wasm and the native CLI may differ in the last bits (the explorer test's
+// tolerance for their reports); the first difference, or null.
+function csvDifference(a, b) {
+  const [ra, rb] = [a.trimEnd().split('\n'), b.trimEnd().split('\n')];
+  if (ra[0] !== rb[0]) return `header ${ra[0]} vs ${rb[0]}`;
+  if (ra.length !== rb.length) return `${ra.length} vs ${rb.length} lines`;
+  for (let i = 1; i < ra.length; i++) {
+    const [ca, cb] = [ra[i].split(','), rb[i].split(',')];
+    if (ca.length !== cb.length) return `line ${i + 1}: ${ca.length} vs ${cb.length} cells`;
+    for (let j = 0; j < ca.length; j++) {
+      if (ca[j] === cb[j]) continue;
+      const [x, y] = [Number(ca[j]), Number(cb[j])];
+      if (ca[j] === '' || cb[j] === '' || !(Math.abs(x - y) <= 1e-9 * Math.max(1, Math.abs(x), Math.abs(y)))) {
+        return `line ${i + 1}, column ${ra[0].split(',')[j]}: ${ca[j]} vs ${cb[j]}`;
+      }
+    }
+  }
+  return null;
 }
 
 const VIEWS = [
@@ -89,6 +116,12 @@ export default async function exportTest(env) {
     assert.equal(csv, core.kept, `${v.id}: the CSV is Session.csv() of the page's report`);
     assert.equal(csv, core.ran, `${v.id}: the CSV is what running the page's scenario gives (confset run --format csv)`);
     assert.equal(lines(csv).length - 1, v.steps(JSON.parse(reportJson)), `${v.id}: one row per time step`);
+    // …and what the native CLI prints for the downloaded scenario (built by the native test layer).
+    assert.ok(existsSync(CLI), `${CLI} is built by the native test layer`);
+    const file = join(mkdtempSync(join(tmpdir(), 'confset-csv-')), `${v.id}.json`);
+    writeFileSync(file, scenarioJson);
+    const cliCsv = execFileSync(CLI, ['run', file, '--format', 'csv'], { encoding: 'utf8', maxBuffer: 1 << 28 });
+    assert.equal(csvDifference(csv, cliCsv), null, `${v.id}: the CSV download and confset run --format csv differ`);
     assert.match(lines(csv)[0], v.id === 'ubb' ? /^k,center_1,/ : /^t,y_1,/);
     assert.equal(core.before, 'no report yet: run a scenario first', 'a Session with no report says so in words');
     assert.equal(await text(page, `#${v.prefix}dl-err`), '', `${v.id}: no CSV error`);
