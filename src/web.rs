@@ -12,6 +12,7 @@
 //! // report it sends back on the main thread: `s.setReport(reportJson)` keeps it for `draw`.
 //! const frame = JSON.parse(s.draw(canvas, '{"panel":"state","time":20}', devicePixelRatio));
 //! const svg = s.svg('{"panel":"coverage"}', 800, 500);
+//! const csv = s.csv();                          // what `confset run --format csv` prints
 //!
 //! // A time cursor (ubb's step k, uniform's t): the worker prepares the scenario once and
 //! // computes any step's detail; the page puts it into the kept report and draws that step.
@@ -333,6 +334,14 @@ impl Session {
             )));
         }
         plot::report_svg(report, &view, w, h).map_err(|e| js_error(&e))
+    }
+
+    /// The kept report's table as CSV text (`Report::table`, one row per time step): the same
+    /// text `confset run --format csv` prints for its scenario. A cell that is not a finite
+    /// number is a `csv.<column>` error, as for the CLI.
+    pub fn csv(&self) -> Result<String, JsValue> {
+        let table = self.kept()?.table().map_err(|e| js_error(&e))?;
+        Ok(table.to_csv())
     }
 }
 

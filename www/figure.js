@@ -2,7 +2,8 @@ import { methodPanels } from './pkg/confset.js';
 import { fmtPointer as fmt } from './format.js';
 
 // One figure card: a canvas whose backing store is CSS size × devicePixelRatio, drawn by the wasm
-// Session; the cursor's position in chart units (from the returned Frame); SVG/PNG downloads.
+// Session; the cursor's position in chart units (from the returned Frame); SVG/PNG downloads
+// (EXPORTS: SVG at a chosen size, PNG at 1×, 2×, 4×).
 
 export function download(name, blob) {
   const a = document.createElement('a');
@@ -16,12 +17,49 @@ export function download(name, blob) {
 
 const el = (tag, props = {}) => Object.assign(document.createElement(tag), props);
 
+// A figure card's export choices: SVG text from the core at the figure's size or a slide's, and
+// PNG at 1×, 2×, 4× the figure's size, rasterised by the browser from that SVG (the core's
+// renderer, so a larger PNG is drawn sharper, not scaled up). `text` is the menu's, `says` ends
+// the Download button's accessible name; `size` null: the figure's CSS size.
+export const EXPORTS = [
+  { value: 'svg', text: 'SVG', kind: 'svg', size: null, says: 'SVG at its size on the page' },
+  { value: 'svg-1280x720', text: 'SVG 1280×720', kind: 'svg', size: [1280, 720], says: 'SVG, 1280 by 720' },
+  { value: 'svg-1920x1080', text: 'SVG 1920×1080', kind: 'svg', size: [1920, 1080], says: 'SVG, 1920 by 1080' },
+  { value: 'png-1', text: 'PNG 1×', kind: 'png', scale: 1, says: 'PNG at 1× size' },
+  { value: 'png-2', text: 'PNG 2×', kind: 'png', scale: 2, says: 'PNG at 2× size' },
+  { value: 'png-4', text: 'PNG 4×', kind: 'png', scale: 4, says: 'PNG at 4× size' },
+];
+
+// SVG text as a data: URL (the page's CSP allows data: images, not blob:): base64 of its UTF-8.
+function svgDataUrl(svg) {
+  const bytes = new TextEncoder().encode(svg);
+  let bin = '';
+  for (let i = 0; i < bytes.length; i += 0x8000) bin += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return `data:image/svg+xml;base64,${btoa(bin)}`;
+}
+
+// A PNG Blob of SVG text `w` × `h` drawn at `scale` × that size on a white ground.
+export async function svgToPng(svg, w, h, scale) {
+  const img = new Image();
+  img.src = svgDataUrl(svg);
+  await img.decode();
+  const canvas = el('canvas', { width: Math.round(w * scale), height: Math.round(h * scale) });
+  const g = canvas.getContext('2d');
+  g.fillStyle = '#fff';
+  g.fillRect(0, 0, canvas.width, canvas.height);
+  g.drawImage(img, 0, 0, canvas.width, canvas.height);
+  const blob = await new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
+  if (!blob) throw new Error(`the browser could not make a ${canvas.width} × ${canvas.height} PNG`);
+  return blob;
+}
+
 // A panel's figure cards, made from the core's list of its methods' figures (methodPanels): each
 // <figure class="card" data-panel="…"> of the view is filled with its caption (cursor read-out,
-// SVG/PNG downloads), a canvas whose text alternative is the core's (plus the card's data-hint)
-// and an error line. What the view put into a card is kept: [data-caption] children go into the
-// caption, the others below the canvas. A figure of the method the view has no place for is
-// added to its figure grid; a card naming no figure of the method is a mistake in the view.
+// an export menu and its Download button), a canvas whose text alternative is the core's (plus
+// the card's data-hint) and an error line. What the view put into a card is kept: [data-caption]
+// children go into the caption, the others below the canvas. A figure of the method the view has
+// no place for is added to its figure grid; a card naming no figure of the method is a mistake in
+// the view.
 export function figureCards(root, methods) {
   const panels = new Map(methods.flatMap((m) => JSON.parse(methodPanels(m))).map((f) => [f.panel, f.alt]));
   for (const card of root.querySelectorAll('figure.card[data-panel]')) {
@@ -36,11 +74,13 @@ export function figureCards(root, methods) {
     }
     const kept = [...card.children];
     const dl = el('span', { className: 'dl' });
-    for (const kind of ['svg', 'png']) {
-      const b = el('button', { type: 'button', textContent: kind.toUpperCase() });
-      b.dataset.dl = kind;
-      dl.append(b);
-    }
+    const choice = el('select', { title: 'what the download holds' });
+    choice.dataset.dlChoice = '';
+    choice.setAttribute('aria-label', 'export format of this figure');
+    for (const c of EXPORTS) choice.append(el('option', { value: c.value, textContent: c.text }));
+    const go = el('button', { type: 'button', textContent: 'Download' });
+    go.dataset.dl = 'go';
+    dl.append(choice, go);
     const caption = el('figcaption');
     caption.append(el('span', { className: 'cursor' }), ...kept.filter((k) => k.hasAttribute('data-caption')), dl);
     const canvas = el('canvas');
@@ -83,8 +123,15 @@ export class Figure {
     this.cssPerPx = 1; // CSS pixels per pixel of the frame (presentZoom)
     this.canvas.addEventListener('mousemove', (e) => this.showCursor(e.offsetX, e.offsetY));
     this.canvas.addEventListener('mouseleave', () => { this.cursor.textContent = ''; });
-    card.querySelector('[data-dl=svg]').addEventListener('click', () => this.downloadSvg());
-    card.querySelector('[data-dl=png]').addEventListener('click', () => this.downloadPng());
+    this.choice = card.querySelector('[data-dl-choice]');
+    this.go = card.querySelector('[data-dl=go]');
+    const label = () => {
+      const c = EXPORTS.find((x) => x.value === this.choice.value) || EXPORTS[0];
+      this.go.setAttribute('aria-label', `download this figure as ${c.says}`);
+    };
+    label();
+    this.choice.addEventListener('change', label);
+    this.go.addEventListener('click', () => this.download(this.choice.value));
   }
 
   get visible() { return !this.card.hidden; }
@@ -160,16 +207,36 @@ export class Figure {
     return `${chart.x_label || 'x'} = ${fmt(x)}, ${chart.y_label || 'y'} = ${fmt(y)}`;
   }
 
-  downloadSvg() {
+  // The figure's CSS size (what it is drawn at on the page), at least the core's 16 pixels.
+  size() {
+    return [Math.max(16, Math.round(this.canvas.clientWidth)), Math.max(16, Math.round(this.canvas.clientHeight))];
+  }
+
+  // Download one of EXPORTS (its value); a failure is said in the card's error line.
+  async download(value) {
+    const c = EXPORTS.find((x) => x.value === value);
+    if (!c) return;
     try {
-      const svg = this.session.svg(this.view(), this.canvas.clientWidth, this.canvas.clientHeight);
-      download(`${this.fileStem()}-${this.panel}.svg`, new Blob([svg], { type: 'image/svg+xml' }));
+      if (c.kind === 'svg') this.downloadSvg(c.size);
+      else await this.downloadPng(c.scale);
     } catch (e) {
-      this.err.textContent = e.message;
+      this.err.textContent = `The download failed: ${(e && e.message) || e}`;
     }
   }
 
-  downloadPng() {
-    this.canvas.toBlob((blob) => blob && download(`${this.fileStem()}-${this.panel}.png`, blob), 'image/png');
+  // SVG from the core, `size` [w, h] (default: the figure's size on the page).
+  downloadSvg(size = null) {
+    const [w, h] = size || this.size();
+    const svg = this.session.svg(this.view(), w, h);
+    const tag = size ? `-${w}x${h}` : '';
+    download(`${this.fileStem()}-${this.panel}${tag}.svg`, new Blob([svg], { type: 'image/svg+xml' }));
+  }
+
+  // PNG at `scale` × the figure's size, rasterised from the core's SVG of it.
+  async downloadPng(scale = 1) {
+    const [w, h] = this.size();
+    const name = `${this.fileStem()}-${this.panel}-${scale}x.png`;
+    const svg = this.session.svg(this.view(), w, h);
+    download(name, await svgToPng(svg, w, h, scale));
   }
 }

@@ -89,13 +89,15 @@ function computeNote(staleNote, saveScenario) {
 // panel's id prefix: the numbers card's downloads, and the notes card's heading and notes.
 const PARTS = {
   downloads: (p) => `<button type="button" id="${p}dl-report">Download report (JSON)</button>\n`
-    + `<button type="button" id="${p}dl-scenario">Download scenario (JSON)</button>`,
+    + `<button type="button" id="${p}dl-scenario">Download scenario (JSON)</button>\n`
+    + `<button type="button" id="${p}dl-csv" aria-label="download the report's table as CSV: one row per time step">`
+    + `Download table (CSV)</button>\n<span class="err" id="${p}dl-err" role="alert"></span>`,
   notes: (p) => `<h2>About this scenario</h2>\n<p id="${p}notes"></p>`,
 };
 
 // The skeleton of a panel: a wasm Session, the controls ⇄ scenario ⇄ report loop, its figures,
-// preset menu, inline errors, busy flag, downloads (#<prefix>dl-report, #<prefix>dl-scenario) and
-// timing line. The scenarios run in the panel's compute worker (compute.js); the Session here
+// preset menu, inline errors, busy flag, downloads (#<prefix>dl-report, #<prefix>dl-scenario,
+// #<prefix>dl-csv: the report's table) and timing line. The scenarios run in the panel's compute worker (compute.js); the Session here
 // keeps the report it sends back (setReport) and draws it. A panel module describes itself in `spec`; the hooks get the panel `p` = { root,
 // session, ui, st, figures, errors, setBusy, schedule, build(), compute(), redraw(), isCustom(),
 // model(), stem(), cursorTime() } with st = { preset, report, reportJson, scenario, runMs, drawMs,
@@ -376,6 +378,17 @@ export function mountPanel(root, spec) {
     save('report', spec.reportFile ? spec.reportFile(p)
       : shown != null ? JSON.stringify({ ...st.report, time: shown })
         : t != null ? JSON.stringify(st.report) : st.reportJson);
+  });
+  // The report's table (Session.csv, the core's): what `confset run --format csv` prints.
+  byId(`${prefix}dl-csv`).addEventListener('click', () => {
+    if (!st.reportJson) return;
+    const err = byId(`${prefix}dl-err`);
+    try {
+      download(`${stem()}.csv`, new Blob([session.csv()], { type: 'text/csv' }));
+      err.textContent = '';
+    } catch (e) {
+      err.textContent = `The table could not be written: ${(e && e.message) || e}`;
+    }
   });
   byId(`${prefix}dl-scenario`).addEventListener('click', () => {
     if (st.scenario) save('scenario', JSON.stringify(spec.scenarioFile ? spec.scenarioFile(p) : st.scenario, null, 2));

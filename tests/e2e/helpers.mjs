@@ -93,3 +93,11 @@ export const slideToPaint = (page, sliderId, busyKey, value) => page.evaluate(as
   });
   return performance.now() - t0;
 }, [sliderId, busyKey, String(value)]);
+
+// Download a figure card's export (`choice`: a value of figure.js's EXPORTS, 'svg', 'svg-1920x1080',
+// 'png-1', 'png-4', …) as a user does: pick it in the card's menu, click Download; the Download.
+export async function downloadFigure(page, card, choice) {
+  await page.selectOption(`${card} [data-dl-choice]`, choice);
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`${card} [data-dl=go]`)]);
+  return dl;
+}

@@ -2,7 +2,7 @@
 // a click placing the true state, the chunked coverage experiment, bad input shown inline while
 // the last picture stays, the unbounded MA(1) band, wasm timings measured in the page, and
 // screenshots of the panel at DPR 1 and 2 for the three presets.
-import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio } from './helpers.mjs';
+import { text, inked as inkedFraction, setField, choosePreset, openApp, shootSection, assertDrawnAtRatio, downloadFigure } from './helpers.mjs';
 import { readFile } from 'node:fs/promises';
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy && !document.body.dataset.lscrBusy,
@@ -191,7 +191,7 @@ export default async function lscr(env) {
       await shoot(page, screenshotDir, 'lscr-custom-group-dpr1');
 
       // The figure as SVG, drawn by the same Rust code.
-      const [svgDl] = await Promise.all([page.waitForEvent('download'), page.click('#fig-region [data-dl=svg]')]);
+      const svgDl = await downloadFigure(page, '#fig-region', 'svg');
       assert.match(svgDl.suggestedFilename(), /^custom-t40-region\.svg$/);
       assert.ok((await readFile(await svgDl.path(), 'utf8')).includes('<svg'), 'the SVG download is SVG');
 

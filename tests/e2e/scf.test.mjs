@@ -2,7 +2,7 @@
 // inline while the last picture stays, the chunked Monte Carlo, and screenshots at DPR 1 and 2.
 import { join } from 'node:path';
 import { readFile } from 'node:fs/promises';
-import { openApp, assertDrawnAtRatio } from './helpers.mjs';
+import { openApp, assertDrawnAtRatio, downloadFigure } from './helpers.mjs';
 
 const readDownload = async (d) => readFile(await d.path(), 'utf8');
 
@@ -131,15 +131,15 @@ export default async function scf(env) {
     }
 
     // Downloads: the figure as SVG (drawn by the same Rust code on plotters' SVG backend), the report.
-    const [svgDl] = await Promise.all([page.waitForEvent('download'), page.click('#fig-state [data-dl=svg]')]);
+    const svgDl = await downloadFigure(page, '#fig-state', 'svg');
     assert.match(svgDl.suggestedFilename(), /\.svg$/);
     const svgText = await readDownload(svgDl);
     assert.ok(svgText.includes('<svg'), 'the SVG download is SVG');
     const [jsonDl] = await Promise.all([page.waitForEvent('download'), page.click('#dl-report')]);
     const report = JSON.parse(await readDownload(jsonDl));
     assert.ok(Array.isArray(report.steps) && report.steps.length > 0, 'the report download is the report');
-    const [pngDl] = await Promise.all([page.waitForEvent('download'), page.click('#fig-state [data-dl=png]')]);
-    assert.match(pngDl.suggestedFilename(), /\.png$/);
+    const pngDl = await downloadFigure(page, '#fig-state', 'png-1');
+    assert.match(pngDl.suggestedFilename(), /-state-1x\.png$/);
 
     // A resize refits the backing stores (no recompute needed).
     await page.setViewportSize({ width: 1000, height: 800 });

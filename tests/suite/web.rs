@@ -272,6 +272,31 @@ fn session_draws_on_a_canvas_and_as_svg() {
 }
 in_browser!(session_draws_on_a_canvas_and_as_svg);
 
+/// `Session.csv` is the kept report's table: the text `confset run --format csv` prints for the
+/// scenario (`Report::table` → `to_csv`), for the first preset of each method; none before a run.
+fn session_csv_is_the_reports_table() {
+    let s = Session::new();
+    let (msg, _) = thrown(s.csv().expect_err("no report yet"));
+    assert!(msg.contains("no report yet"), "{msg}");
+    for (method, p) in first_preset_of_each_method() {
+        let json = p["scenario"].to_string();
+        let mut s = Session::new();
+        s.run(&json)
+            .unwrap_or_else(|e| panic!("{method}: {:?}", thrown(e)));
+        let want = confset::scenario::Scenario::from_json(&json)
+            .and_then(|sc| sc.run())
+            .and_then(|r| r.table())
+            .unwrap_or_else(|e| panic!("{method}: {e}"))
+            .to_csv();
+        let got = s
+            .csv()
+            .unwrap_or_else(|e| panic!("{method} csv: {:?}", thrown(e)));
+        assert_eq!(got, want, "{method}: Session.csv is not the report's table");
+        assert!(got.lines().count() >= 2, "{method}: a header and no rows:\n{got}");
+    }
+}
+in_browser!(session_csv_is_the_reports_table);
+
 fn experiment_runs_in_chunks() {
     let mut robots = preset("scf-robots");
     robots["experiment"]["runs"] = serde_json::json!(300);
