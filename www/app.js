@@ -442,6 +442,7 @@ async function route() {
     }
   }
   presentMode(d, !!d && r.present, r.panels);
+  if (d) (await mounted.get(d.id).catch(() => null))?.redraw?.();
   document.body.dataset.route = d ? d.id : '';
   document.body.dataset.ready = '1';
 }

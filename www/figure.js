@@ -163,6 +163,9 @@ export class Figure {
   draw(time) {
     this.time = time;
     if (!this.visible) return;
+    // A card laid out at no size (hidden by present mode, or not yet in the layout) is drawn when
+    // it gets one (redrawOnResize), not now at 1 × 1 with a "too small" message.
+    if (!this.canvas.clientWidth || !this.canvas.clientHeight) return;
     this.fit();
     try {
       const zoom = this.presentZoom();

@@ -402,5 +402,7 @@ export function mountPanel(root, spec) {
   const start = () => { if (!computed) schedule('compute'); };
   // pause(): the shell stops a playing animation before it routes to the view again (a loop
   // would hold the busy flag it waits on).
-  return { ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop() };
+  // redraw(): the shell's layout changed (present mode on or off, another &panel=): the figures
+  // are drawn at their new sizes now, not a frame later by the ResizeObserver.
+  return { ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop(), redraw };
 }
