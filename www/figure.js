@@ -239,7 +239,7 @@ export class Figure {
       else await this.downloadPng(c.scale);
     } catch (e) {
       this.err.classList.remove('progress');
-      this.err.textContent = e instanceof FramesCancelled ? 'The frame export was cancelled (the animation was moved).'
+      this.err.textContent = e instanceof FramesCancelled ? 'The frame export stopped: the animation was played or moved, or another scenario chosen.'
         : `The download failed: ${(e && e.message) || e}`;
     }
   }
