@@ -133,6 +133,11 @@ export function timeCursor({ worker, session, st, setBusy, redraw, showError }, 
 //   first(), last()  the steps played over; at(value): the step a slider value shows
 //   moved()    what the panel does when the slider moves (its outputs; the scenario's time)
 //   draw()     its redraw
+// frames(capture): the animation's steps one by one for an export (a figure's ZIP of frames):
+// pauses, shows each step from first() to last() as playing does (its detail waited for), awaits
+// `capture(i, n)` after drawing the i-th of n, then puts the slider back where it was and redraws;
+// a Promise of the captures in step order. Play, pause, ◀ ▶, the slider moved by hand or another
+// preset meanwhile cancel it (it rejects with FramesCancelled, the slider left where it is now).
 export const SPEEDS = [0.5, 1, 2, 5, 10, 20]; // steps per second
 export const DEFAULT_SPEED = 2;
 const PLAY = '▶ play';
@@ -143,6 +148,10 @@ const el = (tag, props = {}, attrs = {}) => {
   for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
   return e;
 };
+
+export class FramesCancelled extends Error {
+  constructor() { super('the frame export was cancelled'); }
+}
 
 export function animation({ button, control, root, cursor = null, setBusy, first, last, at = (v) => v, moved, draw, showError }) {
   // The bar: ◀ play ▶, speed, loop.
@@ -172,10 +181,12 @@ export function animation({ button, control, root, cursor = null, setBusy, first
   label(false);
 
   let playing = null;
+  let exporting = null; // the frame export going on (frames())
   let timer = 0;
   let resched = null; // a new speed: the next step one new interval after the last shown
   const interval = () => 1000 / Number(speed.value || DEFAULT_SPEED);
   function stop() {
+    exporting = null; // so do pause, ◀ ▶, the slider moved by hand, another preset
     if (!playing) return;
     playing = null;
     clearTimeout(timer);
@@ -192,6 +203,7 @@ export function animation({ button, control, root, cursor = null, setBusy, first
   };
   function start() {
     if (playing) return;
+    exporting = null; // play cancels a frame export
     const me = {};
     playing = me;
     setBusy(+1);
@@ -237,6 +249,35 @@ export function animation({ button, control, root, cursor = null, setBusy, first
   }
   const toggle = () => (playing ? stop() : start());
 
+  async function frames(capture) {
+    stop();
+    const me = {};
+    exporting = me;
+    const was = control.value;
+    const lo = first(), hi = last();
+    const n = hi - lo + 1;
+    const out = [];
+    setBusy(+1);
+    try {
+      for (let v = lo; v <= hi; v++) {
+        // The step's detail, waited for as tick() does (ready() may resolve for a newer request:
+        // look again).
+        while (cursor && exporting === me && !cursor.has(at(v))) await cursor.ready(at(v));
+        if (exporting !== me) throw new FramesCancelled();
+        if (first() !== lo || last() !== hi) throw new Error('the steps changed while the frames were made (a new run)');
+        showValue(v);
+        out.push(await capture(v - lo, n));
+      }
+      return out;
+    } finally {
+      if (exporting === me) {
+        exporting = null;
+        showValue(was);
+      }
+      setBusy(-1);
+    }
+  }
+
   // One step back or forward, as the user moving the slider (its input and change events): the
   // animation pauses, the panel redraws through its usual path, the share link follows.
   function step(d) {
@@ -271,5 +312,5 @@ export function animation({ button, control, root, cursor = null, setBusy, first
     }
   });
 
-  return { stop, step, toggle, get playing() { return !!playing; } };
+  return { stop, step, toggle, frames, get playing() { return !!playing; } };
 }

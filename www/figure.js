@@ -1,9 +1,11 @@
 import { methodPanels } from './pkg/confset.js';
 import { fmtPointer as fmt } from './format.js';
+import { FramesCancelled } from './cursor.js';
 
 // One figure card: a canvas whose backing store is CSS size × devicePixelRatio, drawn by the wasm
 // Session; the cursor's position in chart units (from the returned Frame); SVG/PNG downloads
-// (EXPORTS: SVG at a chosen size, PNG at 1×, 2×, 4×).
+// (EXPORTS: SVG at a chosen size, PNG at 1×, 2×, 4×; in a view with an animation, a ZIP of its
+// frames as PNG).
 
 export function download(name, blob) {
   const a = document.createElement('a');
@@ -28,6 +30,9 @@ export const EXPORTS = [
   { value: 'png-1', text: 'PNG 1×', kind: 'png', scale: 1, says: 'PNG at 1× size' },
   { value: 'png-2', text: 'PNG 2×', kind: 'png', scale: 2, says: 'PNG at 2× size' },
   { value: 'png-4', text: 'PNG 4×', kind: 'png', scale: 4, says: 'PNG at 4× size' },
+  // Only in the menu of a figure whose view has an animation (Figure.animated).
+  { value: 'frames', text: 'animation frames (ZIP of PNG)', kind: 'frames', animated: true,
+    says: 'a ZIP of PNG images at its size on the page, one per step of the animation' },
 ];
 
 // SVG text as a data: URL (the page's CSP allows data: images, not blob:): base64 of its UTF-8.
@@ -77,7 +82,7 @@ export function figureCards(root, methods) {
     const choice = el('select', { title: 'what the download holds' });
     choice.dataset.dlChoice = '';
     choice.setAttribute('aria-label', 'export format of this figure');
-    for (const c of EXPORTS) choice.append(el('option', { value: c.value, textContent: c.text }));
+    for (const c of EXPORTS.filter((x) => !x.animated)) choice.append(el('option', { value: c.value, textContent: c.text }));
     const go = el('button', { type: 'button', textContent: 'Download' });
     go.dataset.dl = 'go';
     dl.append(choice, go);
@@ -130,11 +135,20 @@ export class Figure {
       this.go.setAttribute('aria-label', `download this figure as ${c.says}`);
     };
     label();
+    this.label = label;
     this.choice.addEventListener('change', label);
     this.go.addEventListener('click', () => this.download(this.choice.value));
   }
 
   get visible() { return !this.card.hidden; }
+
+  // The view has an animation: `frames(capture)` runs it step by step for an export (cursor.js's
+  // animation().frames), and the export menu offers the ZIP of frames.
+  animated(frames) {
+    this.frames = frames;
+    for (const c of EXPORTS.filter((x) => x.animated)) this.choice.append(el('option', { value: c.value, textContent: c.text }));
+    this.label();
+  }
 
   // Whether the card shows for a report whose useful figures (the core's) are `useful`.
   shownFor(useful) { return useful.includes(this.panel); }
@@ -221,9 +235,12 @@ export class Figure {
     if (!c) return;
     try {
       if (c.kind === 'svg') this.downloadSvg(c.size);
+      else if (c.kind === 'frames') await this.downloadFrames();
       else await this.downloadPng(c.scale);
     } catch (e) {
-      this.err.textContent = `The download failed: ${(e && e.message) || e}`;
+      this.err.classList.remove('progress');
+      this.err.textContent = e instanceof FramesCancelled ? 'The frame export stopped: the animation was played or moved, or another scenario chosen.'
+        : `The download failed: ${(e && e.message) || e}`;
     }
   }
 
@@ -233,6 +250,40 @@ export class Figure {
     const svg = this.session.svg(this.view(), w, h);
     const tag = size ? `-${w}x${h}` : '';
     download(`${this.fileStem()}-${this.panel}${tag}.svg`, new Blob([svg], { type: 'image/svg+xml' }));
+  }
+
+  // The animation's frames (frames()): each step drawn as the animation shows it, as a PNG at the
+  // figure's size on the page when the export started (rasterised from the core's SVG, as PNG 1×),
+  // frame-0001.png … in step order in a ZIP (stored: PNG is compressed already). fflate, the ZIP
+  // writer, is loaded only now (www/vendor/, copied by .ci/build). The progress is said in the
+  // card's error line; the animation puts the slider back afterwards.
+  async downloadFrames() {
+    if (!this.frames || this.exporting) return;
+    this.exporting = true;
+    try {
+      const { zipSync } = await import('./vendor/fflate.js').catch(() => {
+        throw new Error('the ZIP writer (vendor/fflate.js) could not be loaded');
+      });
+      const [w, h] = this.size();
+      const name = `${this.fileStem()}-${this.panel}-frames.zip`;
+      const files = {};
+      this.err.classList.add('progress');
+      await this.frames(async (i, n) => {
+        const svg = this.session.svg(this.view(), w, h); // now: the step drawn
+        this.err.textContent = `Making the frames: frame ${i + 1} of ${n}`;
+        const png = await svgToPng(svg, w, h, 1);
+        files[`frame-${String(i + 1).padStart(4, '0')}.png`] = new Uint8Array(await png.arrayBuffer());
+        // Let the page breathe between frames (input, paint).
+        await new Promise((r) => setTimeout(r, 0));
+      });
+      this.err.textContent = `Zipping ${Object.keys(files).length} frames`;
+      const zip = zipSync(files, { level: 0 });
+      download(name, new Blob([zip], { type: 'application/zip' }));
+      this.err.classList.remove('progress');
+      this.err.textContent = '';
+    } finally {
+      this.exporting = false;
+    }
   }
 
   // PNG at `scale` × the figure's size, rasterised from the core's SVG of it.

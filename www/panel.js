@@ -395,6 +395,9 @@ export function mountPanel(root, spec) {
   });
 
   spec.init?.(p);
+  // A view with an animation (made above, or by the panel's init): each figure's export menu
+  // offers its frames as a ZIP of PNG (figure.js), made by stepping the animation.
+  if (p.animation) for (const f of figures) f.animated((capture) => p.animation.frames(capture));
   ui.preset.value = all[0].name;
   loadPreset(all[0].name);
   // The first compute is the shell's to start (`start()`), once it knows whether a share link

@@ -5,13 +5,22 @@
 // (Session.csv), the same text a Session given the page's report returns, one row per time step of
 // the report, and what `confset run --format csv` prints for the downloaded scenario (to 1e-9). No download leaves an error in the page
 // (the harness also fails on any page error or console error).
+// The animation's frames (a ZIP of PNG, in views with an animation: ubb, scf, compare here): one
+// frame-0001.png … per step the animation plays over (the core's cursor steps of the page's report,
+// or the slider's range without a cursor), numbered in order, each a PNG at the figure's CSS size;
+// the frame of the step the slider was on is the PNG 1× download of it, byte for byte; the first
+// and last frames differ; the slider is back where it was; the ZIP writer (vendor/fflate.js) is
+// loaded only when frames are asked for.
 import { readFile, writeFile } from 'node:fs/promises';
 import { existsSync, mkdtempSync, writeFileSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { createRequire } from 'node:module';
 import { openApp, downloadFigure, text } from './helpers.mjs';
+
+const { unzipSync } = createRequire(new URL('../../www/package.json', import.meta.url))('fflate');
 
 // The PNG's width and height: big-endian uint32 at bytes 16..24 of its IHDR chunk.
 function pngSize(buf, what, assert) {
@@ -48,8 +57,73 @@ const VIEWS = [
   { id: 'uniform', prefix: 'u-', busy: 'uniformBusy', steps: (r) => r.uniform.steps.length, stem: /^uniform-/ },
 ];
 
+// Views whose animation's frames are exported: the slider, and the step it is put on first (not
+// an end, so that putting it back is seen).
+const FRAMES = [
+  { id: 'ubb', prefix: 'b-', busy: 'ubbBusy', slider: 'b-time', at: 45 },
+  { id: 'scf', prefix: '', busy: 'busy', slider: 'time', at: 20 },
+  { id: 'compare', prefix: 'c-', busy: 'compareBusy', slider: 'c-time', at: 10 },
+];
+
+async function framesExport(env, v) {
+  const { assert, screenshotDir } = env;
+  const idle = (page) => page.waitForFunction((k) => !document.body.dataset[k], v.busy, { timeout: 120_000 });
+  const page = await openApp(env, 1, idle, v.id);
+  const vendored = () => page.evaluate(() => performance.getEntriesByType('resource').some((r) => r.name.endsWith('/vendor/fflate.js')));
+  assert.equal(await vendored(), false, `${v.id}: the ZIP writer is not loaded before frames are asked for`);
+  const id = await page.$$eval(`#${v.id} figure.card[data-panel]`, (cs) => cs.find((c) => !c.hidden && c.offsetParent).id);
+  const card = `#${v.id} #${id}`;
+  const what = `${v.id} ${id} frames`;
+  await page.$eval(`#${v.slider}`, (r, x) => { r.value = String(x); r.dispatchEvent(new Event('input', { bubbles: true })); }, v.at);
+  await idle(page);
+  const before = await page.$eval(`#${v.slider}`, (r) => Number(r.value));
+  assert.equal(before, v.at, `${v.id}: the slider is at ${v.at}`);
+
+  // The steps the animation plays over: the core's cursor steps of the page's report (a time
+  // cursor), else the slider's range.
+  const [reportDl] = await Promise.all([page.waitForEvent('download'), page.click(`#${v.prefix}dl-report`)]);
+  const reportJson = await readFile(await reportDl.path(), 'utf8');
+  const [first, last] = await page.evaluate(([r, slider]) => {
+    const s = new window.confset.Session();
+    s.setReport(r);
+    const c = s.cursorSteps();
+    const el = document.getElementById(slider);
+    return c ? [c[0], c[1]] : [Number(el.min), Number(el.max)];
+  }, [reportJson, v.slider]);
+  assert.ok(first < before && before < last, `${v.id}: the slider (${before}) is inside the steps ${first}…${last}`);
+  const [cw, ch] = await page.$eval(`${card} canvas`, (c) => [c.clientWidth, c.clientHeight]);
+  const shown = await readFile(await (await downloadFigure(page, card, 'png-1')).path());
+
+  await page.selectOption(`${card} [data-dl-choice]`, 'frames');
+  assert.equal(await page.$eval(`${card} [data-dl=go]`, (b) => b.getAttribute('aria-label')),
+    'download this figure as a ZIP of PNG images at its size on the page, one per step of the animation');
+  const [dl] = await Promise.all([page.waitForEvent('download', { timeout: 300_000 }), page.click(`${card} [data-dl=go]`)]);
+  await idle(page);
+  assert.match(dl.suggestedFilename(), new RegExp(`-${id.replace(/^fig-/, '')}-frames\\.zip$`), `${what}: file name`);
+  const zip = await readFile(await dl.path());
+  const entries = unzipSync(new Uint8Array(zip));
+  const names = Object.keys(entries);
+  const n = last - first + 1;
+  assert.equal(names.length, n, `${what}: one frame per step ${first}…${last}`);
+  assert.deepEqual(names, Array.from({ length: n }, (_, i) => `frame-${String(i + 1).padStart(4, '0')}.png`), `${what}: numbered in order`);
+  for (const name of names) {
+    const [w, h] = pngSize(Buffer.from(entries[name]), `${what} ${name}`, assert);
+    assert.deepEqual([w, h], [cw, ch], `${what} ${name}: the figure's CSS size`);
+  }
+  const frame = (i) => Buffer.from(entries[names[i]]);
+  assert.ok(frame(before - first).equals(shown), `${what}: the frame of step ${before} is the PNG 1× download of it`);
+  assert.ok(!frame(0).equals(frame(n - 1)), `${what}: the first and last frames differ`);
+  assert.equal(await page.$eval(`#${v.slider}`, (r) => Number(r.value)), before, `${what}: the slider is back at ${before}`);
+  assert.equal(await text(page, `${card} .fig-err`), '', `${what}: no error or progress left in the card`);
+  assert.equal(await vendored(), true, `${v.id}: the ZIP writer was loaded for the frames`);
+  await writeFile(join(screenshotDir, `export-${v.id}-${id}-frames.zip`), zip);
+  console.log(`  ${what}: ${n} frames (steps ${first}…${last}) of ${cw}×${ch}, ZIP ${zip.length} bytes`);
+  await page.close();
+}
+
 export default async function exportTest(env) {
   const { assert, screenshotDir } = env;
+  for (const v of FRAMES) await framesExport(env, v);
   for (const v of VIEWS) {
     const idle = (page) => page.waitForFunction((k) => !document.body.dataset[k], v.busy, { timeout: 60_000 });
     const page = await openApp(env, 1, idle, v.id);
@@ -63,7 +137,7 @@ export default async function exportTest(env) {
       const what = `${v.id} ${id}`;
       // The export control: one menu and one button on one line, named for what it downloads.
       const choices = await page.$$eval(`${card} [data-dl-choice] option`, (os) => os.map((o) => o.textContent));
-      assert.deepEqual(choices, ['SVG', 'SVG 1280×720', 'SVG 1920×1080', 'PNG 1×', 'PNG 2×', 'PNG 4×']);
+      assert.deepEqual(choices, ['SVG', 'SVG 1280×720', 'SVG 1920×1080', 'PNG 1×', 'PNG 2×', 'PNG 4×', 'animation frames (ZIP of PNG)']);
       await page.selectOption(`${card} [data-dl-choice]`, 'png-2');
       assert.equal(await page.$eval(`${card} [data-dl=go]`, (b) => b.getAttribute('aria-label')),
         'download this figure as PNG at 2× size');

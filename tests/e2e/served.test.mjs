@@ -35,10 +35,12 @@ export default async function served({ baseUrl, newPage, waitReady, assert }) {
   }
 
   // The page's scripts, styles and pages are sent precompressed too (.ci/build writes their
-  // .br/.gz), with their own Content-Type, and decode to the file as written.
+  // .br/.gz), with their own Content-Type, and decode to the file as written; so is the vendored
+  // ZIP writer (.ci/build copies it to www/vendor/).
   const www = join(pkg, '..');
   for (const [path, type] of [['', 'text/html'], ['app.js', 'application/javascript'],
-    ['style.css', 'text/css'], ['views/ubb.html', 'text/html'], ['pkg/confset.js', 'application/javascript']]) {
+    ['style.css', 'text/css'], ['views/ubb.html', 'text/html'], ['pkg/confset.js', 'application/javascript'],
+    ['vendor/fflate.js', 'application/javascript']]) {
     const r = await fetchRaw(baseUrl + path, 'gzip, deflate, br');
     assert.equal(r.status, 200, `/${path}`);
     assert.equal(r.headers['content-encoding'], 'br', `/${path} is sent as brotli`);
