@@ -4,7 +4,7 @@
 // slider by more than one step and ❚❚ pause stops it (the value stable across two reads 300 ms
 // apart); with loop on, play wraps from the last step to the first; the step's read-out is a
 // live region only while paused. Present mode (#<view>&present, &panel=…), opened directly at
-// 1024×576 and 1920×1080 and as the embed code's 960×540 iframe: no scrolling, the figure's
+// 1024×576 and 1920×1080 and as the embed code's iframe (960×540, 1024×576, 1920×1080): no scrolling, the figure's
 // canvas inside the window (large, redrawn at its size), the step and play controls visible and
 // inside it, the chrome (menu, toolbar, numbers) hidden; → steps the cursor; the link keeps
 // &present as the page rewrites it. "Copy embed code" copies the iframe snippet (or, without a
@@ -248,13 +248,18 @@ export default async function present(env) {
     assert.equal(await page.$eval('#ubb-section .embed-box textarea', (t) => t.value), code, 'the code to copy by hand');
     assert.ok(await page.$eval('#ubb-section .embed-box textarea', (t) => t.readOnly), 'read-only');
     assert.match(await page.$eval('#ubb-section .share-status', (e) => e.textContent), /^the clipboard is not available here: copy the embed code/);
-    const host = await newPage({ viewport: { width: 1100, height: 700 } });
-    await host.setContent(`<!doctype html><body style="margin:0">${code}</body>`);
-    const frame = await (await host.waitForSelector('iframe')).contentFrame();
-    await frame.waitForFunction(() => document.body && document.body.dataset.ready === '1', null, { timeout: 60_000 });
-    await frame.waitForFunction(() => !document.body.dataset.ubbBusy, null, { timeout: 120_000 });
-    await checkPresent(frame, assert, d, 'ubb embedded 960×540');
-    await host.close();
+    // The snippet as pasted (960 × 540), and resized to the two ends of a 16:9 slide.
+    for (const [w, h] of [[960, 540], [1024, 576], [1920, 1080]]) {
+      const host = await newPage({ viewport: { width: w + 40, height: h + 40 } });
+      const sized = code.replace('width="960" height="540"', `width="${w}" height="${h}"`);
+      await host.setContent(`<!doctype html><body style="margin:0">${sized}</body>`);
+      const frame = await (await host.waitForSelector('iframe')).contentFrame();
+      await frame.waitForFunction(() => document.body && document.body.dataset.ready === '1', null, { timeout: 60_000 });
+      await frame.waitForFunction(() => !document.body.dataset.ubbBusy, null, { timeout: 120_000 });
+      assert.deepEqual(await frame.evaluate(() => [innerWidth, innerHeight]), [w, h], 'the iframe is the slide frame');
+      await checkPresent(frame, assert, d, `ubb embedded ${w}×${h}`);
+      await host.close();
+    }
     await page.close();
   }
 }
