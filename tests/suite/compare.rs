@@ -219,7 +219,8 @@ fn the_cursor_detail_is_the_report_at_that_time() {
 }
 in_browser!(the_cursor_detail_is_the_report_at_that_time);
 
-/// The study's result for one method.
+/// The study's result for one method (the native studies below).
+#[cfg(not(target_arch = "wasm32"))]
 fn count<'a>(result: &'a serde_json::Value, m: &str) -> &'a serde_json::Value {
     result["methods"]
         .as_array()
@@ -229,6 +230,7 @@ fn count<'a>(result: &'a serde_json::Value, m: &str) -> &'a serde_json::Value {
         .unwrap_or_else(|| panic!("no count of {m}"))
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn run_study(s: &Scenario) -> serde_json::Value {
     let mut study = s.study(None).expect("study");
     while !study.finished() {
