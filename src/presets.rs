@@ -78,6 +78,26 @@ mod tests {
                 p.name,
                 p.label
             );
+            // The page's menu shows the short name: it fits, says the same source, and is
+            // unique (issue 28).
+            let source = p.label.split(" — ").next().unwrap_or_default();
+            let source_short = p.menu.split(" — ").next().unwrap_or_default();
+            assert!(
+                p.menu.contains(" — ")
+                    && p.menu.chars().count() <= crate::scenario::preset::MENU_CHARS
+                    && all[..i].iter().all(|q| q.menu != p.menu),
+                "preset {}: menu name {:?} is not a unique \"source — what\" of at most {} characters",
+                p.name,
+                p.menu,
+                crate::scenario::preset::MENU_CHARS
+            );
+            assert!(
+                source_short.split_whitespace().next() == source.split_whitespace().next(),
+                "preset {}: menu name {:?} names another source than {:?}",
+                p.name,
+                p.menu,
+                p.label
+            );
         }
         for m in Method::ALL {
             if m == Method::Kf {

@@ -3,7 +3,7 @@
 //! ```js
 //! import init, { presets, dataShape, withCsvData, Session, Study } from './pkg/confset.js';
 //! await init();
-//! const list = JSON.parse(presets());            // [{name, description, scenario}, …]
+//! const list = JSON.parse(presets());            // [{name, label, menu, description, scenario}, …]
 //! const shape = JSON.parse(dataShape(json));     // {outputs: q, inputs: r}: the CSV columns
 //! const withData = withCsvData(json, csvText);   // the scenario JSON with data from CSV
 //! const s = new Session();

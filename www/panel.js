@@ -9,13 +9,16 @@ import { timeCursor, animation } from './cursor.js';
 
 export const clone = (v) => JSON.parse(JSON.stringify(v));
 
-// The preset menu: the core's presets, named for people (the core's label, the id in links and
-// the CLI), then the panel's custom model if it has one. `add(p)` puts a scenario loaded from a
-// file into the menu (replacing one of the same name) before the custom model.
+// The preset menu: the core's presets, named for people (the core's short menu name, short
+// enough to show whole in the controls' column and on a phone; its full label and description
+// are the option's tooltip, the description is also shown under the menu), then the panel's
+// custom model if it has one. `add(p)` puts a scenario loaded from a file into the menu
+// (replacing one of the same name) before the custom model.
 export function presetMenu(select, presets, custom) {
   const all = custom ? [...presets, custom] : [...presets];
-  const label = (p) => (p === custom ? 'custom model' : p.label || p.name);
-  const fill = () => select.replaceChildren(...all.map((p) => Object.assign(new Option(label(p), p.name), { title: p.description || '' })));
+  const label = (p) => (p === custom ? 'custom model' : p.menu || p.label || p.name);
+  const tip = (p) => [p.menu && p.label !== p.menu ? p.label : '', p.description || ''].filter(Boolean).join('\n');
+  const fill = () => select.replaceChildren(...all.map((p) => Object.assign(new Option(label(p), p.name), { title: tip(p) })));
   fill();
   return {
     all,

@@ -334,6 +334,257 @@ fn no_text_is_cut_at_any_supported_width() {
     );
 }
 
+/// A figure's height at width `w` in the page's shapes (www/style.css): 16:8 for the time
+/// series, else 16:10.
+fn page_height(panel: Panel, w: u32) -> u32 {
+    match panel.name() {
+        "series" | "coverage" => w / 2,
+        _ => w * 5 / 8,
+    }
+}
+
+/// One `<text>` of an SVG drawn here: its content and the box it takes, in figure pixels.
+#[derive(Debug, Clone)]
+struct TextBox {
+    text: String,
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+}
+
+/// The value of attribute `name` in a tag's attribute text.
+fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let key = format!(" {name}=\"");
+    let at = tag.find(&key)? + key.len();
+    tag[at..].split('"').next()
+}
+
+/// Every `<text>` of an SVG written by plotters' SVG backend, with the box it takes: its
+/// content measured with the same function and font the figures lay their text out with
+/// ([`style::text_size`], the embedded DejaVu subset at the style's size: the SVG's
+/// `font-size` is the style's size / 1.24), placed by the element's `x`, `y`, `text-anchor`
+/// and `dy` (plotters writes "0.76em" for a top anchor, "0.5ex" for a centred one, "-0.5ex"
+/// for a bottom one) and turned by its `rotate(…)` about (x, y).
+fn text_boxes(svg: &str) -> Vec<TextBox> {
+    ensure_fonts().expect("the embedded font");
+    let mut scratch = String::new();
+    let backend = SVGBackend::with_string(&mut scratch, (16, 16));
+    let area = backend.into_drawing_area();
+    let mut out = Vec::new();
+    for piece in svg.split("<text").skip(1) {
+        let Some((tag, rest)) = piece.split_once('>') else {
+            continue;
+        };
+        let Some((raw, _)) = rest.split_once("</text>") else {
+            continue;
+        };
+        let raw = raw.strip_prefix('\n').unwrap_or(raw);
+        let raw = raw.strip_suffix('\n').unwrap_or(raw);
+        let text = raw
+            .replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&quot;", "\"")
+            .replace("&apos;", "'")
+            .replace("&amp;", "&");
+        if text.trim().is_empty() {
+            continue;
+        }
+        let num = |name: &str| attr(tag, name).and_then(|v| v.parse::<f64>().ok());
+        let (Some(x), Some(y), Some(size)) = (num("x"), num("y"), num("font-size")) else {
+            panic!("a <text> without x, y or font-size: <text{tag}>");
+        };
+        let style: TextStyle = if attr(tag, "font-weight") == Some("bold") {
+            ("sans-serif", size * 1.24, FontStyle::Bold).into_font().into()
+        } else {
+            ("sans-serif", size * 1.24).into_font().into()
+        };
+        let (w, h) = style::text_size(&area, &text, &style).expect("measures");
+        let (w, h) = (f64::from(w), f64::from(h));
+        let dx0 = match attr(tag, "text-anchor") {
+            Some("middle") => -w / 2.0,
+            Some("end") => -w,
+            _ => 0.0,
+        };
+        let dy0 = match attr(tag, "dy") {
+            Some("0.76em") => 0.0,
+            Some("0.5ex") => -h / 2.0,
+            Some("-0.5ex") => -h,
+            other => panic!("a <text> with dy {other:?}"),
+        };
+        // Rotation about (x, y), clockwise on screen by `deg` (SVG's sense).
+        let deg = attr(tag, "transform")
+            .and_then(|t| t.strip_prefix("rotate("))
+            .and_then(|t| t.split(',').next())
+            .and_then(|a| a.trim().parse::<f64>().ok())
+            .unwrap_or(0.0);
+        let (sin, cos) = deg.to_radians().sin_cos();
+        let corners = [(dx0, dy0), (dx0 + w, dy0), (dx0, dy0 + h), (dx0 + w, dy0 + h)]
+            .map(|(dx, dy)| (x + dx * cos - dy * sin, y + dx * sin + dy * cos));
+        let fold = |f: fn(f64, f64) -> f64, k: usize, init: f64| {
+            corners
+                .iter()
+                .map(|c| if k == 0 { c.0 } else { c.1 })
+                .fold(init, f)
+        };
+        out.push(TextBox {
+            text,
+            x0: fold(f64::min, 0, f64::INFINITY),
+            y0: fold(f64::min, 1, f64::INFINITY),
+            x1: fold(f64::max, 0, f64::NEG_INFINITY),
+            y1: fold(f64::max, 1, f64::NEG_INFINITY),
+        });
+    }
+    out
+}
+
+/// How far two boxes overlap: the smaller of the overlaps along x and along y (≤ 0: apart).
+fn overlap(a: &TextBox, b: &TextBox) -> f64 {
+    let ox = a.x1.min(b.x1) - a.x0.max(b.x0);
+    let oy = a.y1.min(b.y1) - a.y0.max(b.y0);
+    ox.min(oy)
+}
+
+/// Issue 28: labels avoid each other. Every preset × useful panel × {480, 660, 891, 1280} px
+/// at the page's shapes (as [`no_text_is_cut_at_any_supported_width`]): no two texts of the
+/// figure overlap by more than a pixel (titles, notes, axis names, tick labels, legends,
+/// labels on the chart, the cursor's) and none leaves the figure. The boxes are those of the
+/// drawn SVG ([`text_boxes`]), so every text counts, whoever drew it (plotters' own tick
+/// labels as much as the panels' labels), measured as the layout measured it.
+#[test]
+fn no_two_texts_overlap_at_any_supported_width() {
+    let mut bad = Vec::new();
+    let mut drawn = 0;
+    let mut texts = 0;
+    for p in presets::all() {
+        let r = p.scenario.run().expect("preset runs");
+        for panel in useful_panels(&r) {
+            for w in [480u32, 660, 891, 1280] {
+                let h = page_height(panel, w);
+                let svg = report_svg(&r, &View::new(panel), w, h)
+                    .unwrap_or_else(|e| panic!("{} {} {w}: {e}", p.name, panel.name()));
+                drawn += 1;
+                let boxes = text_boxes(&svg);
+                texts += boxes.len();
+                let at = format!("{} {} at {w}×{h}", p.name, panel.name());
+                for b in &boxes {
+                    if b.x0 < -0.5 || b.y0 < -0.5 || b.x1 > w as f64 + 0.5 || b.y1 > h as f64 + 0.5
+                    {
+                        bad.push(format!(
+                            "{at}: {:?} leaves the figure ({:.0}, {:.0})–({:.0}, {:.0})",
+                            b.text, b.x0, b.y0, b.x1, b.y1
+                        ));
+                    }
+                }
+                for (i, a) in boxes.iter().enumerate() {
+                    for b in &boxes[i + 1..] {
+                        let o = overlap(a, b);
+                        if o > 1.0 {
+                            bad.push(format!(
+                                "{at}: {:?} and {:?} overlap by {o:.0} px",
+                                a.text, b.text
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(drawn >= 150, "only {drawn} figures drawn");
+    assert!(texts >= 20 * drawn, "only {texts} texts in {drawn} figures");
+    assert!(
+        bad.is_empty(),
+        "{} overlapping or outside texts:\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
+}
+
+/// The boxes [`text_boxes`] reads back are where the text is: a title at the top left, a
+/// rotated y-axis name tall and narrow at the left edge, and two texts drawn on top of each
+/// other are found overlapping (the check above can fail).
+#[test]
+fn text_boxes_are_where_the_text_is() {
+    let mut s = String::new();
+    {
+        let root = SVGBackend::with_string(&mut s, (300, 200)).into_drawing_area();
+        let fonts = Fonts::for_backend::<SVGBackend>((300, 200));
+        let st = fonts.title();
+        use plotters::style::text_anchor::{HPos, VPos};
+        style::text(&root, "Title", (10, 10), &st, (HPos::Left, VPos::Top)).unwrap();
+        style::text(&root, "Tit", (12, 14), &st, (HPos::Left, VPos::Top)).unwrap();
+        let rot = fonts
+            .axis()
+            .transform(plotters::style::FontTransform::Rotate270);
+        style::text(&root, "a long axis name", (6, 100), &rot, (HPos::Center, VPos::Top))
+            .unwrap();
+    }
+    let b = text_boxes(&s);
+    assert_eq!(b.len(), 3, "{b:?}");
+    assert!((b[0].x0 - 10.0).abs() < 0.5 && (b[0].y0 - 10.0).abs() < 0.5, "{:?}", b[0]);
+    assert!(b[0].x1 - b[0].x0 > 30.0 && b[0].y1 - b[0].y0 > 10.0, "{:?}", b[0]);
+    assert!(overlap(&b[0], &b[1]) > 1.0, "{b:?}");
+    let r = &b[2];
+    assert!(r.y1 - r.y0 > 3.0 * (r.x1 - r.x0), "rotated: tall and narrow {r:?}");
+    assert!(r.x0 >= 5.5 && r.y0 < 100.0 && r.y1 > 100.0, "{r:?}");
+    assert!(overlap(&b[0], r) <= 0.0, "{b:?}");
+}
+
+/// The boxes [`text_boxes`] measures hold the ink the PNG export renders: for every preset's
+/// every useful panel at the smallest and the largest supported width, resvg (with the embedded
+/// font the layout measured with) draws each `<text>` inside its box, give or take a pixel. So
+/// a figure that passes [`no_two_texts_overlap_at_any_supported_width`] has no glyphs on top of
+/// each other in the exported picture.
+#[test]
+fn text_boxes_hold_what_resvg_renders() {
+    use resvg::usvg;
+    fn texts(g: &usvg::Group, out: &mut Vec<usvg::Rect>) {
+        for n in g.children() {
+            match n {
+                usvg::Node::Group(g) => texts(g, out),
+                // The glyphs' outlines: the ink.
+                usvg::Node::Text(t) => out.push(t.flattened().abs_bounding_box()),
+                _ => {}
+            }
+        }
+    }
+    let mut options = usvg::Options::default();
+    options.fontdb_mut().load_font_data(FONT.to_vec());
+    options.fontdb_mut().set_sans_serif_family("DejaVu Sans");
+    let mut compared = 0;
+    for p in presets::all() {
+        let r = p.scenario.run().expect("preset runs");
+        for panel in useful_panels(&r) {
+            for w in [480u32, 1280] {
+                let h = page_height(panel, w);
+                let svg = report_svg(&r, &View::new(panel), w, h).expect("draws");
+                let ours = text_boxes(&svg);
+                let tree = usvg::Tree::from_str(&svg, &options).expect("parses");
+                let mut ink = Vec::new();
+                texts(tree.root(), &mut ink);
+                assert_eq!(ours.len(), ink.len(), "{} {} {w}: texts", p.name, panel.name());
+                for (b, i) in ours.iter().zip(&ink) {
+                    compared += 1;
+                    // A pixel of rounding; a combining accent over a capital (x̂, B̂) inks
+                    // a little above the line's box (to the left of a rotated one).
+                    let (sx, sy) = (3.0, 3.0);
+                    assert!(
+                        f64::from(i.left()) >= b.x0 - sx
+                            && f64::from(i.right()) <= b.x1 + sx
+                            && f64::from(i.top()) >= b.y0 - sy
+                            && f64::from(i.bottom()) <= b.y1 + sy,
+                        "{} {} {w}: {:?} is drawn at {i:?}, outside its box {b:?}",
+                        p.name,
+                        panel.name(),
+                        b.text
+                    );
+                }
+            }
+        }
+    }
+    assert!(compared > 1000, "only {compared} texts compared");
+}
+
 #[test]
 fn page_and_cli_draw_the_same_figure_for_every_preset() {
     for p in presets::all() {

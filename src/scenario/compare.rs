@@ -1360,12 +1360,14 @@ fn presets() -> Vec<Preset> {
         Preset {
             name: "compare-gaussian".into(),
             label: "Compare — every method, Gaussian noise, a far-out state".into(),
+            menu: "Compare — Gaussian, far-out x".into(),
             description: "The LSCR cascade with Gaussian noise and x₃₁ fixed far out: the Kalman ellipse misses, SCF and LSCR hold".into(),
             scenario: compare_cascade(NoiseLaw::Gaussian),
         },
         Preset {
             name: "compare-uniform".into(),
             label: "Compare — every method, uniform noise".into(),
+            menu: "Compare — uniform noise".into(),
             description: "The LSCR cascade with uniform noise within known bounds: the set-membership sets always hold".into(),
             scenario: compare_cascade(NoiseLaw::Uniform),
         },

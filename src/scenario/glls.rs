@@ -1090,24 +1090,28 @@ fn presets() -> Vec<Preset> {
         Preset {
             name: "glls-saturate".into(),
             label: "GLLS Figs. 1a, 2a — σ₃ saturates: a best horizon".into(),
+            menu: "GLLS Figs. 1a, 2a — σ₃ saturates".into(),
             description: "GLLS paper, Fig. 1a/2a kind: a stable mode and a rotation — σ₃(Γ) saturates, so σ_n/√s has a best horizon".into(),
             scenario: glls_preset(GllsKind::Saturate),
         },
         Preset {
             name: "glls-grow".into(),
             label: "GLLS Figs. 1b, 2b — two unstable modes".into(),
+            menu: "GLLS Figs. 1b, 2b — σ grows".into(),
             description: "GLLS paper, Fig. 1b/2b/3b kind: two unstable modes — every σ grows without bound, ‖x(39)‖ ≈ 10⁷ costs digits".into(),
             scenario: glls_preset(GllsKind::Grow),
         },
         Preset {
             name: "glls-mixed".into(),
             label: "GLLS Fig. 1c — stable, neutral and unstable modes".into(),
+            menu: "GLLS Fig. 1c — mixed modes".into(),
             description: "GLLS paper, Fig. 1c kind: stable, neutral and unstable modes (eigenvalues 0.7, 1, 1.05)".into(),
             scenario: glls_preset(GllsKind::Mixed),
         },
         Preset {
             name: "glls-unstable5".into(),
             label: "GLLS Section 5.2 — five states with state noise".into(),
+            menu: "GLLS Sec. 5.2 — five states".into(),
             description: "GLLS paper, Section 5.2: the 5-state unstable system (eigenvalues 3.057, −0.374 ± 1.130i, −0.600, 1.095) with noisy transitions: state-noise estimator vs LLS".into(),
             scenario: glls_preset(GllsKind::Unstable5),
         },

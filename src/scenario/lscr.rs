@@ -1146,18 +1146,21 @@ fn presets() -> Vec<Preset> {
         Preset {
             name: "lscr-predict".into(),
             label: "LSCR Fig. 1 — prediction of x₃₁".into(),
+            menu: "LSCR Fig. 1 — prediction of x₃₁".into(),
             description: "LSCR paper, Fig. 1: 90 % confidence set for x₃₁ of the cascade of V-A (t = 30, M = 80, q = 2) with the BLUE ellipse".into(),
             scenario: lscr_cascade(LscrTarget::Predict),
         },
         Preset {
             name: "lscr-smooth".into(),
             label: "LSCR Fig. 2 — smoothing of x₁₅".into(),
+            menu: "LSCR Fig. 2 — smoothing of x₁₅".into(),
             description: "LSCR paper, Fig. 2: 90 % confidence set for x₁₅ from y₁..y₃₀ (smoothing, forward + backward representation)".into(),
             scenario: lscr_cascade(LscrTarget::Smooth),
         },
         Preset {
             name: "lscr-ma1".into(),
             label: "LSCR Fig. 3 — MA(1): an unbounded band".into(),
+            menu: "LSCR Fig. 3 — MA(1), unbounded".into(),
             description: "LSCR paper, Fig. 3: MA(1) y_t = v_t + v_{t−1}, prediction of x₂₁ — an unbounded LSCR band vs the Kalman ellipse".into(),
             scenario: lscr_ma1(),
         },

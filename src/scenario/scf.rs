@@ -816,18 +816,21 @@ fn presets() -> Vec<Preset> {
         Preset {
             name: "scf-scalar".into(),
             label: "SCF Example 1 — a scalar system (Fig. 1)".into(),
+            menu: "SCF Example 1 — a scalar system".into(),
             description: "SCF paper, Example 1: F = √(5/6), H = 1, V = W = 1 (p̄ = 3/5, ratio 0.9, Fig. 1)".into(),
             scenario: scalar(),
         },
         Preset {
             name: "scf-robots".into(),
             label: "SCF Section II — two robots, a rare collision".into(),
+            menu: "SCF Sec. II — two robots".into(),
             description: "SCF paper, Section II: two robots returning to base, a rare realization colliding at t = 40 (V = V_A reading)".into(),
             scenario: robots(NoiseReading::Unscaled),
         },
         Preset {
             name: "scf-robots-literal".into(),
             label: "SCF Section II — the robots with eq. (3) read literally".into(),
+            menu: "SCF Sec. II — eq. (3) literally".into(),
             description: "The same robots with eq. (3) read literally: process noise covariance Δ²·V_A".into(),
             scenario: robots(NoiseReading::Literal),
         },

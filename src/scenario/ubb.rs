@@ -1440,24 +1440,28 @@ fn presets() -> Vec<Preset> {
         Preset {
             name: "ubb-track".into(),
             label: "Tempo Section IV — tracking with bounded noise".into(),
+            menu: "Tempo Sec. IV — tracking".into(),
             description: "Tempo, Section IV: a stable 2-state system tracked with unknown-but-bounded noise (|u| ≤ 0.1, |η| ≤ 0.2), exponentially smoothed bounds α = β = 50, window j + 1 = 30 from Theorem 5 (γ = 0.1)".into(),
             scenario: ubb_preset(UbbKind::Track),
         },
         Preset {
             name: "ubb-series".into(),
             label: "Tempo Example 1 — time-series prediction".into(),
+            menu: "Tempo Ex. 1 — time series".into(),
             description: "Tempo, Example 1: time-series prediction with basis functions 1 and k — the set of coefficients consistent with |u(k)| ≤ 0.5 and the prediction interval of f(m+1)".into(),
             scenario: ubb_preset(UbbKind::Series),
         },
         Preset {
             name: "ubb-leontief".into(),
             label: "Tempo Example 3 — a Leontief economy".into(),
+            menu: "Tempo Ex. 3 — a Leontief economy".into(),
             description: "Tempo, Example 3: dynamic Leontief model of 3 industries (nonnegative A, column sums 0.6), known demand, uncertain demand |u| ≤ 0.1, production measured within ±0.3".into(),
             scenario: ubb_preset(UbbKind::Leontief),
         },
         Preset {
             name: "ubb-markov".into(),
             label: "Tempo Example 4 — an absorbing Markov chain".into(),
+            menu: "Tempo Ex. 4 — a Markov chain".into(),
             description: "Tempo, Example 4: absorbing Markov chain with an uncertain initial distribution 0 ≤ x_i(0) ≤ δ_i — the set of distributions after k + 1 steps".into(),
             scenario: ubb_preset(UbbKind::Markov),
         },

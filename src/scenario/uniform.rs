@@ -1170,6 +1170,7 @@ fn presets() -> Vec<Preset> {
         Preset {
             name: "uniform-paper".into(),
             label: "Pavelková Section 5 — the LU model, swapping".into(),
+            menu: "Pavelková Sec. 5 — the LU model".into(),
             description: "Pavelková, Section 5: LU model (14)–(15), 120 samples, window ∂ = 5, swapping-based joint estimation of states, Θ and half-widths".into(),
             scenario: uniform_paper(),
         },

@@ -184,17 +184,38 @@ fn point_label<DB: DrawingBackend>(
     p: (i32, i32),
     label: &str,
     color: &RGBColor,
+    avoid: &mut Vec<(i32, i32, i32, i32)>,
 ) -> Result<Vec<(i32, i32)>> {
     let st = fonts.legend().color(color);
     let (tw, th) = style::text_size(root, label, &st)?;
     let (tw, th) = (tw as i32, th as i32);
     let (xr, yr) = chart.plotting_area().get_pixel_range();
     let x = (p.0 - tw / 2).clamp(xr.start + 4, (xr.end - tw - 4).max(xr.start + 4));
-    let y = if p.1 - 10 - th > yr.start {
-        p.1 - 10 - th
-    } else {
-        (p.1 + 10).min(yr.end - th - 2)
+    let above = p.1 - 10 - th;
+    let below = (p.1 + 10).min(yr.end - th - 2);
+    // Above the point, unless that leaves the chart or meets a label already drawn (the
+    // horizon marker's "s = 8 in use", the other best horizon's): then below it (issue 28).
+    let hits = |y: i32| {
+        avoid
+            .iter()
+            .any(|b| x - 3 < b.2 && b.0 < x + tw + 3 && y - 2 < b.3 && b.1 < y + th + 2)
     };
+    // Both taken: stacked under the labels it meets.
+    let stacked = avoid
+        .iter()
+        .filter(|b| x - 3 < b.2 && b.0 < x + tw + 3)
+        .map(|b| b.3 + 4)
+        .max()
+        .unwrap_or(below)
+        .min(yr.end - th - 2);
+    let y = if above > yr.start && !hits(above) {
+        above
+    } else if !hits(below) {
+        below
+    } else {
+        stacked
+    };
+    avoid.push((x - 3, y - 2, x + tw + 3, y + th + 2));
     let (bx, by) = root.get_base_pixel();
     root.draw(&Rectangle::new(
         [(x - 3 - bx, y - 2 - by), (x + tw + 3 - bx, y + th + 2 - by)],
@@ -565,6 +586,10 @@ pub fn draw_index<DB: DrawingBackend>(
     }
     let mut chart_notes = Vec::new();
     horizon_marker(root, &chart, &fonts, g.s, &mut chart_notes)?;
+    let mut taken: Vec<(i32, i32, i32, i32)> =
+        style::cursor_label_box(root, &chart, &fonts, g.s as f64, &format!("s = {} in use", g.s))?
+            .into_iter()
+            .collect();
     let mut best = vec![(g.best_horizon, &g.index, color_n, String::new())];
     if let (Some(b), Some(v), Some(cp), Some(p)) = (g.best_horizon_p, &g.index_p, color_p, p) {
         best.push((Some(b), v, cp, format!(" (p = {p})")));
@@ -582,7 +607,7 @@ pub fn draw_index<DB: DrawingBackend>(
         } else {
             format!("best s = {b}{suffix}")
         };
-        marks.extend(point_label(root, &chart, &fonts, q, &label, &color)?);
+        marks.extend(point_label(root, &chart, &fonts, q, &label, &color, &mut taken)?);
         marks.push(q);
     }
     style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;

@@ -268,7 +268,7 @@ fn chart_with<'a, DB: DrawingBackend>(
     mesh.y_desc(y_desc)
         .label_style(tick.clone())
         .axis_desc_style(desc.clone())
-        .x_labels(10)
+        .x_labels(((pw / 55).clamp(3, 10)) as usize)
         .y_labels(((ph / 45).clamp(3, 12)) as usize)
         .max_light_lines(4)
         .light_line_style(GRID_LIGHT)

@@ -281,6 +281,31 @@ pub fn band<DB: DrawingBackend>(
     root.draw(&Polygon::new(p, fill(color))).map_err(de)
 }
 
+/// The box (x0, y0, x1, y1, absolute pixels) [`cursor`] draws its label in, for the labels
+/// drawn after it to avoid; None when the cursor lies outside the window.
+pub fn cursor_label_box<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    fonts: &Fonts,
+    x: f64,
+    label: &str,
+) -> Result<Option<(i32, i32, i32, i32)>> {
+    let win = Win::of_chart(chart);
+    if !(x >= win.x0 && x <= win.x1) {
+        return Ok(None);
+    }
+    let top = px(chart, (x, win.y1));
+    let (xr, _) = chart.plotting_area().get_pixel_range();
+    let (tw, th) = text_size(root, label, &fonts.note())?;
+    let (tw, th) = (tw as i32, th as i32);
+    let (y0, y1) = (top.1 + 3, top.1 + 3 + th);
+    Ok(Some(if top.0 + 4 + tw < xr.end {
+        (top.0 + 4, y0, top.0 + 4 + tw, y1)
+    } else {
+        (top.0 - 4 - tw, y0, top.0 - 4, y1)
+    }))
+}
+
 /// A vertical time cursor with its label at the top of the plotting area.
 pub fn cursor<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
