@@ -190,31 +190,37 @@ fn point_label<DB: DrawingBackend>(
     let (tw, th) = style::text_size(root, label, &st)?;
     let (tw, th) = (tw as i32, th as i32);
     let (xr, yr) = chart.plotting_area().get_pixel_range();
-    let x = (p.0 - tw / 2).clamp(xr.start + 4, (xr.end - tw - 4).max(xr.start + 4));
-    let above = p.1 - 10 - th;
-    let below = (p.1 + 10).min(yr.end - th - 2);
-    // Above the point, unless that leaves the chart or meets a label already drawn (the
-    // horizon marker's "s = 8 in use", the other best horizon's): then below it (issue 28).
-    let hits = |y: i32| {
+    let clamp_x = |x: i32| x.clamp(xr.start + 4, (xr.end - tw - 4).max(xr.start + 4));
+    let inside = |y: i32| y > yr.start && y + th + 2 < yr.end;
+    let hits = |x: i32, y: i32| {
         avoid
             .iter()
             .any(|b| x - 3 < b.2 && b.0 < x + tw + 3 && y - 2 < b.3 && b.1 < y + th + 2)
     };
-    // Both taken: stacked under the labels it meets.
-    let stacked = avoid
-        .iter()
-        .filter(|b| x - 3 < b.2 && b.0 < x + tw + 3)
-        .map(|b| b.3 + 4)
-        .max()
-        .unwrap_or(below)
-        .min(yr.end - th - 2);
-    let y = if above > yr.start && !hits(above) {
-        above
-    } else if !hits(below) {
-        below
-    } else {
-        stacked
-    };
+    // Beside the point, in this order: above, below, right, left (issue 28: never over the
+    // horizon marker's "s = 8 in use", the other best horizon's label or either point, which
+    // the caller put in `avoid`).
+    let centred = clamp_x(p.0 - tw / 2);
+    let candidates = [
+        (centred, p.1 - 10 - th),
+        (centred, p.1 + 10),
+        (p.0 + 10, p.1 - th / 2),
+        (p.0 - 10 - tw, p.1 - th / 2),
+    ];
+    let free = candidates.into_iter().find(|&(x, y)| {
+        x >= xr.start + 4 && x + tw + 4 <= xr.end && inside(y) && !hits(x, y)
+    });
+    // All taken: stacked under the labels it meets.
+    let (x, y) = free.unwrap_or_else(|| {
+        let y = avoid
+            .iter()
+            .filter(|b| centred - 3 < b.2 && b.0 < centred + tw + 3)
+            .map(|b| b.3 + 4)
+            .max()
+            .unwrap_or(p.1 + 10)
+            .min(yr.end - th - 2);
+        (centred, y)
+    });
     avoid.push((x - 3, y - 2, x + tw + 3, y + th + 2));
     let (bx, by) = root.get_base_pixel();
     root.draw(&Rectangle::new(
@@ -594,6 +600,8 @@ pub fn draw_index<DB: DrawingBackend>(
     if let (Some(b), Some(v), Some(cp), Some(p)) = (g.best_horizon_p, &g.index_p, color_p, p) {
         best.push((Some(b), v, cp, format!(" (p = {p})")));
     }
+    // The points first, so that no label is drawn over either of them.
+    let mut points = Vec::new();
     for (b, v, color, suffix) in best {
         let Some(b) = b else { continue };
         let Some(&y) = v.get(b) else { continue };
@@ -602,11 +610,15 @@ pub fn draw_index<DB: DrawingBackend>(
         }
         let q = style::px(&chart, (b as f64, y));
         style::marker(root, q, Marker::Dot, &color, 5)?;
+        taken.push((q.0 - 7, q.1 - 7, q.0 + 7, q.1 + 7));
         let label = if grows(Some(b)) {
             format!("largest at S = {b}{suffix}")
         } else {
             format!("best s = {b}{suffix}")
         };
+        points.push((q, label, color));
+    }
+    for (q, label, color) in points {
         marks.extend(point_label(root, &chart, &fonts, q, &label, &color, &mut taken)?);
         marks.push(q);
     }
