@@ -23,8 +23,8 @@ const VIEWS = [
   { id: 'ubb', busy: 'ubbBusy', slider: 'b-time' },
   { id: 'compare', busy: 'compareBusy', slider: 'c-time' },
   // Controls that recompute: a number box (the data length) and a slider (the horizon).
-  { id: 'lscr', busy: 'lscrBusy', slider: 'l-t', recompute: true },
-  { id: 'glls', busy: 'gllsBusy', slider: 'g-s', recompute: true },
+  { id: 'lscr', busy: 'lscrBusy', slider: 'l-t', recompute: ['simulate', 'steps'] },
+  { id: 'glls', busy: 'gllsBusy', slider: 'g-s', recompute: ['glls', 'horizon'] },
 ];
 
 const idle = (page, d) => page.waitForFunction((k) => !document.body.dataset[k], d.busy, { timeout: 120_000 });
@@ -111,6 +111,32 @@ async function animation(env, d) {
   assert.ok(a >= v0 + 2, `${d.id}: played from ${v0} to ${a}`);
   assert.equal(b, a, `${d.id}: paused at ${a} (${b} 300 ms later)`);
   assert.equal(await page.$eval(anim(d, 'play'), (x) => x.textContent), '▶ play');
+
+  if (d.recompute) {
+    // Each step is run, and drawn, before the next is shown: with every run held 150 ms (longer
+    // than a step at 20 steps/s), the runs the animation asks for are one step apart, none
+    // skipped (without the wait, the control would run ahead and a run take the value it reached).
+    await setSlider(page, d, lo);
+    await page.evaluate(async ([id, path]) => {
+      const c = (await import(new URL('compute.js', document.baseURI).href)).computeClients.get(id);
+      c.testOnlySlowMs = 150;
+      window.runsAsked = [];
+      window.plainRun = c.run;
+      c.run = (text) => { window.runsAsked.push(path.reduce((o, k) => o?.[k], JSON.parse(text))); return window.plainRun(text); };
+    }, [d.id, d.recompute]);
+    await page.click(anim(d, 'play'));
+    await waitValue(page, d, '>=', lo + 4);
+    await page.click(anim(d, 'play'));
+    await idle(page, d);
+    const asked = await page.evaluate(async (id) => {
+      const c = (await import(new URL('compute.js', document.baseURI).href)).computeClients.get(id);
+      Object.assign(c, { testOnlySlowMs: 0, run: window.plainRun });
+      return window.runsAsked;
+    }, d.id);
+    assert.ok(asked.length >= 4, `${d.id}: a run per step (${asked})`);
+    assert.deepEqual(asked, asked.map((_, i) => lo + 1 + i), `${d.id}: the runs follow the steps one by one`);
+    assert.equal(await value(page, d), lo + asked.length, `${d.id}: paused at the step last run`);
+  }
 
   // Loop off: play stops at the last step. Loop on: from the last step to the first.
   await setSlider(page, d, hi - 2);
