@@ -137,7 +137,7 @@ export function timeCursor({ worker, session, st, setBusy, redraw, showError }, 
 //              (never a compute queued behind another; the speed is then an upper bound); a
 //              compute that fails (false: the panel has shown why; a rejection: showError) pauses
 //   ready()    optional: a Promise of the range being known (first() and last() ask the core)
-//   rangeName  optional: the bar says the range it plays over ("t = 7 … 30", refresh())
+//   rangeText()  optional: the range it plays over, said in the bar ("t = 7 … 30", refresh())
 // A disabled control (a simulation's field on the user's data) disables the bar with it.
 export const SPEEDS = [0.5, 1, 2, 5, 10, 20]; // steps per second
 export const DEFAULT_SPEED = 2;
@@ -150,7 +150,7 @@ const el = (tag, props = {}, attrs = {}) => {
   return e;
 };
 
-export function animation({ button, control, root, cursor = null, setBusy, first, last, at = (v) => v, moved, draw, showError, ready = null, rangeName = '' }) {
+export function animation({ button, control, root, cursor = null, setBusy, first, last, at = (v) => v, moved, draw, showError, ready = null, rangeText = null }) {
   // The bar: ◀ play ▶, speed, loop.
   const bar = el('div', { className: 'anim-bar' });
   const prev = el('button', { type: 'button', textContent: '◀', title: 'previous step (←)' }, { 'aria-label': 'previous step', 'data-anim': 'prev' });
@@ -166,7 +166,7 @@ export function animation({ button, control, root, cursor = null, setBusy, first
   button.dataset.anim = 'play';
   button.title = 'play or pause (Space or k)';
   bar.append(prev, button, next, speed, loopLabel);
-  const range = rangeName ? el('span', { className: 'anim-range', title: 'the steps the animation plays over' }, { 'data-anim': 'range' }) : null;
+  const range = rangeText ? el('span', { className: 'anim-range', title: 'the steps the animation plays over' }, { 'data-anim': 'range' }) : null;
   if (range) bar.append(range);
   const out = root.querySelector(`label[for="${control.id}"] output`) || control.closest('label')?.querySelector('output')
     || root.querySelector(`#${control.id}-out`);
@@ -281,9 +281,18 @@ export function animation({ button, control, root, cursor = null, setBusy, first
 
   // One step back or forward, as the user moving the slider (its input and change events): the
   // animation pauses, the panel redraws through its usual path, the share link follows.
-  function step(d) {
+  async function step(d) {
     stop();
     if (control.disabled) return;
+    if (ready) {
+      try {
+        await ready();
+      } catch (e) {
+        showError(e);
+        return;
+      }
+      if (playing) return; // played meanwhile
+    }
     const v = Number(control.value);
     let n = Math.min(Math.max(v + d, Math.max(first(), Number(control.min))), Math.min(last(), Number(control.max)));
     if (d < 0 && v > last()) n = last();
@@ -305,7 +314,7 @@ export function animation({ button, control, root, cursor = null, setBusy, first
     const [lo, hi] = [first(), last()];
     bar.dataset.first = String(lo);
     bar.dataset.last = String(hi);
-    range.textContent = `${rangeName} = ${lo} … ${hi}`;
+    range.textContent = rangeText();
   }
   refresh();
 
@@ -313,6 +322,8 @@ export function animation({ button, control, root, cursor = null, setBusy, first
   prev.addEventListener('click', () => step(-1));
   next.addEventListener('click', () => step(+1));
   speed.addEventListener('change', () => resched?.());
+  // The range asked for as the pointer or the focus reaches the bar (the first step is then ready).
+  if (ready) for (const ev of ['pointerenter', 'focusin']) bar.addEventListener(ev, () => { ready().catch(() => {}); });
 
   // Keys, for the view that is shown, unless the focus is where they mean something else.
   document.addEventListener('keydown', (e) => {

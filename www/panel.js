@@ -124,7 +124,8 @@ const PARTS = {
 //                    report) and its play button: the same animation controls (cursor.js);
 //                    with compute: true, a control that recomputes (in `compute`: LSCR's data
 //                    length, GLLS's horizon): each step is a run, the next one waits for it; it
-//                    plays from the smallest value the core accepts (found by asking it) to the
+//                    plays from the smallest value the core accepts (found by asking it, once per
+//                    scenario, when the animation first needs it) to the
 //                    control's max, or with end: 'chosen' to the value last chosen by hand, a link
 //                    or the preset; name: the control's symbol for the bar's range ("t = 7 … 30");
 //                    scenario(p, v): the scenario with the control at v (default: build() with it)
@@ -351,8 +352,8 @@ export function mountPanel(root, spec) {
     };
     // The first step is the smallest value the core accepts, asked of it: what it refuses below
     // depends on the rest of the scenario (LSCR: t ≥ n, 2^t ≥ M, t > the smoothed index; GLLS: the
-    // horizon at which the state is observable). Asked once per scenario but the control (`key`),
-    // after its first report; the animation waits for it (ready).
+    // horizon at which the state is observable). Asked once per scenario but the control (`key`);
+    // the animation waits for it (ready).
     let range = null; // {key, first (null until known), probing (a Promise)}
     // a.end === 'chosen': the animation ends at the value chosen by hand, a link or the preset,
     // not at the control's max (LSCR's data length goes to 800).
@@ -368,17 +369,23 @@ export function mountPanel(root, spec) {
         return false;
       }
     };
-    const probe = () => {
-      let key;
-      try { key = JSON.stringify(scenarioAt(Number(c.min))); } catch { range = null; return; }
-      if (range?.key === key) return;
+    // The last report's scenario but the control (`key`) and its value there (accepted).
+    let report = null;
+    const keyOf = () => { try { return JSON.stringify(scenarioAt(Number(c.min))); } catch { return null; } };
+    // The range, asked of the core when the animation first needs it (play, a step, the pointer
+    // or the focus reaching the bar), not with every run: a Promise that resolves when it is known.
+    const ensureRange = () => {
+      const key = keyOf();
+      if (range?.key === key) return range.probing;
+      // Controls changed since the last report (not run yet, or refused): nothing known to ask from.
+      if (key === null || key !== report?.key) return Promise.resolve();
       const mine = { key, first: null };
       range = mine;
       const stale = () => range !== mine;
       setBusy(+1);
       mine.probing = (async () => {
         let bad = Number(c.min) - 1; // refused (or below the control)
-        let good = Number(c.value); // the report just drawn: accepted
+        let good = report.value; // the last report's: accepted
         // Up from the bottom by doubling gaps (the runs stay short), then halving the gap: the
         // values the core accepts are those from some value on.
         for (let d = 1; bad + d < good; d *= 2) {
@@ -394,6 +401,7 @@ export function mountPanel(root, spec) {
         if (!stale()) mine.first = good;
       })().catch(() => { if (range === mine) range = null; })
         .finally(() => { setBusy(-1); p.animation?.refresh(); });
+      return mine.probing;
     };
     const first = () => range?.first ?? Number(c.min);
     const last = () => (a.end === 'chosen' && chosen != null
@@ -406,10 +414,15 @@ export function mountPanel(root, spec) {
         if (!(e instanceof ComputeFault)) errors.show(e, true);
         else if (e.kind === 'crash' || e.kind === 'timeout') note.failed(e, st.scenario);
       },
-      ready: () => range?.probing ?? Promise.resolve(),
-      rangeName: a.name || '',
+      ready: ensureRange,
+      // Until the core has been asked, only the end is known.
+      rangeText: a.name && (() => (range?.first != null ? `${a.name} = ${first()} … ${last()}` : `${a.name} up to ${last()}`)),
     });
-    onReport = () => { probe(); p.animation.refresh(); };
+    onReport = () => {
+      report = { key: keyOf(), value: Number(c.value) };
+      if (range && range.key !== report.key) range = null; // another scenario: asked again when needed
+      p.animation.refresh();
+    };
     onLoad = () => { chosen = Number(c.value); p.animation.refresh(); };
     // A value committed by hand (or by a link) is the new end; the bar's own steps are not.
     c.addEventListener('change', () => {

@@ -38,6 +38,9 @@ const setSlider = async (page, d, v) => {
 // recomputes the range its bar gives (the first value the core accepts, found by asking it).
 const steps = async (page, d) => {
   if (!d.recompute) return page.$eval(`#${d.slider}`, (r) => [Number(r.min), Number(r.max)]);
+  // Asked as the pointer reaches the bar (not with every run).
+  await page.hover(`#${d.id} .anim-bar`);
+  await idle(page, d);
   const [lo, hi] = await page.$eval(`#${d.id} .anim-bar`, (b) => [Number(b.dataset.first), Number(b.dataset.last)]);
   const min = await page.$eval(`#${d.slider}`, (r) => Number(r.min));
   return [lo, hi, min];
