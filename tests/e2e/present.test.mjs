@@ -1,7 +1,8 @@
 // The narratable animation and present/embed mode (issue 28). For each view with a time axis
 // and an animation (scf, uniform, ubb, compare; lscr's data length t and glls's horizon s, whose
 // steps recompute: their range is the one the bar gives, data-first … data-last, from the
-// smallest value the core accepts): ▶ and ◀ move the control by exactly one step;
+// smallest value the core accepts; each step run and drawn before the next, none skipped, and a
+// run that fails pauses the animation): ▶ and ◀ move the control by exactly one step;
 // play at the last step (loop off) starts again from the first; at 20 steps/s play advances the
 // slider by more than one step and ❚❚ pause stops it (the value stable across two reads 300 ms
 // apart); with loop on, play wraps from the last step to the first; the step's read-out is a
@@ -139,6 +140,17 @@ async function animation(env, d) {
     assert.ok(asked.length >= 4, `${d.id}: a run per step (${asked})`);
     assert.deepEqual(asked, asked.map((_, i) => lo + 1 + i), `${d.id}: the runs follow the steps one by one`);
     assert.equal(await value(page, d), lo + asked.length, `${d.id}: paused at the step last run`);
+    // A run that fails (the worker's instance aborts) pauses the animation at that step, with the
+    // panel's message.
+    await page.evaluate(async (id) => {
+      (await import(new URL('compute.js', document.baseURI).href)).computeClients.get(id).testOnlyAbortNextRun = true;
+    }, d.id);
+    const before = await value(page, d);
+    await page.click(anim(d, 'play'));
+    await page.waitForFunction((sel) => document.querySelector(sel).getAttribute('aria-pressed') === 'false', anim(d, 'play'), { timeout: 60_000 });
+    await idle(page, d);
+    assert.equal(await value(page, d), before + 1, `${d.id}: paused at the step whose run failed`);
+    assert.match(await page.$eval(`#${d.id} .compute-note`, (e) => (e.hidden ? '' : e.textContent)), /^The computation failed/, `${d.id}: the failure is said`);
   }
 
   // Loop off: play stops at the last step. Loop on: from the last step to the first.
