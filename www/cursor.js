@@ -132,7 +132,13 @@ export function timeCursor({ worker, session, st, setBusy, redraw, showError }, 
 //   cursor     the panel's time cursor (timeCursor), or null when every step is drawn at once
 //   first(), last()  the steps played over; at(value): the step a slider value shows
 //   moved()    what the panel does when the slider moves (its outputs; the scenario's time)
-//   draw()     its redraw
+//   draw()     its redraw, or for a control that recomputes (LSCR's data length, GLLS's horizon)
+//              its compute: a Promise of whether it succeeded. The next step waits until it has
+//              (never a compute queued behind another; the speed is then an upper bound); a
+//              compute that fails (false: the panel has shown why; a rejection: showError) pauses
+//   ready()    optional: a Promise of the range being known (first() and last() ask the core)
+//   rangeText()  optional: the range it plays over, said in the bar ("t = 7 … 30", refresh())
+// A disabled control (a simulation's field on the user's data) disables the bar with it.
 // frames(capture): the animation's steps one by one for an export (a figure's ZIP of frames):
 // pauses, shows each step from first() to last() as playing does (its detail waited for), awaits
 // `capture(i, n)` after drawing the i-th of n, then puts the slider back where it was and redraws;
@@ -153,7 +159,7 @@ export class FramesCancelled extends Error {
   constructor() { super('the frame export was cancelled'); }
 }
 
-export function animation({ button, control, root, cursor = null, setBusy, first, last, at = (v) => v, moved, draw, showError }) {
+export function animation({ button, control, root, cursor = null, setBusy, first, last, at = (v) => v, moved, draw, showError, ready = null, rangeText = null }) {
   // The bar: ◀ play ▶, speed, loop.
   const bar = el('div', { className: 'anim-bar' });
   const prev = el('button', { type: 'button', textContent: '◀', title: 'previous step (←)' }, { 'aria-label': 'previous step', 'data-anim': 'prev' });
@@ -169,6 +175,8 @@ export function animation({ button, control, root, cursor = null, setBusy, first
   button.dataset.anim = 'play';
   button.title = 'play or pause (Space or k)';
   bar.append(prev, button, next, speed, loopLabel);
+  const range = rangeText ? el('span', { className: 'anim-range', title: 'the steps the animation plays over' }, { 'data-anim': 'range' }) : null;
+  if (range) bar.append(range);
   const out = root.querySelector(`label[for="${control.id}"] output`) || control.closest('label')?.querySelector('output')
     || root.querySelector(`#${control.id}-out`);
   out?.setAttribute('aria-live', 'polite');
@@ -182,6 +190,7 @@ export function animation({ button, control, root, cursor = null, setBusy, first
 
   let playing = null;
   let exporting = null; // the frame export going on (frames())
+  let stepping = false; // while the bar sends the control's events (the panel tells them from the user's)
   let timer = 0;
   let resched = null; // a new speed: the next step one new interval after the last shown
   const interval = () => 1000 / Number(speed.value || DEFAULT_SPEED);
@@ -190,26 +199,32 @@ export function animation({ button, control, root, cursor = null, setBusy, first
     if (!playing) return;
     playing = null;
     clearTimeout(timer);
+    timer = 0;
     label(false);
     setBusy(-1);
     // The share link follows the cursor (it listens to change events).
-    control.dispatchEvent(new Event('change', { bubbles: true }));
+    stepping = true;
+    try {
+      control.dispatchEvent(new Event('change', { bubbles: true }));
+    } finally {
+      stepping = false;
+    }
   }
-  // Show slider value v: drawn from the cache (the caller has waited for its detail).
+  // Show slider value v: drawn from the cache (the caller has waited for its detail), or
+  // computed (a Promise of whether the compute succeeded).
   const showValue = (v) => {
     control.value = String(v);
     moved();
-    draw();
+    return draw();
   };
   function start() {
-    if (playing) return;
+    if (playing || control.disabled) return;
     exporting = null; // play cancels a frame export
     const me = {};
     playing = me;
     setBusy(+1);
     label(true);
-    let v = Number(control.value);
-    if (v >= last()) v = first() - 1;
+    let v = null; // the step shown: from where the control is once the range is known
     let due = performance.now();
     let shownAt = due;
     resched = () => {
@@ -218,9 +233,13 @@ export function animation({ button, control, root, cursor = null, setBusy, first
       due = shownAt + interval();
       timer = setTimeout(tick, Math.max(0, due - performance.now()));
     };
-    const tick = () => {
+    const tick = async () => {
       timer = 0;
       if (playing !== me) return;
+      if (v === null) {
+        v = Number(control.value);
+        if (v >= last()) v = first() - 1;
+      }
       let n = v + 1;
       if (n > last()) {
         if (!loop.checked) { stop(); return; }
@@ -237,7 +256,21 @@ export function animation({ button, control, root, cursor = null, setBusy, first
         return;
       }
       v = n;
-      showValue(v);
+      const drawn = showValue(v);
+      if (drawn && typeof drawn.then === 'function') {
+        // A compute: the next step is scheduled once it has ended, never queued behind it.
+        let ok;
+        try {
+          ok = await drawn;
+        } catch (e) {
+          if (playing !== me) return;
+          stop();
+          showError(e);
+          return;
+        }
+        if (playing !== me) return;
+        if (ok === false) { stop(); return; }
+      }
       // The next step one interval after this one was due (later, if drawing or waiting fell behind).
       const now = performance.now();
       shownAt = now;
@@ -245,7 +278,16 @@ export function animation({ button, control, root, cursor = null, setBusy, first
       if (due - now > interval()) due = now + interval();
       timer = setTimeout(tick, due - now);
     };
-    timer = setTimeout(tick, 0);
+    if (ready) {
+      // The range is asked of the core: the first step waits for it.
+      ready().then(() => { if (playing === me && !timer) timer = setTimeout(tick, 0); }, (e) => {
+        if (playing !== me) return;
+        stop();
+        showError(e);
+      });
+    } else {
+      timer = setTimeout(tick, 0);
+    }
   }
   const toggle = () => (playing ? stop() : start());
 
@@ -254,6 +296,8 @@ export function animation({ button, control, root, cursor = null, setBusy, first
     const me = {};
     exporting = me;
     const was = control.value;
+    if (ready) await ready(); // a range asked of the core
+    if (exporting !== me) throw new FramesCancelled();
     const lo = first(), hi = last();
     const n = hi - lo + 1;
     const out = [];
@@ -265,14 +309,16 @@ export function animation({ button, control, root, cursor = null, setBusy, first
         while (cursor && exporting === me && !cursor.has(at(v))) await cursor.ready(at(v));
         if (exporting !== me) throw new FramesCancelled();
         if (first() !== lo || last() !== hi) throw new Error('the steps changed while the frames were made (a new run)');
-        showValue(v);
+        // A control that recomputes: the step's run first (false: refused, said by the panel).
+        if ((await showValue(v)) === false) throw new Error(`step ${v} could not be computed`);
+        if (exporting !== me) throw new FramesCancelled();
         out.push(await capture(v - lo, n));
       }
       return out;
     } finally {
       if (exporting === me) {
         exporting = null;
-        showValue(was);
+        await showValue(was);
       }
       setBusy(-1);
     }
@@ -280,21 +326,49 @@ export function animation({ button, control, root, cursor = null, setBusy, first
 
   // One step back or forward, as the user moving the slider (its input and change events): the
   // animation pauses, the panel redraws through its usual path, the share link follows.
-  function step(d) {
+  async function step(d) {
     stop();
+    if (control.disabled) return;
+    if (ready) {
+      try {
+        await ready();
+      } catch (e) {
+        showError(e);
+        return;
+      }
+      if (playing) return; // played meanwhile
+    }
     const v = Number(control.value);
     let n = Math.min(Math.max(v + d, Math.max(first(), Number(control.min))), Math.min(last(), Number(control.max)));
     if (d < 0 && v > last()) n = last();
     if (n === v) return;
     control.value = String(n);
-    control.dispatchEvent(new Event('input', { bubbles: true }));
-    control.dispatchEvent(new Event('change', { bubbles: true }));
+    stepping = true;
+    try {
+      control.dispatchEvent(new Event('input', { bubbles: true }));
+      control.dispatchEvent(new Event('change', { bubbles: true }));
+    } finally {
+      stepping = false;
+    }
   }
+
+  // The bar follows the control (disabled with it) and says its range (data-first, data-last).
+  function refresh() {
+    for (const b of [prev, button, next, speed, loop]) b.disabled = control.disabled;
+    if (!range) return;
+    const [lo, hi] = [first(), last()];
+    bar.dataset.first = String(lo);
+    bar.dataset.last = String(hi);
+    range.textContent = rangeText();
+  }
+  refresh();
 
   button.addEventListener('click', toggle);
   prev.addEventListener('click', () => step(-1));
   next.addEventListener('click', () => step(+1));
   speed.addEventListener('change', () => resched?.());
+  // The range asked for as the pointer or the focus reaches the bar (the first step is then ready).
+  if (ready) for (const ev of ['pointerenter', 'focusin']) bar.addEventListener(ev, () => { ready().catch(() => {}); });
 
   // Keys, for the view that is shown, unless the focus is where they mean something else.
   document.addEventListener('keydown', (e) => {
@@ -312,5 +386,5 @@ export function animation({ button, control, root, cursor = null, setBusy, first
     }
   });
 
-  return { stop, step, toggle, frames, get playing() { return !!playing; } };
+  return { stop, step, toggle, refresh, frames, get playing() { return !!playing; }, get stepping() { return stepping; } };
 }

@@ -356,6 +356,16 @@ export const mountGlls = async (root, presets) => mountPanel(root, {
   ids: ['s-out', 's-max', 'num-title', 'mc-n', 'mc-go', 'mc-cancel', 'mc-progress', 'mc-status', 'mc-err',
     'mc-verdict', 'mc-kind', 'mc-hint'],
   compute: ['m-F', 'm-H', 'm-B', 'm-W', 'x0', 'estimator', 'noise', 'p', 'mu', 'seed', 'px', 'py', 'auto', 'steps', 'max', 's'],
+  // The horizon s, animated: the x axis of Figs. 1–3 (the marker walks along the curves, the
+  // plane's estimate and guaranteed sets follow); each step a run, the Monte Carlo kept.
+  animate: {
+    control: 's', button: 'animate', compute: true, name: 's',
+    scenario(p, v) {
+      const s = p.build();
+      s.glls.horizon = v;
+      return s;
+    },
+  },
   input(p, id) {
     if (id === 'm-F') planeOptions(p);
     if (id === 'steps' || id === 'max') horizonRange(p);

@@ -142,6 +142,8 @@ function showNumbers({ ui, st }) {
   const n = l.region ? l.region.dim : r.n;
   const what = { predict: 'prediction', filter: 'filtering', smooth: 'smoothing' }[l.estimate] || l.estimate;
   ui['num-title'].textContent = `Confidence set for x${sub(l.time)} from y${sub(1)}..y${sub(l.t)} (${what})`;
+  // The animation's read-out (a live region while paused): what this data length estimates.
+  ui['t-out'].textContent = `(x${sub(l.time)} from y${sub(1)}..y${sub(l.t)})`;
   const rows = [];
   for (let k = 0; k < n; k++) {
     rows.push([`${regionName(k)} <span class="hint">(direction ${k + 1})</span>`, pct(l.level_each), mark(l.truth_inside_each?.[k])]);
@@ -256,10 +258,12 @@ export const mountLscr = async (root, presets) => mountPanel(root, {
   busy: 'lscrBusy',
   Figure: RegionFigure,
   model: ['F', 'H', 'G'],
-  ids: ['index-row', 'mq-row', 'level-row', 'level-out', 'fix-opts', 'num-title',
+  ids: ['t-out', 'index-row', 'mq-row', 'level-row', 'level-out', 'fix-opts', 'num-title',
     'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth', 'cov-verdict'],
   compute: ['m-F', 'm-H', 'm-G', 'sv', 'sw', 't', 'dseed', 'estimate', 'index', 'mode', 'M', 'q', 'level',
     'construction', 'seed', 'fix', 'xbar'],
+  // The data length t, animated: the region as the data arrive (each step a run).
+  animate: { control: 't', button: 'animate', compute: true, end: 'chosen', name: 't' },
   input: updateVisibility,
   stem: ({ st, ui }) => `${st.preset.name}-t${ui.t.value}`,
   init(p) {

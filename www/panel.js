@@ -124,7 +124,14 @@ const PARTS = {
 //                    (st.cursorSteps = Session.cursorSteps(): [first, last]), and a slider value
 //                    outside them shows the nearest (p.cursorTime()); `time` defaults to that step
 //   animate          {control, button}: a time slider without a cursor (every step drawn from the
-//                    report) and its play button: the same animation controls (cursor.js)
+//                    report) and its play button: the same animation controls (cursor.js);
+//                    with compute: true, a control that recomputes (in `compute`: LSCR's data
+//                    length, GLLS's horizon): each step is a run, the next one waits for it; it
+//                    plays from the smallest value the core accepts (found by asking it, once per
+//                    scenario, when the animation first needs it) to the
+//                    control's max, or with end: 'chosen' to the value last chosen by hand, a link
+//                    or the preset; name: the control's symbol for the bar's range ("t = 7 … 30");
+//                    scenario(p, v): the scenario with the control at v (default: build() with it)
 //   input(p, id)     what a control shows at once (before the run, next frame)
 //   stem(p)          the stem of the file names
 //   init(p)          the panel's own wiring, once, before the first preset loads
@@ -181,6 +188,8 @@ export function mountPanel(root, spec) {
     if (spec.prose) el.innerHTML = spec.prose(text); else el.textContent = text;
   };
 
+  let onReport = null; // what the animation of a recomputing control does after each report
+  let onLoad = null; // … and after a preset loads
   function loadPreset(name) {
     st.preset = all.find((x) => x.name === name) || all[0];
     const s = st.preset.scenario;
@@ -189,6 +198,7 @@ export function mountPanel(root, spec) {
     prose(ui.notes, s.notes || '');
     dataMode(root, s);
     spec.load(p, s);
+    onLoad?.();
   }
 
   // The scenario the controls describe: the preset's, with the fields the controls set (the
@@ -289,6 +299,7 @@ export function mountPanel(root, spec) {
     for (const f of figures) f.card.hidden = !f.shownFor(useful);
     spec.after?.(p);
     redraw();
+    onReport?.();
     return true;
   }
 
@@ -332,6 +343,97 @@ export function mountPanel(root, spec) {
         showError,
       });
     }
+  } else if (spec.animate?.compute) {
+    // A control that recomputes (a data length, a horizon): each step of its animation is a run.
+    const a = spec.animate;
+    const c = ui[a.control];
+    // The scenario the controls describe with the control at v.
+    const scenarioAt = a.scenario ? (v) => a.scenario(p, v) : (v) => {
+      const old = c.value;
+      c.value = String(v);
+      try { return build(); } finally { c.value = old; }
+    };
+    // The first step is the smallest value the core accepts, asked of it: what it refuses below
+    // depends on the rest of the scenario (LSCR: t ≥ n, 2^t ≥ M, t > the smoothed index; GLLS: the
+    // horizon at which the state is observable). Asked once per scenario but the control (`key`);
+    // the animation waits for it (ready).
+    let range = null; // {key, first (null until known), probing (a Promise)}
+    // a.end === 'chosen': the animation ends at the value chosen by hand, a link or the preset,
+    // not at the control's max (LSCR's data length goes to 800).
+    let chosen = null;
+    const accepted = async (v) => {
+      const once = (x) => worker.run(JSON.stringify(x)).then((r) => r.report);
+      const s = scenarioAt(v);
+      try {
+        await (spec.run ? spec.run(once, s) : once(s));
+        return true;
+      } catch (e) {
+        if (e instanceof ComputeFault) throw e; // a crash, a cancel: no answer
+        return false;
+      }
+    };
+    // The last report's scenario but the control (`key`) and its value there (accepted).
+    let report = null;
+    const keyOf = () => { try { return JSON.stringify(scenarioAt(Number(c.min))); } catch { return null; } };
+    // The range, asked of the core when the animation first needs it (play, a step, the pointer
+    // or the focus reaching the bar), not with every run: a Promise that resolves when it is known.
+    const ensureRange = () => {
+      const key = keyOf();
+      if (range?.key === key) return range.probing;
+      // Controls changed since the last report (not run yet, or refused): nothing known to ask from.
+      if (key === null || key !== report?.key) return Promise.resolve();
+      const mine = { key, first: null };
+      range = mine;
+      const stale = () => range !== mine;
+      setBusy(+1);
+      mine.probing = (async () => {
+        let bad = Number(c.min) - 1; // refused (or below the control)
+        let good = report.value; // the last report's: accepted
+        // Up from the bottom by doubling gaps (the runs stay short), then halving the gap: the
+        // values the core accepts are those from some value on.
+        for (let d = 1; bad + d < good; d *= 2) {
+          if (stale()) return;
+          if (await accepted(bad + d)) { good = bad + d; break; }
+          bad += d;
+        }
+        while (good - bad > 1) {
+          if (stale()) return;
+          const mid = Math.floor((bad + good) / 2);
+          if (await accepted(mid)) good = mid; else bad = mid;
+        }
+        if (!stale()) mine.first = good;
+      })().catch(() => { if (range === mine) range = null; })
+        .finally(() => { setBusy(-1); p.animation?.refresh(); });
+      return mine.probing;
+    };
+    const first = () => range?.first ?? Number(c.min);
+    const last = () => (a.end === 'chosen' && chosen != null
+      ? Math.min(Math.max(chosen, first()), Number(c.max)) : Number(c.max));
+    p.animation = animation({
+      button: ui[a.button], control: c, root, setBusy, first, last,
+      moved: () => spec.input?.(p, a.control),
+      draw: compute, // a Promise of whether the run succeeded (a core error shows at its field)
+      showError: (e) => {
+        if (!(e instanceof ComputeFault)) errors.show(e, true);
+        else if (e.kind === 'crash' || e.kind === 'timeout') note.failed(e, st.scenario);
+      },
+      ready: ensureRange,
+      // Until the core has been asked, only the end is known.
+      rangeText: a.name && (() => (range?.first != null ? `${a.name} = ${first()} … ${last()}` : `${a.name} up to ${last()}`)),
+    });
+    onReport = () => {
+      report = { key: keyOf(), value: Number(c.value) };
+      if (range && range.key !== report.key) range = null; // another scenario: asked again when needed
+      p.animation.refresh();
+    };
+    onLoad = () => { chosen = Number(c.value); p.animation.refresh(); };
+    // A value committed by hand (or by a link) is the new end; the bar's own steps are not.
+    c.addEventListener('change', () => {
+      if (p.animation.stepping) return;
+      const v = Number(c.value);
+      if (Number.isInteger(v) && v >= Number(c.min) && v <= Number(c.max)) chosen = v;
+      p.animation.refresh();
+    });
   } else if (spec.animate) {
     // A time slider that only redraws (every step is in the report): its animation needs no cursor.
     const { control, button } = spec.animate;

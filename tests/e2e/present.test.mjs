@@ -1,12 +1,16 @@
-// The narratable animation and present/embed mode (issue 28). For each view with a time slider
-// and an animation (scf, uniform, ubb, compare): ▶ and ◀ move the slider by exactly one step;
+// The narratable animation and present/embed mode (issue 28). For each view with a time axis
+// and an animation (scf, uniform, ubb, compare; lscr's data length t and glls's horizon s, whose
+// steps recompute: their range is the one the bar gives, data-first … data-last, from the
+// smallest value the core accepts; each step run and drawn before the next, none skipped, and a
+// run that fails pauses the animation): ▶ and ◀ move the control by exactly one step;
 // play at the last step (loop off) starts again from the first; at 20 steps/s play advances the
 // slider by more than one step and ❚❚ pause stops it (the value stable across two reads 300 ms
 // apart); with loop on, play wraps from the last step to the first; the step's read-out is a
 // live region only while paused. Present mode (#<view>&present, &panel=…), opened directly at
 // 1024×576 and 1920×1080 and as the embed code's iframe (960×540, 1024×576, 1920×1080): no scrolling, the figure's
 // canvas inside the window (large, redrawn at its size), the step and play controls visible and
-// inside it, the chrome (menu, toolbar, numbers) hidden; → steps the cursor; the link keeps
+// inside it, the chrome (menu, toolbar, numbers) hidden; → steps the cursor (lscr, glls: ←, and
+// the link the page rewrites, opened again, shows that step; Space plays and k pauses); the link keeps
 // &present as the page rewrites it. "Copy embed code" copies the iframe snippet (or, without a
 // clipboard, shows it to copy by hand). Screenshots of
 // ubb's present mode: /tmp/present-1024.png and /tmp/present-1920.png (and tests/e2e/out/).
@@ -19,6 +23,9 @@ const VIEWS = [
   { id: 'uniform', busy: 'uniformBusy', slider: 'u-time' },
   { id: 'ubb', busy: 'ubbBusy', slider: 'b-time' },
   { id: 'compare', busy: 'compareBusy', slider: 'c-time' },
+  // Controls that recompute: a number box (the data length) and a slider (the horizon).
+  { id: 'lscr', busy: 'lscrBusy', slider: 'l-t', recompute: ['simulate', 'steps'] },
+  { id: 'glls', busy: 'gllsBusy', slider: 'g-s', recompute: ['glls', 'horizon'] },
 ];
 
 const idle = (page, d) => page.waitForFunction((k) => !document.body.dataset[k], d.busy, { timeout: 120_000 });
@@ -28,9 +35,17 @@ const setSlider = async (page, d, v) => {
   await page.$eval(`#${d.slider}`, (r, x) => { r.value = String(x); r.dispatchEvent(new Event('input', { bubbles: true })); }, v);
   await idle(page, d);
 };
-// The first and last steps the animation plays over: the slider's range, or for a time cursor
-// the steps the core gives (a set-membership slider starts below its first bounded set).
-const steps = (page, d) => page.$eval(`#${d.slider}`, (r) => [Number(r.min), Number(r.max)]);
+// The first and last steps the animation plays over: the slider's range, or for a control that
+// recomputes the range its bar gives (the first value the core accepts, found by asking it).
+const steps = async (page, d) => {
+  if (!d.recompute) return page.$eval(`#${d.slider}`, (r) => [Number(r.min), Number(r.max)]);
+  // Asked as the pointer reaches the bar (not with every run).
+  await page.hover(`#${d.id} .anim-bar`);
+  await idle(page, d);
+  const [lo, hi] = await page.$eval(`#${d.id} .anim-bar`, (b) => [Number(b.dataset.first), Number(b.dataset.last)]);
+  const min = await page.$eval(`#${d.slider}`, (r) => Number(r.min));
+  return [lo, hi, min];
+};
 const playing = (page, d) => page.$eval(anim(d, 'play'), (b) => b.getAttribute('aria-pressed') === 'true');
 // Wait until the slider's value is `op` (below, at least, equal to) `a`.
 const waitValue = (page, d, op, a) => page.waitForFunction(([id, o, x]) => {
@@ -44,7 +59,17 @@ async function animation(env, d) {
   await page.goto(`${baseUrl}#${d.id}`);
   await waitReady(page);
   await idle(page, d);
-  const [lo, hi] = await steps(page, d);
+  const [lo, hi, min] = await steps(page, d);
+  assert.ok(Number.isInteger(lo) && Number.isInteger(hi) && hi - lo >= 6, `${d.id}: a range of steps to play (${lo} … ${hi})`);
+  if (d.recompute) {
+    // The range starts at the first value the core accepts: the one below it is refused.
+    assert.equal(await page.$eval(anim(d, 'range'), (e) => e.textContent), `${d.slider.slice(2)} = ${lo} … ${hi}`);
+    assert.ok(lo > min, `${d.id}: the first step ${lo} is above the control's min ${min} (the core refuses ${min})`);
+    await setSlider(page, d, lo - 1);
+    assert.ok(await page.$eval(`#${d.slider.slice(0, 2)}stale`, (e) => !e.hidden), `${d.id}: ${lo - 1} is refused`);
+    await setSlider(page, d, lo);
+    assert.ok(await page.$eval(`#${d.slider.slice(0, 2)}stale`, (e) => e.hidden), `${d.id}: ${lo} is accepted`);
+  }
 
   // The controls, labelled for a screen reader; play in one line.
   for (const [what, label] of [['prev', 'previous step'], ['play', 'play'], ['next', 'next step'], ['speed', 'animation speed']]) {
@@ -90,6 +115,43 @@ async function animation(env, d) {
   assert.ok(a >= v0 + 2, `${d.id}: played from ${v0} to ${a}`);
   assert.equal(b, a, `${d.id}: paused at ${a} (${b} 300 ms later)`);
   assert.equal(await page.$eval(anim(d, 'play'), (x) => x.textContent), '▶ play');
+
+  if (d.recompute) {
+    // Each step is run, and drawn, before the next is shown: with every run held 150 ms (longer
+    // than a step at 20 steps/s), the runs the animation asks for are one step apart, none
+    // skipped (without the wait, the control would run ahead and a run take the value it reached).
+    await setSlider(page, d, lo);
+    await page.evaluate(async ([id, path]) => {
+      const c = (await import(new URL('compute.js', document.baseURI).href)).computeClients.get(id);
+      c.testOnlySlowMs = 150;
+      window.runsAsked = [];
+      window.plainRun = c.run;
+      c.run = (text) => { window.runsAsked.push(path.reduce((o, k) => o?.[k], JSON.parse(text))); return window.plainRun(text); };
+    }, [d.id, d.recompute]);
+    await page.click(anim(d, 'play'));
+    await waitValue(page, d, '>=', lo + 4);
+    await page.click(anim(d, 'play'));
+    await idle(page, d);
+    const asked = await page.evaluate(async (id) => {
+      const c = (await import(new URL('compute.js', document.baseURI).href)).computeClients.get(id);
+      Object.assign(c, { testOnlySlowMs: 0, run: window.plainRun });
+      return window.runsAsked;
+    }, d.id);
+    assert.ok(asked.length >= 4, `${d.id}: a run per step (${asked})`);
+    assert.deepEqual(asked, asked.map((_, i) => lo + 1 + i), `${d.id}: the runs follow the steps one by one`);
+    assert.equal(await value(page, d), lo + asked.length, `${d.id}: paused at the step last run`);
+    // A run that fails (the worker's instance aborts) pauses the animation at that step, with the
+    // panel's message.
+    await page.evaluate(async (id) => {
+      (await import(new URL('compute.js', document.baseURI).href)).computeClients.get(id).testOnlyAbortNextRun = true;
+    }, d.id);
+    const before = await value(page, d);
+    await page.click(anim(d, 'play'));
+    await page.waitForFunction((sel) => document.querySelector(sel).getAttribute('aria-pressed') === 'false', anim(d, 'play'), { timeout: 60_000 });
+    await idle(page, d);
+    assert.equal(await value(page, d), before + 1, `${d.id}: paused at the step whose run failed`);
+    assert.match(await page.$eval(`#${d.id} .compute-note`, (e) => (e.hidden ? '' : e.textContent)), /^The computation failed/, `${d.id}: the failure is said`);
+  }
 
   // Loop off: play stops at the last step. Loop on: from the last step to the first.
   await setSlider(page, d, hi - 2);
@@ -189,6 +251,37 @@ export default async function present(env) {
         assert.ok(await playing(page, d), 'ubb present: Space plays');
         await page.keyboard.press('k');
         assert.ok(!(await playing(page, d)), 'ubb present: k pauses');
+      }
+      if (d.recompute) {
+        // ← steps back (a run), and the link the page rewrites opens at that step, in present mode.
+        const v = await value(page, d);
+        await page.keyboard.press('ArrowLeft');
+        await waitValue(page, d, '=', v - 1);
+        await idle(page, d);
+        await checkPresent(page, assert, d, `${d.id} present ${w}×${h} after ←`);
+        // The link of the step shown: rewritten once the step differs from the last one linked.
+        let last = { hash: '', value: NaN };
+        const linked = async (what) => {
+          const shown = await value(page, d);
+          await page.waitForFunction(([id, old]) => new RegExp(`^#${id}/v1/[A-Za-z0-9_-]+&present$`).test(location.hash)
+            && location.hash !== old, [d.id, shown === last.value ? '' : last.hash], { timeout: 10_000 });
+          const hash = await page.evaluate(() => location.hash);
+          last = { hash, value: shown };
+          const again = await newPage({ viewport: { width: w, height: h } });
+          await again.goto(`${baseUrl}${hash}`);
+          await waitReady(again);
+          await idle(again, d);
+          assert.equal(await value(again, d), await value(page, d), `${d.id} present: the link restores the step ${what}`);
+          await again.close();
+        };
+        await linked('after ←');
+        // Space plays, k pauses; paused, the link follows the step shown.
+        await page.keyboard.press('Space');
+        assert.ok(await playing(page, d), `${d.id} present: Space plays`);
+        await page.keyboard.press('k');
+        assert.ok(!(await playing(page, d)), `${d.id} present: k pauses`);
+        await idle(page, d);
+        await linked('after a pause');
       }
       await page.close();
     }
