@@ -395,7 +395,9 @@ fn text_boxes(svg: &str) -> Vec<TextBox> {
             panic!("a <text> without x, y or font-size: <text{tag}>");
         };
         let style: TextStyle = if attr(tag, "font-weight") == Some("bold") {
-            ("sans-serif", size * 1.24, FontStyle::Bold).into_font().into()
+            ("sans-serif", size * 1.24, FontStyle::Bold)
+                .into_font()
+                .into()
         } else {
             ("sans-serif", size * 1.24).into_font().into()
         };
@@ -419,8 +421,13 @@ fn text_boxes(svg: &str) -> Vec<TextBox> {
             .and_then(|a| a.trim().parse::<f64>().ok())
             .unwrap_or(0.0);
         let (sin, cos) = deg.to_radians().sin_cos();
-        let corners = [(dx0, dy0), (dx0 + w, dy0), (dx0, dy0 + h), (dx0 + w, dy0 + h)]
-            .map(|(dx, dy)| (x + dx * cos - dy * sin, y + dx * sin + dy * cos));
+        let corners = [
+            (dx0, dy0),
+            (dx0 + w, dy0),
+            (dx0, dy0 + h),
+            (dx0 + w, dy0 + h),
+        ]
+        .map(|(dx, dy)| (x + dx * cos - dy * sin, y + dx * sin + dy * cos));
         let fold = |f: fn(f64, f64) -> f64, k: usize, init: f64| {
             corners
                 .iter()
@@ -516,16 +523,33 @@ fn text_boxes_are_where_the_text_is() {
         let rot = fonts
             .axis()
             .transform(plotters::style::FontTransform::Rotate270);
-        style::text(&root, "a long axis name", (6, 100), &rot, (HPos::Center, VPos::Top))
-            .unwrap();
+        style::text(
+            &root,
+            "a long axis name",
+            (6, 100),
+            &rot,
+            (HPos::Center, VPos::Top),
+        )
+        .unwrap();
     }
     let b = text_boxes(&s);
     assert_eq!(b.len(), 3, "{b:?}");
-    assert!((b[0].x0 - 10.0).abs() < 0.5 && (b[0].y0 - 10.0).abs() < 0.5, "{:?}", b[0]);
-    assert!(b[0].x1 - b[0].x0 > 30.0 && b[0].y1 - b[0].y0 > 10.0, "{:?}", b[0]);
+    assert!(
+        (b[0].x0 - 10.0).abs() < 0.5 && (b[0].y0 - 10.0).abs() < 0.5,
+        "{:?}",
+        b[0]
+    );
+    assert!(
+        b[0].x1 - b[0].x0 > 30.0 && b[0].y1 - b[0].y0 > 10.0,
+        "{:?}",
+        b[0]
+    );
     assert!(overlap(&b[0], &b[1]) > 1.0, "{b:?}");
     let r = &b[2];
-    assert!(r.y1 - r.y0 > 3.0 * (r.x1 - r.x0), "rotated: tall and narrow {r:?}");
+    assert!(
+        r.y1 - r.y0 > 3.0 * (r.x1 - r.x0),
+        "rotated: tall and narrow {r:?}"
+    );
     assert!(r.x0 >= 5.5 && r.y0 < 100.0 && r.y1 > 100.0, "{r:?}");
     assert!(overlap(&b[0], r) <= 0.0, "{b:?}");
 }
@@ -562,7 +586,13 @@ fn text_boxes_hold_what_resvg_renders() {
                 let tree = usvg::Tree::from_str(&svg, &options).expect("parses");
                 let mut ink = Vec::new();
                 texts(tree.root(), &mut ink);
-                assert_eq!(ours.len(), ink.len(), "{} {} {w}: texts", p.name, panel.name());
+                assert_eq!(
+                    ours.len(),
+                    ink.len(),
+                    "{} {} {w}: texts",
+                    p.name,
+                    panel.name()
+                );
                 for (b, i) in ours.iter().zip(&ink) {
                     compared += 1;
                     // A pixel of rounding; a combining accent over a capital (x̂, B̂) inks

@@ -18,9 +18,9 @@
 use confset::presets;
 use confset::solve::simplex::{self, Engine, Outcome};
 use confset::solve::{self, Problem};
-use confset::uniform::{estimate_states, face_ranges, Window};
 #[cfg(not(target_arch = "wasm32"))]
 use confset::uniform::state_lp;
+use confset::uniform::{estimate_states, face_ranges, Window};
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -292,7 +292,10 @@ fn session_csv_is_the_reports_table() {
             .csv()
             .unwrap_or_else(|e| panic!("{method} csv: {:?}", thrown(e)));
         assert_eq!(got, want, "{method}: Session.csv is not the report's table");
-        assert!(got.lines().count() >= 2, "{method}: a header and no rows:\n{got}");
+        assert!(
+            got.lines().count() >= 2,
+            "{method}: a header and no rows:\n{got}"
+        );
     }
 }
 in_browser!(session_csv_is_the_reports_table);

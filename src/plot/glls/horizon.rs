@@ -207,9 +207,9 @@ fn point_label<DB: DrawingBackend>(
         (p.0 + 10, p.1 - th / 2),
         (p.0 - 10 - tw, p.1 - th / 2),
     ];
-    let free = candidates.into_iter().find(|&(x, y)| {
-        x >= xr.start + 4 && x + tw + 4 <= xr.end && inside(y) && !hits(x, y)
-    });
+    let free = candidates
+        .into_iter()
+        .find(|&(x, y)| x >= xr.start + 4 && x + tw + 4 <= xr.end && inside(y) && !hits(x, y));
     // All taken: stacked under the labels it meets.
     let (x, y) = free.unwrap_or_else(|| {
         let y = avoid
@@ -592,10 +592,15 @@ pub fn draw_index<DB: DrawingBackend>(
     }
     let mut chart_notes = Vec::new();
     horizon_marker(root, &chart, &fonts, g.s, &mut chart_notes)?;
-    let mut taken: Vec<(i32, i32, i32, i32)> =
-        style::cursor_label_box(root, &chart, &fonts, g.s as f64, &format!("s = {} in use", g.s))?
-            .into_iter()
-            .collect();
+    let mut taken: Vec<(i32, i32, i32, i32)> = style::cursor_label_box(
+        root,
+        &chart,
+        &fonts,
+        g.s as f64,
+        &format!("s = {} in use", g.s),
+    )?
+    .into_iter()
+    .collect();
     let mut best = vec![(g.best_horizon, &g.index, color_n, String::new())];
     if let (Some(b), Some(v), Some(cp), Some(p)) = (g.best_horizon_p, &g.index_p, color_p, p) {
         best.push((Some(b), v, cp, format!(" (p = {p})")));
@@ -619,7 +624,9 @@ pub fn draw_index<DB: DrawingBackend>(
         points.push((q, label, color));
     }
     for (q, label, color) in points {
-        marks.extend(point_label(root, &chart, &fonts, q, &label, &color, &mut taken)?);
+        marks.extend(point_label(
+            root, &chart, &fonts, q, &label, &color, &mut taken,
+        )?);
         marks.push(q);
     }
     style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;

@@ -320,25 +320,16 @@ pub fn cursor<DB: DrawingBackend>(
     }
     let (top, bottom) = (px(chart, (x, win.y1)), px(chart, (x, win.y0)));
     polyline(root, &[top, bottom], &CURSOR, 1, Some((5, 4)))?;
-    let (xr, _) = chart.plotting_area().get_pixel_range();
-    let style = fonts.note();
-    let tw = text_size(root, label, &style)?.0 as i32;
-    // Label right of the line, or left of it near the right edge.
-    if top.0 + 4 + tw < xr.end {
-        text(
+    // The label right of the line, or left of it near the right edge: where
+    // [`cursor_label_box`] says, so that the labels drawn after it can avoid it.
+    match cursor_label_box(root, chart, fonts, x, label)? {
+        Some((x0, y0, _, _)) => text(
             root,
             label,
-            (top.0 + 4, top.1 + 3),
-            &style,
+            (x0, y0),
+            &fonts.note(),
             (HPos::Left, VPos::Top),
-        )
-    } else {
-        text(
-            root,
-            label,
-            (top.0 - 4, top.1 + 3),
-            &style,
-            (HPos::Right, VPos::Top),
-        )
+        ),
+        None => Ok(()),
     }
 }
