@@ -322,8 +322,20 @@ document.addEventListener('confset:open-scenario', (e) => openScenario(e.detail.
 async function openScenario(scenario, fileName) {
   const fail = (msg) => (current ? current.say(msg) : homeNote(msg));
   const file = { name: fileName };
-  const d = scenario && typeof scenario === 'object' ? panelOf(scenario.method || 'scf') : null;
-  if (!d) return fail(`${file.name}: "method" must be one of ${PANELS.flatMap((p) => p.methods).join(', ')}`);
+  const methods = PANELS.flatMap((p) => p.methods).join(', ');
+  if (!scenario || typeof scenario !== 'object' || Array.isArray(scenario)) {
+    const what = Array.isArray(scenario) ? 'a list' : scenario === null ? 'null' : `a ${typeof scenario}`;
+    return fail(`${file.name} is not a scenario file: a scenario is a JSON object with "method" (${methods}) and "model"; this file holds ${what}`);
+  }
+  const d = panelOf(scenario.method || 'scf');
+  if (!d) return fail(`${file.name}: "method" must be one of ${methods}`);
+  // The core reads it first: a scenario it refuses is said with the field it names, before a
+  // panel takes it (a panel fills its controls from a scenario the core has read).
+  try {
+    confset.dataShape(JSON.stringify(scenario));
+  } catch (e) {
+    return fail(`${file.name} is not a scenario this page can open: ${(e && e.message) || e}`);
+  }
   await show(d);
   const api = await mounted.get(d.id);
   d.beforeLoad = await stateOf(d);
@@ -416,7 +428,16 @@ async function route() {
   if (navigating) return;
   delete document.body.dataset.ready;
   const r = await parseFragment(location.hash);
-  const d = panelById(r.id) || null;
+  let d = panelById(r.id) || null;
+  // A link (or a preset name) of another view's method opens in that view: `#ubb/preset/scf-robots`
+  // is SCF's preset, and a state carrying an SCF scenario is SCF's, whatever view it names.
+  const owner = ownerOf(r);
+  let movedFrom = null;
+  if (d && owner && owner !== d) {
+    movedFrom = d;
+    d = owner;
+    history.replaceState(null, '', location.hash.replace(/^#[^/&]*/, `#${owner.id}`));
+  }
   // A playing animation (one that loops never ends) pauses: the route waits for the view to be idle.
   if (d && mounted.has(d.id)) (await mounted.get(d.id).catch(() => null))?.pause?.();
   if (r.id && !d) {
@@ -440,11 +461,24 @@ async function route() {
       (await mounted.get(d.id))?.start();
       await idle(d.busy);
     }
+    if (movedFrom) d.say(`this link is of the ${d.nav} view, not the ${movedFrom.nav} view: it opened here`);
   }
   presentMode(d, !!d && r.present, r.panels);
   if (d) (await mounted.get(d.id).catch(() => null))?.redraw?.();
   document.body.dataset.route = d ? d.id : '';
   document.body.dataset.ready = '1';
+}
+
+// The view a route's state or preset belongs to (by its scenario's method, else its preset's),
+// or null when it names none.
+function ownerOf(r) {
+  const scenario = r.state && r.state.scenario;
+  let method = scenario && typeof scenario === 'object' && typeof scenario.method === 'string' ? scenario.method : null;
+  if (!method) {
+    const name = r.state ? r.state.preset : r.preset;
+    method = presets.find((p) => p.name === name)?.scenario.method ?? null;
+  }
+  return method ? panelOf(method) || null : null;
 }
 
 // ----- present mode (&present, &panel=…): for a lecture hall or an iframe -----

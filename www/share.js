@@ -38,13 +38,27 @@ export async function encodeState(state) {
 
 const DECODERS = {
   async v1(token) {
+    // Damaged tokens are said in words: the browser's own texts ("Failed to fetch", "Failed to
+    // execute 'atob'…", "Unexpected token…") mean nothing to the reader of a link.
+    const damaged = (what) => new Error(`its data are damaged: ${what} (part of the link was cut or changed when it was copied)`);
+    let raw;
+    try {
+      raw = fromBase64Url(token);
+    } catch {
+      throw damaged('the token is not the text a link token is made of');
+    }
     let bytes;
     try {
-      bytes = await pipe(fromBase64Url(token), new DecompressionStream('deflate-raw'));
-    } catch (e) {
-      throw new Error(`its data are damaged (${e.message || 'not a compressed token'})`);
+      bytes = await pipe(raw, new DecompressionStream('deflate-raw'));
+    } catch {
+      throw damaged(`its ${int(token.length)}-character token does not unpack`);
     }
-    const state = JSON.parse(new TextDecoder().decode(bytes));
+    let state;
+    try {
+      state = JSON.parse(new TextDecoder().decode(bytes));
+    } catch {
+      throw damaged('what it unpacks to is not a panel\'s settings');
+    }
     if (!state || typeof state !== 'object' || typeof state.preset !== 'string' || typeof state.fields !== 'object') {
       throw new Error('it does not describe a panel');
     }

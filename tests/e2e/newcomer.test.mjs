@@ -1,0 +1,73 @@
+// Issue 29's newcomer defects in links and scenario files, each with its regression check:
+// a link naming another view's preset or carrying another view's scenario opens in that view
+// (it used to say the preset "does not exist", or throw "Cannot set properties of undefined");
+// damaged link tokens are said in words, never in the browser's texts ("Failed to fetch",
+// "Failed to execute 'atob'", "Unexpected token"); a scenario file that is not a JSON object
+// ([1,2,3]) or that the core refuses is said next to the toolbar, and no panel takes it.
+const BROWSER_TEXT = /Failed to|atob|Unexpected token|Cannot (read|set) properties|undefined|null|JSON\.parse/;
+
+const status = (page, id) => page.$eval(`#${id}-section .share-status`, (e) => e.textContent);
+const banner = (page, id) => page.$eval(`#${id}-section .banner`, (e) => (e.hidden ? '' : e.textContent));
+
+export default async function newcomer({ newPage, baseUrl, waitReady, assert }) {
+  // Each link in a fresh page, as a visitor opens it.
+  let page = null;
+  const open = async (fragment) => {
+    if (page) await page.close();
+    page = await newPage({ viewport: { width: 1366, height: 900 } });
+    await page.goto(`${baseUrl}${fragment}`);
+    await waitReady(page);
+  };
+
+  // Another view's preset: opened in its own view, and said.
+  await open('#ubb/preset/scf-robots');
+  assert.equal(await page.evaluate(() => document.body.dataset.route), 'scf', '#ubb/preset/scf-robots opens SCF');
+  assert.match(await page.evaluate(() => location.hash), /^#scf\/preset\/scf-robots/);
+  assert.equal(await page.$eval('#preset', (s) => s.value), 'scf-robots');
+  assert.match(await status(page, 'scf'), /this link is of the SCF vs KF view, not the Set-membership|this link is of the SCF vs KF view/);
+  assert.equal(await banner(page, 'scf'), '', 'no error banner');
+
+  // A ubb link carrying an SCF scenario (a loaded file's state): opened in SCF.
+  const token = await page.evaluate(async () => {
+    const { encodeState } = await import('./share.js');
+    const scenario = JSON.parse(window.confset.presets()).find((p) => p.name === 'scf-scalar').scenario;
+    return encodeState({ preset: 'file:mine.json', fields: {}, scenario });
+  });
+  await open(`#ubb/v1/${token}`);
+  assert.equal(await page.evaluate(() => document.body.dataset.route), 'scf', 'a state with an SCF scenario opens SCF');
+  assert.doesNotMatch(`${await banner(page, 'scf')} ${await status(page, 'scf')}`, BROWSER_TEXT);
+  const shown = await page.evaluate(() => [location.hash.slice(0, 12), document.querySelector('#preset').value, document.querySelector('#scf-section .banner').textContent, document.querySelector('#scf-section .share-status').textContent]);
+  assert.match(shown[1], /^file:mine\.json/, JSON.stringify(shown));
+
+  // Damaged tokens: the default scenario, and why, in words.
+  const deflatedText = await page.evaluate(async () => {
+    const out = new Blob([new TextEncoder().encode('not json at all')]).stream().pipeThrough(new CompressionStream('deflate-raw'));
+    const b = new Uint8Array(await new Response(out).arrayBuffer());
+    return btoa(String.fromCharCode(...b)).replace(/\+/g, '-').replace(/\//g, '_').replace(/=+$/, '');
+  });
+  for (const [what, t] of [['bad characters', 'abc$def'], ['not base64 (length 1 mod 4)', 'A'], ['does not unpack', 'AAAAAAAA'],
+    ['cut in half', token.slice(0, Math.floor(token.length / 2))], ['unpacks to no JSON', deflatedText]]) {
+    await open(`#ubb/v1/${t}`);
+    const b = await banner(page, 'ubb');
+    assert.match(b, /^This link could not be read: its data are damaged: .+\. The panel shows its default scenario instead\.$/, `${what}: ${b}`);
+    assert.doesNotMatch(b, BROWSER_TEXT, `${what}: words, not the browser's text`);
+  }
+
+  // Scenario files that are not scenarios: said, and no panel takes them.
+  await open('#ubb');
+  for (const [name, body, want] of [
+    ['list.json', '[1,2,3]', /^list\.json is not a scenario file: a scenario is a JSON object with "method" .+; this file holds a list$/],
+    ['number.json', '42', /^number\.json is not a scenario file: .+this file holds a number$/],
+    ['empty-scf.json', '{"method":"scf"}', /^empty-scf\.json is not a scenario this page can open: \S+/],
+    ['ubb-nomodel.json', '{"method":"ubb","model":{"F":"x"}}', /^ubb-nomodel\.json is not a scenario this page can open: model/],
+  ]) {
+    await page.setInputFiles('#ubb-section [data-act=file]', { name, mimeType: 'application/json', buffer: Buffer.from(body) });
+    await page.waitForFunction((id) => document.querySelector(`#${id}-section .share-status`).textContent.length > 0, 'ubb');
+    const said = await status(page, 'ubb');
+    assert.match(said, want, `${name}: ${said}`);
+    assert.doesNotMatch(said.replace(name, ''), /Cannot|properties|undefined/, `${name}: words, not the browser's text`);
+    assert.equal(await page.evaluate(() => document.body.dataset.route), 'ubb', `${name}: the view stays`);
+    await page.$eval('#ubb-section .share-status', (e) => { e.textContent = ''; });
+  }
+  await page.close();
+}
