@@ -134,12 +134,29 @@ function toolbar(d) {
       box.querySelector('.data-preview').replaceChildren(...(preview ? [preview] : []));
     },
     hint(text) { box.querySelector('.data-shape').textContent = text; },
+    clear() {
+      box.querySelector('.data-err').textContent = '';
+      box.querySelector('.data-preview').replaceChildren();
+      box.hidden = true;
+      q('paste').setAttribute('aria-expanded', 'false');
+    },
   };
   q('reset').addEventListener('click', async () => {
     const api = await mounted.get(d.id);
     d.banner('');
-    api.presetSelect.dispatchEvent(new Event('change', { bubbles: true }));
-    say('reset to the preset');
+    // Measured data are not a preset: reset drops them and goes back to the preset they were
+    // run with (or the view's first), its own data or simulation.
+    const sel = api.presetSelect;
+    const onData = sel.value.startsWith('data:');
+    if (onData) {
+      const real = [...sel.options].map((o) => o.value).filter((v) => !/^(data|file):/.test(v));
+      const before = d.beforeLoad && d.beforeLoad.preset;
+      sel.value = real.includes(before) ? before : real[0];
+      d.dataBox.clear();
+      q('undo').hidden = true;
+    }
+    sel.dispatchEvent(new Event('change', { bubbles: true }));
+    say(onData ? `reset to the preset “${sel.selectedOptions[0]?.textContent ?? sel.value}”: the measured data are set aside` : 'reset to the preset');
   });
   q('undo').addEventListener('click', async () => {
     if (!d.beforeLoad) return;
@@ -224,9 +241,13 @@ async function useData(d, text, name) {
   } finally {
     navigating--;
   }
-  d.dataBox.show('', dataPreview(scenario.data));
+  // The method may refuse what the core could read (too few rows for its window, …): said
+  // here, next to the data, not only at the field far below.
+  const refusals = [...d.root().querySelectorAll('.err[data-for]')].map((e) => e.textContent.trim()).filter(Boolean);
+  const rows = scenario.data.y.length;
+  d.dataBox.show(refusals.length ? `${name}: ${rows} rows read, but the method refused them: ${refusals[0]}` : '', dataPreview(scenario.data));
   d.showUndo();
-  d.say(`running on ${name}: ${scenario.data.y.length} rows`);
+  d.say(refusals.length ? `${name} was refused by the method: see the message by the data` : `running on ${name}: ${rows} rows`);
   const link = await linkOf(d);
   history.replaceState(null, '', (link ? link.slice(link.indexOf('#')) : `#${d.id}`) + keptOptions());
 }

@@ -3,7 +3,8 @@
 // (it used to say the preset "does not exist", or throw "Cannot set properties of undefined");
 // damaged link tokens are said in words, never in the browser's texts ("Failed to fetch",
 // "Failed to execute 'atob'", "Unexpected token"); a scenario file that is not a JSON object
-// ([1,2,3]) or that the core refuses is said next to the toolbar, and no panel takes it.
+// ([1,2,3]) or that the core refuses is said next to the toolbar, and no panel takes it; own
+// data the method refuses is said by the data box; "Reset to preset" drops measured data.
 const BROWSER_TEXT = /Failed to|atob|Unexpected token|Cannot (read|set) properties|undefined|null|JSON\.parse/;
 
 const status = (page, id) => page.$eval(`#${id}-section .share-status`, (e) => e.textContent);
@@ -69,5 +70,31 @@ export default async function newcomer({ newPage, baseUrl, waitReady, assert }) 
     assert.equal(await page.evaluate(() => document.body.dataset.route), 'ubb', `${name}: the view stays`);
     await page.$eval('#ubb-section .share-status', (e) => { e.textContent = ''; });
   }
+
+  // Own data the method refuses (3 rows: LSCR needs 2^t ≥ M strings): said by the data, not
+  // "running on …" with the refusal far below. Then data it takes, and "Reset to preset" drops
+  // them: the preset they were run with, its simulation.
+  await open('#lscr');
+  const useData = async (text) => {
+    if (await page.isHidden('#lscr-section .data-box')) await page.click('#lscr-section [data-act=paste]');
+    await page.fill('#lscr-section [data-act=csv-text]', text);
+    await page.click('#lscr-section [data-act=use-data]');
+    await page.waitForFunction(() => !document.body.dataset.lscrBusy && document.querySelector('#lscr-section .share-status').textContent);
+  };
+  await useData('0.1\n0.2\n0.3');
+  const refused = await page.$eval('#lscr-section .data-err', (e) => e.textContent);
+  assert.match(refused, /^pasted: 3 rows read, but the method refused them: \S+/, refused);
+  assert.match(await status(page, 'lscr'), /^pasted was refused by the method/);
+  const rows = Array.from({ length: 40 }, (_, i) => (Math.sin(i / 3) + 0.01 * i).toFixed(4)).join('\n');
+  await page.$eval('#lscr-section .share-status', (e) => { e.textContent = ''; });
+  await useData(rows);
+  assert.equal(await page.$eval('#lscr-section .data-err', (e) => e.textContent), '', 'data it takes: no refusal');
+  assert.match(await status(page, 'lscr'), /^running on pasted: 40 rows$/);
+  assert.match(await page.$eval('#l-preset', (s) => s.value), /^data:/);
+  await page.click('#lscr-section [data-act=reset]');
+  await page.waitForFunction(() => !document.body.dataset.lscrBusy);
+  assert.equal(await page.$eval('#l-preset', (s) => s.value), 'lscr-predict', 'reset: the preset the data were run with');
+  assert.ok(await page.isHidden('#lscr-section .data-box'), 'reset: the data box is put away');
+  assert.match(await status(page, 'lscr'), /measured data are set aside/);
   await page.close();
 }
