@@ -136,7 +136,8 @@ function showNumbers(p) {
         k?.band ? `[${int(k.band[0])}, ${int(k.band[1])}]` : '–',
         k ? `<span class="${/below|failed/.test(k.verdict) ? 'warn' : 'good'}">${escapeHtml(k.verdict)}</span>` : '–');
     }
-    return `<tr>${cells.map((v, j) => (j === 0 ? `<th>${v}</th>` : `<td>${v}</td>`)).join('')}</tr>`;
+    // data-label: on a phone the rows stack, and each value says its column (style.css).
+    return `<tr>${cells.map((v, j) => (j === 0 ? `<th>${v}</th>` : `<td data-label="${escapeHtml(head[j])}">${v}</td>`)).join('')}</tr>`;
   });
   ui.numbers.innerHTML = `<div class="table-scroll"><table class="est compare-table"><thead><tr>${head.map((h) => `<th>${h}</th>`).join('')}</tr></thead>`
     + `<tbody>${rows.join('')}</tbody></table></div>`

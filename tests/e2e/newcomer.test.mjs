@@ -10,7 +10,8 @@ const BROWSER_TEXT = /Failed to|atob|Unexpected token|Cannot (read|set) properti
 const status = (page, id) => page.$eval(`#${id}-section .share-status`, (e) => e.textContent);
 const banner = (page, id) => page.$eval(`#${id}-section .banner`, (e) => (e.hidden ? '' : e.textContent));
 
-export default async function newcomer({ newPage, baseUrl, waitReady, assert }) {
+export default async function newcomer(env) {
+  const { newPage, baseUrl, waitReady, assert } = env;
   // Each link in a fresh page, as a visitor opens it.
   let page = null;
   const open = async (fragment) => {
@@ -96,5 +97,38 @@ export default async function newcomer({ newPage, baseUrl, waitReady, assert }) 
   assert.equal(await page.$eval('#l-preset', (s) => s.value), 'lscr-predict', 'reset: the preset the data were run with');
   assert.ok(await page.isHidden('#lscr-section .data-box'), 'reset: the data box is put away');
   assert.match(await status(page, 'lscr'), /measured data are set aside/);
+  await page.close();
+  await phone(env);
+}
+
+// On a 390 px phone: the compare table's stacked values each name their column, and running
+// the SCF robots study leaves the page no wider than the phone.
+async function phone({ newPage, baseUrl, waitReady, assert, screenshotDir }) {
+  const page = await newPage({ viewport: { width: 390, height: 844 }, deviceScaleFactor: 2, isMobile: true, hasTouch: true });
+  await page.goto(`${baseUrl}#compare`);
+  await waitReady(page);
+  await page.waitForFunction(() => !document.body.dataset.compareBusy);
+  const cells = await page.$$eval('#compare .compare-table tbody td', (tds) => tds.map((td) => getComputedStyle(td, '::before').content));
+  assert.ok(cells.length >= 5 * 5, `compare table cells: ${cells.length}`);
+  for (const c of cells) assert.match(c, /^".+: "$/, `a stacked value names its column (${c})`);
+  const cell = await page.$eval('#compare .compare-table tbody td', (td) => td.getAttribute('data-label'));
+  assert.equal(cell, 'promises');
+  await page.$eval('#compare .compare-table', (t) => t.scrollIntoView());
+  await page.screenshot({ path: `${screenshotDir}/phone-compare-table.png` });
+  assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= innerWidth), 'compare: no sideways scroll');
+
+  await page.goto(`${baseUrl}#scf/preset/scf-robots`);
+  await page.reload();
+  await waitReady(page);
+  await page.waitForFunction(() => !document.body.dataset.busy);
+  await page.click('#mc-go');
+  await page.waitForFunction(() => !document.querySelector('#mc-cancel').disabled || /runs/.test(document.querySelector('#mc-status').textContent), null, { timeout: 60_000 });
+  await page.waitForFunction(() => document.querySelector('#mc-cancel').disabled && document.querySelector('#mc-kf-in').textContent !== '–', null, { timeout: 120_000 });
+  const wide = await page.evaluate(() => {
+    const over = [...document.querySelectorAll('#scf-section *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 0.5 && e.offsetParent)
+      .slice(0, 3).map((e) => `${e.tagName.toLowerCase()}#${e.id}.${e.className}`);
+    return [document.documentElement.scrollWidth, innerWidth, over];
+  });
+  assert.ok(wide[0] <= wide[1], `after the SCF robots study the page is ${wide[0]} px wide in a ${wide[1]} px phone (${wide[2].join(', ')})`);
   await page.close();
 }
