@@ -549,6 +549,14 @@ function landing() {
   }));
 }
 
+// The skip link moves the focus to the view shown (its heading's section), past the menu.
+document.querySelector('[data-skip]')?.addEventListener('click', (e) => {
+  e.preventDefault();
+  const target = current ? current.section() : document.getElementById('home');
+  target.setAttribute('tabindex', '-1');
+  target.focus();
+});
+
 async function main() {
   landing();
   try {

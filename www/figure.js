@@ -93,6 +93,9 @@ export function figureCards(root, methods) {
     canvas.setAttribute('role', 'img');
     canvas.setAttribute('aria-label', card.dataset.hint ? `${alt}; ${card.dataset.hint}` : alt);
     card.replaceChildren(caption, canvas, ...kept.filter((k) => !k.hasAttribute('data-caption')), el('p', { className: 'err fig-err' }));
+    // The figure's accessible name is what it shows, not its caption's contents (the pointer
+    // read-out and the export controls).
+    card.setAttribute('aria-label', alt);
   }
 }
 

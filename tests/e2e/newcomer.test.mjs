@@ -57,6 +57,20 @@ export default async function newcomer(env) {
 
   // Scenario files that are not scenarios: said, and no panel takes them.
   await open('#ubb');
+  // Screen readers: a figure is named by what it shows (not "pointer over the plot … SVG PNG");
+  // the first Tab reaches a skip link that moves the focus to the view, past the menu.
+  const names = await page.$$eval('#ubb figure.card:not([hidden])', (fs) => fs.map((f) => [f.getAttribute('aria-label'), f.querySelector('canvas').getAttribute('aria-label')]));
+  assert.ok(names.length >= 2, `ubb figures: ${names.length}`);
+  for (const [fig, canvas] of names) {
+    assert.ok(fig && canvas.startsWith(fig), `figure named by its picture: ${fig}`);
+    assert.doesNotMatch(fig, /SVG|PNG|pointer|download/i);
+  }
+  assert.equal(await page.evaluate(() => document.querySelector('a[href], button, input, select, textarea').textContent), 'Skip to the view',
+    'the skip link is the first thing the keyboard reaches');
+  await page.focus('[data-skip]');
+  await page.keyboard.press('Enter');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 'ubb-section', 'the skip link focuses the view');
+  assert.match(await page.evaluate(() => location.hash), /^#ubb/, 'and does not route');
   for (const [name, body, want] of [
     ['list.json', '[1,2,3]', /^list\.json is not a scenario file: a scenario is a JSON object with "method" .+; this file holds a list$/],
     ['number.json', '42', /^number\.json is not a scenario file: .+this file holds a number$/],
