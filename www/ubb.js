@@ -25,7 +25,9 @@ const CUSTOM_PRESET = {
     method: 'ubb', title: 'Custom model',
     model: { F: [[0.9, 0.2], [-0.1, 0.8]], G: [[1], [0.5]], H: [[1, 0]] },
     simulate: { steps: 50, seed: 1 },
-    ubb: { eps: 0.2, tau: 0.1, delta: [2], alpha: 50, beta: 50, gamma: 0.1, time: 40 },
+    // A window of its own: ‖A‖·exp(1/α) > 1 here, so Theorem 5 gives no j (issue 29: the
+    // custom model was refused by default).
+    ubb: { eps: 0.2, tau: 0.1, delta: [2], alpha: 50, beta: 50, gamma: 0.1, window: 20, time: 40 },
     notes: 'A stable 2-state system with one bounded noise input and one measured output. The set of states consistent '
       + 'with the data and the bounds is a polygon drawn by support LPs; it holds the true state at every step '
       + 'as long as the simulated noise stays within ε and τ.',
@@ -56,6 +58,7 @@ function load(p, s) {
   ui.alpha.value = text(u.alpha);
   ui.beta.value = text(u.beta);
   ui.gamma.value = u.gamma ?? 0.1;
+  ui.window.value = u.window ?? '';
   ui.norm.value = u.norm || 'linf';
   ui.noise.checked = u.noise === 'bound';
   ui.seed.value = s.simulate?.seed ?? 0;
@@ -96,6 +99,8 @@ function build(p, s) {
   u.beta = optional('ubb.beta', ui.beta.value);
   if (u.beta === null) delete u.beta;
   u.gamma = parseNumber('ubb.gamma', ui.gamma.value);
+  if (ui.window.value.trim() === '') delete u.window;
+  else u.window = wholeNumber('ubb.window', ui.window.value);
   u.norm = ui.norm.value;
   u.noise = ui.noise.checked ? 'bound' : 'random';
   u.time = wholeNumber('ubb.time', ui.time.value);
@@ -191,7 +196,7 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
   prose: richText,
   ids: ['time-out', 'time-min', 'time-max', 'time-window', 'sim-out', 'window-out', 'num-title',
     'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err'],
-  compute: ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
+  compute: ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'window', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
   redraw: ['time'],
   cursor: timeOf('ubb'),
   input: (p, id) => { if (id === 'time') showTime(p); },

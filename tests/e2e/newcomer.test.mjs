@@ -86,6 +86,21 @@ export default async function newcomer(env) {
     await page.$eval('#ubb-section .share-status', (e) => { e.textContent = ''; });
   }
 
+  // The ubb custom model runs by default (it was refused: "ubb.window must be given", with no
+  // window control on the page); emptying its window says why next to the window's box.
+  await open('#ubb');
+  await page.selectOption('#b-preset', 'custom');
+  await page.waitForFunction(() => !document.body.dataset.ubbBusy);
+  const errs = await page.$$eval('#ubb .err', (es) => es.map((e) => e.textContent).filter(Boolean));
+  assert.deepEqual(errs, [], `the custom model runs: ${errs.join(' | ')}`);
+  assert.equal(await page.$eval('#b-window', (i) => i.value), '20');
+  await page.fill('#b-window', '');
+  await page.waitForFunction(() => !document.body.dataset.ubbBusy && document.querySelector('#ubb .err[data-for="ubb.window"]').textContent);
+  assert.match(await page.$eval('#ubb .err[data-for="ubb.window"]', (e) => e.textContent), /^ubb\.window must be given: Theorem 5/);
+  await page.fill('#b-window', '12');
+  await page.waitForFunction(() => !document.body.dataset.ubbBusy && !document.querySelector('#ubb .err[data-for="ubb.window"]').textContent);
+  assert.match(await page.$eval('#ubb .numbers', (e) => e.textContent), /12 steps/, 'the window in use is the one typed');
+
   // Own data the method refuses (3 rows: LSCR needs 2^t ≥ M strings): said by the data, not
   // "running on …" with the refusal far below. Then data it takes, and "Reset to preset" drops
   // them: the preset they were run with, its simulation.
