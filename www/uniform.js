@@ -121,8 +121,15 @@ function build(p, s) {
   const [n, m] = dims(p);
   u.estimator = ui.estimator.value;
   u.window = wholeNumber('uniform.window', ui.window.value);
-  u.xr = halfWidths('uniform.xr', ui.xr.value, n);
-  u.yr = halfWidths('uniform.yr', ui.yr.value, m);
+  // The true half-widths only simulate: on measured data (a file, the compare view's "open in
+  // its panel") the boxes may be empty and the core needs none.
+  if (s.simulate) {
+    u.xr = halfWidths('uniform.xr', ui.xr.value, n);
+    u.yr = halfWidths('uniform.yr', ui.yr.value, m);
+  } else {
+    delete u.xr;
+    delete u.yr;
+  }
   u.u_half = parseNumber('uniform.u_half', ui.uhalf.value);
   u.prior_rel = parseNumber('uniform.prior_rel', ui.prior.value) / 100;
   u.xr_max = halfWidths('uniform.xr_max', ui.xrmax.value, n);

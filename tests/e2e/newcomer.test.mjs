@@ -86,6 +86,29 @@ export default async function newcomer(env) {
     await page.$eval('#ubb-section .share-status', (e) => { e.textContent = ''; });
   }
 
+  // Compare → "open in its panel" for every row, the uniform LP's included (it failed with
+  // "uniform.xr must be numbers" and left uniform-paper's figures under a slider at t = 30).
+  await open('#compare');
+  await page.waitForFunction(() => !document.body.dataset.compareBusy);
+  const rowsToOpen = await page.$$eval('#compare button.open-panel', (bs) => bs.map((b) => b.closest('tr').querySelector('th b').textContent));
+  assert.ok(rowsToOpen.length >= 5, `rows with "open in its panel": ${rowsToOpen.join(', ')}`);
+  for (let i = 0; i < rowsToOpen.length; i++) {
+    await open('#compare');
+    await page.waitForFunction(() => !document.body.dataset.compareBusy);
+    await page.$$eval('#compare button.open-panel', (bs, k) => bs[k].click(), i);
+    await page.waitForFunction(() => {
+      const v = document.querySelector('main > .view:not([hidden])');
+      return v && v.id !== 'compare-section' && /\S/.test(v.querySelector('.share-status')?.textContent || '')
+        && !Object.keys(document.body.dataset).some((k) => /Busy$|^busy$/.test(k));
+    }, null, { timeout: 60_000 });
+    const route = await page.evaluate(() => document.querySelector('main > .view:not([hidden])').id.replace(/-section$/, ''));
+    const said = await page.evaluate((r) => [...document.querySelectorAll(`#${r}-section .err, #${r}-section .banner:not([hidden])`)]
+      .map((e) => e.textContent).filter(Boolean), route);
+    assert.deepEqual(said, [], `compare → ${rowsToOpen[i]} opens in #${route} without an error`);
+    assert.match(await status(page, route), /^loaded /, `${rowsToOpen[i]}: loaded`);
+    if (route === 'uniform') assert.equal(await page.$eval('#u-time', (r) => r.value), '30', 'the uniform view at the compared time');
+  }
+
   // The ubb custom model runs by default (it was refused: "ubb.window must be given", with no
   // window control on the page); emptying its window says why next to the window's box.
   await open('#ubb');
