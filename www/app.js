@@ -231,6 +231,9 @@ async function useData(d, text, name) {
   } catch (e) {
     return d.dataBox.show(e.message || String(e));
   }
+  // The figures' title is the scenario's: on the user's data it names the data, not the paper
+  // figure the preset reproduces ("… (LSCR paper, Fig. 1)" is a claim about the paper's data).
+  scenario.title = `measured data: ${name}`.slice(0, 80);
   d.beforeLoad = await stateOf(d);
   navigating++;
   try {

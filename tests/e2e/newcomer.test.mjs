@@ -5,6 +5,9 @@
 // "Failed to execute 'atob'", "Unexpected token"); a scenario file that is not a JSON object
 // ([1,2,3]) or that the core refuses is said next to the toolbar, and no panel takes it; own
 // data the method refuses is said by the data box; "Reset to preset" drops measured data.
+import { readFile } from 'node:fs/promises';
+import { downloadFigure } from './helpers.mjs';
+
 const BROWSER_TEXT = /Failed to|atob|Unexpected token|Cannot (read|set) properties|undefined|null|JSON\.parse/;
 
 const status = (page, id) => page.$eval(`#${id}-section .share-status`, (e) => e.textContent);
@@ -144,6 +147,11 @@ export default async function newcomer(env) {
   assert.equal(await page.$eval('#lscr-section .data-err', (e) => e.textContent), '', 'data it takes: no refusal');
   assert.match(await status(page, 'lscr'), /^running on pasted: 40 rows$/);
   assert.match(await page.$eval('#l-preset', (s) => s.value), /^data:/);
+  // The figure names the data, not the paper figure of the preset.
+  const card = '#lscr figure.card:not([hidden])';
+  const svg = await readFile(await (await downloadFigure(page, card, 'svg')).path(), 'utf8');
+  assert.match(svg, /measured data: pasted/, 'the figure names the data');
+  assert.doesNotMatch(svg, /paper|Fig\. \d/, 'and makes no claim about the paper');
   await page.click('#lscr-section [data-act=reset]');
   await page.waitForFunction(() => !document.body.dataset.lscrBusy);
   assert.equal(await page.$eval('#l-preset', (s) => s.value), 'lscr-predict', 'reset: the preset the data were run with');
