@@ -27,7 +27,7 @@ export default async function newcomer(env) {
   // Another view's preset: opened in its own view, and said.
   await open('#ubb/preset/scf-robots');
   assert.equal(await page.evaluate(() => document.body.dataset.route), 'scf', '#ubb/preset/scf-robots opens SCF');
-  assert.match(await page.evaluate(() => location.hash), /^#scf\/preset\/scf-robots/);
+  assert.match(await page.evaluate(() => location.hash), /^#scf\//, 'the address names the view it opened in');
   assert.equal(await page.$eval('#preset', (s) => s.value), 'scf-robots');
   assert.match(await status(page, 'scf'), /this link is of the SCF vs KF view, not the Set-membership|this link is of the SCF vs KF view/);
   assert.equal(await banner(page, 'scf'), '', 'no error banner');
@@ -111,6 +111,37 @@ export default async function newcomer(env) {
     assert.match(await status(page, route), /^loaded /, `${rowsToOpen[i]}: loaded`);
     if (route === 'uniform') assert.equal(await page.$eval('#u-time', (r) => r.value), '30', 'the uniform view at the compared time');
   }
+
+  // A state placed by a click under non-Gaussian noise survives the share link (x̄ "1.086 0.451"
+  // came back as "0 0").
+  await open('#compare');
+  await page.waitForFunction(() => !document.body.dataset.compareBusy);
+  await page.selectOption('#c-noise', 'uniform');
+  await page.waitForFunction(() => !document.body.dataset.compareBusy);
+  const before = await page.$eval('#c-xbar', (i) => i.value);
+  const box = await (await page.$('#fig-compare canvas')).boundingBox();
+  await page.mouse.click(box.x + box.width * 0.45, box.y + box.height * 0.4);
+  await page.waitForFunction((b) => document.querySelector('#c-xbar').value !== b && !document.body.dataset.compareBusy, before);
+  const placed = await page.$eval('#c-xbar', (i) => i.value);
+  assert.match(placed, /^-?\d.* -?\d/, `a click places x̄ (${placed})`);
+  // The address follows the controls (debounced): wait until it holds the placed state.
+  // (A polled evaluate: waitForFunction takes an async predicate's Promise for a true value.)
+  let link = null;
+  for (let tries = 0; tries < 300 && !link; tries++) {
+    link = await page.evaluate(async (x) => {
+      const h = location.hash;
+      if (!h.startsWith('#compare/v1/')) return null;
+      const r = await (await import('./share.js')).parseFragment(h);
+      return r.state?.fields?.['c-xbar'] === x ? h : null;
+    }, placed);
+    if (!link) await page.waitForTimeout(100);
+  }
+  assert.ok(link, `the address holds the placed state ${placed}`);
+  await open(link);
+  await page.waitForFunction(() => !document.body.dataset.compareBusy);
+  const got = await page.evaluate(() => [document.querySelector('#c-noise').value, document.querySelector('#c-xbar').value, document.querySelector('#c-fix').checked, document.querySelector('#compare-section .banner').textContent, document.querySelector('#compare-section .share-status').textContent, [...document.querySelectorAll('#compare .err')].map((e) => e.textContent).join('|'), location.hash === '' ]);
+  assert.equal(got[0], 'uniform', JSON.stringify(got));
+  assert.equal(await page.$eval('#c-xbar', (i) => i.value), placed, 'the link keeps the clicked state');
 
   // The ubb custom model runs by default (it was refused: "ubb.window must be given", with no
   // window control on the page); emptying its window says why next to the window's box.
