@@ -90,6 +90,9 @@ export default async function scf(env) {
     await page.fill('#m-F', '0.98 0.1\n0 0.9');
     await page.fill('#m-V', '0.01 0\n0 0.04');
     await idle(page);
+    // The two fills may be two runs: the last one's answer clears the error (CI saw the first's
+    // message still shown when the panel first went idle).
+    await page.waitForFunction(() => !document.querySelector('.err[data-for="model.V"]').textContent && !document.body.dataset.busy, null, { timeout: 30_000 }).catch(() => {});
     assert.equal(await text(page, '.err[data-for="model.V"]'), '', 'the error clears once V is valid');
     assert.equal(await page.$eval('#stale', (e) => e.hidden), true);
 
