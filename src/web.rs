@@ -5,7 +5,8 @@
 //! await init();
 //! const list = JSON.parse(presets());            // [{name, label, menu, description, scenario}, …]
 //! const shape = JSON.parse(dataShape(json));     // {outputs: q, inputs: r}: the CSV columns
-//! const withData = withCsvData(json, csvText);   // the scenario JSON with data from CSV
+//! const withData = withCsvData(json, csvText, 'real.csv'); // the scenario with the file's data
+//! const first = JSON.parse(firstAccepted(json)); // {field, value}: an animation's first step
 //! const s = new Session();
 //! const report = JSON.parse(s.run(JSON.stringify(list[0].scenario)));
 //! // The page runs scenarios in a Web Worker (its own instance: `www/worker.js`) and draws the
@@ -174,13 +175,15 @@ pub fn method_panels(method: &str) -> Result<String, JsValue> {
     to_json("the panel list", &list)
 }
 
-/// The scenario (JSON) with `data` read from CSV text and no `simulate` block (the core's
-/// `Scenario::with_csv_data`: the same parser as `confset run --data`). Errors name `data`,
-/// `data.y` or `data.u` (or the model field the data's shape cannot be read from).
+/// The scenario (JSON) with `data` read from the CSV text of the file `name`, no `simulate`
+/// block and titled after the file (the core's `Scenario::with_csv_file`: the same parser as
+/// `confset run --data`). Errors name `data`, `data.y` or `data.u` (or the model field the
+/// data's shape cannot be read from). The page calls it in the panel's worker: a 20 MB file
+/// takes a fifth of a second to read.
 #[wasm_bindgen(js_name = withCsvData)]
-pub fn with_csv_data(scenario_json: &str, csv: &str) -> Result<String, JsValue> {
+pub fn with_csv_data(scenario_json: &str, csv: &str, name: &str) -> Result<String, JsValue> {
     let s = Scenario::from_json(scenario_json)
-        .and_then(|s| s.with_csv_data(csv))
+        .and_then(|s| s.with_csv_file(csv, name))
         .map_err(|e| js_error(&e))?;
     to_json("the scenario", &s)
 }
@@ -196,6 +199,18 @@ pub fn data_shape(scenario_json: &str) -> Result<String, JsValue> {
         "the data shape",
         &serde_json::json!({"outputs": outputs, "inputs": inputs}),
     )
+}
+
+/// The quantity the scenario's view animates by rerunning (LSCR's `simulate.steps`, GLLS's
+/// `glls.horizon`) and its smallest value the method accepts (JSON `{"field", "value"}`:
+/// [`Scenario::first_accepted`]); throws for a method that animates nothing by rerunning.
+/// The page's worker asks it once per scenario, when an animation first needs its start.
+#[wasm_bindgen(js_name = firstAccepted)]
+pub fn first_accepted(scenario_json: &str) -> Result<String, JsValue> {
+    let first = Scenario::from_json(scenario_json)
+        .and_then(|s| s.first_accepted())
+        .map_err(|e| js_error(&e))?;
+    to_json("the first accepted value", &first)
 }
 
 /// Runs scenarios and draws the last good report.

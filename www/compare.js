@@ -10,7 +10,7 @@ import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
-import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { withScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt3 as fmt, int } from './format.js';
 import { PANELS } from './registry.js';
 import { timeOf } from './cursor.js';
@@ -19,7 +19,7 @@ const pct = (p) => `${Number((100 * p).toFixed(1))} %`;
 const LAWS = { gaussian: 'Gaussian', uniform: 'Uniform', truncated: 'Truncated Gaussian' };
 // Each method's name in the table, from its panel's descriptor.
 const NAMES = Object.fromEntries(PANELS.flatMap((d) => Object.entries(d.names || {})));
-const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
+const richText = (t) => withScripts(t, (w) => w.replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>'));
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {

@@ -64,6 +64,16 @@ export function computeClient(panel) {
       return post({ cursor: { scenario: scenarioJson, t } })
         .then((d) => (d.superseded || mine !== atRequests ? null : { ...d.detail, cursor: keyOf(d.detail.cursor) }));
     },
+    // The smallest value of the quantity the scenario's view animates by rerunning that the
+    // core accepts (worker.js): a Promise of {field, value}. Rejects as run() does.
+    firstAccepted(scenarioJson) {
+      return post({ firstAccepted: scenarioJson }).then((d) => JSON.parse(d.first));
+    },
+    // The scenario with the data of a CSV file (worker.js: the core's reader, off the page's
+    // thread): a Promise of the scenario object. Rejects as run() does (a refusal names `data…`).
+    withCsvData(scenarioJson, text, name) {
+      return post({ csv: { scenario: scenarioJson, text, name } }).then((d) => JSON.parse(d.withData));
+    },
     // Called with (cursor key, t, at JSON) for every detail the worker sends (prefetched or
     // asked for): the panel keeps those of its report's cursor.
     onDetail: null,

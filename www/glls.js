@@ -9,7 +9,7 @@ import { mountPanel, clone } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseMatrix, parseVector, parseNumber, wholeNumber } from './parse.js';
-import { bracedScripts, sub } from './richtext.js';
+import { withScripts, sub } from './richtext.js';
 import { fmtPrecision as fmt, vec as vecOf } from './format.js';
 
 // Vectors keep 5 digits for large entries: an unstable state of 10⁷ and its estimate differ in the 5th.
@@ -37,8 +37,7 @@ const CUSTOM_PRESET = {
 };
 
 // The presets' notes write Γ_{s+1} and σ_n: show them as sub-/superscripts (text escaped first).
-const richText = (t) => bracedScripts(t)
-  .replace(/([σκΓxy])_([a-zA-Z0-9]+)/g, '$1<sub>$2</sub>');
+const richText = (t) => withScripts(t, (w) => w.replace(/([σκΓxy])_([a-zA-Z0-9]+)/g, '$1<sub>$2</sub>'));
 
 const hasStateNoise = (s) => Array.isArray(s?.model?.V) && s.model.V.flat(2).some((v) => v !== 0);
 

@@ -353,25 +353,14 @@ export function mountPanel(root, spec) {
       c.value = String(v);
       try { return build(); } finally { c.value = old; }
     };
-    // The first step is the smallest value the core accepts, asked of it: what it refuses below
-    // depends on the rest of the scenario (LSCR: t ≥ n, 2^t ≥ M, t > the smoothed index; GLLS: the
-    // horizon at which the state is observable). Asked once per scenario but the control (`key`);
-    // the animation waits for it (ready).
-    let range = null; // {key, first (null until known), probing (a Promise)}
+    // The first step is the smallest value the core accepts (firstAccepted: what it refuses
+    // below depends on the rest of the scenario: LSCR t ≥ n, 2^t ≥ M, t above the smoothed
+    // index; GLLS the first horizon at which the state is observable), asked in the worker once
+    // per scenario but the control (`key`), when the animation first needs it.
+    let range = null; // {key, first (null until known), asking (a Promise)}
     // a.end === 'chosen': the animation ends at the value chosen by hand, a link or the preset,
     // not at the control's max (LSCR's data length goes to 800).
     let chosen = null;
-    const accepted = async (v) => {
-      const once = (x) => worker.run(JSON.stringify(x)).then((r) => r.report);
-      const s = scenarioAt(v);
-      try {
-        await (spec.run ? spec.run(once, s) : once(s));
-        return true;
-      } catch (e) {
-        if (e instanceof ComputeFault) throw e; // a crash, a cancel: no answer
-        return false;
-      }
-    };
     // The last report's scenario but the control (`key`) and its value there (accepted).
     let report = null;
     const keyOf = () => { try { return JSON.stringify(scenarioAt(Number(c.min))); } catch { return null; } };
@@ -379,32 +368,17 @@ export function mountPanel(root, spec) {
     // or the focus reaching the bar), not with every run: a Promise that resolves when it is known.
     const ensureRange = () => {
       const key = keyOf();
-      if (range?.key === key) return range.probing;
+      if (range?.key === key) return range.asking;
       // Controls changed since the last report (not run yet, or refused): nothing known to ask from.
       if (key === null || key !== report?.key) return Promise.resolve();
       const mine = { key, first: null };
       range = mine;
-      const stale = () => range !== mine;
       setBusy(+1);
-      mine.probing = (async () => {
-        let bad = Number(c.min) - 1; // refused (or below the control)
-        let good = report.value; // the last report's: accepted
-        // Up from the bottom by doubling gaps (the runs stay short), then halving the gap: the
-        // values the core accepts are those from some value on.
-        for (let d = 1; bad + d < good; d *= 2) {
-          if (stale()) return;
-          if (await accepted(bad + d)) { good = bad + d; break; }
-          bad += d;
-        }
-        while (good - bad > 1) {
-          if (stale()) return;
-          const mid = Math.floor((bad + good) / 2);
-          if (await accepted(mid)) good = mid; else bad = mid;
-        }
-        if (!stale()) mine.first = good;
-      })().catch(() => { if (range === mine) range = null; })
+      mine.asking = worker.firstAccepted(JSON.stringify(scenarioAt(report.value)))
+        .then(({ value }) => { if (range === mine) mine.first = Math.max(value, Number(c.min)); })
+        .catch(() => { if (range === mine) range = null; })
         .finally(() => { setBusy(-1); p.animation?.refresh(); });
-      return mine.probing;
+      return mine.asking;
     };
     const first = () => range?.first ?? Number(c.min);
     const last = () => (a.end === 'chosen' && chosen != null
@@ -512,5 +486,9 @@ export function mountPanel(root, spec) {
   // would hold the busy flag it waits on).
   // redraw(): the shell's layout changed (present mode on or off, another &panel=): the figures
   // are drawn at their new sizes now, not a frame later by the ResizeObserver.
-  return { ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop(), redraw };
+  return {
+    ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop(), redraw,
+    // The scenario with a CSV file's data, read by the core in this panel's worker.
+    withCsvData: (scenarioJson, text, name) => worker.withCsvData(scenarioJson, text, name),
+  };
 }

@@ -13,6 +13,13 @@ export const escapeHtml = (t) => String(t).replace(/[&<>"']/g, (c) => ({ '&': '&
 export const bracedScripts = (t) => escapeHtml(t.replace(/\s{2,}/g, ' '))
   .replace(/_\{([^{}]*)\}/g, '<sub>$1</sub>').replace(/\^\{([^{}]*)\}/g, '<sup>$1</sup>');
 
+// Escaped text with the braced scripts, and each panel's unbraced subscripts (`unbraced`, a
+// replacement on escaped text) applied to every word but a file's name: "compare-uniform_lp-t30.json"
+// keeps its underscore.
+const FILE_NAME = /^["'(\[]*[\w.-]+\.(json|csv|svg|png|zip|txt|html?)["')\].,;:!?]*$/i;
+export const withScripts = (t, unbraced) => bracedScripts(t).split(/(\s+)/)
+  .map((word) => (FILE_NAME.test(word.replace(/&(quot|#39);/g, '"')) ? word : unbraced(word))).join('');
+
 // 12 → ₁₂ (state components and times in plain text).
 const SUB = '₀₁₂₃₄₅₆₇₈₉';
 export const sub = (k) => String(k).replace(/\d/g, (d) => SUB[d]);

@@ -11,7 +11,7 @@ import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
-import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { withScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt, vec, int } from './format.js';
 import { timeOf } from './cursor.js';
 
@@ -34,7 +34,7 @@ const CUSTOM_PRESET = {
   },
 };
 
-const richText = (t) => bracedScripts(t).replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
+const richText = (t) => withScripts(t, (w) => w.replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>'));
 
 // The set panel reads plane coordinates, the width panel steps (whole numbers) and values.
 class UbbFigure extends Figure {

@@ -9,7 +9,7 @@
 import { mountPanel } from './panel.js';
 import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
-import { bracedScripts, verdict, sub, escapeHtml } from './richtext.js';
+import { withScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt, vec } from './format.js';
 import { timeOf } from './cursor.js';
 
@@ -36,9 +36,9 @@ const CUSTOM_PRESET = {
   },
 };
 
-const richText = (t) => bracedScripts(t)
+const richText = (t) => withScripts(t, (w) => w
   .replace(/\^([a-z])_([a-z])/g, '<sup>$1</sup><sub>$2</sub>')
-  .replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>');
+  .replace(/(\p{L}[\u0300-\u036f]?)_([\p{L}\d]+)/gu, '$1<sub>$2</sub>'));
 
 // The core draws every picture; the cursor read-out finds the chart (a figure may stack several)
 // under the pointer. Time axes read whole samples.

@@ -13,9 +13,15 @@
 //               {id, cursor: {scenario: JSON text, t}} — the detail of step t of that
 //               scenario's time cursor (the report's `at` there; see "time cursor" below);
 //               {id, study: {scenario, runs, shard: [i, n]}} — run shard i of n of the
-//               scenario's study (studypool.js), to its end, in slices.
+//               scenario's study (studypool.js), to its end, in slices;
+//               {id, firstAccepted: JSON text} — the smallest value of the quantity the
+//               scenario's view animates by rerunning that the core accepts (an animation's start);
+//               {id, csv: {scenario, text, name}} — the scenario with the CSV file's data (the
+//               core's reader: a 20 MB file takes a fifth of a second, off the page's thread).
 // Messages out: {ready: true, initMs} once the module is loaded; then per job one of
 //               {id, report: JSON text, ms}        the core's report and its compute time here
+//               {id, first: JSON text}             a firstAccepted job's {field, value}
+//               {id, withData: JSON text}          a csv job's scenario
 //               {id, detail: {t, at: JSON text, cursor}}  a cursor job's detail (`cursor`: the
 //                                                  number of the cursor it comes from)
 //               {id, superseded: true}             a cursor job a newer one replaced unanswered
@@ -25,7 +31,7 @@
 //                                                  partial counts (the core's `Study.partial`),
 //                                                  the time computed so far, whether it is done
 //               and, unasked, {prefetched: {t, at, cursor}} for every detail prefetched.
-import init, { Session, Cursor, Study, testOnlyAbort, timeCompare } from './pkg/confset.js';
+import init, { Session, Cursor, Study, firstAccepted, withCsvData, testOnlyAbort, timeCompare } from './pkg/confset.js';
 
 // A study sends its partial counts about this often: often enough for a live progress bar, and
 // the main thread merges at most once per frame.
@@ -77,7 +83,11 @@ self.onmessage = async ({ data }) => {
     postMessage({ id: data.id, fault: `the WebAssembly module could not be loaded in the worker: ${e?.message || e}` });
     return;
   }
-  if (data.study) studyJob(data); else if (data.cursor) cursorJob(data); else runJob(data);
+  if (data.study) studyJob(data);
+  else if (data.cursor) cursorJob(data);
+  else if (data.firstAccepted) firstJob(data);
+  else if (data.csv) csvJob(data);
+  else runJob(data);
 };
 
 // The core's errors carry the field they are about; a trap (RuntimeError) or anything else
@@ -85,6 +95,22 @@ self.onmessage = async ({ data }) => {
 function answerError(id, e) {
   if (e && typeof e.field === 'string') postMessage({ id, error: { field: e.field, message: e.message } });
   else postMessage({ id, fault: `${e?.name || 'Error'}: ${e?.message || e}` });
+}
+
+function firstJob({ id, firstAccepted: scenario }) {
+  try {
+    postMessage({ id, first: firstAccepted(scenario) });
+  } catch (e) {
+    answerError(id, e);
+  }
+}
+
+function csvJob({ id, csv: { scenario, text, name } }) {
+  try {
+    postMessage({ id, withData: withCsvData(scenario, text, name) });
+  } catch (e) {
+    answerError(id, e);
+  }
 }
 
 function runJob({ id, scenario, testOnlyAbort: abort, testOnlySlowMs: slow }) {

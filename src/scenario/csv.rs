@@ -75,6 +75,16 @@ impl Scenario {
         s.simulate = None;
         Ok(s)
     }
+
+    /// [`Scenario::with_csv_data`] from a file named `name`, titled after it ("measured data:
+    /// real.csv"): the figures' title is the scenario's, and a preset's title claims the
+    /// paper's figure ("… (LSCR paper, Fig. 1)"), which the user's data are not. The page's
+    /// data box and `confset run --data` both go through it.
+    pub fn with_csv_file(&self, text: &str, name: &str) -> Result<Scenario> {
+        let mut s = self.with_csv_data(text)?;
+        s.title = Some(crate::error::displayed(&format!("measured data: {name}")));
+        Ok(s)
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -20,7 +20,9 @@ use super::budget::{f, shape, Job, Term, Work};
 use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, Table};
 use super::preset::Preset;
-use super::{MethodScenario, Report, Scenario, SimulateSpec, Source};
+use super::{
+    first_accepted_in, FirstAccepted, MethodScenario, Report, Scenario, SimulateSpec, Source,
+};
 use crate::error::{Error, Result};
 use crate::glls::{
     self, Curves, GllsModel, Horizon, Precision, PrecisionReport, StateNoise, Study, Weighting,
@@ -718,6 +720,29 @@ impl MethodScenario for Glls {
     }
     fn steps(&self) -> RangeInclusive<usize> {
         1..=5000
+    }
+    fn first_accepted(&self, s: &Scenario) -> Result<Option<FirstAccepted>> {
+        // The horizon s the view animates (the x axis of Figs. 1–3), from the first at which
+        // x(k − s) is observable, Γ_{s+1} of rank n (Horizon::new, as the run asks it), up to
+        // the scenario's (all the data, k, when it names none).
+        let p = s.prepare_glls()?;
+        let k = p.y.len() - 1;
+        let current = p.spec.horizon.unwrap_or(k);
+        let value = first_accepted_in(0..=current, |h| {
+            let mut at = s.clone();
+            if let Some(g) = at.glls.as_mut() {
+                g.horizon = Some(h);
+            }
+            let p = at.prepare_glls()?;
+            if h > k {
+                return Err(Error::field("glls.horizon", "exceeds the data"));
+            }
+            Horizon::new(&p.model, h, p.weighting).map(|_| ())
+        })?;
+        Ok(Some(FirstAccepted {
+            field: "glls.horizon".into(),
+            value,
+        }))
     }
     fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
         // m = rows of C (model.H), r = columns of B, as `prepare_glls` reads the data.

@@ -22,7 +22,10 @@ use super::budget::{f, shape, Job, Term, Work};
 use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, flag, Table};
 use super::preset::Preset;
-use super::{Condition, MethodScenario, Report, Scenario, SimulateSpec, Source};
+use super::{
+    first_accepted_in, Condition, FirstAccepted, MethodScenario, Report, Scenario, SimulateSpec,
+    Source,
+};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
@@ -751,6 +754,43 @@ impl MethodScenario for Lscr {
         // lscr-predict takes about 14 s natively at t = 2000, growing like t^2.4: 800 keeps a
         // report near 2 s.
         1..=800
+    }
+    fn first_accepted(&self, s: &Scenario) -> Result<Option<FirstAccepted>> {
+        // The data length t the view animates (the region as the data arrive): a simulated
+        // record only (measured data have the length they have). From the first t the
+        // method's own validation accepts (t ≥ n, M ≤ 2^t for random strings, 2^k = M with
+        // k ≤ t for groups, the smoothed index below t: `prepare_lscr`) up to the scenario's.
+        // A truth fixed at the estimated time (the view's rare realization: x̄ is the state
+        // the region is for) stays at the estimated time as t moves; one fixed elsewhere stays.
+        let Some(current) = s.simulate.as_ref().map(|sim| sim.steps) else {
+            return Ok(None);
+        };
+        let estimated = |t: usize| match s.lscr.as_ref().map(|l| (l.estimate, l.index)) {
+            Some((Estimate::Predict, _)) => Some(t + 1),
+            Some((Estimate::Filter, _)) => Some(t),
+            Some((Estimate::Smooth, i)) => i,
+            None => None,
+        };
+        let follows = s
+            .simulate
+            .as_ref()
+            .and_then(|sim| sim.condition.as_ref())
+            .is_some_and(|c| Some(c.t) == estimated(current));
+        let value = first_accepted_in(1..=current, |t| {
+            let mut at = s.clone();
+            if let Some(sim) = at.simulate.as_mut() {
+                sim.steps = t;
+                if let (true, Some(c), Some(time)) = (follows, sim.condition.as_mut(), estimated(t))
+                {
+                    c.t = time;
+                }
+            }
+            at.prepare_lscr().map(|_| ())
+        })?;
+        Ok(Some(FirstAccepted {
+            field: "simulate.steps".into(),
+            value,
+        }))
     }
     fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
         // A scalar output y_t and no inputs (`prepare_lscr` refuses `data.u`).

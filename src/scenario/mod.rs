@@ -139,6 +139,54 @@ pub struct Scenario {
     pub moved: Vec<MovedKey>,
 }
 
+/// The smallest accepted value of the quantity a view animates by rerunning
+/// ([`Scenario::first_accepted`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FirstAccepted {
+    /// The scenario field animated (`simulate.steps`, `glls.horizon`).
+    pub field: String,
+    /// Its smallest value the method accepts with the rest of the scenario unchanged.
+    pub value: usize,
+}
+
+/// The smallest v in `lowest..=current` with `accepts(v)`, for a property that holds from some
+/// value on: probing up from `lowest` by doubling gaps (the small values first: a method's
+/// validation at t can cost O(t³)), then halving the last gap. `current` is asked only when
+/// no smaller value is accepted, and its refusal is then the answer.
+pub(crate) fn first_accepted_in(
+    values: RangeInclusive<usize>,
+    mut accepts: impl FnMut(usize) -> Result<()>,
+) -> Result<usize> {
+    let (lowest, current) = values.into_inner();
+    // The largest value known to be refused (every value from `lowest` to it is, by the premise).
+    let mut refused: Option<usize> = None;
+    let (mut probe, mut gap) = (lowest, 1usize);
+    let mut good = loop {
+        if probe >= current {
+            accepts(current)?;
+            break current;
+        }
+        if accepts(probe).is_ok() {
+            break probe;
+        }
+        refused = Some(probe);
+        probe = probe.saturating_add(gap);
+        gap = gap.saturating_mul(2);
+    };
+    while let Some(r) = refused {
+        if good - r <= 1 {
+            break;
+        }
+        let mid = r + (good - r) / 2;
+        if accepts(mid).is_ok() {
+            good = mid;
+        } else {
+            refused = Some(mid);
+        }
+    }
+    Ok(good)
+}
+
 /// A key read from the place an older version of the scenario format wrote it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MovedKey {
@@ -848,6 +896,13 @@ pub(crate) trait MethodScenario: Sync {
             ),
         ))
     }
+    /// The quantity a view animates by rerunning (LSCR's data length t, GLLS's horizon s) and
+    /// the smallest value of it the method accepts with the rest of the scenario unchanged;
+    /// `None` when the method animates nothing by rerunning (its time cursor only redraws).
+    /// The search asks the method's own validation, so it cannot disagree with a run.
+    fn first_accepted(&self, _s: &Scenario) -> Result<Option<FirstAccepted>> {
+        Ok(None)
+    }
     /// The most states n the method takes (its run refuses more, naming the model field).
     fn max_states(&self) -> usize;
     /// The keys of the method's report that hold or judge the true state, each with what it
@@ -972,6 +1027,27 @@ impl Scenario {
         Ok(make_method(self.method)
             .cursor(self)?
             .map(|inner| Box::new(CheckedCursor { inner, block }) as Box<dyn Cursor>))
+    }
+
+    /// The quantity the method's view animates by rerunning and the smallest value of it the
+    /// method accepts, the rest of this scenario unchanged ([`FirstAccepted`]): LSCR's data
+    /// length (`simulate.steps`: t ≥ n, M ≤ 2^t, t above the smoothed index), GLLS's horizon
+    /// (`glls.horizon`: the first s at which x(k − s) is observable). Values from it up to this
+    /// scenario's are accepted. An error when the method animates nothing by rerunning, or
+    /// when this scenario itself is refused (its own message). Checked against the work budget
+    /// first: every value searched is at most this scenario's.
+    pub fn first_accepted(&self) -> Result<FirstAccepted> {
+        self.check_method_blocks()?;
+        self.work(Job::Report).check(Job::Report)?;
+        make_method(self.method).first_accepted(self)?.ok_or_else(|| {
+            Error::field(
+                "method",
+                format!(
+                    "\"{}\" has no quantity its view animates by rerunning (its time cursor only redraws)",
+                    self.method
+                ),
+            )
+        })
     }
 
     /// The Monte Carlo study of this scenario's method, not yet run: the SCF conditional

@@ -89,6 +89,23 @@ export default async function newcomer(env) {
     await page.$eval('#ubb-section .share-status', (e) => { e.textContent = ''; });
   }
 
+  // A file's name is shown as it is: the descriptions' subscript rule (x_t → x<sub>t</sub>)
+  // made "compare-uniform<sub>lp</sub>-t30.json" of it.
+  {
+    await open('#compare');
+    await page.waitForFunction(() => !document.body.dataset.compareBusy);
+    const name = 'compare-uniform_lp-t30.json';
+    const body = await page.evaluate(() => {
+      const { notes, ...scenario } = JSON.parse(window.confset.presets()).find((p) => p.name === 'compare-uniform').scenario;
+      return JSON.stringify(scenario); // no notes: the description says where it comes from
+    });
+    await page.setInputFiles('#compare-section [data-act=file]', { name, mimeType: 'application/json', buffer: Buffer.from(body) });
+    await page.waitForFunction(() => /loaded/.test(document.querySelector('#compare-section #c-preset')?.selectedOptions[0]?.textContent || ''));
+    const desc = await page.$eval('#compare-section #c-preset-desc', (e) => [e.textContent, e.innerHTML]);
+    assert.ok(desc[0].includes(name), `the description names the file as it is: ${desc[0]}`);
+    assert.doesNotMatch(desc[1], /<sub>lp<\/sub>/, `no subscript in a file's name: ${desc[1]}`);
+  }
+
   // Compare → "open in its panel" for every row, the uniform LP's included (it failed with
   // "uniform.xr must be numbers" and left uniform-paper's figures under a slider at t = 30).
   await open('#compare');

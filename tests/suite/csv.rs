@@ -320,7 +320,7 @@ fn csv_errors_name_the_row_the_column_and_the_counts() {
 in_browser!(csv_errors_name_the_row_the_column_and_the_counts);
 
 /// `confset run --preset NAME --data FILE.csv` prints the report of the core's
-/// `with_csv_data`, for the first simulating preset with inputs (or any, if none has them).
+/// `with_csv_file` (titled after the file), for the first simulating preset with inputs (or any, if none has them).
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn cli_run_with_data_prints_the_core_report() {
@@ -336,12 +336,19 @@ fn cli_run_with_data_prints_the_core_report() {
     let path_text = path.to_string_lossy().to_string();
     let got = crate::registry::cli(&["run", "--preset", name, "--data", &path_text]);
     let _ = std::fs::remove_file(&path);
+    let file = path.file_name().unwrap().to_string_lossy().to_string();
     let want = report_value(
-        &s.with_csv_data(&write_csv(data, ";", true, false))
+        &s.with_csv_file(&write_csv(data, ";", true, false), &file)
             .and_then(|s| s.run())
             .unwrap_or_else(|e| panic!("{name}: {e}")),
     );
     if let Some(d) = first_difference(&got, &want, "") {
         panic!("confset run --preset {name} --data: differs from the core at {d}");
     }
+    // The figures' title names the file, not the preset's paper figure (issue 29).
+    assert_eq!(
+        got["figure"]["title"],
+        serde_json::json!(format!("measured data: {file}")),
+        "{name}"
+    );
 }

@@ -1081,3 +1081,73 @@ fn exported_limits_are_the_checked_ones() {
     assert!(e.message.contains(&window.to_string()), "{e}");
 }
 in_browser!(exported_limits_are_the_checked_ones);
+
+/// The first value of the quantity a view animates by rerunning (LSCR's t, GLLS's s), asked of
+/// the core, is one the full run accepts while the value below it is refused by the full run
+/// (so the search, which asks the method's validation only, agrees with a run); with the
+/// presets' values: LSCR t ≥ n = 2 and M = 80 ≤ 2^t (t = 7) for prediction, t above the
+/// smoothed index 15 for smoothing (t = 16); GLLS the first observable horizon (Γ_{s+1} of
+/// rank n).
+#[test]
+fn first_accepted_value_is_the_runs_first() {
+    use confset::scenario::{FirstAccepted, Scenario};
+    let set = |s: &Scenario, field: &str, v: usize| -> Scenario {
+        let mut j = serde_json::to_value(s).unwrap();
+        let (block, key) = field.split_once('.').unwrap();
+        j[block][key] = serde_json::json!(v);
+        // The view's truth stays at the predicted state x_{t+1} as t moves (lscr-ma1's).
+        if field == "simulate.steps" && !j["simulate"]["condition"].is_null() {
+            assert_eq!(j["lscr"]["estimate"], "predict");
+            j["simulate"]["condition"]["t"] = serde_json::json!(v + 1);
+        }
+        serde_json::from_value(j).unwrap()
+    };
+    let expected = [
+        ("lscr-predict", "simulate.steps", 7),
+        ("lscr-smooth", "simulate.steps", 16),
+        ("lscr-ma1", "simulate.steps", 7),
+        ("glls-saturate", "glls.horizon", 2),
+        ("glls-grow", "glls.horizon", 1),
+        ("glls-mixed", "glls.horizon", 2),
+        ("glls-unstable5", "glls.horizon", 4),
+    ];
+    for (name, field, value) in expected {
+        let mut s = confset::presets::get(name).unwrap();
+        if field == "glls.horizon" {
+            // The view animates an explicit horizon: the preset's best one, from its report.
+            let best = s.run().unwrap().glls.unwrap().s;
+            s = set(&s, field, best);
+        }
+        let got = s.first_accepted().unwrap();
+        assert_eq!(
+            got,
+            FirstAccepted {
+                field: field.into(),
+                value
+            },
+            "{name}"
+        );
+        assert!(
+            set(&s, field, value).run().is_ok(),
+            "{name}: the run at {value}"
+        );
+        let below = set(&s, field, value - 1).run();
+        assert!(
+            below.is_err(),
+            "{name}: the run at {} is accepted",
+            value - 1
+        );
+    }
+    // A method animating nothing by rerunning says so in words; a refused scenario gives
+    // its own message.
+    let e = confset::presets::get("ubb-track")
+        .unwrap()
+        .first_accepted()
+        .unwrap_err();
+    assert!(e.to_string().contains("animates by rerunning"), "{e}");
+    let mut s = confset::presets::get("lscr-predict").unwrap();
+    s.lscr.as_mut().unwrap().m = Some(1 << 20);
+    let e = s.first_accepted().unwrap_err();
+    assert!(e.to_string().contains("lscr.M"), "{e}");
+}
+in_browser!(first_accepted_value_is_the_runs_first);

@@ -716,14 +716,20 @@ fn csv_data_is_read_as_the_core_reads_it() {
     assert_eq!(shape, serde_json::json!({"outputs": 1, "inputs": 0}));
     let text = "y1\r\n0.5\r\n-1.25\r\n";
     let got: Value =
-        serde_json::from_str(&with_csv_data(&scenario, text).expect("CSV read")).expect("JSON");
+        serde_json::from_str(&with_csv_data(&scenario, text, "real.csv").expect("CSV read"))
+            .expect("JSON");
     let core = confset::scenario::Scenario::from_json(&scenario)
         .and_then(|s| s.with_csv_data(text))
         .expect("core");
-    assert_eq!(got, serde_json::to_value(&core).expect("JSON"));
+    let mut want = serde_json::to_value(&core).expect("JSON");
+    // The figures' title names the data, not the preset's paper figure.
+    assert_ne!(want["title"], "measured data: real.csv");
+    want["title"] = "measured data: real.csv".into();
+    assert_eq!(got, want);
     assert_eq!(got["data"]["y"], serde_json::json!([[0.5], [-1.25]]));
     assert!(got.get("simulate").is_none(), "simulate is dropped");
-    let (message, field) = thrown(with_csv_data(&scenario, "y1\n1\nx\n").expect_err("bad cell"));
+    let (message, field) =
+        thrown(with_csv_data(&scenario, "y1\n1\nx\n", "bad.csv").expect_err("bad cell"));
     assert_eq!(field, "data.y");
     assert_eq!(message, "data.y row 3, column y1: 'x' is not a number");
     let (_, field) = thrown(data_shape("{}").expect_err("no scenario"));

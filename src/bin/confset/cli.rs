@@ -375,16 +375,20 @@ fn scenario(input: &Input) -> Result<Scenario, Error> {
     }
 }
 
-/// The scenario with `--data FILE.csv` applied (`Scenario::with_csv_data`: its `data` read
-/// from the file, its `simulate` dropped), or as it is without the flag.
+/// The scenario with `--data FILE.csv` applied (`Scenario::with_csv_file`: its `data` read
+/// from the file, its `simulate` dropped, its title naming the file), or as it is without the flag.
 fn scenario_with_data(input: &Input, data: &DataArg) -> Result<Scenario, Error> {
     let s = scenario(input)?;
     let Some(path) = &data.data else {
         return Ok(s);
     };
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
     let path = path.display().to_string();
     let text = read_bounded(&path, MAX_CSV_BYTES, "the CSV data", "--data")?;
-    s.with_csv_data(&text).map_err(|e| {
+    s.with_csv_file(&text, &name).map_err(|e| {
         // Name the file, so "data.y row 7, …" points into it (a model error is the scenario's).
         if e.field.starts_with("data") {
             Error::field(e.field, format!("{} (in {path})", e.message))
