@@ -9,7 +9,10 @@
 //! (`explorer/`), which the entries link into with the explorer's `#<panel>/preset/<name>`
 //! route. Native only (it times the core with the system clock).
 
+mod notation;
 pub mod printed;
+
+use notation::notation;
 
 use crate::error::{Error, Result};
 use crate::method::Method;
@@ -422,7 +425,7 @@ pub fn build(size: (u32, u32)) -> Result<Vec<File>> {
             index,
             "<li><strong>{}</strong>: {}</li>",
             esc(&n.id),
-            esc(&n.why)
+            notation(&n.why)
         );
     }
     let differs: Vec<String> = checked
@@ -438,7 +441,7 @@ pub fn build(size: (u32, u32)) -> Result<Vec<File>> {
                             "<li><a href=\"entries/{}.html\">{}</a>: {} — {}</li>",
                             slug(&c.entry.id),
                             esc(&c.entry.id),
-                            esc(&p.what),
+                            notation(&p.what),
                             v.word()
                         )
                     })
@@ -551,9 +554,9 @@ fn entry_page(
          <a download href=\"../data/{name}.scenario.json\">scenario JSON</a>\
          <a download href=\"../data/{name}.report.json\">report JSON</a>",
         esc(&e.id),
-        esc(&e.caption),
+        notation(&e.caption),
         esc(name),
-        esc(&c.preset.description),
+        notation(&c.preset.description),
     );
     for runs in c.studies.keys() {
         let (path, label) = match runs {
@@ -572,7 +575,7 @@ fn entry_page(
                 b,
                 "<figure><img src=\"../{f}\" alt=\"{}\"><figcaption>{} · <a href=\"../{f}\" download>SVG</a> · <a href=\"../{}\" download>PNG (2×)</a></figcaption></figure>\n",
                 esc(panel.alt_text()),
-                esc(panel.alt_text()),
+                notation(panel.alt_text()),
                 f.replace(".svg", ".png")
             );
         }
@@ -598,8 +601,8 @@ fn entry_page(
             let _ = writeln!(
                 b,
                 "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>{}</tr>",
-                esc(&p.what),
-                esc(&p.place),
+                notation(&p.what),
+                notation(&p.place),
                 esc(&p.printed),
                 mine,
                 verdict_cell(p, v)

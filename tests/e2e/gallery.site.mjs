@@ -55,6 +55,10 @@ export default async function ({ baseUrl, newPage, waitReady, assert, screenshot
     const report = links.find((l) => /\.report\.json$/.test(l.href));
     assert.ok(report, `${url} offers the report JSON`);
     explorerLinks.push({ entry: url, explorer: ex.href, report: report.href });
+    // The papers' notation as scripts, not raw (X_40^SCF, U_tA_t, F^b, X̂_l, y_t, p_x were shown as typed).
+    const raw = await page.evaluate(() => document.querySelector('main').innerText
+      .match(/(^|[^\p{L}\d_])\p{L}[\u0300-\u036f]?(_[a-z0-9]{1,3}|\^[A-Za-z]{1,3}|_\{[^}]*\}|\^\{[^}]*\})(?![a-z0-9_])/gu));
+    assert.equal(raw, null, `${url}: notation shown raw: ${raw?.join(' ')}`);
     const verdicts = await page.$$eval('table.numbers:not(.counts) td:last-child', (tds) => tds.map((t) => t.textContent));
     for (const v of verdicts) assert.match(v, /^(reproduced|within|differs)/, `${url}: a verdict per number`);
     // A compare page: every method's row with its count at the true state and the core's verdict.
