@@ -545,7 +545,10 @@ function landing() {
     const a = document.createElement('a');
     a.className = 'card promise';
     a.href = `#${d.id}`;
-    a.innerHTML = `<h2></h2><p></p><span class="go">open →</span>`;
+    a.innerHTML = `<img class="thumb" width="480" height="320" decoding="async"><h2></h2><p></p><span class="go">open →</span>`;
+    const img = a.querySelector('img');
+    img.src = `thumbs/${d.id}.png`;
+    img.alt = d.thumb.alt;
     a.querySelector('h2').textContent = d.title;
     a.querySelector('p').textContent = d.promise;
     return a;

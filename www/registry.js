@@ -14,6 +14,8 @@
 //   view      the panel's markup (views/<id>.html), put into its root before the mount
 //   section   the view's element (#<id>-section); root: the panel inside it (#<id>)
 //   busy      the document.body.dataset key the panel holds while it computes
+//   thumb     the landing view's picture, thumbs/<id>.png: the core's figure of that preset's
+//             panel, drawn by .ci/thumbs (`confset figure`), with its text alternative
 export const PANELS = [
   {
     id: 'scf',
@@ -31,6 +33,7 @@ export const PANELS = [
     view: './views/scf.html',
     mount: 'mountScf',
     busy: 'busy',
+    thumb: { preset: 'scf-robots', panel: 'state', alt: 'Two robots near a collision: the SCF region holds the state, the Kalman ellipse misses it' },
   },
   {
     id: 'lscr',
@@ -48,6 +51,7 @@ export const PANELS = [
     view: './views/lscr.html',
     mount: 'mountLscr',
     busy: 'lscrBusy',
+    thumb: { preset: 'lscr-predict', panel: 'region', alt: 'The LSCR region for x₃₁, hatched where each X̂ₗ excludes, beside the BLUE ellipse' },
   },
   {
     id: 'glls',
@@ -66,6 +70,7 @@ export const PANELS = [
     view: './views/glls.html',
     mount: 'mountGlls',
     busy: 'gllsBusy',
+    thumb: { preset: 'glls-saturate', panel: 'singular', alt: 'Singular values of the observability matrix against the horizon s' },
   },
   {
     id: 'uniform',
@@ -84,6 +89,7 @@ export const PANELS = [
     view: './views/uniform.html',
     mount: 'mountUniform',
     busy: 'uniformBusy',
+    thumb: { preset: 'uniform-paper', panel: 'ustates', alt: 'The estimated states of the LU model with their true values, on line' },
   },
   {
     id: 'ubb',
@@ -102,6 +108,7 @@ export const PANELS = [
     view: './views/ubb.html',
     mount: 'mountUbb',
     busy: 'ubbBusy',
+    thumb: { preset: 'ubb-track', panel: 'ubbset', alt: 'The exact feasible polygon of the state with its interval hull and central estimate' },
   },
   {
     id: 'compare',
@@ -120,6 +127,7 @@ export const PANELS = [
     view: './views/compare.html',
     mount: 'mountCompare',
     busy: 'compareBusy',
+    thumb: { preset: 'compare-gaussian', panel: 'compare', alt: 'Every method’s set for the same state on equal axes' },
   },
 ];
 

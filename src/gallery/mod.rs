@@ -476,11 +476,11 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
     let counts = study.and_then(|s| s["methods"].as_array());
     for (row, set) in c.rows.iter().zip(&c.at.sets) {
         let assumes = match &row.violated {
-            None => format!("{} <span class=\"ok\">— met</span>", esc(&row.assumes)),
+            None => format!("{} <span class=\"ok\">— met</span>", notation(&row.assumes)),
             Some(why) => format!(
                 "{}<br><span class=\"bad\">{}</span>",
-                esc(&row.assumes),
-                esc(why)
+                notation(&row.assumes),
+                notation(why)
             ),
         };
         let level = row.level.map_or(String::new(), |l| {
@@ -491,7 +491,7 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
             )
         });
         let area = match (&set.set, set.area) {
-            (None, _) => format!("no set: {}", esc(set.reason.as_deref().unwrap_or(""))),
+            (None, _) => format!("no set: {}", notation(set.reason.as_deref().unwrap_or(""))),
             (Some(_), None) => "unbounded".to_string(),
             (Some(_), Some(a)) => number(a),
         };
@@ -512,7 +512,7 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
                         b[0], b[1]
                     ))
                 ),
-                esc(m["verdict"].as_str().unwrap_or("")),
+                notation(m["verdict"].as_str().unwrap_or("")),
             ),
             _ => ("—".to_string(), String::new()),
         };
@@ -520,7 +520,7 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
             b,
             "<tr><td>{}</td><td>{assumes}</td><td>{}{level}</td><td class=\"num\">{area}</td><td>{holds}</td><td class=\"num\">{counted}</td><td>{verdict}</td></tr>",
             row.method,
-            esc(&row.promise)
+            notation(&row.promise)
         );
     }
     b.push_str("</tbody>\n</table>\n");
@@ -529,7 +529,7 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
             b,
             "<p class=\"caption\">The study: {} runs; {}.</p>",
             s["runs"],
-            esc(s["conditioning"].as_str().unwrap_or(""))
+            notation(s["conditioning"].as_str().unwrap_or(""))
         );
     }
     b

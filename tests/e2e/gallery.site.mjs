@@ -69,6 +69,26 @@ export default async function ({ baseUrl, newPage, waitReady, assert, screenshot
     }
   }
 
+  // The explorer's landing view: a picture per view (the core's figure, thumbs/<id>.png) with its
+  // text alternative, and the gallery link (in the header of every view) leads to this index.
+  await page.goto(`${site}explorer/index.html`);
+  await waitReady(page);
+  await page.evaluate(() => Promise.all([...document.querySelectorAll('#landing img')].map((i) => i.decode().catch(() => {}))));
+  const thumbs = await page.$$eval('#landing a.promise', (as) => as.map((a) => {
+    const i = a.querySelector('img');
+    return { href: a.getAttribute('href'), ok: !!i && i.complete && i.naturalWidth > 0, alt: i?.alt || '' };
+  }));
+  assert.ok(thumbs.length >= 6, `landing cards: ${thumbs.length}`);
+  for (const t of thumbs) {
+    assert.ok(t.ok, `${t.href}: its picture loads`);
+    assert.ok(t.alt.length > 20, `${t.href}: its picture has a text alternative`);
+  }
+  await page.goto(`${site}explorer/index.html#ubb`);
+  await waitReady(page);
+  await Promise.all([page.waitForURL((u) => !u.pathname.includes('/explorer/')), page.click('header .gallery-link')]);
+  assert.equal(new URL(page.url()).pathname, new URL(`${site}index.html`).pathname, `the gallery link leads to the site's index: ${page.url()}`);
+  assert.ok((await page.$$('a.card')).length >= 15, 'the gallery index shows its entries');
+
   // Every explorer link (one per preset) restores the panel; its report download holds the
   // gallery's numbers (wasm in the page, native in the gallery: the same code, but libm's exp,
   // sin, … may round differently, and glls-grow's ill-conditioned horizons amplify that to

@@ -814,6 +814,8 @@ fn not_served(name: &str) -> bool {
     matches!(
         name,
         "node_modules" | "package.json" | "package-lock.json" | ".gitignore" | "README.md"
+            // A gallery written into www/ by .ci/serve: the site's gallery is its root.
+            | "gallery"
     ) || name.starts_with("screenshot")
         || name.ends_with(".d.ts")
 }
@@ -872,6 +874,20 @@ fn gallery(
             .map_err(|e| Error::field("-o", format!("cannot write {}: {e}", path.display())))?;
     }
     let copied = copy_explorer(explorer, &out.join("explorer"))?;
+    // The explorer links to its gallery as gallery/index.html (beside it when .ci/serve wrote
+    // one into www/); inside the site, the gallery is the site's root: a redirect, no script
+    // (the gallery's pages run none).
+    let redirect = out.join("explorer").join("gallery");
+    std::fs::create_dir_all(&redirect)
+        .map_err(|e| Error::field("-o", format!("cannot create {}: {e}", redirect.display())))?;
+    std::fs::write(
+        redirect.join("index.html"),
+        "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta http-equiv=\"refresh\" content=\"0; url=../../index.html\">\n\
+         <title>The gallery</title>\n</head>\n<body>\n\
+         <p><a href=\"../../index.html\">The gallery of the papers' figures</a></p>\n</body>\n</html>\n",
+    )
+    .map_err(|e| Error::field("-o", format!("cannot write {}: {e}", redirect.display())))?;
     eprintln!(
         "wrote {} gallery files and {copied} explorer files into {} in {:.1} s",
         files.len(),
