@@ -22,7 +22,10 @@ pub fn from_rows(field: &str, rows: &[Vec<f64>]) -> Result<DMatrix<f64>> {
             return Err(Error::field(
                 field,
                 format!(
-                    "has rows of different lengths (row 0 has {cols}, row {i} has {})",
+                    // Rows and columns counted from 1, as the page's matrix boxes and the CSV
+                    // reader count them.
+                    "has rows of different lengths (row 1 has {cols}, row {} has {})",
+                    i + 1,
                     r.len()
                 ),
             ));
@@ -30,7 +33,7 @@ pub fn from_rows(field: &str, rows: &[Vec<f64>]) -> Result<DMatrix<f64>> {
         if let Some(j) = r.iter().position(|v| !v.is_finite()) {
             return Err(Error::field(
                 field,
-                format!("has a non-finite entry at row {i}, column {j}"),
+                format!("has a non-finite entry at row {}, column {}", i + 1, j + 1),
             ));
         }
     }
