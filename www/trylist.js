@@ -11,8 +11,10 @@ import { restoreFields } from './share.js';
 export function mountTries(root, select, busyKey) {
   const box = document.createElement('details');
   box.className = 'tries';
-  box.open = true;
-  box.innerHTML = '<summary>Things to try <span class="hint">each starts from the preset</span></summary>'
+  // Open beside the figures; folded where the controls stack above them (a phone), so the
+  // controls stay near the top.
+  box.open = !window.matchMedia('(max-width: 860px)').matches;
+  box.innerHTML = '<summary>Things to try <span class="try-count"></span> <span class="hint">each starts from the preset</span></summary>'
     + '<ol></ol><p class="hint try-status" role="status" aria-live="polite"></p>';
   const list = box.querySelector('ol');
   const status = box.querySelector('.try-status');
@@ -47,6 +49,7 @@ export function mountTries(root, select, busyKey) {
     if (box.dataset.preset === preset) return;
     box.dataset.preset = preset;
     status.textContent = '';
+    box.querySelector('.try-count').textContent = `(${tries.length})`;
     list.replaceChildren(...tries.map((t) => {
       const li = document.createElement('li');
       li.dataset.try = t.id;

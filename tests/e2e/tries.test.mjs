@@ -445,6 +445,10 @@ export default async function tries(env) {
     await phone.goto(`${baseUrl}#${view}`);
     await waitReady(phone);
     await idle(phone, view);
+    // Folded on a phone (the controls stay near the top): a tap opens it.
+    assert.equal(await phone.$eval(`#${view}-section .tries`, (e) => e.open), false, `${view} at 390 px: the list is folded`);
+    await phone.click(`#${view}-section .tries summary`);
+    assert.equal(await phone.$eval(`#${view}-section .tries`, (e) => e.open), true, `${view} at 390 px: a tap opens it`);
     const [doc, box] = await phone.evaluate((v) => {
       const b = document.querySelector(`#${v}-section .tries`).getBoundingClientRect();
       return [document.documentElement.scrollWidth, b.right];
