@@ -155,7 +155,7 @@ export const TRIES = {
       id: 'filter',
       name: 'filter instead of predict',
       move: 'Set “Estimate” to “filter xₜ”.',
-      watch: 'σ_w² = 0, so y₂₀ gives x₂ exactly: the band for x₂₀ narrows to a thin strip around x₂ = y₂₀ (its area drops more than tenfold) and still holds the state — LSCR finds this without being told σ_w².',
+      watch: 'σ_w² = 0, so y₂₀ is x₂ at t = 20 exactly: the data say far more about x₂₀ than about x₂₁, and the band narrows to a thin strip (its area drops more than tenfold), still holding the state — LSCR is never told σ_w² = 0.',
       apply: { 'l-estimate': 'filter' },
     },
   ],

@@ -3,8 +3,12 @@
 // the report the panel keeps ("Download report (JSON)"), its numbers and its inline messages —,
 // clicks the prompt's "Try it" button (found by its accessible name "Try: …"), waits for the
 // run, reads again and checks the promise. The list follows the preset menu and is hidden for
-// the custom model; it does not widen a 390 px phone page and runs from the keyboard.
+// the custom model and a loaded scenario file; it does not widen a 390 px phone page (folded
+// there, opened by a tap) and runs from the keyboard.
 import { readFile } from 'node:fs/promises';
+import { mkdtempSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import { TRIES } from '../../www/tries.js';
 
 // The view of each preset (its name's prefix) and what the test reads there.
@@ -220,6 +224,13 @@ const CHECKS = {
     worst: (b, a, ok) => {
       ok(glls(a).error_current > 10 * glls(b).error_current, `error ${glls(b).error_current} → ${glls(a).error_current}`);
       ok(glls(a).truth_in_box === true && /guaranteed box .*✓ inside/.test(a.numbers), 'the truth stays in the box');
+      // … on its edge: in some component the truth is at the box's bound.
+      const g = glls(a);
+      const gap = Math.min(...g.box_current.lo.map((lo, i) => {
+        const [hi, x] = [g.box_current.hi[i], g.x_true_current[i]];
+        return Math.min(x - lo, hi - x) / (hi - lo);
+      }));
+      ok(gap < 2e-4, `the truth is on an edge of the box (relative gap ${gap})`);
     },
     gaussian: (b, a, ok) => {
       ok(glls(b).truth_in_box === true && glls(a).truth_in_box === false, 'the box misses the truth');
@@ -315,7 +326,7 @@ const CHECKS = {
   'ubb-leontief': {
     'tau-low': ubbTauLow,
     'gamma-up': (b, a, ok) => {
-      ok(ubb(a).window < ubb(b).window, `window ${ubb(b).window} → ${ubb(a).window}`);
+      ok(ubb(a).window < ubb(b).window && ubb(a).at.size.variables < ubb(b).at.size.variables, `window ${ubb(b).window} → ${ubb(a).window}, a smaller LP`);
       ok(Math.abs(radius(ubb(a)) - radius(ubb(b))) <= 0.2, `radius ${radius(ubb(b))} → ${radius(ubb(a))}`);
     },
     'eps-up': (b, a, ok) => {
@@ -438,6 +449,22 @@ export default async function tries(env) {
   await page.keyboard.press('Enter');
   await idle(page, 'ubb');
   assert.equal(await page.$eval('#b-time', (e) => e.value), '10', 'Enter on the focused button ran the prompt');
+
+  // A loaded scenario file is not a preset: no prompts (they would not hold); "Undo load" brings
+  // the preset and its list back.
+  const scenario = await page.evaluate(() => JSON.parse(window.confset.presets()).find((p) => p.name === 'ubb-track').scenario);
+  const dir = mkdtempSync(join(tmpdir(), 'confset-tries-'));
+  const file = join(dir, 'mine.json');
+  writeFileSync(file, JSON.stringify({ ...scenario, title: 'mine' }));
+  await page.setInputFiles('#ubb-section input[data-act=file]', file);
+  await page.waitForFunction(() => /loaded/.test(document.querySelector('#ubb-section .share-status').textContent), null, { timeout: 30_000 });
+  await idle(page, 'ubb');
+  assert.match(await page.$eval('#b-preset', (e) => e.value), /^file:/);
+  assert.equal(await page.$eval('#ubb-section .tries', (e) => e.hidden), true, 'no prompts for a loaded file');
+  await page.click('#ubb-section [data-act=undo]');
+  await idle(page, 'ubb');
+  assert.equal(await page.$eval('#ubb-section .tries', (e) => e.hidden), false, 'the preset\'s prompts are back');
+  assert.equal(await page.$eval('#ubb-section .tries li', (li) => li.dataset.try), 'later');
 
   // Phone: the list wraps within the page.
   const phone = await newPage({ viewport: { width: 390, height: 844 }, deviceScaleFactor: 2, isMobile: true, hasTouch: true });
