@@ -7,6 +7,7 @@ import { load } from './wasm.js';
 import { PANELS, panelById, panelOf } from './registry.js';
 import { int } from './format.js';
 import { parseFragment, fragmentOptions, encodeState, captureFields, restoreFields, idle, MAX_LINK_CHARS, LINK_VERSION } from './share.js';
+import { mountTries } from './trylist.js';
 
 // No form submits (Enter in a field must not reload the page); a listener, not an inline
 // handler, so the page runs under a strict Content-Security-Policy.
@@ -423,7 +424,14 @@ function mount(d) {
       root.innerHTML = markup;
       for (const form of root.querySelectorAll('form')) form.addEventListener('submit', (e) => e.preventDefault());
       return m[d.mount](root, list);
-    }).then((api) => { syncUrl(d); announceSliders(d.root()); applyLimits(d); return api; }));
+    }).then((api) => {
+      syncUrl(d);
+      announceSliders(d.root());
+      applyLimits(d);
+      // The preset's "Things to try", under its menu (tries.js).
+      mountTries(d.root(), api.presetSelect, d.busy);
+      return api;
+    }));
   }
   return mounted.get(d.id);
 }
