@@ -126,6 +126,8 @@
 //!     collision check: what a figure takes from the scenario);
 //!   - the one observations step ([`scenario::Source`]: `data` or `simulate`, one step-count
 //!     check per method);
+//!   - [`scenario::Scenario::first_accepted`]: the smallest value of the quantity a view animates
+//!     by rerunning (LSCR's t, GLLS's s) that the method's own validation accepts;
 //!   - `MethodScenario`, the descriptor each method's scenario file implements (steps, data
 //!     shape, work estimate, run, CSV table, study, cursor, state limit, truth keys, moved keys,
 //!     its compare member, presets), reached through the one `scenario::make_method`;
@@ -177,7 +179,8 @@
 //!   - `plot/style/` in layers, each importing only those below: `palette` and `number`, then
 //!     `text` (the one title helper), `axes`, `marks`, `legend`, `notes`; `geom.rs` (clipping)
 //!     and `erase.rs` (one backend type) beside them
-//! * [`gallery`]: (native only) the papers as a static site (`confset gallery`): `printed.json`,
+//! * [`gallery`]: (native only) the papers as a static site (`confset gallery`; the papers'
+//!   plain-text notation as HTML scripts by `gallery/notation.rs`): `printed.json`,
 //!   the catalogue of every figure and table a preset reproduces with the paper's printed numbers
 //!   and where ours are in the report or study JSON; [`gallery::printed::verdict`] (reproduced at
 //!   the printed digits, within a 99.9 % two-proportion band for Monte Carlo counts, or differs,
@@ -185,7 +188,7 @@
 //!   index, entries, SVG figures and JSON downloads with relative links and no script
 //! * `web`: (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS
 //!   exceptions; `presets`, `limits`, `methodPanels` (a method's figures with their text
-//!   alternatives), `withCsvData` and `dataShape` (CSV data for a scenario), `ellipsoidLevel`;
+//!   alternatives), `withCsvData` (CSV data for a scenario, titled after its file: [`scenario::Scenario::with_csv_file`]) and `dataShape`, `firstAccepted`, `ellipsoidLevel`;
 //!   `Session` (run, `setReport` (a report computed in the page's worker), `setAt` (a step's
 //!   detail from the worker's cursor into the kept report), `setStudy` (a study's result into
 //!   the report), `cursorSteps`, `usefulPanels`, draw, svg, LSCR raster), `Cursor` (a
