@@ -9,10 +9,17 @@
 //!   error (5) is the hull's largest half-width. A 2-D image S·T(h) is computed exactly as a
 //!   polygon ([`FeasibleSet::polygon`]).
 //! - Theorem 1 (Hilbert norms): [`hilbert`]. Theorem 2 (linear optimal algorithm from the
-//!   active constraints): [`linear_optimal`]. Theorem 3 (l1 noise): the 2^{m−1}-row form (30),
+//!   active constraints): [`linear_optimal`], and on Section IV's window
+//!   [`StateProblem::theorem_2`] (the paper's f = [x(s), u(s) … u(k)] (36), the rows of K (37)
+//!   and of the information (40) in the form (20); each active row named by its time and bound,
+//!   [`RowKind`]). Theorem 3 (l1 noise): the 2^{m−1}-row form (30),
 //!   (34) and the lifted form with slacks, chosen by [`L1Form`].
 //! - Section IV: state estimation with exponentially smoothed bounds (45)–(46), Theorem 4's
 //!   asymptotic bound and Theorem 5's truncation length (58): [`StateProblem`], [`Smoothing`].
+//!   Its simulation may draw a true noise other than the assumed bounds
+//!   ([`StateProblem::sim_levels`]); data that contradict the bounds are then possible, and
+//!   [`StateProblem::step_if_consistent`] / [`StateStep::hull_if_consistent`] say so without an
+//!   error (the guarantee study counts them as misses).
 //!
 //! Errata followed here (see the crate docs): (50) reads u(k−i); (37) must bound u(0) too (f
 //! contains it); Theorem 1's "‖N⁻¹‖ > ε⁻¹" is reversed; after Theorem 4 a pole near the unit
