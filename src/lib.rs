@@ -93,9 +93,13 @@
 //!   the exact 2-D polygon (a 2-D state with l∞ bounds: by the planar recursion of
 //!   [`ubb::planar`], clip by the measurement strips, map by A, add the noise zonotope, with no
 //!   LP; otherwise by support LPs), Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear
-//!   optimal algorithm from the active constraints of (22), by LP duals), Theorems 4 and 5 ((47),
-//!   (55), (58)), and Section IV's state estimator on a window of j + 1 steps with smoothed bounds
-//!   (45)–(46)
+//!   optimal algorithm from the active constraints of (22), by the certified simplex's vertex; on
+//!   the state problem [`ubb::StateProblem::theorem_2`]: each plotted component's estimate (25),
+//!   error E(φ₀) and active rows named by time and bound, the report's `at.linear`), Theorems 4
+//!   and 5 ((47), (55), (58)), and Section IV's state estimator on a window of j + 1 steps with
+//!   smoothed bounds (45)–(46); the simulation's true noise (`ubb.sim_eps`, `ubb.sim_tau`) apart
+//!   from the assumed bounds, the guarantee study counting runs whose data contradict them as
+//!   misses
 //! * [`solve`]: the one place that talks to the LP/QP solver (clarabel): dense LP/QP/SOCP in, a
 //!   solution (with duals) or an error in words out, naming the field its [`solve::Blame`] holds
 //!   (infeasible with the caller's hint, unbounded, stopped before converging with the
@@ -174,7 +178,8 @@
 //!     with the floating-point floor, the best horizon, the state plane with the guaranteed
 //!     ball and box, error box plots with the bound), `uniform/` (Pavelková Figs. 1–3 and the
 //!     consistent-state polygon), `ubb/` (Tempo: the exact feasible polygon with its interval
-//!     hull, central estimate, truth and Kalman ellipse; hull widths against Theorem 4),
+//!     hull, central estimate, Theorem 2's linear optimal estimate with its error box, truth and
+//!     Kalman ellipse; hull widths against Theorem 4),
 //!     `compare/` (every member's set on equal axes in its own look, hidden ones left out);
 //!   - `plot/style/` in layers, each importing only those below: `palette` and `number`, then
 //!     `text` (the one title helper), `axes`, `marks`, `legend`, `notes`; `geom.rs` (clipping)

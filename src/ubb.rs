@@ -9,10 +9,17 @@
 //!   error (5) is the hull's largest half-width. A 2-D image S·T(h) is computed exactly as a
 //!   polygon ([`FeasibleSet::polygon`]).
 //! - Theorem 1 (Hilbert norms): [`hilbert`]. Theorem 2 (linear optimal algorithm from the
-//!   active constraints): [`linear_optimal`]. Theorem 3 (l1 noise): the 2^{m−1}-row form (30),
+//!   active constraints): [`linear_optimal`], and on Section IV's window
+//!   [`StateProblem::theorem_2`] (the paper's f = [x(s), u(s) … u(k)] (36), the rows of K (37)
+//!   and of the information (40) in the form (20); each active row named by its time and bound,
+//!   [`RowKind`]). Theorem 3 (l1 noise): the 2^{m−1}-row form (30),
 //!   (34) and the lifted form with slacks, chosen by [`L1Form`].
 //! - Section IV: state estimation with exponentially smoothed bounds (45)–(46), Theorem 4's
 //!   asymptotic bound and Theorem 5's truncation length (58): [`StateProblem`], [`Smoothing`].
+//!   Its simulation may draw a true noise other than the assumed bounds
+//!   ([`StateProblem::sim_levels`]); data that contradict the bounds are then possible, and
+//!   [`StateProblem::step_if_consistent`] / [`StateStep::hull_if_consistent`] say so without an
+//!   error (the guarantee study counts them as misses).
 //!
 //! Errata followed here (see the crate docs): (50) reads u(k−i); (37) must bound u(0) too (f
 //! contains it); Theorem 1's "‖N⁻¹‖ > ε⁻¹" is reversed; after Theorem 4 a pole near the unit
@@ -465,6 +472,10 @@ pub struct LinearOptimal {
     pub gain: Vec<f64>,
     /// E(φ_o) = sup over T(0) of S f (22).
     pub intrinsic_error: f64,
+    /// Σ_j |gain_j| b_{t_j}: the bound on |S f − φ(d)| over T(h) that the gain itself proves
+    /// (S f − φ(d) = Σ_j gain_j (P_{t_j} f − d_{t_j})), and by LP duality equal to E(φ_o)
+    /// when t₁ … t_n are (22)'s active constraints (the proof of Theorem 2, (26)–(29)).
+    pub error: f64,
 }
 
 impl LinearOptimal {
@@ -479,6 +490,11 @@ impl LinearOptimal {
 }
 
 /// Theorem 2 for P ((n+m)×n), bounds b = ε/w and the functional s.
+///
+/// (22) is solved by the certified dense simplex ([`solve::simplex`]): its optimum is a vertex,
+/// so at most n rows carry a multiplier and they are the active constraints (an interior-point
+/// optimum of a degenerate (22) may spread the multipliers over more rows than n). Where the
+/// simplex cannot certify, clarabel answers and the rows with the largest multipliers are taken.
 pub fn linear_optimal(
     p: &DMatrix<f64>,
     b: &DVector<f64>,
@@ -498,21 +514,40 @@ pub fn linear_optimal(
     let mut rhs = DVector::zeros(2 * rows);
     rhs.rows_mut(0, rows).copy_from(b);
     rhs.rows_mut(rows, rows).copy_from(b);
-    let sol = solve::linear(&(-s), None, Some((a, rhs)), field)?;
-    let intrinsic_error = -sol.objective;
+    let free = |v: f64| DVector::from_element(n, v);
+    let certified = match solve::simplex::engine() {
+        solve::simplex::Engine::Simplex => match solve::simplex::minimize(
+            &(-s),
+            &a,
+            &rhs,
+            &free(f64::NEG_INFINITY),
+            &free(f64::INFINITY),
+        ) {
+            solve::simplex::Outcome::Optimal(o) => Some((o.x, o.objective, o.duals)),
+            _ => None,
+        },
+        solve::simplex::Engine::Clarabel => None,
+    };
+    let (x, objective, duals) = match certified {
+        Some(v) => v,
+        None => {
+            let sol = solve::linear(&(-s), None, Some((a, rhs)), field)?;
+            (sol.x, sol.objective, sol.duals)
+        }
+    };
+    let intrinsic_error = -objective;
     // Rows by decreasing multiplier, then the other tight rows: any n independent rows that
     // include every row with a positive multiplier reach the same supremum (LP duality).
-    let mult: Vec<f64> = (0..rows)
-        .map(|i| sol.duals[i].max(sol.duals[i + rows]))
-        .collect();
+    let mult: Vec<f64> = (0..rows).map(|i| duals[i].max(duals[i + rows])).collect();
     let slack: Vec<f64> = (0..rows)
-        .map(|i| (b[i] - (p.row(i) * &sol.x)[0].abs()) / (1.0 + b[i]))
+        .map(|i| (b[i] - (p.row(i) * &x)[0].abs()) / (1.0 + b[i]))
         .collect();
     let mut order: Vec<usize> = (0..rows).collect();
     order.sort_by(|&i, &j| {
         mult[j]
             .total_cmp(&mult[i])
             .then(slack[i].total_cmp(&slack[j]))
+            .then(i.cmp(&j))
     });
     let mut active = Vec::new();
     let mut basis: Vec<DVector<f64>> = Vec::new();
@@ -548,11 +583,58 @@ pub fn linear_optimal(
         .lu()
         .solve(s)
         .ok_or_else(|| Error::field(field, "P̃ is singular"))?;
+    let error = active
+        .iter()
+        .zip(gain.iter())
+        .map(|(&t, g)| g.abs() * b[t])
+        .sum();
     Ok(LinearOptimal {
         active,
         gain: gain.iter().copied().collect(),
         intrinsic_error,
+        error,
     })
+}
+
+/// The bound an active row of the state problem's Theorem 2 comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RowKind {
+    /// |η_i(t)| ≤ ε e^{(k−t)/β} (46): the row C_i(t) x(t) of the information (40).
+    Measurement,
+    /// |u_i(t)| ≤ τ e^{(k−t)/α} (45): a row of K (37).
+    Process,
+    /// |x_i(s) − x̄_i(s)| ≤ δ_i(s): the box of the window's first state (δ at s = 0 (37); later
+    /// the box moved by A^s plus the noise before the window).
+    Prior,
+    /// Σ x(0) = the given sum (Example 4): a row with bound 0.
+    Sum,
+}
+
+/// One active constraint t_j of (22) in the state problem: the time, the bound it comes from,
+/// its component (of y, u or x), its bound b_{t_j} and its gain in φ (25).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ActiveRow {
+    pub t: usize,
+    pub kind: RowKind,
+    pub index: usize,
+    pub bound: f64,
+    pub gain: f64,
+}
+
+/// Theorem 2 for one component x_i(k+1) of the state problem's window (S = e_iᵀ: the unit row
+/// of the component, on the paper's f = [x(s), u(s) … u(k)] (36)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LinearEstimate {
+    pub component: usize,
+    /// φ(h) = x̄_i(k+1) + S P̃⁻¹ d̃ (25), x̄ the nominal trajectory (the known input).
+    pub estimate: f64,
+    /// E(φ_o) (22): the largest |x_i(k+1) − φ(h)| over T(h) for every h, φ's guaranteed error
+    /// (Σ_j |gain_j| b_{t_j}, equal to the LP's supremum; the larger of the two if rounding
+    /// parts them).
+    pub error: f64,
+    /// The n active rows t₁ … t_n of (22), by time.
+    pub active: Vec<ActiveRow>,
 }
 
 /// Which case of Theorem 1 applies.
@@ -808,15 +890,31 @@ impl StateProblem {
     /// planar path applies (a 2-D state, l∞ bounds): then contradicting data are refused here,
     /// with the LP path's message.
     pub fn step(&self, y: &[DVector<f64>], k: usize) -> Result<StateStep> {
-        self.build(y, k, true)
+        self.build(y, k, true)?.map_err(|e| *e)
+    }
+
+    /// [`StateProblem::step`], with data that contradict the bounds as `Ok(None)` (no set)
+    /// where the planar path finds its polygon empty; on the LP path the set's first LP
+    /// decides ([`StateStep::hull_if_consistent`]). The guarantee study counts such a run as
+    /// the truth outside the set: its noise exceeded the bounds the estimator assumes.
+    pub fn step_if_consistent(&self, y: &[DVector<f64>], k: usize) -> Result<Option<StateStep>> {
+        Ok(self.build(y, k, true)?.ok())
     }
 
     /// T(h) at time k for the LP path only (the planar path's test oracle).
     pub fn step_lp(&self, y: &[DVector<f64>], k: usize) -> Result<StateStep> {
-        self.build(y, k, false)
+        self.build(y, k, false)?.map_err(|e| *e)
     }
 
-    fn build(&self, y: &[DVector<f64>], k: usize, exact: bool) -> Result<StateStep> {
+    /// The step, or (inner `Err`) the error of an empty planar polygon: the data contradict the
+    /// bounds.
+    #[allow(clippy::type_complexity)]
+    fn build(
+        &self,
+        y: &[DVector<f64>],
+        k: usize,
+        exact: bool,
+    ) -> Result<std::result::Result<StateStep, Box<Error>>> {
         let sys = &self.system;
         let bd = &self.bounds;
         let (r, p) = (sys.r(), sys.p());
@@ -921,49 +1019,28 @@ impl StateProblem {
                 field: "ubb.tau".into(),
             });
         }
-        // The window's initial state z = x(s) − x̄(s): the box of x(0) moved by A^s, plus the
-        // noise before the window, each sample bounded by τe^{(k−l)/α} (45) in the noise norm.
-        let mut start_half = None;
-        if let Some(delta) = &bd.delta {
-            let mut half = DVector::zeros(r);
-            for i in 0..r {
-                let prior: f64 = (0..r).map(|j| pow[s][(i, j)].abs() * delta[j]).sum();
-                let mut noise = 0.0;
-                for l in 0..s {
-                    let m = &pow[s - 1 - l] * &sys.b;
-                    let row = m.row(i).transpose();
-                    // Dual norm of the row: the largest |row·u| over ‖u‖ ≤ 1.
-                    let dual = match bd.norm {
-                        Norm::Linf => row.iter().map(|v| v.abs()).sum::<f64>(),
-                        Norm::L1 => row.amax(),
-                        Norm::L2 => row.norm(),
-                    };
-                    noise += dual * bd.tau * (1.0 / age_weight(bd.alpha, k - l));
-                }
-                half[i] = prior + noise;
-            }
-            if half.iter().all(|v| v.is_finite()) {
-                start_half = Some(half.clone());
-                let map = state_map(s);
-                // |z_i| ≤ half_i as an l∞ ball of radius h = max half_i with weights h/half_i
-                // (half_i = 0 pins z_i): the bound keeps the problem's unit, so scaling the
-                // data, ε, τ and δ by s scales every right-hand side by s (a unit ball here
-                // put 1 beside data of 10⁻⁶ and the LP's tolerances decided the hull).
-                let radius = half.amax();
-                let weights = if radius > 0.0 {
-                    half.map(|v| if v > 0.0 { radius / v } else { 1e12 })
-                } else {
-                    DVector::from_element(r, 1.0)
-                };
-                bounds.push(NormBound {
-                    map,
-                    center: DVector::zeros(r),
-                    weights,
-                    norm: Norm::Linf,
-                    bound: radius,
-                    field: "ubb.delta".into(),
-                });
-            }
+        // The window's initial state z = x(s) − x̄(s) in its box ([`StateProblem::start_half`]).
+        let start_half = self.start_half(&pow, s, k);
+        if let Some(half) = &start_half {
+            let map = state_map(s);
+            // |z_i| ≤ half_i as an l∞ ball of radius h = max half_i with weights h/half_i
+            // (half_i = 0 pins z_i): the bound keeps the problem's unit, so scaling the
+            // data, ε, τ and δ by s scales every right-hand side by s (a unit ball here
+            // put 1 beside data of 10⁻⁶ and the LP's tolerances decided the hull).
+            let radius = half.amax();
+            let weights = if radius > 0.0 {
+                half.map(|v| if v > 0.0 { radius / v } else { 1e12 })
+            } else {
+                DVector::from_element(r, 1.0)
+            };
+            bounds.push(NormBound {
+                map,
+                center: DVector::zeros(r),
+                weights,
+                norm: Norm::Linf,
+                bound: radius,
+                field: "ubb.delta".into(),
+            });
         }
         if let (Some(total), 0) = (bd.x0_sum, s) {
             let e = DMatrix::from_element(1, r, 1.0) * state_map(0);
@@ -995,20 +1072,188 @@ impl StateProblem {
             match self.planar(y, k, s, &nominal, start_half.as_ref()) {
                 planar::Outcome::Polygon(p) => Some(p),
                 // The LP would be infeasible: its error, word for word.
-                planar::Outcome::Empty => return Err(set.blame().infeasible()),
+                planar::Outcome::Empty => return Ok(Err(Box::new(set.blame().infeasible()))),
                 planar::Outcome::Open => None,
             }
         } else {
             None
         };
-        Ok(StateStep {
+        Ok(Ok(StateStep {
             k,
             first: s,
             set,
             s_map: state_map(k + 1),
             offset: nominal[k + 1].clone(),
             planar,
-        })
+        }))
+    }
+
+    /// Theorem 2 at step k for the state components `components`: the linear optimal estimate
+    /// (25) of each x_i(k+1) from the active constraints of (22), with its error E(φ_o), for
+    /// l∞ bounds (`None` for l1 and l2, where Theorem 2 does not apply).
+    ///
+    /// The problem is the paper's (36)–(41) on the window s … k: f = [z, u(s) … u(k)] with
+    /// z = x(s) − x̄(s), n = r + p·len unknowns, and T(h) = {f : |P_i f − d_i| ≤ b_i} (20) with
+    /// the rows of K (37) (the box of z, the process noise (45), Example 4's Σx(0) with b = 0)
+    /// and the rows of the information (40) (C(t)x(t), d = y(t) − C(t)x̄(t), b from (46)). It is
+    /// the set [`StateProblem::step`] builds, with the dynamics substituted (39) instead of kept
+    /// as equalities: Theorem 2 needs the form (20).
+    pub fn theorem_2(
+        &self,
+        y: &[DVector<f64>],
+        k: usize,
+        components: &[usize],
+    ) -> Result<Option<Vec<LinearEstimate>>> {
+        let sys = &self.system;
+        let bd = &self.bounds;
+        if bd.norm != Norm::Linf {
+            return Ok(None);
+        }
+        let (r, p) = (sys.r(), sys.p());
+        if y.len() <= k {
+            return Err(Error::field(
+                "ubb.time",
+                format!("k = {k} needs y(0 … {k}), only {} given", y.len()),
+            ));
+        }
+        if let Some(&c) = components.iter().find(|&&c| c >= r) {
+            return Err(Error::field(
+                "ubb.plane",
+                format!("names component {c}, but the state has {r}"),
+            ));
+        }
+        let len = if p == 0 {
+            k + 1
+        } else {
+            self.window.clamp(1, k + 1)
+        };
+        let s = k + 1 - len;
+        let n = r + p * len;
+        let nominal = sys.nominal(&bd.x0_center, k + 1);
+        let mut pow = vec![DMatrix::identity(r, r)];
+        for i in 0..=k {
+            let next = &sys.a * &pow[i];
+            pow.push(next);
+        }
+        let ucol = |l: usize| r + p * (l - s);
+        let mut rows: Vec<(Vec<f64>, f64, f64, RowKind, usize, usize)> = Vec::new();
+        let unit = |col: usize| {
+            let mut v = vec![0.0; n];
+            v[col] = 1.0;
+            v
+        };
+        if let Some(half) = self.start_half(&pow, s, k) {
+            for i in 0..r {
+                rows.push((unit(i), 0.0, half[i], RowKind::Prior, s, i));
+            }
+        }
+        if let (Some(total), 0) = (bd.x0_sum, s) {
+            let mut v = vec![0.0; n];
+            v[..r].fill(1.0);
+            rows.push((v, total - bd.x0_center.sum(), 0.0, RowKind::Sum, 0, 0));
+        }
+        // e(t) = M_t f (39): M_s = [I 0], M_{t+1} = A M_t + B on u(t)'s columns.
+        let mut m_t = DMatrix::zeros(r, n);
+        m_t.view_mut((0, 0), (r, r)).fill_with_identity();
+        for t in s..=k {
+            let c = sys.c_at(t);
+            if c.nrows() > 0 && y[t].len() != c.nrows() {
+                return Err(Error::field(
+                    "data.y",
+                    format!(
+                        "y({t}) has {} entries, C has {} rows",
+                        y[t].len(),
+                        c.nrows()
+                    ),
+                ));
+            }
+            let eps = bd.eps / age_weight(bd.beta, k - t);
+            let cm = c * &m_t;
+            let cx = c * &nominal[t];
+            for i in 0..c.nrows() {
+                let row: Vec<f64> = cm.row(i).iter().copied().collect();
+                rows.push((row, y[t][i] - cx[i], eps, RowKind::Measurement, t, i));
+            }
+            if p > 0 {
+                let tau = bd.tau / age_weight(bd.alpha, k - t);
+                for j in 0..p {
+                    rows.push((unit(ucol(t) + j), 0.0, tau, RowKind::Process, t, j));
+                }
+            }
+            let mut next = &sys.a * &m_t;
+            if p > 0 {
+                let mut bcols = next.view_mut((0, ucol(t)), (r, p));
+                bcols += &sys.b;
+            }
+            m_t = next;
+        }
+        let pm = DMatrix::from_fn(rows.len(), n, |i, j| rows[i].0[j]);
+        let d = DVector::from_iterator(rows.len(), rows.iter().map(|row| row.1));
+        let b = DVector::from_iterator(rows.len(), rows.iter().map(|row| row.2));
+        let kind_order = |k: RowKind| match k {
+            RowKind::Prior => 0,
+            RowKind::Sum => 1,
+            RowKind::Process => 2,
+            RowKind::Measurement => 3,
+        };
+        components
+            .iter()
+            .map(|&i| {
+                let sv = m_t.row(i).transpose();
+                let lin = linear_optimal(&pm, &b, &sv, "ubb.eps")?;
+                let mut active: Vec<ActiveRow> = lin
+                    .active
+                    .iter()
+                    .zip(&lin.gain)
+                    .map(|(&row, &gain)| {
+                        let (_, _, bound, kind, t, index) = rows[row].clone();
+                        ActiveRow {
+                            t,
+                            kind,
+                            index,
+                            bound,
+                            gain,
+                        }
+                    })
+                    .collect();
+                active.sort_by_key(|a| (a.t, kind_order(a.kind), a.index));
+                Ok(LinearEstimate {
+                    component: i,
+                    estimate: nominal[k + 1][i] + lin.apply(&d),
+                    error: lin.error.max(lin.intrinsic_error),
+                    active,
+                })
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
+    }
+
+    /// The half-widths of the box of the window's initial state z = x(s) − x̄(s) at step k: the
+    /// box of x(0) moved by A^s, plus the noise before the window, each sample bounded by
+    /// τe^{(k−l)/α} (45) in the noise norm. `None` with δ = ∞, or when a half-width is not
+    /// finite (the start is then left free).
+    fn start_half(&self, pow: &[DMatrix<f64>], s: usize, k: usize) -> Option<DVector<f64>> {
+        let (sys, bd) = (&self.system, &self.bounds);
+        let delta = bd.delta.as_ref()?;
+        let r = sys.r();
+        let mut half = DVector::zeros(r);
+        for i in 0..r {
+            let prior: f64 = (0..r).map(|j| pow[s][(i, j)].abs() * delta[j]).sum();
+            let mut noise = 0.0;
+            for l in 0..s {
+                let m = &pow[s - 1 - l] * &sys.b;
+                let row = m.row(i).transpose();
+                // Dual norm of the row: the largest |row·u| over ‖u‖ ≤ 1.
+                let dual = match bd.norm {
+                    Norm::Linf => row.iter().map(|v| v.abs()).sum::<f64>(),
+                    Norm::L1 => row.amax(),
+                    Norm::L2 => row.norm(),
+                };
+                noise += dual * bd.tau * (1.0 / age_weight(bd.alpha, k - l));
+            }
+            half[i] = prior + noise;
+        }
+        half.iter().all(|v| v.is_finite()).then_some(half)
     }
 
     /// The planar recursion of the window s … k ([`planar`]): the same constraints as the LP
@@ -1112,6 +1357,26 @@ impl StateStep {
         }
         let h = self.set.interval_hull(&self.s_map)?;
         Ok(self.shift(h))
+    }
+
+    /// [`StateStep::hull`], or `None` when the data contradict the bounds (the LP path's first
+    /// support LP is infeasible; the planar path has already been checked when the step was
+    /// built).
+    pub fn hull_if_consistent(&self) -> Result<Option<IntervalHull>> {
+        if self.planar.is_some() {
+            return self.hull().map(Some);
+        }
+        let mut solver = self.set.support_solver()?;
+        // The first support LP of the hull, asked whether T(h) is empty at all.
+        let first = self.s_map.row(0).transpose();
+        let mut c = DVector::zeros(solver.family.dim());
+        for j in 0..solver.dim {
+            c[j] = -first[j];
+        }
+        if solver.family.minimize_if_feasible(Some(&c))?.is_none() {
+            return Ok(None);
+        }
+        Ok(Some(self.shift(solver.interval_hull(&self.s_map)?)))
     }
 
     /// Interval hull of M·x(k+1) for a matrix M with r columns (the outputs H(k+1) of the

@@ -3,8 +3,12 @@
 // report (report.ubb). The step k is a time cursor (cursor.js): the report keeps the exact polygon,
 // hull and prediction of one step (its `at`); moving k draws the kept report with the detail of k,
 // which the compute worker computes once per step (the scenario's ubb.time follows k, so a run,
-// a download or a link gives the same picture). The guarantee runs fresh simulations on every
-// core (studypool.js) and counts how often the truth left the set (never) and the KF ellipse.
+// a download or a link gives the same picture). The read-out puts Theorem 2's linear optimal
+// estimate (the report's at.linear) beside the central one. The true noise (ubb.sim_eps,
+// ubb.sim_tau: what the simulation draws) is set apart from the assumed bounds ε, τ. The guarantee
+// runs fresh simulations with the true noise on every core (studypool.js) and counts how often
+// the truth left the set of the assumed bounds (never, while the true noise is within them) and
+// the KF ellipse.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Study, ellipsoidLevel } from './pkg/confset.js';
 import { mountPanel } from './panel.js';
@@ -62,7 +66,10 @@ function load(p, s) {
   ui.norm.value = u.norm || 'linf';
   ui.noise.checked = u.noise === 'bound';
   ui.seed.value = s.simulate?.seed ?? 0;
-  ui['sim-out'].textContent = `simulated noise: |η| ≤ ${u.sim_eps ?? u.eps}, |u| ≤ ${u.sim_tau ?? u.tau ?? 0} (the preset’s; ε, τ are the bounds the estimator assumes)`;
+  // The true noise (simulated) apart from the assumed bounds ε, τ: the preset's unless it says.
+  ui['sim-eps'].value = u.sim_eps ?? u.eps;
+  ui['sim-tau'].value = u.sim_tau ?? u.tau ?? 0;
+  ui['true-noise'].hidden = !s.simulate;
   const steps = s.simulate?.steps ?? s.data?.y?.length ?? 1;
   ui.time.min = '0';
   ui.time.max = String(steps - 1);
@@ -70,7 +77,25 @@ function load(p, s) {
   ui.time.value = String(u.time ?? steps - 1);
   ui['g-result'].textContent = '';
   ui['g-status'].textContent = '';
+  showSim(p);
   showTime(p);
+}
+
+// Whether the true (simulated) noise exceeds the bounds the estimator assumes, from a scenario.
+const exceeds = (s) => {
+  const u = s?.ubb;
+  if (!u || !s.simulate) return false;
+  return (u.sim_eps ?? u.eps) > u.eps || (u.sim_tau ?? u.tau ?? 0) > (u.tau ?? 0);
+};
+const NO_GUARANTEE = 'the noise exceeds the bounds the estimator assumes: no guarantee';
+
+// The line under the true noise: within the assumed bounds or not (from the controls' numbers).
+function showSim({ ui }) {
+  const [e, t, se, stau] = ['eps', 'tau', 'sim-eps', 'sim-tau'].map((id) => Number(ui[id].value));
+  const over = [se > e ? `|η| ≤ ${fmt(se)} > ε = ${fmt(e)}` : '', stau > t ? `|u| ≤ ${fmt(stau)} > τ = ${fmt(t)}` : ''].filter(Boolean);
+  ui['sim-out'].innerHTML = over.length
+    ? `<b class="warn">${NO_GUARANTEE}</b> (${over.join(', ')}): the set may lose the truth, or the data contradict the bounds`
+    : 'within the assumed bounds: the set holds the truth at every step';
 }
 
 function showTime({ ui, st }) {
@@ -104,12 +129,14 @@ function build(p, s) {
   u.norm = ui.norm.value;
   u.noise = ui.noise.checked ? 'bound' : 'random';
   u.time = wholeNumber('ubb.time', ui.time.value);
-  // The simulated noise stays the preset's: ε and τ are the bounds the estimator assumes, so a
-  // bound below the noise makes the data contradict it (or lose the truth).
-  const p0 = st.preset.scenario.ubb;
+  // The true noise the simulation draws, apart from ε and τ (the bounds the estimator assumes):
+  // above them the data may contradict the bounds, or the set lose the truth.
   if (s.simulate) {
-    u.sim_eps = p0.sim_eps ?? p0.eps;
-    u.sim_tau = p0.sim_tau ?? (p0.tau ?? 0);
+    u.sim_eps = parseNumber('ubb.sim_eps', ui['sim-eps'].value);
+    u.sim_tau = parseNumber('ubb.sim_tau', ui['sim-tau'].value);
+  } else {
+    delete u.sim_eps;
+    delete u.sim_tau;
   }
   if (s.simulate) s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
 }
@@ -142,7 +169,8 @@ function showNumbers({ ui, st }, k) {
   row('LP size', at ? `${at.size.variables} variables, ${at.size.rows} rows${cones}` : pending);
   row('polygon', at ? `${at.polygon.vertices.length} vertices from ${at.polygon.calls} LPs — ${at.polygon.exact
     ? '<b class="good">exact</b>' : `within ${fmt(at.polygon.gap)} of the set`}${u.r > 2 ? ` <span class="hint">(projection on x${sub(i + 1)}, x${sub(j + 1)})</span>` : ''}` : pending);
-  row('central estimate', vec(hull.center));
+  row('estimates', estimates(u, at, hull, names));
+  if (at?.linear) row('Theorem 2 active rows', activeRows(at.linear, names, u));
   row('interval hull', hull.lo.map((lo, c) => `<span class="nw">${names[c]} ∈ [${fmt(lo)}, ${fmt(hull.hi[c])}]</span>`).join(' '));
   row('radius', `${fmt(hull.radius)} <span class="hint">(largest half-width: the guaranteed error of the central estimate)</span>`);
   row('Theorem 4 bound', sm.limit != null ? `${fmt(sm.limit)} <span class="hint">(on the radius; ‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)})</span>`
@@ -162,11 +190,62 @@ function showNumbers({ ui, st }, k) {
   } else {
     row(`prediction of y(${k + 1})`, '– <span class="hint">(no measurements)</span>');
   }
-  row('over the run', `truth outside the set ${u.outside} / ${u.track.length} steps, outside the KF ellipsoid ${u.kf_outside} / ${u.track.length}`);
+  row('over the run', `truth outside the set ${u.outside} / ${u.track.length} steps, outside the KF ellipsoid ${u.kf_outside} / ${u.track.length}`
+    + (exceeds(st.scenario) ? ` <span class="hint">(<b class="warn">${NO_GUARANTEE}</b>)</span>` : ''));
   ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
   ui['window-out'].innerHTML = sm.j != null
     ? `Theorem 5: j = ${sm.j}, window ${u.window} steps`
     : `window ${u.window} steps${sm.note ? ` — ${richText(sm.note)}` : ''}`;
+}
+
+// The central estimate (31) with its half-widths, and Theorem 2's linear optimal estimate (25)
+// with its error E(φ₀) (22), in the plane components (the report's numbers).
+function estimates(u, at, hull, names) {
+  const [i, j] = u.plane;
+  const half = (c) => 0.5 * (hull.hi[c] - hull.lo[c]);
+  const pm = (v, e) => `${fmt(v)} ± ${fmt(e)}`;
+  const value = (c, v, e) => `<span class="nw">${names[c]} = ${pm(v, e)}</span>`;
+  const central = `central (strongly optimal, (31)): ${value(i, hull.center[i], half(i))}, ${value(j, hull.center[j], half(j))}`;
+  let linear;
+  if (u.norm !== 'linf') linear = 'linear optimal (Theorem 2): – <span class="hint">(needs l∞ bounds)</span>';
+  else if (!at?.linear) linear = 'linear optimal (Theorem 2): … <span class="hint">(being computed)</span>';
+  else {
+    linear = `linear optimal (Theorem 2): ${at.linear.map((l) => value(l.component, l.estimate, l.error)).join(', ')}`;
+  }
+  return `${central};<br>${linear}`;
+}
+
+// "3–7, 9": whole numbers in runs.
+const runs = (ts) => {
+  const out = [];
+  for (let a = 0; a < ts.length;) {
+    let b = a;
+    while (b + 1 < ts.length && ts[b + 1] === ts[b] + 1) b += 1;
+    out.push(b > a ? `${ts[a]}–${ts[b]}` : `${ts[a]}`);
+    a = b + 1;
+  }
+  return out.join(', ');
+};
+
+// The active constraints t₁ … t_n of (22) per component, by the bound they come from:
+// measurements η(t) (46), process noise u(t) (45), the box of the window's first state, Σx(0).
+function activeRows(linear, names, u) {
+  const what = (a) => ({
+    measurement: `η${u.q > 1 ? sub(a.index + 1) : ''}(t)`,
+    process: `u${u.p > 1 ? sub(a.index + 1) : ''}(t)`,
+    prior: `the box of x${sub(a.index + 1)}(t)`,
+    sum: 'Σx(0) = its sum',
+  })[a.kind] || a.kind;
+  return linear.map((l) => {
+    const groups = new Map();
+    for (const a of l.active) {
+      const key = what(a);
+      if (!groups.has(key)) groups.set(key, []);
+      groups.get(key).push(a.t);
+    }
+    const parts = [...groups].map(([key, ts]) => (key.includes('(t)') ? key.replace('(t)', ` at t = ${runs(ts)}`) : key));
+    return `${names[l.component]}: ${parts.join('; ')} <span class="hint">(${l.active.length} rows)</span>`;
+  }).join('<br>');
 }
 
 // ----- the guarantee: fresh simulations at the step k of the last good scenario -----
@@ -175,15 +254,18 @@ function startGuarantee({ ui, st }) {
   const total = wholeNumber('runs', ui.runs.value);
   const json = JSON.stringify(st.scenario);
   const study = new Study(json, total);
+  st.guaranteeScenario = st.scenario;
   const k = JSON.parse(study.result()).k;
   return { scenario: json, runs: total, study, total, at: ` at k = ${k}`, note: '…' };
 }
 
-function showGuarantee({ ui }, c) {
+function showGuarantee({ ui, st }, c) {
   const lvl = Math.round(100 * c.kf_level);
-  ui['g-result'].innerHTML = `truth outside the set: <b class="${c.outside ? 'warn' : 'good'}">${int(c.outside)} / ${int(c.runs)}</b>; `
-    + `outside the KF ${lvl} % ellipse: <b>${int(c.kf_outside)} / ${int(c.runs)}</b>`
-    + (c.runs && Number.isFinite(c.worst_excess) ? ` <span class="hint">(closest approach to the hull’s edge ${fmt(-c.worst_excess)})</span>` : '');
+  ui['g-result'].innerHTML = `truth outside the set: <b class="${c.outside ? 'warn' : 'good'}">${int(c.outside)} / ${int(c.runs)}</b>`
+    + (c.empty ? ` <span class="hint">(${int(c.empty)} of them: the data contradict the bounds, no set)</span>` : '')
+    + `; outside the KF ${lvl} % ellipse: <b>${int(c.kf_outside)} / ${int(c.runs)}</b>`
+    + (c.runs && !c.empty && Number.isFinite(c.worst_excess) ? ` <span class="hint">(closest approach to the hull’s edge ${fmt(-c.worst_excess)})</span>` : '')
+    + (exceeds(st.guaranteeScenario) ? ` — <b class="warn">${NO_GUARANTEE}</b>` : '');
 }
 
 export const mountUbb = async (root, presets) => mountPanel(root, {
@@ -194,12 +276,15 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
   Figure: UbbFigure,
   model: ['F', 'G', 'H'],
   prose: richText,
-  ids: ['time-out', 'time-min', 'time-max', 'time-window', 'sim-out', 'window-out', 'num-title',
+  ids: ['time-out', 'time-min', 'time-max', 'time-window', 'sim-out', 'true-noise', 'window-out', 'num-title',
     'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err'],
-  compute: ['eps', 'tau', 'delta', 'alpha', 'beta', 'gamma', 'window', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
+  compute: ['eps', 'tau', 'sim-eps', 'sim-tau', 'delta', 'alpha', 'beta', 'gamma', 'window', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
   redraw: ['time'],
   cursor: timeOf('ubb'),
-  input: (p, id) => { if (id === 'time') showTime(p); },
+  input: (p, id) => {
+    if (id === 'time') showTime(p);
+    if (['eps', 'tau', 'sim-eps', 'sim-tau'].includes(id)) showSim(p);
+  },
   stem({ st, cursorTime }) {
     const u = st.report?.ubb;
     return `${st.preset.name}-${u ? `${u.norm}-k${cursorTime()}` : 'ubb'}`;

@@ -1004,6 +1004,12 @@ pub fn limits() -> serde_json::Value {
         "simulate.steps": steps,
         "runs": [1, MAX_STUDY_RUNS],
         "uniform.window": [1, crate::uniform::MAX_WINDOW],
+        // The noise bounds ubb assumes (ε > 0, τ ≥ 0) and the true noise it simulates (≥ 0):
+        // finite numbers up to the scenario's largest magnitude.
+        "ubb.eps": [0, MAX_MAGNITUDE],
+        "ubb.tau": [0, MAX_MAGNITUDE],
+        "ubb.sim_eps": [0, MAX_MAGNITUDE],
+        "ubb.sim_tau": [0, MAX_MAGNITUDE],
     })
 }
 

@@ -34,8 +34,8 @@ use crate::sets::{box_corners, polygon_area, Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
 use crate::ubb::{
-    Bounds, IntervalHull, L1Form, LpSize, NoiseMode, Norm, Run, Smoothing, StateProblem, StateStep,
-    System,
+    Bounds, IntervalHull, L1Form, LinearEstimate, LpSize, NoiseMode, Norm, Run, Smoothing,
+    StateProblem, StateStep, System,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -198,6 +198,13 @@ pub struct UbbStep {
     /// Central prediction interval of the next output y(k+1) = H(k+1)x(k+1) + η (Example 1's
     /// f(m+1)), per output.
     pub prediction: Vec<[f64; 2]>,
+    /// Theorem 2 for the two `plane` components of x(k+1): the linear optimal estimate (25)
+    /// beside the central one, its error E(φ_o) (22) and its active constraints (l∞ bounds
+    /// only: absent for l1 and l2). At this step only, not in the track: one LP per component
+    /// and step where the planar path needs none (ubb-track's report took 211 ms with it at
+    /// every step, 17 ms without).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear: Option<Vec<LinearEstimate>>,
 }
 
 /// The report.
@@ -674,8 +681,30 @@ impl UbbPrepared {
         run
     }
 
+    /// An empty set's error (`ubb.eps` leaves no state …) with the reason when the simulated
+    /// noise exceeds the assumed bounds: the data then may contradict them.
+    fn explained(&self, e: Error) -> Error {
+        let (sim_tau, sim_eps) = self.problem.sim_levels;
+        let (eps, tau) = (self.spec.eps, self.spec.tau);
+        let (true_eps, true_tau) = (sim_eps.unwrap_or(eps), sim_tau.unwrap_or(tau));
+        if self.data.is_some() || e.field != "ubb.eps" || (true_eps <= eps && true_tau <= tau) {
+            return e;
+        }
+        Error::field(
+            e.field,
+            format!(
+                "{}; the true noise (|η| ≤ {true_eps}, |u| ≤ {true_tau}: ubb.sim_eps, ubb.sim_tau) exceeds the bounds the estimator assumes (ε = {eps}, τ = {tau}), so the data may contradict them",
+                e.message
+            ),
+        )
+    }
+
     /// The report.
     pub fn report(&self) -> Result<UbbReport> {
+        self.report_plain().map_err(|e| self.explained(e))
+    }
+
+    fn report_plain(&self) -> Result<UbbReport> {
         let run = self.run_data();
         let simulated = self.data.is_none();
         let kf = self.problem.kalman(&run, self.spec.noise);
@@ -794,6 +823,7 @@ impl UbbPrepared {
                 .collect()
         };
         let pl = [self.plane[0], self.plane[1]];
+        let linear = self.problem.theorem_2(&run.y, k, &pl)?;
         let (m, p) = &kf[k];
         let kf_plane = Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 2)?).project(&pl)?;
         Ok(UbbStep {
@@ -811,6 +841,7 @@ impl UbbPrepared {
             kf: kf_plane,
             size,
             prediction,
+            linear,
         })
     }
 }
@@ -845,7 +876,11 @@ impl Cursor for UbbCursor {
     }
     fn at(&mut self, t: usize) -> Result<serde_json::Value> {
         let k = self.prepared.shown_step(t, self.first)?;
-        detail_value(&self.prepared.at(&self.run, &self.kf, k)?)
+        let at = self
+            .prepared
+            .at(&self.run, &self.kf, k)
+            .map_err(|e| self.prepared.explained(e))?;
+        detail_value(&at)
     }
 }
 
@@ -856,7 +891,12 @@ pub struct GuaranteeCount {
     pub runs: usize,
     pub outside: usize,
     pub kf_outside: usize,
-    /// Largest distance by which a true state left the hull (≤ 0 when inside: the margin).
+    /// Runs whose data contradict the assumed bounds (no set at all: counted in `outside`),
+    /// possible only when the simulated noise exceeds them (`ubb.sim_eps`, `ubb.sim_tau`).
+    #[serde(default)]
+    pub empty: usize,
+    /// Largest distance by which a true state left the hull (≤ 0 when inside: the margin; 0
+    /// when no run had a set).
     pub worst_excess: f64,
 }
 
@@ -868,6 +908,7 @@ impl study::Tally for GuaranteeCount {
         vec![
             ("outside".into(), self.outside),
             ("kf_outside".into(), self.kf_outside),
+            ("empty".into(), self.empty),
         ]
     }
     /// The sum; the worst excess of no run (0 here, −∞ in truth, which JSON cannot hold) is
@@ -880,6 +921,7 @@ impl study::Tally for GuaranteeCount {
                 study::add_count(&mut self.runs, later.runs, "runs")?;
                 study::add_count(&mut self.outside, later.outside, "outside")?;
                 study::add_count(&mut self.kf_outside, later.kf_outside, "kf_outside")?;
+                study::add_count(&mut self.empty, later.empty, "empty")?;
                 self.worst_excess = self.worst_excess.max(later.worst_excess);
             }
         }
@@ -909,7 +951,9 @@ fn holds(
 
 impl UbbPrepared {
     /// `runs` fresh simulations (seeds first_seed, first_seed + 1, …; the truth x(0) is redrawn
-    /// unless `simulate.x0` fixes it), each checked at step k.
+    /// unless `simulate.x0` fixes it), each checked at step k. The noise is the true one
+    /// (`ubb.sim_eps`, `ubb.sim_tau`, default the bounds), the set the assumed bounds' (ε, τ):
+    /// a run whose data contradict them has no set, and its truth counts as outside.
     pub fn guarantee(&self, k: usize, first_seed: u64, runs: usize) -> Result<GuaranteeCount> {
         if k >= self.steps {
             return Err(Error::field(
@@ -930,13 +974,31 @@ impl UbbPrepared {
                 self.x0.as_ref(),
                 first_seed.wrapping_add(i as u64),
             );
-            let hull = self.problem.step(&run.y, k)?.hull()?;
+            let hull = match self.problem.step_if_consistent(&run.y, k)? {
+                Some(step) => step.hull_if_consistent()?,
+                None => None,
+            };
             let kf = self.problem.kalman(&run, self.spec.noise);
-            let (inside, kf_inside, excess) = holds(&hull, &kf[k], chi, &run.x[k + 1]);
-            count.worst_excess = count.worst_excess.max(excess);
-            count.outside += usize::from(!inside);
-            count.kf_outside += usize::from(!kf_inside);
+            match hull {
+                Some(hull) => {
+                    let (inside, kf_inside, excess) = holds(&hull, &kf[k], chi, &run.x[k + 1]);
+                    count.worst_excess = count.worst_excess.max(excess);
+                    count.outside += usize::from(!inside);
+                    count.kf_outside += usize::from(!kf_inside);
+                }
+                None => {
+                    let (m, p) = &kf[k];
+                    let kf_inside = Ellipsoid::new(m, p, chi).contains(run.x[k + 1].as_slice());
+                    count.empty += 1;
+                    count.outside += 1;
+                    count.kf_outside += usize::from(!kf_inside);
+                }
+            }
             count.runs += 1;
+        }
+        if count.runs > 0 && count.worst_excess == f64::NEG_INFINITY {
+            // Every run's data contradicted the bounds: no hull to measure a distance to.
+            count.worst_excess = 0.0;
         }
         Ok(count)
     }
@@ -1288,8 +1350,8 @@ fn work(s: &Scenario, job: Job) -> Work {
         Term::new(
             "ubb.budget",
             format!("= {} with window {window} and r = {r} states", spec.budget),
-            "budget LPs for the polygon at the step shown",
-            f(spec.budget + 2 * q) * solve(k).0,
+            "budget LPs for the polygon (and Theorem 2's two) at the step shown",
+            f(spec.budget + 2 * q + 2) * solve(k).0,
         )
         .advice("a smaller budget or a shorter window"),
     );

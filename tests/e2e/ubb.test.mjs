@@ -44,7 +44,10 @@ export default async function ubb(env) {
     assert.match(nb, /window 30 steps/);
     assert.match(nb, /LP size \d+ variables, \d+ rows/);
     assert.match(nb, new RegExp(`polygon \\d+ vertices from \\d+ LPs — exact`));
-    assert.match(nb, new RegExp(`central estimate \\(${NUM}, ${NUM}\\)`));
+    // The central estimate (31) beside Theorem 2's linear optimal one, each ± its error.
+    assert.match(nb, new RegExp(`estimates central \\(strongly optimal, \\(31\\)\\): x₁ = ${NUM} ± ${NUM}, x₂ = ${NUM} ± ${NUM}; `
+      + `linear optimal \\(Theorem 2\\): x₁ = ${NUM} ± ${NUM}, x₂ = ${NUM} ± ${NUM}`));
+    assert.match(nb, /Theorem 2 active rows x₁: u at t = [\d–, ]+; η at t = [\d–, ]+ \(32 rows\)/);
     assert.match(nb, new RegExp(`radius ${NUM}`));
     assert.match(nb, /Theorem 4 bound 1\.222/);
     assert.match(nb, /Theorem 5 j 29/);
@@ -131,6 +134,65 @@ export default async function ubb(env) {
       const g = await text(page, '#b-g-result');
       assert.match(g, /^truth outside the set: 0 \/ 60; outside the KF 99 % ellipse: \d+ \/ 60/, g);
       assert.match(await text(page, '#b-g-status'), /^60 runs at k = 40 in \d+ ms/);
+
+      // Theorem 2 in the read-out is the report's: φ ± E of each plane component, E at least
+      // the hull's half-width (the central algorithm is optimal).
+      const rep = await page.evaluate(() => {
+        const s = new window.confset.Session();
+        const sc = JSON.parse(window.confset.presets()).find((p) => p.name === 'ubb-track').scenario;
+        const r = JSON.parse(s.run(JSON.stringify(sc)));
+        s.free();
+        return r.ubb.at;
+      });
+      assert.equal(rep.linear.length, 2);
+      const shown = (await numbers(page)).match(new RegExp(`linear optimal \\(Theorem 2\\): x₁ = (${NUM}) ± (${NUM}), x₂ = (${NUM}) ± (${NUM})`));
+      assert.ok(shown, 'the linear optimal estimate is read out');
+      rep.linear.forEach((l, c) => {
+        assert.ok(Math.abs(Number(shown[1 + 2 * c]) - l.estimate) <= 5e-3 * (1 + Math.abs(l.estimate)), `φ${c}`);
+        assert.ok(Math.abs(Number(shown[2 + 2 * c]) - l.error) <= 5e-3 * l.error, `E${c}`);
+        assert.ok(0.5 * (rep.hi[c] - rep.lo[c]) <= l.error + 1e-9, `half-width ≤ E (${c})`);
+      });
+
+      // True noise apart from the assumed bounds: within them no miss; above them (|η| ≤ 0.25,
+      // |u| ≤ 0.12 against ε = 0.2, τ = 0.1) the read-out says there is no guarantee and the
+      // guarantee study counts misses (runs whose data contradict the bounds among them).
+      assert.equal(await page.$eval('#b-sim-eps', (e) => e.value), '0.2');
+      assert.equal(await page.$eval('#b-sim-tau', (e) => e.value), '0.1');
+      assert.match(await text(page, '#b-sim-out'), /^within the assumed bounds/);
+      await set(page, 'b-sim-eps', '0.25');
+      await set(page, 'b-sim-tau', '0.12');
+      await drawnWell(page, assert, 'true noise above the bounds');
+      assert.match(await text(page, '#b-sim-out'), /^the noise exceeds the bounds the estimator assumes: no guarantee/);
+      assert.match(await numbers(page), /\(the noise exceeds the bounds the estimator assumes: no guarantee\)/);
+      await page.waitForFunction(() => location.hash.startsWith('#ubb/v1/'), null, { timeout: 10_000 });
+      await page.waitForTimeout(600); // the last debounced update of the address
+      const link = await page.evaluate(() => location.hash);
+      await set(page, 'b-runs', '300');
+      await page.click('#b-go');
+      await gIdle(page);
+      assert.equal(await text(page, '#b-g-err'), '');
+      const over = await text(page, '#b-g-result');
+      const missed = Number((over.match(/^truth outside the set: (\d+) \/ 300/) || [])[1]);
+      assert.ok(missed > 0, `true noise above the bounds: misses counted (${over})`);
+      assert.match(over, /no guarantee$/);
+      // The share link keeps the true noise.
+      assert.match(link, /^#ubb\/v1\//, link);
+      const again = await openApp(env, 1, idle, link.slice(1));
+      await again.waitForFunction(() => document.querySelector('#b-sim-eps')?.value === '0.25'
+        && document.querySelector('#b-sim-tau')?.value === '0.12', null, { timeout: 30_000 });
+      await idle(again);
+      assert.match(await text(again, '#b-sim-out'), /^the noise exceeds the bounds/);
+      await again.close();
+      // Back within the bounds (true below assumed): no miss.
+      await set(page, 'b-sim-eps', '0.15');
+      await set(page, 'b-sim-tau', '0.1');
+      await drawnWell(page, assert, 'true noise within the bounds');
+      assert.match(await text(page, '#b-sim-out'), /^within the assumed bounds/);
+      await page.click('#b-go');
+      await gIdle(page);
+      assert.match(await text(page, '#b-g-result'), /^truth outside the set: 0 \/ 300;/);
+      await set(page, 'b-sim-eps', '0.2');
+      await set(page, 'b-runs', '60');
 
       // The step slider moves the set (a redraw: cursor.test.mjs counts the runs); the
       // animation steps k to the last step, and the share link follows.

@@ -146,6 +146,7 @@ fn count_sums_are_checked_not_wrapped() {
         runs: 3,
         outside: 0,
         kf_outside: usize::MAX,
+        empty: 0,
         worst_excess: -1.0,
     };
     let later = GuaranteeCount { kf_outside: 2, ..g };

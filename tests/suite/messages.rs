@@ -189,12 +189,25 @@ in_browser!(long_user_strings_are_cut);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn contradictory_bounds_name_the_bound() {
-    // The measurement-noise bound far below the simulated noise: no state fits the data.
+    // The measurement-noise bound far below the simulated noise: no state fits the data, and
+    // the message says the true noise exceeds the assumed bound.
     let mut v = preset("ubb-track");
     v["ubb"]["eps"] = json!(1e-6);
     v["ubb"]["sim_eps"] = json!(0.2);
     let e = run_json(&v).unwrap_err();
     assert_plain(&e);
+    assert_eq!(e.field, "ubb.eps");
+    assert_eq!(
+        e.message,
+        "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta); the true noise (|η| ≤ 0.2, |u| ≤ 0.1: ubb.sim_eps, ubb.sim_tau) exceeds the bounds the estimator assumes (ε = 0.000001, τ = 0.1), so the data may contradict them"
+    );
+    // Given data (no simulation): the plain message.
+    let mut d = preset("ubb-track");
+    d["ubb"]["eps"] = json!(1e-6);
+    let report = run_json(&preset("ubb-track")).unwrap();
+    d["data"] = json!({"y": report.ubb.as_ref().unwrap().y});
+    d.as_object_mut().unwrap().remove("simulate");
+    let e = run_json(&d).unwrap_err();
     assert_eq!(e.field, "ubb.eps");
     assert_eq!(
         e.message,

@@ -1079,6 +1079,30 @@ fn exported_limits_are_the_checked_ones() {
     let e = s.run().expect_err("a window over the limit");
     assert_eq!(e.field, "uniform.window");
     assert!(e.message.contains(&window.to_string()), "{e}");
+    // The noise bounds ubb assumes and the true noise it simulates: refused below the lower
+    // limit (and past the scenario's largest magnitude), accepted at it (τ and the true noise).
+    for field in ["ubb.eps", "ubb.tau", "ubb.sim_eps", "ubb.sim_tau"] {
+        let [lo, hi] = [0, 1].map(|i| limits[field][i].as_f64().expect("noise limit"));
+        assert_eq!((lo, hi), (0.0, confset::scenario::MAX_MAGNITUDE), "{field}");
+        let set = |v: f64| {
+            let mut s = presets::get("ubb-series").expect("preset");
+            let u = s.ubb.as_mut().expect("ubb block");
+            match field {
+                "ubb.eps" => u.eps = v,
+                "ubb.tau" => u.tau = v,
+                "ubb.sim_eps" => u.sim_eps = Some(v),
+                _ => u.sim_tau = Some(v),
+            }
+            s
+        };
+        let e = set(-0.1).run().expect_err("a negative noise bound");
+        assert_eq!(e.field, field, "{e}");
+        if field != "ubb.eps" {
+            set(lo)
+                .run()
+                .unwrap_or_else(|e| panic!("{field} = {lo}: {e}"));
+        }
+    }
 }
 in_browser!(exported_limits_are_the_checked_ones);
 

@@ -2,7 +2,8 @@
 //! ubb panels share (their names, the check of the report's ubb part, the colours): the exact
 //! feasible set of x(k+1) at the report's step k in the `plane` components — a
 //! polygon from support LPs — with its interval hull dashed, the central estimate ⋆ (the
-//! hull's midpoint), the true state ◇ and the Kalman ellipse dashed) and [`"ubbwidth"`](WIDTH_PANEL)
+//! hull's midpoint), Theorem 2's linear optimal estimate ○ with its error box φ ± E(φ₀) (22)
+//! dashed (l∞ bounds, the detail's step only), the true state ◇ and the Kalman ellipse dashed) and [`"ubbwidth"`](WIDTH_PANEL)
 //! (`width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
 //! its hull bands).
 //!
@@ -22,7 +23,7 @@ use plotters::prelude::*;
 /// Set-membership (Tempo): the exact feasible set of x(k+1) at the report's step k (a
 /// polygon in the plane components) with its interval hull, the central estimate, the
 /// truth and the Kalman ellipse.
-pub(crate) static SET_PANEL: PanelSpec = PanelSpec::new("ubbset", "feasible set of the state at step k, its interval hull, the central estimate, the truth and the Kalman ellipse");
+pub(crate) static SET_PANEL: PanelSpec = PanelSpec::new("ubbset", "feasible set of the state at step k, its interval hull, the central estimate, the linear optimal estimate of Theorem 2 with its error box, the truth and the Kalman ellipse");
 /// Set-membership: the widths of the interval hull over k with the Theorem 4 bound, and
 /// the truth inside its hull bands.
 pub(crate) static WIDTH_PANEL: PanelSpec = PanelSpec::new("ubbwidth", "widths of the interval hull over k with the Theorem 4 bound, and the truth inside its hull bands");
@@ -186,6 +187,28 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
     } else {
         Vec::new()
     };
+    // Theorem 2's linear optimal estimate φ of the plane components with its error box φ ± E
+    // (22): the detail's only (one LP per component; not in the track).
+    let linear = if detail {
+        at.linear.as_ref().and_then(|l| {
+            let c = |comp: usize| l.iter().find(|e| e.component == comp);
+            let (a, b) = (c(i)?, c(j)?);
+            let ok = [a.estimate, a.error, b.estimate, b.error]
+                .iter()
+                .all(|v| v.is_finite());
+            ok.then_some(((a.estimate, b.estimate), (a.error, b.error)))
+        })
+    } else {
+        None
+    };
+    let linear_box = linear.map(|((x, y), (ex, ey))| {
+        [
+            (x - ex, y - ey),
+            (x + ex, y - ey),
+            (x + ex, y + ey),
+            (x - ex, y + ey),
+        ]
+    });
     let kf_center = match step {
         Some(t) if !detail => (t.kf_mean[i], t.kf_mean[j]),
         _ => (at.kf.center[0], at.kf.center[1]),
@@ -197,6 +220,9 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
     w.add_points(&poly);
     w.add_points(&hull);
     w.add(center.0, center.1);
+    if let Some(b) = &linear_box {
+        w.add_points(b);
+    }
     if let Some(p) = truth {
         w.add(p.0, p.1);
     }
@@ -299,6 +325,28 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
         },
         marker(Marker::Star, SET),
     ));
+    if linear.is_some() {
+        entries.push(Entry::new(
+            if short {
+                "linear optimal ± E".to_string()
+            } else {
+                "linear optimal φ ± E (Theorem 2)".to_string()
+            },
+            marker(Marker::Ring, SECOND),
+        ));
+        entries.push(Entry::new(
+            if short {
+                "its error box".to_string()
+            } else {
+                "its error box φ ± E(φ₀) (22)".to_string()
+            },
+            Swatch::Region {
+                color: SECOND,
+                dashed: true,
+                fill: false,
+            },
+        ));
+    }
     entries.push(Entry::new(
         if short {
             "feasible set".to_string()
@@ -342,6 +390,10 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
     }
     style::region(root, &chart, &hull, &HULL, true, false)?;
     marks.extend(style::marks_of(&chart, &hull));
+    if let Some(b) = &linear_box {
+        style::region(root, &chart, b, &SECOND, true, false)?;
+        marks.extend(style::marks_of(&chart, b));
+    }
     if !ellipse.is_empty() {
         style::region(root, &chart, &ellipse, &KF, true, false)?;
         marks.extend(style::marks_of(&chart, &ellipse));
@@ -350,6 +402,7 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
         (kf_center, Marker::Cross, KF, "KF prediction"),
         (center, Marker::Star, SET, "central estimate"),
     ];
+    points.extend(linear.map(|(p, _)| (p, Marker::Ring, SECOND, "linear optimal estimate")));
     points.extend(truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")));
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
@@ -384,6 +437,15 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             "radius {} (largest half-width of the hull)",
             num(radius, 3)
         ));
+        if let Some((_, (ex, ey))) = linear {
+            chart_notes.push(format!(
+                "Theorem 2: E = {}, {} (the hull's half-widths {}, {})",
+                num(ex, 3),
+                num(ey, 3),
+                num(0.5 * (s_hi[i] - s_lo[i]), 3),
+                num(0.5 * (s_hi[j] - s_lo[j]), 3)
+            ));
+        }
     }
     style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
