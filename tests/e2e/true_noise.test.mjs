@@ -33,14 +33,15 @@ export default async function trueNoise(env) {
   const kf0 = await row(page, 'KF');
   assert.ok(truth0 && kf0, 'the numbers table has the true state and the KF row');
 
-  // True V × 4: the record moves, the filter's P does not.
+  // True V × 3.98 (the slider's step of 0.05 in log₁₀ puts 4 at 10^0.6): the record moves, the filter's P does not.
   await slide(page, 'tv', Math.log10(4));
   assert.equal(await page.$eval('#fig-state .fig-err', (e) => e.textContent.trim()), '', 'the state figure is drawn');
   const truth1 = await row(page, 'true state');
   const kf1 = await row(page, 'KF');
   assert.notEqual(truth1[0], truth0[0], 'moving the true V moves the truth');
   assert.equal(kf1[1], kf0[1], 'moving the true V leaves the KF variance P');
-  assert.match(await text(page, '#noise-readout'), /the data have 4 V, W/, 'the read-out names the difference');
+  const said = await text(page, '#noise-readout');
+  assert.match(said, /the data have 3.98 V, W/, `the read-out names the difference: "${said}"`);
 
   // A share link keeps both groups.
   await page.waitForFunction(() => location.hash.includes('/v1/'));
@@ -52,7 +53,7 @@ export default async function trueNoise(env) {
   await again.goto(link);
   await waitReady(again);
   await idle(again);
-  assert.equal(Number(await again.$eval('#tv', (e) => e.value)).toFixed(3), Math.log10(4).toFixed(3), 'the link keeps the true V');
+  assert.equal(Number(await again.$eval('#tv', (e) => e.value)).toFixed(1), '0.6', 'the link keeps the true V');
   assert.deepEqual(await row(again, 'true state'), truth1, 'the link gives the same record');
   await again.close();
 
