@@ -48,7 +48,8 @@
 //!   field for the methods that need a time-invariant model, [`model::MatrixSpec::of`] the reverse)
 //!   and the linear Gaussian state-space model: validation, stationary Γ (Lyapunov), prior moments
 //!   m_t, Γ_t, backward representation F^b, V^b ((30), (45)), seeded forward simulation and
-//!   state-conditioned backward simulation
+//!   state-conditioned backward simulation, the same model with its noise scaled (the true
+//!   noise of a simulation, `simulate.true_noise`)
 //! * [`sets`]: set types shared by all methods and plots: [`sets::Ellipsoid`] (χ² radius,
 //!   membership, box, volume, projection, slice, distance), [`sets::BoxSet`]; in
 //!   [`sets::sign_region`] the LSCR region [`sets::SignRegion`] (x is in when, in every group, ≥ q
@@ -129,7 +130,10 @@
 //!   - the report's [`scenario::FigureContext`] (title, axis names, measured components,
 //!     collision check: what a figure takes from the scenario);
 //!   - the one observations step ([`scenario::Source`]: `data` or `simulate`, one step-count
-//!     check per method);
+//!     check per method, and `simulate.true_noise` ([`scenario::TrueNoise`]: the simulation's
+//!     noise as scales of the model's V, W, which the filters still assume) checked against
+//!     what the method honours, `MethodScenario::true_noise`; the simulation draws from
+//!     [`model::LinearModel::with_noise_scaled`]);
 //!   - [`scenario::Scenario::first_accepted`]: the smallest value of the quantity a view animates
 //!     by rerunning (LSCR's t, GLLS's s) that the method's own validation accepts;
 //!   - `MethodScenario`, the descriptor each method's scenario file implements (steps, data
@@ -246,7 +250,7 @@
 //! Its own files:
 //! * `src/<method>.rs` (or a folder): the numerics, knowing nothing of JSON;
 //! * `src/scenario/<method>.rs`: its block, `impl MethodScenario` (rustc asks for every
-//!   required item: steps, data shape, work, run, table, study, state limit, truth keys,
+//!   required item: steps, data shape, work, run, table, study, state limit, truth keys, the true noise it honours,
 //!   compare member, presets) and, to join compare, `impl CompareMember`;
 //! * `src/plot/<method>/`: `impl Figures` and its panels (and its compare look);
 //! * `www/<id>.js` and `www/views/<id>.html`: its controls ⇄ scenario mapping and markup.

@@ -1052,6 +1052,19 @@ impl Experiment {
         self.truth.as_slice()
     }
 
+    /// The same experiment with its data drawn from `truth` (the model with its noise scaled
+    /// by `simulate.true_noise`): the region, the BLUE and the Kalman ellipses are unchanged,
+    /// only the law of the draws (backward representation before τ, the model forward after
+    /// it) is the truth's. A scale keeps the noise's shape, so the region's Theorem 3.2 still
+    /// holds (Lemma 3.1: Cov n̄ = σ_v²D + σ_w²I stays diagonal at any σ_v², σ_w²); the
+    /// ellipses, which assume the model's variances, do not.
+    pub fn with_truth(mut self, truth: &LinearModel) -> Result<Self> {
+        let t = self.est.problem.regression.t;
+        let tau = self.est.problem.regression.target.time(t);
+        self.sampler = ConditionedSampler::new(truth, t.max(tau), &Inputs::none(), tau)?;
+        Ok(self)
+    }
+
     /// Run the realizations of `runs` and count them.
     pub fn run(&mut self, runs: std::ops::Range<usize>) -> Coverage {
         let mut counts = self.zero();

@@ -291,6 +291,25 @@ impl LinearModel {
         })
     }
 
+    /// The same model with its noise covariances scaled: V_t → s_v·V_t, W_t → s_w·W_t (the
+    /// true noise of a simulation that the filters do not know, `simulate.true_noise`). A
+    /// stationary prior is the stationary law of the scaled process (s_v·Γ, so the process
+    /// stays stationary: the backward representation's F^b is unchanged and V^b is scaled by
+    /// s_v); a prior given in `model.x1_cov` is the initial state's law and is kept. Scales of
+    /// exactly 1 give the model bit for bit.
+    pub fn with_noise_scaled(&self, s_v: f64, s_w: f64) -> Result<LinearModel> {
+        let mut m = self.clone();
+        if s_v == 1.0 && s_w == 1.0 {
+            return Ok(m);
+        }
+        m.v = self.v.iter().map(|v| v * s_v).collect();
+        m.w = self.w.iter().map(|w| w * s_w).collect();
+        if m.stationary_prior {
+            m.x1_cov = m.stationary_covariance()?;
+        }
+        Ok(m)
+    }
+
     /// State dimension n.
     pub fn n(&self) -> usize {
         self.f[0].nrows()

@@ -26,3 +26,12 @@ export const vec = (v, format = fmt) => (Array.isArray(v) ? `(${v.map((x) => for
 
 // A count with thousands separators: 12,345.
 export const int = (v) => v.toLocaleString('en-US');
+
+// The read-out of a view's two noises (the scales of the true noise from its sliders, the
+// assumed noise's names): the same, or what the filter assumes beside what the data have
+// ("the filter assumes V, W; the data have 4 V, W"). Words only: the scales are the page's own.
+export function noiseReadout([tv, tw], [v, w]) {
+  if (tv === 1 && tw === 1) return `The data have the noise the filter assumes (${v}, ${w}).`;
+  const k = (x) => (x === 1 ? '' : `${Number(x.toPrecision(3))} `);
+  return `The filter assumes ${v}, ${w}; the data have ${k(tv)}${v}, ${k(tw)}${w}.`;
+}

@@ -8,7 +8,7 @@ import { Figure } from './figure.js';
 import { studyRunner } from './chunked.js';
 import { parseVector, parseNumber, wholeNumber } from './parse.js';
 import { sub, escapeHtml } from './richtext.js';
-import { fmtFixed as fmt, vec as vecOf, int } from './format.js';
+import { fmtFixed as fmt, vec as vecOf, int, noiseReadout } from './format.js';
 
 const vec = (v) => vecOf(v, fmt);
 
@@ -54,6 +54,11 @@ function load(p, s) {
   ui.seed.value = l.seed ?? 0;
   ui.fix.checked = !!s.simulate?.condition;
   ui.xbar.value = s.simulate?.condition ? s.simulate.condition.x.join(' ') : '';
+  // The true noise of the simulated record (log₁₀ of its scales of the assumed σ_v², σ_w²).
+  const tn = s.simulate?.true_noise;
+  ui.tv.value = tn?.V ? Math.log10(tn.V) : 0;
+  ui.tw.value = tn?.W ? Math.log10(tn.W) : 0;
+  ui['true-group'].hidden = !s.simulate;
   updateVisibility(p);
 }
 
@@ -65,6 +70,14 @@ function updateVisibility({ ui }) {
   ui['level-row'].hidden = ui.mode.value !== 'level';
   ui['fix-opts'].hidden = !ui.fix.checked;
   ui['level-out'].textContent = pct(Number(ui.level.value));
+  ui['tv-out'].textContent = (10 ** Number(ui.tv.value)).toFixed(2);
+  ui['tw-out'].textContent = (10 ** Number(ui.tw.value)).toFixed(2);
+  ui['noise-readout'].textContent = noiseReadout(trueScales(ui), ['σ_v²', 'σ_w²']);
+}
+
+// The true noise's scales of the assumed variances, as the sliders give them (1 at 0).
+function trueScales(ui) {
+  return [ui.tv, ui.tw].map((el) => (Number(el.value) === 0 ? 1 : Number((10 ** Number(el.value)).toPrecision(12))));
 }
 
 // The estimated time by the scenario contract (prediction t + 1, filtering t, smoothing i);
@@ -87,6 +100,10 @@ function build(p, s) {
   if (s.simulate) {
     s.simulate.steps = wholeNumber('simulate.steps', ui.t.value);
     s.simulate.seed = wholeNumber('simulate.seed', ui.dseed.value);
+    // The record's noise apart from the assumed σ_v², σ_w² (the core's simulate.true_noise).
+    const [tv, tw] = trueScales(ui);
+    if (tv === 1 && tw === 1) delete s.simulate.true_noise;
+    else s.simulate.true_noise = { V: tv, W: tw };
   }
   const l = s.lscr;
   l.estimate = ui.estimate.value;
@@ -258,9 +275,9 @@ export const mountLscr = async (root, presets) => mountPanel(root, {
   busy: 'lscrBusy',
   Figure: RegionFigure,
   model: ['F', 'H', 'G'],
-  ids: ['t-out', 'index-row', 'mq-row', 'level-row', 'level-out', 'fix-opts', 'num-title',
+  ids: ['t-out', 'tv-out', 'tw-out', 'noise-readout', 'true-group', 'index-row', 'mq-row', 'level-row', 'level-out', 'fix-opts', 'num-title',
     'cov-n', 'cov-go', 'cov-cancel', 'cov-progress', 'cov-status', 'cov-err', 'cov-body', 'cov-truth', 'cov-verdict'],
-  compute: ['m-F', 'm-H', 'm-G', 'sv', 'sw', 't', 'dseed', 'estimate', 'index', 'mode', 'M', 'q', 'level',
+  compute: ['m-F', 'm-H', 'm-G', 'sv', 'sw', 'tv', 'tw', 't', 'dseed', 'estimate', 'index', 'mode', 'M', 'q', 'level',
     'construction', 'seed', 'fix', 'xbar'],
   // The data length t, animated: the region as the data arrive (each step a run).
   animate: { control: 't', button: 'animate', compute: true, end: 'chosen', name: 't' },

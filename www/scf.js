@@ -3,7 +3,7 @@
 import { mountPanel, clone } from './panel.js';
 import { mountMonteCarlo } from './montecarlo.js';
 import { parseMatrix, parseVector, wholeNumber } from './parse.js';
-import { fmtFixed as fmt } from './format.js';
+import { fmtFixed as fmt, noiseReadout } from './format.js';
 
 const scale = (m, k) => (Array.isArray(m) ? m.map((r) => scale(r, k)) : m * k);
 
@@ -53,6 +53,10 @@ function load(p, scenario) {
   const o = scfBlock(s);
   ui.alpha.value = s.alpha;
   ui.sv.value = ui.sw.value = 0;
+  // The true noise of the simulated record, apart from the assumed one (log₁₀ of the scale).
+  const tn = s.simulate?.true_noise;
+  ui.tv.value = tn?.V ? Math.log10(tn.V) : 0;
+  ui.tw.value = tn?.W ? Math.log10(tn.W) : 0;
   ui.tau.value = o.tau ?? 0;
   ui.seed.value = s.simulate?.seed ?? 0;
   ui.rare.checked = !!s.simulate?.condition;
@@ -75,6 +79,8 @@ function updateVisibility(p) {
   ui['rare-opts'].hidden = !ui.rare.checked;
   // The study is one click away wherever the run simulates.
   ui.mc.hidden = !p.st.preset.scenario.simulate;
+  // Measured data carry their own noise: only a simulated record has a true noise to set.
+  ui['true-group'].hidden = !p.st.preset.scenario.simulate;
   // τ moves the collision check's prediction (t + τ); without a collision check no figure or
   // number shows the predicted region, so the control is not offered.
   ui.tau.closest('label').hidden = !isRobots(p);
@@ -112,6 +118,17 @@ function build(p, s) {
   s.alpha = Number(ui.alpha.value);
   s.model.V = scale(s.model.V, 10 ** Number(ui.sv.value));
   s.model.W = scale(s.model.W, 10 ** Number(ui.sw.value));
+  // The simulated record's noise, apart from what the filters assume (the core's
+  // simulate.true_noise: scales of the assumed V and W, so the two groups multiply).
+  const [tv, tw] = trueScales(p);
+  if (s.simulate) {
+    if (tv === 1 && tw === 1) delete s.simulate.true_noise;
+    else {
+      s.simulate.true_noise = { V: tv, W: tw };
+      // Fig. 1's curve is the model's own law (the core refuses it beside a true noise).
+      delete o.coverage_curve;
+    }
+  }
   o.tau = wholeNumber('scf.tau', ui.tau.value);
   if (s.simulate) s.simulate.seed = wholeNumber('simulate.seed', ui.seed.value);
   if (ui.components.value === 'all') delete o.components;
@@ -125,6 +142,11 @@ function build(p, s) {
     Object.assign(o.coverage_curve, { from: -r, to: r });
   }
   delete s.time; // the time shown is a view setting: moving it does not recompute
+}
+
+// The true noise's scales relative to the assumed noise, as the sliders give them (1 at 0).
+function trueScales({ ui }) {
+  return [ui.tv, ui.tw].map((el) => (Number(el.value) === 0 ? 1 : Number((10 ** Number(el.value)).toPrecision(12))));
 }
 
 // ----- after a run -----
@@ -179,6 +201,9 @@ function showOutputs(p) {
   ui['alpha-out'].textContent = Number(ui.alpha.value).toFixed(3);
   ui['sv-out'].textContent = (10 ** Number(ui.sv.value)).toFixed(2);
   ui['sw-out'].textContent = (10 ** Number(ui.sw.value)).toFixed(2);
+  ui['tv-out'].textContent = (10 ** Number(ui.tv.value)).toFixed(2);
+  ui['tw-out'].textContent = (10 ** Number(ui.tw.value)).toFixed(2);
+  ui['noise-readout'].textContent = noiseReadout(trueScales(p), ['V', 'W']);
   ui['time-out'].textContent = ui.time.value;
   const a = st.report && st.report.asymptotic;
   const x = Number(ui.xbar.value);
@@ -197,8 +222,8 @@ export const mountScf = async (root, presets) => mountPanel(root, {
   model: ['F', 'H', 'V', 'W'],
   errorsWithin: '', // the coverage card holds the error of scf.coverage_curve
   ids: ['num-t', 'rare-opts', 'rare-hint', 'xbar-row', 'asym-row', 'components-row', 't-run', 't-draw', 'mc',
-    'alpha-out', 'sv-out', 'sw-out', 'time-out', 'm-P1'],
-  compute: ['alpha', 'sv', 'sw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'm-P1', 'rare'],
+    'alpha-out', 'sv-out', 'sw-out', 'tv-out', 'tw-out', 'noise-readout', 'true-group', 'time-out', 'm-P1'],
+  compute: ['alpha', 'sv', 'sw', 'tv', 'tw', 'tau', 'seed', 'components', 'asym', 'xbar', 'cov-range', 'm-F', 'm-H', 'm-V', 'm-W', 'm-P1', 'rare'],
   redraw: ['time'],
   animate: { control: 'time', button: 'animate' },
   input(p, id) {

@@ -1238,6 +1238,11 @@ fn work(s: &Scenario, job: Job) -> Work {
 pub(crate) struct Compare;
 
 impl MethodScenario for Compare {
+    fn true_noise(&self) -> Option<&'static str> {
+        Some(
+            "the compare draws its record from compare.noise (its law) and derives what each member assumes from it; make the assumptions wrong with compare.bound_scale",
+        )
+    }
     fn max_states(&self) -> usize {
         // Every set is drawn in the state plane.
         2

@@ -694,6 +694,11 @@ impl GllsPrepared {
 pub(crate) struct Glls;
 
 impl MethodScenario for Glls {
+    fn true_noise(&self) -> Option<&'static str> {
+        Some(
+            "GLLS draws its simulated measurement noise by glls.noise (gaussian, bounded or worst) within its own bound",
+        )
+    }
     fn max_states(&self) -> usize {
         crate::glls::MAX_STATES
     }
@@ -1220,6 +1225,7 @@ pub fn glls_preset(kind: GllsKind) -> Scenario {
             u: vec![],
             condition: None,
             x0: None,
+            true_noise: None,
         })
         .with_alpha(0.9)
         .with_notes(notes);

@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
 use crate::method::Method;
-use crate::model::{ConditionedSampler, Inputs, MatrixSpec, ModelSpec};
+use crate::model::{ConditionedSampler, Inputs, LinearModel, MatrixSpec, ModelSpec};
 use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
 use crate::study::{self, Chunked, Runs, Study};
 use rand::SeedableRng;
@@ -200,6 +200,9 @@ pub struct LscrPrepared {
     /// The simulated state at the estimated time.
     pub x_true: Option<Vec<f64>>,
     pub plot: [usize; 2],
+    /// The model the simulation and the coverage experiment draw from (`simulate.true_noise`:
+    /// the model with σ_v², σ_w² scaled); the BLUE and Kalman ellipses assume the model's.
+    pub truth: LinearModel,
 }
 
 impl LscrSpec {
@@ -260,8 +263,12 @@ impl LscrSpec {
     }
 }
 
+/// The record y_1 … y_t (and the state at τ) drawn from `truth`: the model's linear form with
+/// its noise scaled by `simulate.true_noise` (the region assumes no variance; the BLUE and
+/// Kalman ellipses keep the model's).
 fn simulate(
     model: &LscrModel,
+    truth: &LinearModel,
     s: &SimulateSpec,
     t: usize,
     tau: usize,
@@ -275,9 +282,7 @@ fn simulate(
     let n = model.f.nrows();
     let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
     let traj = match &s.condition {
-        None => model
-            .linear
-            .simulate(t.max(tau), &Inputs::none(), None, &mut rng),
+        None => truth.simulate(t.max(tau), &Inputs::none(), None, &mut rng),
         Some(c) => {
             // The condition fixes a state of the simulated run: one of x_1 … x_max(t, τ). A
             // later time would only lengthen the simulation (t = 10⁹ asked for 32 GB).
@@ -292,9 +297,9 @@ fn simulate(
                 ));
             }
             let xc = linalg::vector("simulate.condition.x", &c.x, n)?;
-            ConditionedSampler::new(&model.linear, steps, &Inputs::none(), c.t)
+            ConditionedSampler::new(truth, steps, &Inputs::none(), c.t)
                 .map_err(|e| Error::field("simulate.condition.t", e.message))?
-                .draw(&model.linear, &xc, &mut rng)
+                .draw(truth, &xc, &mut rng)
         }
     };
     let y: Vec<f64> = traj.y[..t].iter().map(|v| v[0]).collect();
@@ -368,6 +373,7 @@ impl Scenario {
         }
         let options = spec.options(n, t)?;
         let tau = options.target.time(t);
+        let truth = self.true_model(&model.linear)?;
         let (y, x_true) = match source {
             Source::Data(d) => {
                 if !d.u.is_empty() {
@@ -377,7 +383,7 @@ impl Scenario {
                 (y, None)
             }
             Source::Simulate(s) => {
-                let (y, x) = simulate(&model, s, t, tau)?;
+                let (y, x) = simulate(&model, &truth, s, t, tau)?;
                 (y, Some(x))
             }
         };
@@ -440,6 +446,7 @@ impl Scenario {
             y,
             x_true,
             plot,
+            truth,
         })
     }
 
@@ -462,7 +469,7 @@ impl Scenario {
                 ),
             ));
         }
-        lscr::Experiment::new(p.estimator, &cond.x, c.runs, c.seed)
+        lscr::Experiment::new(p.estimator, &cond.x, c.runs, c.seed)?.with_truth(&p.truth)
     }
 }
 
@@ -715,7 +722,8 @@ impl LscrPrepared {
             .coverage
             .clone()
             .ok_or_else(|| Error::field("lscr.coverage", "is missing"))?;
-        let e = lscr::Experiment::new(self.estimator.clone(), truth, c.runs, c.seed)?;
+        let e = lscr::Experiment::new(self.estimator.clone(), truth, c.runs, c.seed)?
+            .with_truth(&self.truth)?;
         let mut runs = Chunked::new(LscrStudy(e));
         study::run_to_end(&mut runs, 1000, |_, _| {})?;
         Ok(runs.report())
@@ -741,6 +749,11 @@ pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> Cove
 pub(crate) struct Lscr;
 
 impl MethodScenario for Lscr {
+    /// Honoured: the record and `lscr.coverage` draw from the true noise; the region assumes no
+    /// variances (Theorem 3.2 holds at any scale), the BLUE and Kalman ellipses keep the model's.
+    fn true_noise(&self) -> Option<&'static str> {
+        None
+    }
     fn max_states(&self) -> usize {
         crate::lscr::MAX_STATES
     }
@@ -1274,7 +1287,7 @@ pub fn lscr_cascade(target: LscrTarget) -> Scenario {
     lscr_scenario(
         title,
         model,
-        SimulateSpec { steps: 30, seed: 5, u: vec![], condition: None, x0: None },
+        SimulateSpec { steps: 30, seed: 5, u: vec![], condition: None, x0: None, true_noise: None },
         spec,
         "Cascade of two first-order systems, σ_v² = σ_w² = 0.005 (used only to simulate and for the BLUE).          F^b = [[0.2450, 0.3315], [−0.3500, 0.9550]], Q′ = [[0.49, −0.70], [−0.70, 1.00]] (Q′ = Π′ − F^bΠ′F^bᵀ; the printed (7) is a typo).          M = 80 strings, q = 2: each X̂_l holds the true state with probability 1 − 2q/M = 0.95, X̂ with ≥ 1 − 2qn/M = 0.90 — the paper's 90 %.          (The text says q = 4 but computes 1 − 2·2·2/80; Theorem 3.2 needs q = 2 for 90 %.)          For smoothing the Karhunen–Loève eigenvalues come in exact pairs; the basis is fixed block by block          (data after, at and before the estimated time), before seeing the data.",
     )
@@ -1293,7 +1306,7 @@ pub fn lscr_ma1() -> Scenario {
     lscr_scenario(
         "MA(1): LSCR vs Kalman prediction of x₂₁ (LSCR paper, Fig. 3)",
         model,
-        SimulateSpec { steps: 20, seed: 3, u: vec![], condition: Some(Condition { t: 21, x: vec![1.0, 1.2] }), x0: None },
+        SimulateSpec { steps: 20, seed: 3, u: vec![], condition: Some(Condition { t: 21, x: vec![1.0, 1.2] }), x0: None, true_noise: None },
         lscr_spec(Estimate::Predict, None),
         "x_t = [[0, 0], [1, 0]] x_{t−1} + [1, 1]ᵀ v_t, y_t = [0 1] x_t, no measurement noise. F^b = [[−1, 1], [−1, 1]] is singular,          so X̂ is invariant along [1, 1]ᵀ: an unbounded band. The first state is white noise (σ_v² = 0.1); the true x₂₁ is placed at          x₁ = 1.0 (3.2 σ): the Kalman ellipse, always centred at x₁ = 0, misses it, while the LSCR band holds it with probability ≥ 0.9          whatever its value. (The paper's caption says x₂₀; the text and the data say x₂₁.)",
     )

@@ -83,7 +83,37 @@ pub struct SimulateSpec {
     /// The true x(0) (method "ubb"; default: drawn in the box of x(0)).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x0: Option<Vec<f64>>,
+    /// The noise the simulation draws, apart from the noise the filters assume (the model's
+    /// V and W): methods "scf", "kf" and "lscr" only ([`TrueNoise`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub true_noise: Option<TrueNoise>,
 }
+
+/// `simulate.true_noise`: the simulated process noise has covariance `V`·V_t and the
+/// simulated output noise `W`·W_t, while every filter still assumes the model's V_t and W_t
+/// (SCF, KF, LSCR's BLUE and Kalman ellipses). Scales rather than matrices: a scale keeps the
+/// noise's shape, which is what LSCR's guarantee needs (Theorem 3.2 holds for any σ_v², σ_w²
+/// with the shape G Gᵀ known, Lemma 3.1), and a lecturer's question is "what if the noise is
+/// 4 times larger than the filter thinks". Both default to 1 (the model's own noise).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TrueNoise {
+    /// Scale of the simulated process noise's covariance (V_t of the model times this).
+    #[serde(rename = "V", default = "unit_scale")]
+    pub v: f64,
+    /// Scale of the simulated output noise's covariance (W_t of the model times this).
+    #[serde(rename = "W", default = "unit_scale")]
+    pub w: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+/// The range of each scale of `simulate.true_noise` (a factor of 10⁴ either way: ×10⁴ on a
+/// variance is ×100 on the noise's standard deviation, far past what any lesson needs, and
+/// keeps the simulated record within the precision check's reach).
+pub const TRUE_NOISE_SCALES: RangeInclusive<f64> = 1e-4..=1e4;
 
 /// A scenario: see the module docs and README.md for the fields.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -903,6 +933,10 @@ pub(crate) trait MethodScenario: Sync {
     fn first_accepted(&self, _s: &Scenario) -> Result<Option<FirstAccepted>> {
         Ok(None)
     }
+    /// Why the method cannot draw its simulation from noise other than the noise it assumes
+    /// (`simulate.true_noise`), or `None` when it honours it in its record, its conditioned
+    /// draws and its study. Required, so a new method decides.
+    fn true_noise(&self) -> Option<&'static str>;
     /// The most states n the method takes (its run refuses more, naming the model field).
     fn max_states(&self) -> usize;
     /// The keys of the method's report that hold or judge the true state, each with what it
@@ -1002,6 +1036,7 @@ pub fn limits() -> serde_json::Value {
         .collect();
     serde_json::json!({
         "simulate.steps": steps,
+        "simulate.true_noise": [TRUE_NOISE_SCALES.start(), TRUE_NOISE_SCALES.end()],
         "runs": [1, MAX_STUDY_RUNS],
         "uniform.window": [1, crate::uniform::MAX_WINDOW],
         // The noise bounds ubb assumes (ε > 0, τ ≥ 0) and the true noise it simulates (≥ 0):
@@ -1106,8 +1141,43 @@ impl Scenario {
     }
 
     /// The one observations step: `data` or `simulate` (exactly one), with the number of
-    /// steps checked against what the method accepts.
+    /// steps checked against what the method accepts, and `simulate.true_noise` against what
+    /// the method can honour ([`MethodScenario::true_noise`]).
     pub(crate) fn source(&self, method: &dyn MethodScenario) -> Result<Source<'_>> {
+        if let Some(sim) = &self.simulate {
+            if let Some(noise) = &sim.true_noise {
+                if self.data.is_some() {
+                    return Err(Error::field(
+                        "simulate.true_noise",
+                        "needs a simulated record: the scenario has data (measured data carry their own noise)",
+                    ));
+                }
+                if let Some(why) = method.true_noise() {
+                    return Err(Error::field(
+                        "simulate.true_noise",
+                        format!(
+                            "is not used by method \"{}\": {why}; remove it",
+                            self.method
+                        ),
+                    ));
+                }
+                for (field, x) in [
+                    ("simulate.true_noise.V", noise.v),
+                    ("simulate.true_noise.W", noise.w),
+                ] {
+                    if !TRUE_NOISE_SCALES.contains(&x) {
+                        return Err(Error::field(
+                            field,
+                            format!(
+                                "is {x}: a scale of the true noise's covariance is a positive number from {:e} to {:e}",
+                                TRUE_NOISE_SCALES.start(),
+                                TRUE_NOISE_SCALES.end()
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
         let source = match (&self.data, &self.simulate) {
             (Some(_), Some(_)) => {
                 return Err(Error::field(
@@ -1218,6 +1288,31 @@ impl Scenario {
             return Err(Error::field(key.as_str(), message));
         }
         Ok(())
+    }
+
+    /// The scales of the simulated noise (`simulate.true_noise`: (V ×, W ×); (1, 1) when
+    /// absent). Checked by [`Scenario::source`].
+    pub fn true_noise_scales(&self) -> (f64, f64) {
+        self.simulate
+            .as_ref()
+            .and_then(|s| s.true_noise)
+            .map_or((1.0, 1.0), |t| (t.v, t.w))
+    }
+
+    /// The model the simulation draws from: `model` with its noise scaled by
+    /// `simulate.true_noise` ([`crate::model::LinearModel::with_noise_scaled`]), `model` itself
+    /// when the scales are 1.
+    pub(crate) fn true_model(
+        &self,
+        model: &crate::model::LinearModel,
+    ) -> Result<crate::model::LinearModel> {
+        let (v, w) = self.true_noise_scales();
+        model.with_noise_scaled(v, w).map_err(|e| {
+            Error::field(
+                "simulate.true_noise.V",
+                format!("gives a process with no stationary law ({})", e.message),
+            )
+        })
     }
 
     /// `simulate.condition` (the fixed state of a study), or a field error saying `why`.

@@ -112,6 +112,9 @@ fn st_kf_mean(st: &ScfStep) -> DVector<f64> {
 pub struct ScfPrepared {
     pub scenario: Scenario,
     pub model: LinearModel,
+    /// The model the simulation draws from (`simulate.true_noise`): the model itself unless
+    /// the true noise is scaled; the filters always use `model`.
+    pub truth: LinearModel,
     pub inputs: Inputs,
     pub y: Vec<DVector<f64>>,
     pub x_true: Option<Vec<DVector<f64>>>,
@@ -144,15 +147,17 @@ impl Scenario {
         model
             .check_inputs(&inputs)
             .map_err(|e| Error::field(format!("{}.{}", source.prefix(), e.field), e.message))?;
+        // The simulation draws from the true noise; every filter below assumes the model's.
+        let truth = self.true_model(&model)?;
         let (y, x_true) = match source {
             Source::Data(_) => (source.measurements(model.q())?, None),
             Source::Simulate(s) => {
                 let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
                 let traj: Trajectory = match &s.condition {
-                    None => model.simulate(s.steps, &inputs, None, &mut rng),
+                    None => truth.simulate(s.steps, &inputs, None, &mut rng),
                     Some(c) => {
                         let xc = linalg::vector("simulate.condition.x", &c.x, n)?;
-                        model
+                        truth
                             .simulate_conditioned(s.steps, &inputs, c.t, &xc, &mut rng)
                             .map_err(|e| {
                                 if e.field == "condition.t" {
@@ -208,6 +213,12 @@ impl Scenario {
         if let Some(e) = &self.experiment {
             check_idx("experiment.components", &e.components)?;
         }
+        if o.coverage_curve.is_some() && self.true_noise_scales() != (1.0, 1.0) {
+            return Err(Error::field(
+                "simulate.true_noise",
+                "cannot be honoured by scf.coverage_curve: Fig. 1's curve is the conditional coverage under the model's own noise (closed form for n = 1); remove the curve or the true noise",
+            ));
+        }
         let options = ScfOptions {
             alpha: self.alpha,
             components: o.components.clone(),
@@ -226,6 +237,7 @@ impl Scenario {
         Ok(ScfPrepared {
             scenario: self.clone(),
             model,
+            truth,
             inputs,
             y,
             x_true,
@@ -409,7 +421,7 @@ impl ScfPrepared {
             .ok_or_else(|| Error::field("experiment", "is missing (runs, seed, components)"))?;
         let cond = s.condition("the experiment draws realizations conditioned on a state")?;
         ConditionalExperiment::new(
-            &self.model,
+            (&self.model, &self.truth),
             &self.inputs,
             &self.options,
             (cond.t, &cond.x),
@@ -427,6 +439,11 @@ pub(crate) struct Scf {
 }
 
 impl MethodScenario for Scf {
+    /// Honoured: the record, the conditioned draws and the `experiment` draw from the true
+    /// noise; the filters keep the model's V, W.
+    fn true_noise(&self) -> Option<&'static str> {
+        None
+    }
     fn max_states(&self) -> usize {
         super::MAX_MODEL_DIM
     }
@@ -853,7 +870,7 @@ pub fn scalar() -> Scenario {
     };
     Scenario::new(Method::Scf, model)
         .with_title("Scalar example (SCF paper, Example 1)")
-        .with_simulate(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None, x0: None })
+        .with_simulate(SimulateSpec { steps: 50, seed: 1, u: vec![], condition: None, x0: None, true_noise: None })
         .with_alpha(0.99)
         .with_scf(ScfSpec {
             coverage_curve: Some(CurveSpec { component: 0, from: -50.0, to: 50.0, points: 201 }),
@@ -1025,6 +1042,7 @@ pub fn robots(reading: NoiseReading) -> Scenario {
             u: vec![u],
             condition: Some(Condition { t: COLLISION_T, x: xc.iter().copied().collect() }),
             x0: None,
+true_noise: None,
         })
         .with_alpha(0.95)
         .with_time(36)

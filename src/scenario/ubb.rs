@@ -1096,6 +1096,11 @@ impl Runs for Guarantee {
 pub(crate) struct Ubb;
 
 impl MethodScenario for Ubb {
+    fn true_noise(&self) -> Option<&'static str> {
+        Some(
+            "the set-membership method draws its simulated noise within ubb.sim_tau and ubb.sim_eps, apart from the bounds it assumes",
+        )
+    }
     fn max_states(&self) -> usize {
         MAX_STATES
     }

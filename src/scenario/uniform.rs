@@ -761,6 +761,11 @@ fn kalman_uniform(
 pub(crate) struct Uniform;
 
 impl MethodScenario for Uniform {
+    fn true_noise(&self) -> Option<&'static str> {
+        Some(
+            "the uniform-noise LP draws its simulated noise uniformly within the model's half-widths; its noise is not Gaussian, so a covariance scale does not apply",
+        )
+    }
     fn max_states(&self) -> usize {
         MAX_STATES
     }
@@ -1206,7 +1211,7 @@ pub fn uniform_paper() -> Scenario {
     };
     let mut s = Scenario::new(Method::UniformLp, model)
         .with_title("Uniform innovations: swapping-based joint estimation (Pavelková, Figs. 1–3)")
-        .with_simulate(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None })
+        .with_simulate(SimulateSpec { steps: 120, seed: 1, u: vec![], condition: None, x0: None, true_noise: None })
         .with_alpha(0.9)
         .with_notes(
             "The paper's example is not observable: C·A = 0.5·C, so rank [C; CA] = 1 and only x₁ + x₂ is fixed by the data; \

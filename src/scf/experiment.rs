@@ -689,9 +689,11 @@ fn skip_normals<R: Rng>(rng: &mut R, count: usize) {
 impl ConditionalExperiment {
     /// Prepare the study: `spec.runs` realizations of the model with inputs, each conditioned
     /// on x_{t_c} = x_c, scored with the SCF options' regions (and, with `spec.warning_t`, the
-    /// τ-step collision warning of `collision`).
+    /// τ-step collision warning of `collision`). `(model, truth)`: the filters assume `model`;
+    /// the realizations are drawn from `truth` (the same model with its noise scaled by
+    /// `simulate.true_noise`, or `model` itself).
     pub fn new(
-        model: &LinearModel,
+        (model, truth): (&LinearModel, &LinearModel),
         inputs: &Inputs,
         opts: &ScfOptions,
         (t_c, x_c): (usize, &[f64]),
@@ -709,8 +711,10 @@ impl ConditionalExperiment {
         if t_c < 1 || t_c > 100_000 {
             return Err(Error::field("simulate.condition.t", "must be at least 1"));
         }
-        let moments = model.moments(steps, inputs);
-        let innov = backward_innovations(model, &moments, t_c)?;
+        // The draws' law is the truth's: its moments (the means are the model's, which no noise
+        // scale changes) and its backward innovations model (45).
+        let moments = truth.moments(steps, inputs);
+        let innov = backward_innovations(truth, &moments, t_c)?;
         let off = Offline::new(model, steps + opts.tau, inputs)?;
         let r2c = chi2_quantile(opts.alpha, e.components.len())?;
         let region = |idx: &[usize],
@@ -1124,6 +1128,7 @@ mod tests {
                 u: vec![],
                 condition: Some(Condition { t, x: vec![xbar] }),
                 x0: None,
+                true_noise: None,
             });
             s.experiment = Some(ExperimentSpec {
                 runs,

@@ -482,6 +482,7 @@ fn simulate_problems() {
         seed: 0,
         u: vec![],
         x0: None,
+        true_noise: None,
         condition: Some(Condition {
             t: 4,
             x: vec![f64::NAN, 0.0],

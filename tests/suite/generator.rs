@@ -39,6 +39,7 @@ fn scalar(rng: Generator) -> Scenario {
             x: vec![9.0],
         }),
         x0: None,
+        true_noise: None,
     });
     s.experiment = Some(ExperimentSpec {
         runs: 4000,

@@ -69,6 +69,7 @@ mod scf_paper;
 mod sets;
 mod shards;
 mod simplex;
+mod true_noise;
 mod ubb;
 mod uniform;
 #[cfg(target_arch = "wasm32")]

@@ -80,6 +80,7 @@ fn scalar_example_intervals_long_run_and_asymptotic() {
             u: vec![],
             condition: None,
             x0: None,
+            true_noise: None,
         });
         s.scf = Some(confset::scenario::ScfSpec {
             asymptotic,
