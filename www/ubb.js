@@ -208,6 +208,7 @@ function estimates(u, at, hull, names) {
   const central = `central (strongly optimal, (31)): ${value(i, hull.center[i], half(i))}, ${value(j, hull.center[j], half(j))}`;
   let linear;
   if (u.norm !== 'linf') linear = 'linear optimal (Theorem 2): – <span class="hint">(needs l∞ bounds)</span>';
+  else if (at?.linear_refused) linear = `linear optimal (Theorem 2): – <span class="hint">(${escapeHtml(at.linear_refused)})</span>`;
   else if (!at?.linear) linear = 'linear optimal (Theorem 2): … <span class="hint">(being computed)</span>';
   else {
     linear = `linear optimal (Theorem 2): ${at.linear.map((l) => value(l.component, l.estimate, l.error)).join(', ')}`;
