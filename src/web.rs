@@ -404,6 +404,41 @@ impl Session {
             .map_err(|e| js_error(&e))
     }
 
+    /// One step of the kept report, step by step (`Scenario::explain`, JSON
+    /// `{method, paper, t, point?, title, rows: [{name, equation, tex, value, note}]}`):
+    /// `scenario_json` is the scenario the kept report was run from, `t` the step (the
+    /// report's time when undefined), `x`, `y` a point of the figure's plane (LSCR's sums are
+    /// evaluated there; the report's estimate when undefined). A method without a
+    /// step-through, a step out of range or a point that is not finite is an error in words.
+    pub fn explain(
+        &self,
+        scenario_json: &str,
+        t: Option<u32>,
+        x: Option<f64>,
+        y: Option<f64>,
+    ) -> Result<String, JsValue> {
+        let report = self.kept()?;
+        let scenario = Scenario::from_json(scenario_json).map_err(|e| js_error(&e))?;
+        let point = match (x, y) {
+            (Some(x), Some(y)) => Some([x, y]),
+            (None, None) => None,
+            _ => {
+                return Err(js_error(&Error::field(
+                    "explain.x",
+                    "needs both coordinates of the point, or neither",
+                )))
+            }
+        };
+        let e = scenario
+            .explain(
+                report,
+                t.map(|t| t as usize),
+                point.as_ref().map(|p| &p[..]),
+            )
+            .map_err(|e| js_error(&e))?;
+        to_json("the step", &e)
+    }
+
     /// The steps the kept report's time cursor moves over, `[first, last]`
     /// (`Report::cursor_steps`: ubb's first step with a bounded set, uniform_lp's times,
     /// compare's); undefined before the first good run or for a method without a cursor.

@@ -748,6 +748,139 @@ pub fn coverage_report(est: &Estimator, truth: &[f64], counts: Coverage) -> Cove
 /// LSCR (Weyer & Campi): the `lscr` block, the region report and the coverage experiment.
 pub(crate) struct Lscr;
 
+/// LSCR's step (points 2–6 of the construction, LSCR paper Section III): the sign-perturbed
+/// sums g_{i,l}(x) at one point x, from the report's region (the functions the region, its
+/// boundary and `truth_inside` are read from, evaluated as [`SignRegion::contains`] does), the
+/// reference g_{0,l} ≡ 0's rank among them, the rule with q and the verdict.
+fn explain_lscr(
+    report: &Report,
+    t: Option<usize>,
+    point: Option<&[f64]>,
+) -> Result<super::StepExplanation> {
+    use super::explain::{check_point, check_step, StepValue as V};
+    let l = report
+        .lscr
+        .as_ref()
+        .ok_or_else(|| Error::field("report.lscr", "has no lscr part"))?;
+    if let Some(t) = t {
+        // LSCR's report is about one data length: its step is that one.
+        check_step(t, l.t..=l.t)?;
+    }
+    let r = &l.region;
+    let n = r.dim;
+    let x: Vec<f64> = match point {
+        Some(p) if p.len() == n => p.to_vec(),
+        Some(p) if p.len() == 2 => {
+            // A point of the figure's plane: the other components at the section's point.
+            let mut x = l.slice_at.clone().unwrap_or_else(|| vec![0.0; n]);
+            x[l.plot[0]] = p[0];
+            x[l.plot[1]] = p[1];
+            x
+        }
+        Some(p) => {
+            return Err(Error::field(
+                "explain.x",
+                format!("has {} components: give n = {n} or the plane's 2", p.len()),
+            ))
+        }
+        None => l
+            .blue
+            .as_ref()
+            .map(|b| b.center.clone())
+            .or_else(|| l.slice_at.clone())
+            .ok_or_else(|| {
+                Error::field(
+                    "explain.x",
+                    "is needed: the report has no BLUE centre to evaluate the sums at",
+                )
+            })?,
+    };
+    check_point(&x)?;
+    let mut out = super::StepExplanation {
+        method: "lscr".into(),
+        paper: "Weyer, Campi, Prediction, filtering and smoothing using LSCR (LSCR paper)".into(),
+        t: l.t,
+        point: Some(x.clone()),
+        title: format!(
+            "The sign-perturbed sums at one point, for x{} from y1..y{}",
+            l.time, l.t
+        ),
+        rows: Vec::new(),
+    };
+    out.row(
+        "point",
+        "",
+        r"x",
+        V::Vector(x.clone()),
+        "the clicked point (or the BLUE centre) where the sums are evaluated",
+    );
+    out.row(
+        "prediction errors",
+        "point 2",
+        r"\epsilon_k(x) = s_k - a_k x",
+        V::Text(format!("k = 1, …, {}", l.t)),
+        "s and A from the backward representation and the Karhunen–Loève transform (14)–(16)",
+    );
+    let mut inside_all = true;
+    for (i, _) in r.groups.iter().enumerate() {
+        let vals = r.values(i, &x);
+        let pos = vals.iter().filter(|v| **v > 0.0).count();
+        let neg = vals.iter().filter(|v| **v < 0.0).count();
+        let inside = pos >= r.q && neg >= r.q;
+        inside_all &= inside;
+        let li = i + 1;
+        out.row(
+            &format!("sums of group l = {li}"),
+            "point 4",
+            &format!(r"g_{{i,{li}}}(x) = \sum_{{k=1}}^{{t}} h_{{i,k}}\,\epsilon_k(x)\,u_{{a,{li},k}},\; i = 1,\dots,M-1"),
+            V::Vector(vals),
+            format!("{} perturbed sums; the reference g₀ ≡ 0", r.groups[i].c.len()),
+        );
+        out.row(
+            &format!("rank of the reference, l = {li}"),
+            "point 5",
+            &format!(r"\#\{{i : g_{{i,{li}}}(x) < 0\}} + 1"),
+            V::Scalar((neg + 1) as f64),
+            format!("{pos} sums above 0, {neg} below, of M = {}", l.m),
+        );
+        out.row(
+            &format!("verdict for X̂_{li}"),
+            "point 5, (18)",
+            &format!(r"\#\{{g_{{i,{li}}} > 0\}} \ge q \;\wedge\; \#\{{g_{{i,{li}}} < 0\}} \ge q"),
+            V::Text(if inside { "in".into() } else { "out".into() }),
+            format!(
+                "q = {}: 0 is neither among the q largest nor the q smallest",
+                r.q
+            ),
+        );
+    }
+    out.row(
+        "q",
+        "point 5",
+        r"q \in [1, M/2n]",
+        V::Scalar(r.q as f64),
+        format!(
+            "M = {}, n = {n}: each X̂_l has probability 1 − 2q/M = {} (18)",
+            l.m, l.level_each
+        ),
+    );
+    out.row(
+        "verdict",
+        "(17), (19)",
+        r"x \in \hat X = \bigcap_{l=1}^n \hat X_l",
+        V::Text(if inside_all {
+            "in the region".into()
+        } else {
+            "out of the region".into()
+        }),
+        format!(
+            "the region has probability at least 1 − 2qn/M = {} (19)",
+            l.level
+        ),
+    );
+    Ok(out)
+}
+
 impl MethodScenario for Lscr {
     /// Honoured: the record and `lscr.coverage` draw from the true noise; the region assumes no
     /// variances (Theorem 3.2 holds at any scale), the BLUE and Kalman ellipses keep the model's.
@@ -762,6 +895,15 @@ impl MethodScenario for Lscr {
             ("truth_inside", "lscr: whether X̂ holds the true state"),
             ("truth_inside_each", "lscr: the same per X̂_l"),
         ]
+    }
+    fn explain(
+        &self,
+        _s: &Scenario,
+        report: &Report,
+        t: Option<usize>,
+        point: Option<&[f64]>,
+    ) -> Result<super::StepExplanation> {
+        explain_lscr(report, t, point)
     }
     fn steps(&self) -> RangeInclusive<usize> {
         // lscr-predict takes about 14 s natively at t = 2000, growing like t^2.4: 800 keeps a

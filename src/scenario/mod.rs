@@ -28,6 +28,7 @@ use std::ops::RangeInclusive;
 pub mod budget;
 pub mod compare;
 pub mod csv;
+pub mod explain;
 pub mod glls;
 pub mod lscr;
 pub mod preset;
@@ -40,6 +41,7 @@ pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
 pub use budget::{Job, Work};
 pub use compare::{CompareReport, CompareSpec};
 pub use csv::data_from_csv;
+pub use explain::{StepExplanation, StepRow, StepValue};
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};
 pub use preset::Preset;
@@ -971,6 +973,24 @@ pub(crate) trait MethodScenario: Sync {
     /// prints it; `null` removes it) into the report, where the report of a scenario run with
     /// that study would hold it, so the figures draw it. A method whose report holds no study
     /// result refuses.
+    /// One step of the report, step by step ([`Scenario::explain`]: the quantities of the
+    /// update at `t` with the paper's equation numbers; `point` for a step that depends on a
+    /// state). A method without a step-through refuses, naming the method.
+    fn explain(
+        &self,
+        _s: &Scenario,
+        report: &Report,
+        _t: Option<usize>,
+        _point: Option<&[f64]>,
+    ) -> Result<explain::StepExplanation> {
+        Err(Error::field(
+            "explain",
+            format!(
+                "is not available: the method \"{}\" has no step-through card",
+                report.method
+            ),
+        ))
+    }
     fn set_study(&self, report: &mut Report, _result: serde_json::Value) -> Result<()> {
         Err(Error::field(
             "study",

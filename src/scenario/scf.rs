@@ -438,6 +438,184 @@ pub(crate) struct Scf {
     pub(crate) kalman_only: bool,
 }
 
+impl ScfPrepared {
+    /// The KF (and SCF) update at step t, quantity by quantity, with the SCF paper's equation
+    /// numbers: the same Offline gains, filter and ratio recursion [`scf::run`] uses, so every
+    /// number equals the report's at t. The paper writes (35a)–(35c) with x̂_0 = 0, P_0 = Γ
+    /// (36); the filter starts from the prior of x_1 instead (x̂⁻_1 = E x_1, P⁻_1 = Γ_1), which
+    /// is the same for the paper's stationary zero-mean case.
+    pub fn explain(&self, t: usize) -> Result<super::StepExplanation> {
+        use super::explain::{check_step, StepValue as V};
+        use crate::kalman;
+        check_step(t, 1..=self.y.len())?;
+        let model = &self.model;
+        let u = &self.inputs;
+        let n = model.n();
+        let offline = kalman::Offline::new(model, t, u)?;
+        let (gains, ratio) = if self.options.asymptotic {
+            let ss = kalman::steady_state(model)?;
+            let gamma = model.stationary_covariance()?;
+            let ratio = scf::ratio_closed_form(&ss.p, &gamma)?;
+            let g = kalman::GainStep {
+                p_pred: ss.p_pred.clone(),
+                k: ss.k.clone(),
+                p: ss.p.clone(),
+            };
+            (kalman::KalmanGains { steps: vec![g; t] }, ratio)
+        } else {
+            let ratios = scf::ratio_recursion(model, &offline)?;
+            (offline.gains.clone(), ratios[t - 1].clone())
+        };
+        let means = gains.filter(model, &self.y[..t], u);
+        let g = &gains.steps[t - 1];
+        let (f_prev, x_pred) = if t == 1 {
+            (None, model.x1_mean.clone())
+        } else {
+            let f = model.f(t - 1);
+            (Some(f), f * &means[t - 2] + model.input_term(t - 1, u))
+        };
+        let h = model.h(t);
+        let y = &self.y[t - 1];
+        let e = y - h * &x_pred;
+        let s = linalg::symmetrize(&(h * &g.p_pred * h.transpose() + model.w(t)));
+        let scf_paper = self.scenario.method == Method::Scf;
+        let mut out = super::StepExplanation {
+            method: self.scenario.method.to_string(),
+            paper: "Carè, Campi, Weyer, State Conditional Filtering (SCF paper)".into(),
+            t,
+            point: None,
+            title: format!(
+                "The Kalman filter's update at t = {t}{}",
+                if scf_paper {
+                    ", and the SCF's region from it"
+                } else {
+                    ""
+                }
+            ),
+            rows: Vec::new(),
+        };
+        let bu = if model.m() > 0 { " + B u_{t-1}" } else { "" };
+        match f_prev {
+            Some(_) => out.row(
+                "prediction",
+                "(35a)",
+                &format!(r"\hat x^-_t = F\,\hat x^{{\mathrm{{KF}}}}_{{t-1}}{bu}"),
+                V::vector(&x_pred),
+                "the previous estimate moved one step by the model",
+            ),
+            None => out.row(
+                "prediction",
+                "(36)",
+                r"\hat x^-_1 = \mathbb{E}[x_1]",
+                V::vector(&x_pred),
+                "the first step starts from the prior mean of x₁",
+            ),
+        }
+        out.row(
+            "predicted covariance",
+            "(35b)",
+            if t == 1 {
+                r"P^-_1 = \Gamma_1"
+            } else {
+                r"P^-_t = F P_{t-1} F^\top + V"
+            },
+            V::matrix(&g.p_pred),
+            "",
+        );
+        out.row(
+            "innovation",
+            "(35a)",
+            r"e_t = y_t - H \hat x^-_t",
+            V::vector(&e),
+            "the measurement minus its prediction",
+        );
+        out.row(
+            "innovation covariance",
+            "(35b)",
+            r"S_t = H P^-_t H^\top + W",
+            V::matrix(&s),
+            "",
+        );
+        out.row(
+            "gain",
+            "(35b)",
+            r"K_t = P^-_t H^\top S_t^{-1}",
+            V::matrix(&g.k),
+            "",
+        );
+        out.row(
+            "estimate",
+            "(35a)",
+            r"\hat x^{\mathrm{KF}}_t = \hat x^-_t + K_t e_t",
+            V::vector(&means[t - 1]),
+            "the centre of the KF region",
+        );
+        out.row(
+            "covariance",
+            "(35c)",
+            r"P_t = P^-_t - K_t S_t K_t^\top",
+            V::matrix(&g.p),
+            "the shape of the KF region",
+        );
+        if scf_paper {
+            let asym = if self.options.asymptotic {
+                " (asymptotic: I − P̄Γ⁻¹, IV-B)"
+            } else {
+                ""
+            };
+            out.row(
+                "ratio matrix",
+                if t == 1 { "(38), (39)" } else { "(38)" },
+                if t == 1 {
+                    r"U_1A_1 = K_1 H"
+                } else {
+                    r"U_tA_t = F(U_{t-1}A_{t-1})F^b + K_t\bigl(H - HF(U_{t-1}A_{t-1})F^b\bigr)"
+                },
+                V::matrix(&ratio),
+                format!("measurement-independent{asym}"),
+            );
+            let m_t = &offline.moments.mean[t - 1];
+            match (t >= n)
+                .then(|| scf::scf_from_ratio(&ratio, &means[t - 1], &g.p, m_t))
+                .flatten()
+            {
+                Some((c, pi)) => {
+                    out.row(
+                        "SCF centre",
+                        "(33)",
+                        r"\hat x_t = (U_tA_t)^{-1}\,\hat x^{\mathrm{KF}}_t",
+                        V::vector(&c),
+                        "with a prior mean m_t ≠ 0 or inputs: m_t + (U_tA_t)⁻¹(x̂ᴷᶠ_t − m_t) (V-E)",
+                    );
+                    out.row(
+                        "SCF covariance",
+                        "(34)",
+                        r"\Pi_t = (U_tA_t)^{-1} P_t",
+                        V::matrix(&pi),
+                        "the shape of the SCF region (40)",
+                    );
+                }
+                None => out.row(
+                    "SCF centre",
+                    "(33)",
+                    r"\hat x_t = (U_tA_t)^{-1}\,\hat x^{\mathrm{KF}}_t",
+                    V::Text("none yet".into()),
+                    format!("U_tA_t is singular at t = {t} (t < n = {n} or too few informative measurements): no SCF region"),
+                ),
+            }
+        }
+        let r2 = crate::stats::chi2_quantile(self.scenario.alpha, n)?;
+        out.row(
+            "radius²",
+            "(40)",
+            r"\chi^2(\alpha, n)",
+            V::Scalar(r2),
+            format!("α = {}, n = {n}", self.scenario.alpha),
+        );
+        Ok(out)
+    }
+}
+
 impl MethodScenario for Scf {
     /// Honoured: the record, the conditioned draws and the `experiment` draw from the true
     /// noise; the filters keep the model's V, W.
@@ -449,6 +627,15 @@ impl MethodScenario for Scf {
     }
     fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
         &[("true_distance", "scf collision: the true distance")]
+    }
+    fn explain(
+        &self,
+        s: &Scenario,
+        report: &Report,
+        t: Option<usize>,
+        _point: Option<&[f64]>,
+    ) -> Result<super::StepExplanation> {
+        s.prepare_scf()?.explain(t.unwrap_or(report.time))
     }
     fn steps(&self) -> RangeInclusive<usize> {
         // The robots (n = 8) take about 1.3 s natively at 10,000 steps (13 s at 100,000).

@@ -192,17 +192,31 @@ impl SignRegion {
         Ok(())
     }
 
+    /// The values g_{l,i}(x) of group l at x, evaluated as [`excluded`](Self::excluded) does
+    /// (so a step-through's sums give the region's verdict bit for bit).
+    pub fn values(&self, l: usize, x: &[f64]) -> Vec<f64> {
+        let g = &self.groups[l];
+        g.c.iter()
+            .zip(&g.d)
+            .map(|(c, d)| self.value(*c, d, x))
+            .collect()
+    }
+
+    fn value(&self, c: f64, d: &[f64], x: &[f64]) -> f64 {
+        if self.dim == 2 {
+            eval2(c, d[0], d[1], x[0], x[1])
+        } else {
+            c - d.iter().zip(x).fold(0.0, |a, (di, xi)| a + di * xi)
+        }
+    }
+
     /// Bit l set when x ∉ X_l.
     pub fn excluded(&self, x: &[f64]) -> u32 {
         let mut mask = 0;
         for (l, g) in self.groups.iter().enumerate() {
             let (mut pos, mut neg) = (0, 0);
             for (c, d) in g.c.iter().zip(&g.d) {
-                let v = if self.dim == 2 {
-                    eval2(*c, d[0], d[1], x[0], x[1])
-                } else {
-                    c - d.iter().zip(x).fold(0.0, |a, (di, xi)| a + di * xi)
-                };
+                let v = self.value(*c, d, x);
                 if v > 0.0 {
                     pos += 1;
                 } else if v < 0.0 {

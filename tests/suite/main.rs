@@ -52,6 +52,7 @@ mod compare;
 mod coverage;
 mod csv;
 mod determinism;
+mod explain;
 mod fuzz;
 mod gallery;
 mod generator;
