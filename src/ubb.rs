@@ -462,6 +462,15 @@ impl SupportSolver {
     }
 }
 
+/// The error of a measurement y(t) whose length is not C(t)'s row count: the window's LP and
+/// Theorem 2's rows both read y(t) through C(t).
+fn output_mismatch(t: usize, entries: usize, rows: usize) -> Error {
+    Error::field(
+        "data.y",
+        format!("y({t}) has {entries} entries, C has {rows} rows"),
+    )
+}
+
 /// Theorem 2: the linear optimal algorithm for a linear functional S from the active constraints
 /// of (22), for T(h) = {f : |P_i f − d_i| ≤ b_i}.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -980,14 +989,7 @@ impl StateProblem {
             for t in s..=k {
                 let c = sys.c_at(t);
                 if c.nrows() != q || y[t].len() != q {
-                    return Err(Error::field(
-                        "data.y",
-                        format!(
-                            "y({t}) has {} entries, C has {} rows",
-                            y[t].len(),
-                            c.nrows()
-                        ),
-                    ));
+                    return Err(output_mismatch(t, y[t].len(), c.nrows()));
                 }
                 let row = q * (t - s);
                 n_op.view_mut((row, 0), (q, dim))
@@ -1158,14 +1160,7 @@ impl StateProblem {
         for t in s..=k {
             let c = sys.c_at(t);
             if c.nrows() > 0 && y[t].len() != c.nrows() {
-                return Err(Error::field(
-                    "data.y",
-                    format!(
-                        "y({t}) has {} entries, C has {} rows",
-                        y[t].len(),
-                        c.nrows()
-                    ),
-                ));
+                return Err(output_mismatch(t, y[t].len(), c.nrows()));
             }
             let eps = bd.eps / age_weight(bd.beta, k - t);
             let cm = c * &m_t;

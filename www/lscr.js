@@ -297,4 +297,12 @@ export const mountLscr = async (root, presets) => mountPanel(root, {
   run,
   after,
   draw: showNumbers,
+  // The sign-perturbed sums at the true state placed by a click (the fixed x̄, in the plane), or
+  // at the BLUE centre, the core's default.
+  stepCard: {
+    point({ ui, st }) {
+      const l = st.report?.lscr;
+      return ui.fix.checked && l?.x_true ? [l.x_true[l.plot[0]], l.x_true[l.plot[1]]] : undefined;
+    },
+  },
 });

@@ -6,6 +6,7 @@ import { fieldErrors, frameScheduler, busyFlag } from './chunked.js';
 import { computeClient, ComputeFault } from './compute.js';
 import { parseMatrix, matrixText } from './parse.js';
 import { timeCursor, animation } from './cursor.js';
+import { mountStepCard } from './stepcard.js';
 
 export const clone = (v) => JSON.parse(JSON.stringify(v));
 
@@ -113,6 +114,8 @@ const PARTS = {
 //   Figure           the class of its figure cards (figure.card under root)
 //   model            the custom model's matrices (text boxes m-F …); p.model() parses them
 //   prose(text)      the description and notes as HTML (default: plain text)
+//   stepCard         {point(p)}: the view shows the core's step-through at the time shown
+//                    (Session.explain; point: LSCR's point in the plane, or undefined)
 //   errorsWithin     what the inline errors clear ('form ' by default)
 //   compute, redraw  the inputs that change the scenario, and those that change only the view;
 //   cursor           a time cursor whose report keeps one step's detail (cursor.js): {control
@@ -311,6 +314,7 @@ export function mountPanel(root, spec) {
     if (time != null) p.cursor?.show(time);
     st.drawMs = drawFigures(figures, time);
     spec.draw(p, time);
+    p.stepCard?.update(time);
     if (spec.timing) spec.timing(p);
     else ui.timing.textContent = `rendered in ${(st.runMs + st.drawMs).toFixed(1)} ms (run ${st.runMs.toFixed(1)} ms + draw ${st.drawMs.toFixed(1)} ms)`;
   }
@@ -318,6 +322,11 @@ export function mountPanel(root, spec) {
   // Bursts of input events coalesce into one run (or redraw) per frame.
   const schedule = frameScheduler(setBusy, compute, redraw);
   const p = { root, session, ui, st, figures, errors, setBusy, schedule, build, compute, redraw, isCustom, model, stem };
+  // The "One step, step by step" card (stepcard.js) of a view whose method has one (spec.stepCard:
+  // {point(p)}, LSCR's point in the plane), after the numbers card.
+  if (spec.stepCard) {
+    p.stepCard = mountStepCard(p, { after: ui.numbers.closest('.card') || ui.numbers, point: spec.stepCard.point });
+  }
   // The time cursor: the step the slider shows, its details, its animation.
   const cur = spec.cursor;
   // The step a slider value shows: the nearest of the report's cursor steps (the core's).

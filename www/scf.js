@@ -239,6 +239,7 @@ export const mountScf = async (root, presets) => mountPanel(root, {
   build,
   after,
   time,
+  stepCard: {}, // the filters' update at the time shown
   draw(p, t) {
     showNumbers(p, t);
     showOutputs(p);

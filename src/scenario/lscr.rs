@@ -802,8 +802,9 @@ fn explain_lscr(
         t: l.t,
         point: Some(x.clone()),
         title: format!(
-            "The sign-perturbed sums at one point, for x{} from y1..y{}",
-            l.time, l.t
+            "The sign-perturbed sums at one point, for x{} from y₁ … y{}",
+            super::subscript(l.time),
+            super::subscript(l.t)
         ),
         rows: Vec::new(),
     };
@@ -844,7 +845,7 @@ fn explain_lscr(
             format!("{pos} sums above 0, {neg} below, of M = {}", l.m),
         );
         out.row(
-            &format!("verdict for X̂_{li}"),
+            &format!("verdict for X̂{}", super::subscript(li)),
             "point 5, (18)",
             &format!(r"\#\{{g_{{i,{li}}} > 0\}} \ge q \;\wedge\; \#\{{g_{{i,{li}}} < 0\}} \ge q"),
             V::Text(if inside { "in".into() } else { "out".into() }),
@@ -860,7 +861,7 @@ fn explain_lscr(
         r"q \in [1, M/2n]",
         V::Scalar(r.q as f64),
         format!(
-            "M = {}, n = {n}: each X̂_l has probability 1 − 2q/M = {} (18)",
+            "M = {}, n = {n}: each X̂ₗ has probability 1 − 2q/M = {} (18)",
             l.m, l.level_each
         ),
     );

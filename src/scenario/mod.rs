@@ -1493,3 +1493,12 @@ impl Report {
         }
     }
 }
+
+/// A whole number in Unicode subscript digits ("x" + subscript(12) = "x₁₂"): the names shown to
+/// users carry no raw `_` notation.
+pub(crate) fn subscript(n: usize) -> String {
+    n.to_string()
+        .chars()
+        .map(|c| char::from_u32(0x2080 + c.to_digit(10).unwrap_or(0)).unwrap_or(c))
+        .collect()
+}

@@ -585,7 +585,7 @@ impl ScfPrepared {
                         "(33)",
                         r"\hat x_t = (U_tA_t)^{-1}\,\hat x^{\mathrm{KF}}_t",
                         V::vector(&c),
-                        "with a prior mean m_t ≠ 0 or inputs: m_t + (U_tA_t)⁻¹(x̂ᴷᶠ_t − m_t) (V-E)",
+                        "with a prior mean mₜ ≠ 0 or inputs: mₜ + (UₜAₜ)⁻¹(x̂ₜᴷᶠ − mₜ) (V-E)",
                     );
                     out.row(
                         "SCF covariance",

@@ -651,14 +651,6 @@ fn window_length(
     Ok((window, j, note))
 }
 
-fn subscript(i: usize) -> String {
-    (i + 1)
-        .to_string()
-        .chars()
-        .map(|c| char::from_u32(0x2080 + c.to_digit(10).unwrap_or(0)).unwrap_or(c))
-        .collect()
-}
-
 impl UbbPrepared {
     /// See [`UbbReport::state_names`].
     pub fn state_names(&self) -> Vec<String> {
@@ -666,10 +658,10 @@ impl UbbPrepared {
             Some(b) => b
                 .iter()
                 .enumerate()
-                .map(|(i, g)| format!("a{} ({g})", subscript(i)))
+                .map(|(i, g)| format!("a{} ({g})", super::subscript(i + 1)))
                 .collect(),
             None => (0..self.problem.system.r())
-                .map(|i| format!("x{}", subscript(i)))
+                .map(|i| format!("x{}", super::subscript(i + 1)))
                 .collect(),
         }
     }

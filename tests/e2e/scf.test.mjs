@@ -2,7 +2,7 @@
 // inline while the last picture stays, the chunked Monte Carlo, and screenshots at DPR 1 and 2.
 import { join } from 'node:path';
 import { readFile } from 'node:fs/promises';
-import { openApp, assertDrawnAtRatio, downloadFigure } from './helpers.mjs';
+import { openApp, assertDrawnAtRatio, downloadFigure, setField } from './helpers.mjs';
 
 const readDownload = async (d) => readFile(await d.path(), 'utf8');
 
@@ -10,13 +10,7 @@ const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy, n
 const pixels = (page, fig = 'fig-state') => page.$eval(`#${fig} canvas`, (c) => c.toDataURL());
 const text = (page, sel) => page.$eval(sel, (e) => e.textContent.trim());
 
-async function slide(page, id, value) {
-  await page.$eval(`#${id}`, (el, v) => {
-    el.value = v;
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-  }, String(value));
-  await idle(page);
-}
+const slide = (page, id, value) => setField(page, id, value, idle);
 
 async function choose(page, name) {
   await page.selectOption('#preset', name);

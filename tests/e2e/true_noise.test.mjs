@@ -3,17 +3,11 @@
 // variances P, a function of the assumed V and W only, (35c)); moving "Assumed V ×" changes P.
 // The read-out says when the two differ, and a share link keeps both. Screenshots of the
 // controls at 1280 × 800 and 390 × 844.
-import { text } from './helpers.mjs';
+import { text, setField } from './helpers.mjs';
 
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 60_000 });
 
-async function slide(page, id, value) {
-  await page.$eval(`#${id}`, (el, v) => {
-    el.value = v;
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-  }, String(value));
-  await idle(page);
-}
+const slide = (page, id, value) => setField(page, id, value, idle);
 
 // The numbers table's row `label`: [centre, variances].
 const row = (page, label) => page.$$eval('#numbers tr', (rows, l) => {

@@ -35,7 +35,10 @@ fn matrix(v: &StepValue) -> DMatrix<f64> {
 fn close(a: &[f64], b: &[f64], what: &str) {
     assert_eq!(a.len(), b.len(), "{what}: lengths");
     for (x, y) in a.iter().zip(b) {
-        assert!((x - y).abs() <= 1e-9 * (1.0 + y.abs()), "{what}: {a:?} vs {b:?}");
+        assert!(
+            (x - y).abs() <= 1e-9 * (1.0 + y.abs()),
+            "{what}: {a:?} vs {b:?}"
+        );
     }
 }
 
@@ -66,7 +69,11 @@ fn check_scf(name: &str, method: &str) {
         let s_t = h * &p_pred * h.transpose() + w;
         let k = &p_pred * h.transpose() * s_t.clone().try_inverse().unwrap();
         close(matrix(row(&e, "gain")).as_slice(), k.as_slice(), "K");
-        close(matrix(row(&e, "innovation covariance")).as_slice(), s_t.as_slice(), "S");
+        close(
+            matrix(row(&e, "innovation covariance")).as_slice(),
+            s_t.as_slice(),
+            "S",
+        );
         // x̂ = x̂⁻ + K e (35a), from the card's own rows.
         let xp = nalgebra::DVector::from_vec(vector(row(&e, "prediction")));
         let ev = nalgebra::DVector::from_vec(vector(row(&e, "innovation")));
@@ -89,7 +96,10 @@ fn check_scf(name: &str, method: &str) {
                 None => assert!(matches!(row(&e, "SCF centre"), StepValue::Text(_))),
             }
         } else {
-            assert!(e.rows.iter().all(|r| r.name != "ratio matrix"), "KF has no ratio row");
+            assert!(
+                e.rows.iter().all(|r| r.name != "ratio matrix"),
+                "KF has no ratio row"
+            );
         }
         assert!(e.rows.iter().all(|r| !r.tex.is_empty()));
     }
@@ -160,7 +170,9 @@ fn lscr_verdict_at_a_point_is_the_regions() {
             "explain.t"
         );
         assert_eq!(
-            s.explain(&report, None, Some(&[f64::NAN, 0.0])).unwrap_err().field,
+            s.explain(&report, None, Some(&[f64::NAN, 0.0]))
+                .unwrap_err()
+                .field,
             "explain.x"
         );
     }
