@@ -461,6 +461,7 @@
 //!   ε·σ₁·√(m(s+1)) below which σ's are not resolved ([`glls::Curves::log10_floor`]).
 
 pub mod bench;
+pub mod conformal;
 pub mod error;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod gallery;

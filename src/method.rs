@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// A state-estimation method. JSON: `"scf"`, `"kf"`, `"lscr"`, `"glls"`, `"uniform_lp"`, `"ubb"`,
+/// `"conformal"`,
 /// and `"compare"` (all of them on one record).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -27,19 +28,23 @@ pub enum Method {
     UniformLp,
     /// Unknown-but-bounded noise, set-membership estimation (Tempo).
     Ubb,
+    /// Split conformal state regions and adaptive conformal output intervals on the Kalman
+    /// filter's scores (Vovk et al.; Gibbs & Candès): a promise on average over runs.
+    Conformal,
     /// Every method above on one record, side by side (`scenario::compare`).
     Compare,
 }
 
 impl Method {
     /// Every method, in the order the page and the CLI list them.
-    pub const ALL: [Method; 7] = [
+    pub const ALL: [Method; 8] = [
         Method::Scf,
         Method::Kf,
         Method::Lscr,
         Method::Glls,
         Method::UniformLp,
         Method::Ubb,
+        Method::Conformal,
         Method::Compare,
     ];
 
@@ -52,6 +57,7 @@ impl Method {
             Method::Glls => "glls",
             Method::UniformLp => "uniform_lp",
             Method::Ubb => "ubb",
+            Method::Conformal => "conformal",
             Method::Compare => "compare",
         }
     }
@@ -65,6 +71,7 @@ impl Method {
             Method::Glls => Some("glls"),
             Method::UniformLp => Some("uniform"),
             Method::Ubb => Some("ubb"),
+            Method::Conformal => Some("conformal"),
             Method::Compare => Some("compare"),
         }
     }
@@ -78,6 +85,7 @@ impl Method {
             Method::Glls => Some("glls.monte_carlo"),
             Method::UniformLp => None,
             Method::Ubb => Some("ubb.guarantee"),
+            Method::Conformal => Some("conformal.study"),
             Method::Compare => Some("compare.study"),
         }
     }

@@ -55,6 +55,7 @@
 //! becomes a crate [`Error`].
 
 mod compare;
+mod conformal;
 mod erase;
 mod figures;
 pub mod geom;
@@ -86,6 +87,7 @@ pub(crate) fn make_figures(m: Method) -> &'static dyn Figures {
         Method::Glls => &glls::GllsFigures,
         Method::UniformLp => &uniform::UniformFigures,
         Method::Ubb => &ubb::UbbFigures,
+        Method::Conformal => &conformal::ConformalFigures,
         Method::Compare => &compare::CompareFigures,
     }
 }

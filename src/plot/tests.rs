@@ -694,6 +694,8 @@ fn every_preset_draws_every_useful_panel_at_page_sizes() {
                     (_, _, "compare") => "Kalman",
                     _ if panel.method() == Method::UniformLp => "t = ",
                     _ if panel.method() == Method::Ubb => "k = ",
+                    // Conformal's sets beside the filter's own.
+                    _ if panel.method() == Method::Conformal => "Kalman",
                     (true, _, _) => "X̂ ",
                     (_, true, "plane") => "true state",
                     (_, true, _) => "in use",

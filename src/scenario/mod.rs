@@ -34,12 +34,14 @@ pub mod lscr;
 pub mod preset;
 /// The JSON reader with field paths, a layer below (studies read their parts with it too).
 pub use crate::parse;
+pub mod conformal;
 pub mod scf;
 pub mod ubb;
 pub mod uniform;
 pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
 pub use budget::{Job, Work};
 pub use compare::{CompareReport, CompareSpec};
+pub use conformal::{ConformalReport, ConformalSpec};
 pub use csv::data_from_csv;
 pub use explain::{StepExplanation, StepRow, StepValue};
 pub use glls::{GllsReport, GllsSpec};
@@ -158,6 +160,9 @@ pub struct Scenario {
     /// Set-membership options (method "ubb"): see [`ubb::UbbSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ubb: Option<UbbSpec>,
+    /// Conformal options (method "conformal"): see [`conformal::ConformalSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conformal: Option<ConformalSpec>,
     /// Compare options (method "compare"): see [`compare::CompareSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compare: Option<CompareSpec>,
@@ -269,6 +274,9 @@ pub struct Report {
     /// The set-membership result (method "ubb").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ubb: Option<UbbReport>,
+    /// The conformal result (method "conformal").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conformal: Option<ConformalReport>,
     /// Every method's set on one record (method "compare").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compare: Option<CompareReport>,
@@ -597,6 +605,7 @@ impl Scenario {
             glls: None,
             uniform: None,
             ubb: None,
+            conformal: None,
             compare: None,
             notes: None,
             moved: Vec::new(),
@@ -1011,6 +1020,7 @@ pub(crate) fn make_method(m: Method) -> &'static dyn MethodScenario {
         Method::Glls => &glls::Glls,
         Method::UniformLp => &uniform::Uniform,
         Method::Ubb => &ubb::Ubb,
+        Method::Conformal => &conformal::Conformal,
         Method::Compare => &compare::Compare,
     }
 }
@@ -1065,6 +1075,11 @@ pub fn limits() -> serde_json::Value {
         "ubb.tau": [0, MAX_MAGNITUDE],
         "ubb.sim_eps": [0, MAX_MAGNITUDE],
         "ubb.sim_tau": [0, MAX_MAGNITUDE],
+        // Conformal's calibration runs (the least depends on the level and is named by the
+        // refusal), ACI's step size γ ∈ (0, 1] and the Student-t's ν ∈ (2, 10⁶].
+        "conformal.calibration": [1, conformal::MAX_CALIBRATION],
+        "conformal.gamma": [0, 1],
+        "conformal.nu": [conformal::NU_RANGE.start(), conformal::NU_RANGE.end()],
     })
 }
 
@@ -1487,6 +1502,7 @@ impl Report {
             glls: None,
             uniform: None,
             ubb: None,
+            conformal: None,
             compare: None,
             notices: Vec::new(),
             figure: FigureContext::of(s),

@@ -176,6 +176,9 @@ fn check_against_panels(s: &Scenario) {
             }
             // Every arm is written out: a method that joins a compare gets its check here.
             Method::Compare => panic!("a compare does not compare itself"),
+            Method::Conformal => {
+                panic!("conformal does not join a compare (its compare_member is None)")
+            }
         }
     }
 }

@@ -49,6 +49,7 @@ mod bad_input;
 mod bench;
 mod cli;
 mod compare;
+mod conformal;
 mod coverage;
 mod csv;
 mod determinism;

@@ -78,6 +78,7 @@ fn every_variant(m: Method) -> &'static str {
         Method::Glls => "glls",
         Method::UniformLp => "uniform_lp",
         Method::Ubb => "ubb",
+        Method::Conformal => "conformal",
         Method::Compare => "compare",
     }
 }

@@ -182,7 +182,7 @@ fn refusals_name_the_field() {
         }
         let v = serde_json::to_value(s).unwrap();
         match s.method {
-            Method::Scf | Method::Kf | Method::Lscr => {
+            Method::Scf | Method::Kf | Method::Lscr | Method::Conformal => {
                 for (bad, field) in [
                     (json!({"V": 0.0}), "simulate.true_noise.V"),
                     (json!({"W": -1.0}), "simulate.true_noise.W"),

@@ -128,6 +128,12 @@ pub fn knobs(s: &Value) -> Vec<Knob> {
         out.push(count(vec!["uniform", "window"], max));
         out.push(count(vec!["uniform", "directions"], 720.0));
     }
+    if block("conformal") {
+        out.push(count(
+            vec!["conformal", "calibration"],
+            scenario::conformal::MAX_CALIBRATION as f64,
+        ));
+    }
     if block("ubb") {
         out.push(count(
             vec!["ubb", "window"],
