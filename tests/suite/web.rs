@@ -566,7 +566,7 @@ fn lscr_wasm_timings() {
         }
         (js_sys::Date::now() - t0) / reps as f64
     };
-    for (t, reps) in [(30, 200), (200, 10)] {
+    for (t, reps) in [(30, 20), (200, 2)] {
         let ms = mean_ms(reps, &mut || {
             std::hint::black_box(Estimator::new(&model, t, &o).expect("estimator"));
         });
@@ -579,10 +579,10 @@ fn lscr_wasm_timings() {
         .expect("runs")
         .lscr
         .expect("lscr");
-    let ms = mean_ms(50, &mut || {
+    let ms = mean_ms(10, &mut || {
         std::hint::black_box(l.region.raster(&l.window, 512, 512).expect("raster"));
     });
-    wasm_bindgen_test::console_log!("[wasm timing] LSCR raster 512x512: {ms:.3} ms (mean of 50)");
+    wasm_bindgen_test::console_log!("[wasm timing] LSCR raster 512x512: {ms:.3} ms (mean of 10)");
 }
 in_browser!(lscr_wasm_timings);
 
@@ -613,7 +613,7 @@ fn glls_wasm_timings() {
     )
     .expect("model");
     for (name, model) in [("n = 10, m = 2", &ten), ("n = 5 (glls-unstable5)", &five)] {
-        let reps = 10;
+        let reps = 3;
         let t0 = js_sys::Date::now();
         for _ in 0..reps {
             std::hint::black_box(Curves::new(model, 500).expect("curves"));
@@ -630,7 +630,7 @@ in_browser!(glls_wasm_timings);
 /// The uniform-innovation issue's wasm speed figures, printed like the others.
 fn uniform_wasm_timings() {
     let mut window_lp = crate::common::timing::uniform_window_lp();
-    let reps = 50;
+    let reps = 10;
     let t0 = js_sys::Date::now();
     for _ in 0..reps {
         window_lp();
@@ -661,13 +661,13 @@ fn ubb_wasm_timings() {
     };
     let mut calls = 0;
     let mut size = confset::ubb::LpSize::default();
-    let exact = mean_ms(20, &mut || {
+    let exact = mean_ms(5, &mut || {
         let step = prep.problem.step(&run.y, 40).expect("step");
         let (_, poly, sz) = step.hull_and_polygon([0, 1], 64).expect("LPs");
         calls = poly.calls;
         size = sz;
     });
-    let fan = mean_ms(20, &mut || {
+    let fan = mean_ms(5, &mut || {
         let step = prep.problem.step(&run.y, 40).expect("step");
         let mut solver = step.set.support_solver().expect("LP");
         std::hint::black_box(
