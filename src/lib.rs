@@ -101,6 +101,15 @@
 //!   smoothed bounds (45)–(46); the simulation's true noise (`ubb.sim_eps`, `ubb.sim_tau`) apart
 //!   from the assumed bounds, the guarantee study counting runs whose data contradict them as
 //!   misses
+//! * [`conformal`]: conformal prediction beside the Kalman filter: split conformal's rank
+//!   ⌈(N + 1)α⌉ and order statistic of the filter's Mahalanobis scores (Vovk, Gammerman & Shafer
+//!   2005; Lei et al. 2018), the promise α ≤ P ≤ α + 1/(N + 1) *on average over runs* (no
+//!   finite-sample method promises it for every state without assumptions: Vovk 2012, Lei &
+//!   Wasserman 2014, Barber et al. 2021), adaptive conformal inference (Gibbs & Candès 2021,
+//!   their (2) and Proposition 4.1's bound), the multivariate Student-t law scaled to a
+//!   covariance, and a simulator with the square roots computed once. With the others it fills
+//!   the table "model-based / distribution-free × on average / for every state": Kalman, SCF,
+//!   conformal, LSCR
 //! * [`solve`]: the one place that talks to the LP/QP solver (clarabel): dense LP/QP/SOCP in, a
 //!   solution (with duals) or an error in words out, naming the field its [`solve::Blame`] holds
 //!   (infeasible with the caller's hint, unbounded, stopped before converging with the
@@ -153,7 +162,9 @@
 //!     LP ([`uniform::consistent_polygon_extending`]); for LSCR its sums at the state alone):
 //!     [`scenario::scf`] (the `scf` block; KF and SCF are
 //!     two descriptors of this file), [`scenario::lscr`], [`scenario::glls`],
-//!     [`scenario::uniform`], [`scenario::ubb`];
+//!     [`scenario::uniform`], [`scenario::ubb`], [`scenario::conformal`] (the sixth method,
+//!     added through these descriptors: its own four files, one arm or line in each of
+//!     `method.rs`, `scenario/mod.rs`, `plot/mod.rs`, `www/registry.js`, and `pub mod` here);
 //!   - [`scenario::compare`] (method `compare`): one record under one noise law (Gaussian,
 //!     uniform or truncated), every member's scenario derived from it and run through
 //!     [`scenario::Scenario::run`] as its panel would, its set read into a

@@ -39,6 +39,11 @@
 //!   prediction set is the Minkowski sum F·P ⊕ G·[−b_v, b_v]^p (exact, a polygon).
 //! * Tempo's set is of x(k+1) from y(0 … k): a prediction only; for the filter target it says
 //!   so.
+//! * Conformal's region is the Kalman ellipse of x_{t+τ} (τ = 1 for the prediction) with the
+//!   radius² calibrated on N runs simulated from the model's Gaussian law: under another law
+//!   the calibration runs are not exchangeable with the record, and its row says so. Its
+//!   promise is on average over runs, like Kalman's over states: at the study's fixed state it
+//!   counts what the Kalman region counts, not what SCF's does.
 //!
 //! The study (`compare.study`: `x`, `runs`, `seed`) fixes the true target state and draws
 //! records from their law given it: exactly, by the backward representation, for Gaussian
@@ -131,7 +136,7 @@ pub struct CompareSpec {
     /// The time t of the data y_1 … y_t (default: the last).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
-    /// The methods compared (default: all six).
+    /// The methods compared (default: every method that joins a compare (seven with conformal)).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub methods: Option<Vec<Method>>,
     /// Window length of the set-membership methods (Tempo's j + 1, Pavelková's ∂).

@@ -4,7 +4,7 @@
 //! [`crate::conformal`]'s; the promise and its references are stated there.
 
 use super::budget::{f, shape, Job, Term, Work};
-use super::compare::CompareMember;
+use super::compare::{Assumption, CompareMember, ComparePrepared, PlaneReading, PlaneSet};
 use super::csv::{cells, flag, Table};
 use super::preset::Preset;
 use super::{DataSpec, MethodScenario, Report, Scenario, SimulateSpec, Source};
@@ -65,6 +65,10 @@ pub struct ConformalSpec {
     /// record).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window: Option<usize>,
+    /// Steps ahead of the target: the region is of x_{t+τ} from y_1 … y_t (τ = 0: the filter's
+    /// x_t; compare's prediction uses τ = 1).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tau: usize,
     /// The study (`conformal.study`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub study: Option<ConformalStudySpec>,
@@ -82,6 +86,13 @@ fn default_nu() -> f64 {
 fn default_gamma() -> f64 {
     0.01
 }
+fn is_zero(v: &usize) -> bool {
+    *v == 0
+}
+
+/// Most prediction steps τ.
+pub const MAX_TAU: usize = 1000;
+
 /// The worst-window coverage's default window.
 const DEFAULT_WINDOW: usize = 50;
 
@@ -94,6 +105,7 @@ impl Default for ConformalSpec {
             nu: default_nu(),
             gamma: default_gamma(),
             window: None,
+            tau: 0,
             study: None,
         }
     }
@@ -166,8 +178,10 @@ pub struct AciReport {
 /// The conformal result (`report.conformal`).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct ConformalReport {
-    /// The target time t of the state region.
+    /// The time t of the last measurement the region uses, and τ: the region is of x_{t+τ}.
     pub time: usize,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tau: usize,
     pub level: f64,
     pub noise: NoiseKind,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -207,10 +221,12 @@ pub struct ConformalPrepared {
     model: LinearModel,
     truth_model: LinearModel,
     inputs: Inputs,
-    /// The target time t.
+    /// The time t of the last measurement used, and the steps ahead τ.
     pub time: usize,
+    tau: usize,
     gains: KalmanGains,
-    /// Cholesky factor of P_t.
+    /// P_{t+τ|t} and its Cholesky factor.
+    p_target: nalgebra::DMatrix<f64>,
     p_chol: Cholesky<f64, Dyn>,
     chi2_state: f64,
     chi2_output: f64,
@@ -299,6 +315,13 @@ impl Scenario {
         }
         let time = self.time.unwrap_or(steps);
         crate::kalman::check_time("time", time, steps)?;
+        let tau = spec.tau;
+        if tau > MAX_TAU {
+            return Err(Error::field(
+                "conformal.tau",
+                format!("is {tau}: at most {MAX_TAU} steps ahead"),
+            ));
+        }
         let study_at = match spec.study.as_ref().and_then(|s| s.at.as_ref()) {
             Some(at) => {
                 if law != NoiseLaw::Gaussian {
@@ -325,10 +348,17 @@ impl Scenario {
         }
         let truth_model = self.true_model(&model)?;
         let gains = KalmanGains::new(&model, steps)?;
-        let p_chol = Cholesky::new(gains.steps[time - 1].p.clone()).ok_or_else(|| {
+        // P_{t+τ|t} = F P F^T + V, τ times from P_t (SCF footnote 16); the mean is data's.
+        let zero = DVector::zeros(n);
+        let p_target =
+            crate::kalman::predict(&model, time, tau, &zero, &gains.steps[time - 1].p, &inputs).1;
+        let p_chol = Cholesky::new(p_target.clone()).ok_or_else(|| {
             Error::field(
                 "model.V",
-                format!("gives a singular filtering covariance P_{time}: no Mahalanobis score"),
+                format!(
+                    "gives a singular error covariance at t = {}: no Mahalanobis score",
+                    time + tau
+                ),
             )
         })?;
         let chi2_state = chi2_quantile(level, n)?;
@@ -385,7 +415,9 @@ impl Scenario {
             truth_model,
             inputs,
             time,
+            tau,
             gains,
+            p_target,
             p_chol,
             chi2_state,
             chi2_output,
@@ -399,26 +431,35 @@ impl Scenario {
 }
 
 impl ConformalPrepared {
-    /// x̂_t from y_1..y_t (35a), without keeping the earlier estimates.
-    fn estimate(&self, y: &[DVector<f64>], t: usize) -> DVector<f64> {
+    /// x̂_{t+τ|t} from y_1..y_t (35a), then τ steps of the model's mean, without keeping
+    /// the earlier estimates.
+    fn estimate(&self, y: &[DVector<f64>]) -> DVector<f64> {
         let m = &self.model;
         let mut x_pred = m.x1_mean.clone();
         let mut x = x_pred.clone();
-        for (i, yt) in y.iter().enumerate().take(t) {
+        for (i, yt) in y.iter().enumerate().take(self.time) {
             let s = i + 1;
             x = &x_pred + &self.gains.steps[i].k * (yt - m.h(s) * &x_pred);
             x_pred = m.f(s) * &x + m.input_term(s, &self.inputs);
         }
+        for s in self.time..self.time + self.tau {
+            x = m.f(s) * &x + m.input_term(s, &self.inputs);
+        }
         x
     }
 
-    /// The score of one run: (x_t − x̂_t)ᵀ P_t⁻¹ (x_t − x̂_t).
-    fn score(&self, y: &[DVector<f64>], x_t: &DVector<f64>) -> f64 {
-        mahalanobis2(x_t, &self.estimate(y, self.time), &self.p_chol)
+    /// The target time t + τ.
+    fn target(&self) -> usize {
+        self.time + self.tau
+    }
+
+    /// The score of one run: (x − x̂)ᵀ P⁻¹ (x − x̂) at the target time.
+    fn score(&self, y: &[DVector<f64>], x_target: &DVector<f64>) -> f64 {
+        mahalanobis2(x_target, &self.estimate(y), &self.p_chol)
     }
 
     fn simulator(&self) -> Simulator {
-        Simulator::new(&self.truth_model, self.time, &self.inputs, self.law)
+        Simulator::new(&self.truth_model, self.target(), &self.inputs, self.law)
     }
 
     /// N scores of runs drawn by `rng`, ascending.
@@ -426,7 +467,7 @@ impl ConformalPrepared {
         (0..self.spec.calibration)
             .map(|_| {
                 let run = sim.draw(&self.truth_model, rng);
-                self.score(&run.y, &run.x[self.time - 1])
+                self.score(&run.y, &run.x[self.target() - 1])
             })
             .collect()
     }
@@ -447,16 +488,19 @@ impl ConformalPrepared {
         let (exact, lower, upper) =
             promise(self.spec.calibration, self.level).unwrap_or((1.0, self.level, 1.0));
         let rank = split_rank(self.spec.calibration, self.level).unwrap_or(0);
-        let center = self.estimate(&self.y, self.time);
-        let p_t = &self.gains.steps[self.time - 1].p;
-        let region = Ellipsoid::new(&center, p_t, radius2);
-        let kalman = Ellipsoid::new(&center, p_t, self.chi2_state);
-        let truth = self.x_true.as_ref().map(|x| x[self.time - 1].clone());
+        let center = self.estimate(&self.y);
+        let region = Ellipsoid::new(&center, &self.p_target, radius2);
+        let kalman = Ellipsoid::new(&center, &self.p_target, self.chi2_state);
+        let truth = self
+            .x_true
+            .as_ref()
+            .and_then(|x| x.get(self.target() - 1).cloned());
         let truth_score = truth
             .as_ref()
             .map(|x| mahalanobis2(x, &center, &self.p_chol));
         Ok(ConformalReport {
             time: self.time,
+            tau: self.tau,
             level: self.level,
             noise: self.spec.noise,
             nu: (self.spec.noise == NoiseKind::StudentT).then_some(self.spec.nu),
@@ -613,9 +657,9 @@ impl ConformalStudy {
             Some(_) => Some(
                 ConditionedSampler::new(
                     &prepared.truth_model,
-                    prepared.time,
+                    prepared.target(),
                     &prepared.inputs,
-                    prepared.time,
+                    prepared.target(),
                 )
                 .map_err(|e| Error::field("conformal.study.at", e.message))?,
             ),
@@ -651,7 +695,7 @@ impl Runs for ConformalStudy {
             let mut scores = p.calibration_scores(&sim, &mut rng);
             let radius2 = p.radius2(&mut scores);
             let run = sim.draw(&p.truth_model, &mut rng);
-            let s = p.score(&run.y, &run.x[p.time - 1]);
+            let s = p.score(&run.y, &run.x[p.target() - 1]);
             count.inside += usize::from(s <= radius2);
             count.kf_inside += usize::from(s <= p.chi2_state);
             if let (Some(sampler), Some(at)) = (&self.conditioned, &p.study_at) {
@@ -763,10 +807,60 @@ impl MethodScenario for Conformal {
         )?)))
     }
     fn compare_member(&self) -> Option<&dyn CompareMember> {
-        None
+        Some(self)
     }
     fn presets(&self) -> Vec<Preset> {
         presets()
+    }
+}
+
+impl CompareMember for Conformal {
+    fn compare_order(&self) -> usize {
+        // Beside the Kalman region whose ellipse it rescales, before SCF.
+        0
+    }
+    fn assumption(&self, p: &ComparePrepared) -> Assumption {
+        // Split conformal's promise holds when the calibration runs (drawn from the model's
+        // Gaussian law) and the record are exchangeable: a record of another law breaks it.
+        Assumption {
+            assumes: "exchangeable calibration runs (N simulated from the model)",
+            violated: p.not_gaussian().map(|why| {
+                format!("{why}: the calibration runs, drawn from the model's Gaussian law, are not exchangeable with the record")
+            }),
+            promise: "on average over runs, ≥ α, needs N labelled runs",
+            level: Some(p.alpha()),
+            at_least: true,
+        }
+    }
+    fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
+        // The compare's model as written; the region of x_{t+1} (prediction) or x_t.
+        Ok(p.own_scenario(Method::Conformal, p.written_model(), t)
+            .with_conformal(ConformalSpec {
+                tau: usize::from(p.predicts()),
+                ..ConformalSpec::default()
+            }))
+    }
+    fn plane_set(
+        &self,
+        _p: &ComparePrepared,
+        r: &Report,
+        truth: Option<[f64; 2]>,
+    ) -> Result<PlaneReading> {
+        let c = r
+            .conformal
+            .as_ref()
+            .ok_or_else(|| Error::field("report.conformal", "is missing"))?;
+        let e = c.region.project(&[0, 1])?;
+        Ok(PlaneReading {
+            area: Some(e.volume()),
+            holds: truth.map(|x| e.contains(&x)),
+            note: Some(format!(
+                "radius² {:.3} from N = {} calibration runs (χ²: {:.3})",
+                c.radius2, c.calibration, c.chi2_radius2
+            )),
+            set: PlaneSet::Ellipse(e),
+            outline: None,
+        })
     }
 }
 

@@ -56,7 +56,7 @@ fn check_against_panels(s: &Scenario) {
     let c = report.compare.as_ref().expect("compare part");
     assert_eq!(c.target, Target::Predict);
     let f = DMatrix::from_row_slice(2, 2, &[0.5, 0.0, 1.0, 0.7]);
-    assert_eq!(c.at.sets.len(), 6, "all six methods");
+    assert_eq!(c.at.sets.len(), 7, "all seven methods");
     for (set, row) in c.at.sets.iter().zip(&c.rows) {
         let m = set.method;
         assert_eq!(row.method, m);
@@ -177,7 +177,11 @@ fn check_against_panels(s: &Scenario) {
             // Every arm is written out: a method that joins a compare gets its check here.
             Method::Compare => panic!("a compare does not compare itself"),
             Method::Conformal => {
-                panic!("conformal does not join a compare (its compare_member is None)")
+                // The conformal region of x_{t+1}: the panel's own, projected on the plane.
+                let own = panel.conformal.as_ref().expect("conformal");
+                assert_eq!(own.time + own.tau, c.at.target_time, "{what}: target time");
+                let plane = own.region.project(&[0, 1]).expect("projection");
+                assert_ellipse_eq(&ellipse(&set.set, &what), &plane, &what);
             }
         }
     }

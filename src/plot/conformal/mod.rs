@@ -6,7 +6,7 @@
 //! the level).
 
 use crate::error::{Error, Result};
-use crate::plot::figures::{Area, Canvas, Figures, Request};
+use crate::plot::figures::{Area, Canvas, CompareLook, Figures, Request, SetFill};
 use crate::plot::geom::Win;
 use crate::plot::style::{self, num, sub, Axes, Entry, Marker, Swatch, KF, MUTED, TRUTH};
 use crate::plot::view::{Frame, Panel, PanelSpec};
@@ -59,6 +59,16 @@ impl Figures for ConformalFigures {
             }
         })
     }
+    fn compare_look(&self) -> Option<CompareLook> {
+        // An outline in its own colour: it shares the Kalman ellipse's centre and shape.
+        Some(CompareLook {
+            color: CONFORMAL,
+            label: "conformal",
+            dashed: false,
+            fill: SetFill::None,
+            layer: 2,
+        })
+    }
 }
 
 fn percent(p: f64) -> String {
@@ -76,7 +86,8 @@ fn draw_set<DB: DrawingBackend>(
     let short = fonts.compact;
     let plane: Vec<usize> = report.plot.clone();
     let two_d = plane.len() == 2;
-    let t = c.time;
+    // The region is of x_{t+τ} from y_1 … y_t.
+    let t = c.time + c.tau;
     let law = match c.nu {
         Some(nu) => format!("Student-t noise, ν = {}", num(nu, 3)),
         None => "Gaussian noise".to_string(),
@@ -176,7 +187,15 @@ fn draw_set<DB: DrawingBackend>(
             fill: false,
         },
     ));
-    let what = format!("State region at t = {t}: conformal vs Kalman");
+    let what = if c.tau == 0 {
+        format!("State region at t = {t}: conformal vs Kalman")
+    } else {
+        format!(
+            "Region of x{} from y₁ … y{}: conformal vs Kalman",
+            sub(t),
+            sub(c.time)
+        )
+    };
     let title = style::title(&report.figure, &fonts, &what, &what);
     let (x_desc, y_desc) = (
         comp(plane[0]),
