@@ -112,9 +112,8 @@ function showNumbers({ ui, st }) {
   } else {
     row(`true x${sub(c.time)}`, `–${hint('measured data: no truth')}`);
   }
-  row('truth in the conformal region', verdict(c.inside, 'inside', 'outside'));
-  row('truth in the Kalman region', verdict(c.kf_inside, 'inside', 'outside'));
-  row(`ACI coverage of y${r.q > 1 ? sub(1) : ''}`, `ACI <b>${pct(a.coverage)}</b> · Kalman <b>${pct(a.kf_coverage)}</b>`
+  row('truth in the regions', `conformal ${verdict(c.inside, 'inside', 'outside')} · Kalman ${verdict(c.kf_inside, 'inside', 'outside')}`);
+  row(`ACI: coverage of y${r.q > 1 ? sub(1) : ''}`, `ACI <b>${pct(a.coverage)}</b> · Kalman <b>${pct(a.kf_coverage)}</b>`
     + `${hint(`${int(a.steps.length)} steps, target ${pct(c.level)}, γ = ${fmt(a.gamma)}`)}`);
   const worst = (w) => (w ? `${pct(w[0])} from t = ${w[1]}` : '–');
   row(`worst ${a.window}-step window`, `ACI ${worst(a.worst)} · Kalman ${worst(a.kf_worst)}`);

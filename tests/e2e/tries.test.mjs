@@ -392,7 +392,7 @@ const CHECKS = {
       ok(cb.inside === false && cb.kf_inside === false, 'before: both regions miss (6, −2)');
       ok(ca.truth[0] === 6 && ca.truth[1] === -2 && ca.inside === true && ca.kf_inside === true, `at 95 % both hold ${ca.truth}`);
       ok(cb.truth_score > cb.radius2 && cb.truth_score > cb.chi2_radius2 && ca.truth_score < ca.radius2 && ca.truth_score < ca.chi2_radius2, 'its score lies between the 90 % and the 95 % radii²');
-      ok(/truth in the conformal region ✓ inside/.test(a.numbers) && /truth in the Kalman region ✓ inside/.test(a.numbers), 'the numbers say it');
+      ok(/truth in the regions conformal ✓ inside · Kalman ✓ inside/.test(a.numbers), 'the numbers say it');
     },
     seed: (b, a, ok) => {
       const ca = cf(a);
@@ -421,7 +421,7 @@ const CHECKS = {
     'level-up': (b, a, ok) => {
       const aa = cf(a).aci;
       ok(cf(a).level === 0.95 && near(aa.coverage, 0.94, 0.005) && near(aa.kf_coverage, 0.75, 0.005), `ACI ${aa.coverage}, Kalman ${aa.kf_coverage}`);
-      ok(/truth in the conformal region – /.test(a.numbers), 'measured data: no verdict on a truth');
+      ok(/truth in the regions conformal – · Kalman – /.test(a.numbers), 'measured data: no verdict on a truth');
     },
   },
   'compare-gaussian': {
