@@ -474,7 +474,7 @@ async function route() {
   if (d && mounted.has(d.id)) (await mounted.get(d.id).catch(() => null))?.pause?.();
   if (r.id && !d) {
     await show(null);
-    homeNote(`There is no view “${r.id.slice(0, 24)}”: here are the five.`);
+    homeNote(`There is no view “${r.id.slice(0, 24)}”: here are the views.`);
   } else {
     homeNote('');
     await show(d, !r.error && !!(r.state || r.preset));

@@ -111,6 +111,26 @@ export const PANELS = [
     thumb: { preset: 'ubb-track', panel: 'ubbset', alt: 'The exact feasible polygon of the state with its interval hull and central estimate' },
   },
   {
+    id: 'conformal',
+    title: 'Conformal prediction',
+    nav: 'Conformal',
+    label: 'Conformal prediction',
+    heading: 'Conformal prediction <span>on the Kalman filter\'s score</span>',
+    sub: 'Split conformal (Vovk et al.) calibrates the radius of the Kalman ellipse on N simulated runs of the true noise law: '
+      + 'the region holds the state with probability level ≤ P ≤ level + 1/(N + 1) <em>on average over runs</em>, not for every state. '
+      + 'Adaptive conformal inference (Gibbs &amp; Candès) widens or narrows the output interval step by step and keeps the '
+      + 'long-run miss rate near 1 − level on any record, drifting or not.',
+    methods: ['conformal'],
+    names: { conformal: 'conformal' },
+    promise: 'A region calibrated on N simulated runs that holds the state with probability between the level and level + 1/(N + 1) '
+      + 'on average over runs, whatever the noise law; and an output interval whose long-run miss rate stays near 1 − level on any record.',
+    module: './conformal.js',
+    view: './views/conformal.html',
+    mount: 'mountConformal',
+    busy: 'conformalBusy',
+    thumb: { preset: 'conformal-heavy', panel: 'conformalset', alt: 'Under heavy-tailed noise the conformal ellipse, calibrated on 999 runs, is larger than the Kalman χ² ellipse of the same filter' },
+  },
+  {
     id: 'compare',
     title: 'Compare every method',
     nav: 'Compare',

@@ -387,6 +387,107 @@ export const TRIES = {
     },
   ],
 
+  // ----- Conformal prediction (Vovk et al.; Gibbs & Candès) -----
+  'conformal-gaussian': [
+    {
+      id: 'more-calibration',
+      name: 'raise N to 999',
+      move: 'Raise “Calibration runs N” from 199 to 999.',
+      watch: 'The promise’s upper bound α + 1/(N + 1) tightens from 90.5 % to 90.1 %, and the conformal radius² moves closer to the χ² one (4.61): under the law the filter assumes, the two agree.',
+      apply: { 'cf-calibration': 999 },
+    },
+    {
+      id: 'few-calibration',
+      name: 'lower N to 19',
+      move: 'Lower “Calibration runs N” to 19.',
+      watch: 'The promise widens to 90 % ≤ P ≤ 95 %, and the radius² is the 18th smallest of only 19 scores: a coarse stand-in for the χ² radius.',
+      apply: { 'cf-calibration': 19 },
+    },
+    {
+      id: 'student-t',
+      name: 'Student-t noise',
+      move: 'Set “Noise law” to “Student-t” (ν = 3).',
+      watch: 'At 90 % the heavy tails do not show yet: with the same variance, the Student-t puts more mass near the centre, and the conformal radius² falls below the χ² one.',
+      apply: { 'cf-noise': 'student_t' },
+    },
+  ],
+  'conformal-heavy': [
+    {
+      id: 'gaussian',
+      name: 'Gaussian noise',
+      move: 'Set “Noise law” to “Gaussian”.',
+      watch: 'The conformal radius² falls from about 15 to about the χ² one (9.2): calibrated on the law the filter assumes, conformal finds the Kalman radius.',
+      apply: { 'cf-noise': 'gaussian' },
+    },
+    {
+      id: 'fewer',
+      name: 'lower N to 199',
+      move: 'Lower “Calibration runs N” from 999 to 199.',
+      watch: 'At 99 % the radius² is now the 198th smallest of 199 scores — one of the two largest — and jumps several-fold: few runs sample the heavy tail thinly. The upper bound loosens to 99.5 %.',
+      apply: { 'cf-calibration': 199 },
+    },
+    {
+      id: 'nu-up',
+      name: 'raise ν to 10',
+      move: 'Raise “ν” from 2.5 to 10: lighter tails.',
+      watch: 'The conformal radius² falls towards the χ² one but stays above it: the tails are lighter, not gone.',
+      apply: { 'cf-nu': 10 },
+    },
+    {
+      id: 'level-down',
+      name: 'lower α to 0.90',
+      move: 'Lower the “Probability level α” slider from 0.99 to 0.90.',
+      watch: 'Now the conformal radius² is below the χ² one: the Student-t with the model’s variance is narrower in the middle and wider only in the far tail, which 99 % reaches and 90 % does not.',
+      apply: { 'cf-alpha': 0.9 },
+    },
+  ],
+  'conformal-far': [
+    {
+      id: 'level-up',
+      name: 'raise α to 0.95',
+      move: 'Raise the “Probability level α” slider from 0.90 to 0.95.',
+      watch: 'Both regions now hold the far-out state (6, −2) on this record: its score lies just above both 90 % radii² and below the 95 % ones. Run the study to see how often each holds it over many records.',
+      apply: { 'cf-alpha': 0.95 },
+    },
+    {
+      id: 'seed',
+      name: 'set the seed to 4',
+      move: 'Set “Seed” to 4: another record through the same state (6, −2) at t = 30.',
+      watch: 'On this record both regions hold it; on the preset’s, both missed. At a fixed state neither promise says how often: the study’s fixed-state counts do.',
+      apply: { 'cf-seed': 4 },
+    },
+    {
+      id: 'later',
+      name: 'move t to 60',
+      move: 'Move “Target time t” to 60: the record is fixed at (6, −2) at t = 30 only.',
+      watch: 'At t = 60 the state is an ordinary one again, and both regions hold it.',
+      apply: { 'cf-time': 60 },
+    },
+  ],
+  'conformal-aci-drift': [
+    {
+      id: 'gamma-up',
+      name: 'raise γ to 0.05',
+      move: 'Raise “ACI step γ” from 0.01 to 0.05.',
+      watch: 'ACI follows the drift faster: its worst 50-step window rises from 78 % to 84 %, its coverage over the record nears 90 %, and its bound tightens from 0.23 to 0.05. The Kalman interval stays at 66 %.',
+      apply: { 'cf-gamma': 0.05 },
+    },
+    {
+      id: 'gamma-down',
+      name: 'lower γ to 0.001',
+      move: 'Lower “ACI step γ” to 0.001.',
+      watch: 'ACI adapts too slowly for this drift: its coverage falls to 84 % and its worst window to 68 %, and its bound, above 1, promises nothing on 400 steps.',
+      apply: { 'cf-gamma': 0.001 },
+    },
+    {
+      id: 'level-up',
+      name: 'raise α to 0.95',
+      move: 'Raise the “Probability level α” slider to 0.95.',
+      watch: 'ACI’s interval follows to about 94 % of the steps; the Kalman interval, too narrow once the noise has grown, covers 75 %.',
+      apply: { 'cf-alpha': 0.95 },
+    },
+  ],
+
   // ----- Compare every method -----
   'compare-gaussian': [
     {

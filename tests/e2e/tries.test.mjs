@@ -18,6 +18,7 @@ const VIEWS = {
   glls: { prefix: 'g-', busy: 'gllsBusy' },
   uniform: { prefix: 'u-', busy: 'uniformBusy' },
   ubb: { prefix: 'b-', busy: 'ubbBusy' },
+  conformal: { prefix: 'cf-', busy: 'conformalBusy' },
   compare: { prefix: 'c-', busy: 'compareBusy' },
 };
 const viewOf = (preset) => preset.split('-')[0];
@@ -88,6 +89,8 @@ const glls = (x) => x.report.glls;
 const uni = (x) => x.report.uniform;
 const ubb = (x) => x.report.ubb;
 const cmp = (x) => x.report.compare;
+const cf = (x) => x.report.conformal;
+const near = (a, b, tol) => Math.abs(a - b) <= tol;
 
 const robotsOrdinary = (b, a, ok) => {
   const [cb, ca] = [collision(scf(b), 36), collision(scf(a), 36)];
@@ -344,6 +347,82 @@ const CHECKS = {
       ok(ubb(a).outside === 0, 'truth inside at every step');
     },
     'delta-wrong': ubbTauLow,
+  },
+  'conformal-gaussian': {
+    'more-calibration': (b, a, ok) => {
+      const [cb, ca] = [cf(b), cf(a)];
+      ok(ca.calibration === 999 && near(cb.upper, 0.905, 1e-9) && near(ca.upper, 0.901, 1e-9), `upper bound ${cb.upper} → ${ca.upper}`);
+      ok(/90\.5 %/.test(b.numbers) && /90\.1 %/.test(a.numbers), 'the numbers say 90.5 % → 90.1 %');
+      ok(Math.abs(ca.radius2 - ca.chi2_radius2) < Math.abs(cb.radius2 - cb.chi2_radius2), `radius² ${cb.radius2} → ${ca.radius2}, χ² ${ca.chi2_radius2}`);
+    },
+    'few-calibration': (b, a, ok) => {
+      const c = cf(a);
+      ok(c.calibration === 19 && c.rank === 18 && near(c.lower, 0.9, 1e-9) && near(c.upper, 0.95, 1e-9), `N ${c.calibration}, k ${c.rank}, [${c.lower}, ${c.upper}]`);
+      ok(/90 % ≤ P ≤ 95 %/.test(a.numbers), 'the numbers say 90 % ≤ P ≤ 95 %');
+    },
+    'student-t': (b, a, ok) => {
+      ok(cf(a).noise === 'student_t' && cf(a).nu === 3, `Student-t, ν = ${cf(a).nu}`);
+      ok(cf(a).radius2 < cf(a).chi2_radius2 && cf(a).radius2 < cf(b).radius2, `radius² ${cf(b).radius2} → ${cf(a).radius2} < χ² ${cf(a).chi2_radius2}`);
+    },
+  },
+  'conformal-heavy': {
+    gaussian: (b, a, ok) => {
+      const [cb, ca] = [cf(b), cf(a)];
+      ok(ca.noise === 'gaussian' && cb.radius2 > 14 && cb.radius2 < 16, `before: radius² ${cb.radius2} (about 15)`);
+      ok(Math.abs(ca.radius2 / ca.chi2_radius2 - 1) < 0.05, `after: radius² ${ca.radius2} about χ² ${ca.chi2_radius2}`);
+    },
+    fewer: (b, a, ok) => {
+      const [cb, ca] = [cf(b), cf(a)];
+      ok(ca.calibration === 199 && ca.rank === 198, `k = ${ca.rank} of N = ${ca.calibration}`);
+      ok(ca.radius2 > 3 * cb.radius2, `radius² ${cb.radius2} → ${ca.radius2}`);
+      ok(near(ca.upper, 0.995, 1e-9) && /99\.5 %/.test(a.numbers), `upper bound ${ca.upper}`);
+    },
+    'nu-up': (b, a, ok) => {
+      const [cb, ca] = [cf(b), cf(a)];
+      ok(ca.nu === 10 && ca.radius2 < cb.radius2 && ca.radius2 > ca.chi2_radius2, `radius² ${cb.radius2} → ${ca.radius2}, χ² ${ca.chi2_radius2}`);
+    },
+    'level-down': (b, a, ok) => {
+      ok(cf(b).radius2 > cf(b).chi2_radius2, 'at 99 % the conformal radius² is above the χ² one');
+      ok(cf(a).level === 0.9 && cf(a).radius2 < cf(a).chi2_radius2, `at 90 %: ${cf(a).radius2} < ${cf(a).chi2_radius2}`);
+    },
+  },
+  'conformal-far': {
+    'level-up': (b, a, ok) => {
+      const [cb, ca] = [cf(b), cf(a)];
+      ok(cb.inside === false && cb.kf_inside === false, 'before: both regions miss (6, −2)');
+      ok(ca.truth[0] === 6 && ca.truth[1] === -2 && ca.inside === true && ca.kf_inside === true, `at 95 % both hold ${ca.truth}`);
+      ok(cb.truth_score > cb.radius2 && cb.truth_score > cb.chi2_radius2 && ca.truth_score < ca.radius2 && ca.truth_score < ca.chi2_radius2, 'its score lies between the 90 % and the 95 % radii²');
+      ok(/truth in the regions conformal ✓ inside · Kalman ✓ inside/.test(a.numbers), 'the numbers say it');
+    },
+    seed: (b, a, ok) => {
+      const ca = cf(a);
+      ok(ca.truth[0] === 6 && ca.truth[1] === -2 && ca.time === 30, `the same state ${ca.truth} at t = ${ca.time}`);
+      ok(cf(b).inside === false && cf(b).kf_inside === false && ca.inside === true && ca.kf_inside === true, 'both missed; both hold it now');
+    },
+    later: (b, a, ok) => {
+      const ca = cf(a);
+      ok(ca.time === 60 && !(ca.truth[0] === 6 && ca.truth[1] === -2), `t = ${ca.time}: x = ${ca.truth}`);
+      ok(ca.inside === true && ca.kf_inside === true, 'both regions hold it');
+    },
+  },
+  'conformal-aci-drift': {
+    'gamma-up': (b, a, ok) => {
+      const [ab, aa] = [cf(b).aci, cf(a).aci];
+      ok(aa.gamma === 0.05 && near(ab.worst[0], 0.78, 1e-9) && near(aa.worst[0], 0.84, 1e-9), `worst window ${ab.worst[0]} → ${aa.worst[0]}`);
+      ok(aa.coverage > ab.coverage && Math.abs(aa.coverage - 0.9) < 0.01, `coverage ${ab.coverage} → ${aa.coverage}`);
+      ok(aa.bound < ab.bound && near(ab.bound, 0.23, 0.005) && near(aa.bound, 0.05, 0.005), `bound ${ab.bound} → ${aa.bound}`);
+      ok(near(aa.kf_coverage, 0.66, 0.005) && aa.kf_coverage === ab.kf_coverage, `Kalman ${aa.kf_coverage}`);
+    },
+    'gamma-down': (b, a, ok) => {
+      const aa = cf(a).aci;
+      ok(near(aa.coverage, 0.84, 0.005) && near(aa.worst[0], 0.68, 1e-9), `coverage ${aa.coverage}, worst window ${aa.worst[0]}`);
+      ok(aa.bound > 1, `bound ${aa.bound}`);
+    },
+    'level-up': (b, a, ok) => {
+      const aa = cf(a).aci;
+      ok(cf(a).level === 0.95 && near(aa.coverage, 0.94, 0.005) && near(aa.kf_coverage, 0.75, 0.005), `ACI ${aa.coverage}, Kalman ${aa.kf_coverage}`);
+      ok(/truth in the regions conformal – · Kalman – /.test(a.numbers), 'measured data: no verdict on a truth');
+    },
   },
   'compare-gaussian': {
     'alpha-up': (b, a, ok) => {
