@@ -1,4 +1,4 @@
-// The compare panel end to end: compare-gaussian draws all six sets (each toggle changes the
+// The compare panel end to end: compare-gaussian draws all seven sets (each toggle changes the
 // pixels: every method's set is in the picture), the table names each method's assumption and
 // whether the truth is held (far out: Kalman misses, SCF and LSCR hold), the time cursor redraws
 // (title and picture follow; input → painted frame measured), a click places the true state and
@@ -10,7 +10,7 @@ import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { text, setField, choosePreset, openApp, shootSection, slideToPaint, assertDrawnWell } from './helpers.mjs';
 
-const METHODS = ['kf', 'scf', 'lscr', 'glls', 'ubb', 'uniform_lp'];
+const METHODS = ['kf', 'conformal', 'scf', 'lscr', 'glls', 'ubb', 'uniform_lp'];
 const idle = (page) => page.waitForFunction(() => !document.body.dataset.compareBusy, null, { timeout: 120_000 });
 const pixels = (page) => page.$eval('#fig-compare canvas', (c) => c.toDataURL());
 const set = (page, id, value) => setField(page, id, value, idle);
@@ -27,11 +27,13 @@ export default async function compare(env) {
   await drawnWell(page, assert, 'compare-gaussian');
   assert.match(await text(page, '#c-num-title'), /^Every method, for x₃₁ predicted from y₁ … y₃₀$/);
 
-  // The table: six methods, each with a set and its area; far out, Kalman misses, SCF and LSCR hold.
+  // The table: seven methods, each with a set and its area; far out, Kalman and conformal (both
+  // promise an average) miss, SCF and LSCR hold.
   const table = await rows(page);
-  assert.equal(table.length, 6, table.join('\n'));
+  assert.equal(table.length, 7, table.join('\n'));
   for (const r of table) assert.doesNotMatch(r, /no set/, r);
   assert.match(await row(page, 'Kalman'), /on average over states \(90 %\).*✓ met.*✗ no/);
+  assert.match(await row(page, 'conformal'), /on average over runs, ≥ α, needs N labelled runs \(≥ 90 %\).*✓ met.*✗ no/);
   assert.match(await row(page, 'SCF'), /for every state \(90 %\).*✓ yes/);
   assert.match(await row(page, 'LSCR'), /for every state, at least \(≥ 90 %\).*✓ yes/);
   assert.match(await row(page, 'Tempo'), /✗ violated: Gaussian noise is unbounded/);
@@ -58,13 +60,13 @@ export default async function compare(env) {
   await set(page, 'c-time', '20');
   assert.match(await text(page, '#c-num-title'), /^Every method, for x₂₁ predicted from y₁ … y₂₀$/);
   assert.notEqual(await pixels(page), all, 't = 20 draws other sets');
-  assert.equal((await rows(page)).length, 6);
+  assert.equal((await rows(page)).length, 7);
   console.log(`    compare time cursor, input → painted frame: ${ms.map((v) => v.toFixed(0)).join(', ')} ms`);
   await set(page, 'c-time', '30');
 
   // "open in its panel": Tempo's own scenario on this record opens in the ubb panel, whose
   // report holds the same polygon; back to compare.
-  await page.click('#c-numbers tbody tr:nth-child(5) button.open-panel');
+  await page.locator('#c-numbers tbody tr', { hasText: 'Tempo' }).locator('button.open-panel').click();
   await page.waitForFunction(() => !document.getElementById('ubb-section').hidden
     && /loaded compare-ubb-t30\.json/.test(document.querySelector('#ubb-section .share-status')?.textContent || ''), null, { timeout: 60_000 });
   await page.waitForFunction(() => !document.body.dataset.ubbBusy, null, { timeout: 60_000 });

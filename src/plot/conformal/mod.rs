@@ -129,7 +129,7 @@ fn draw_set<DB: DrawingBackend>(
         w.add(center.0, 1.0);
     }
     let win = w.padded(0.15, 0.15);
-    let notes = vec![
+    let mut notes = vec![
         format!(
             "radius² {} (the {}th smallest of N = {} calibration scores, {law}) vs χ² {}",
             num(c.radius2, 4),
@@ -143,6 +143,16 @@ fn draw_set<DB: DrawingBackend>(
             percent(c.upper)
         ),
     ];
+    // The verdicts go in the title block: inside the chart they covered the regions.
+    notes.push(match (c.inside, c.kf_inside) {
+        (Some(a), Some(b)) => format!(
+            "truth {} the conformal region, {} the Kalman one (score {})",
+            if a { "in" } else { "OUTSIDE" },
+            if b { "in" } else { "OUTSIDE" },
+            num(c.truth_score.unwrap_or(f64::NAN), 3)
+        ),
+        _ => "measured data: no true state".to_string(),
+    });
     let marker = |shape, color| Swatch::Marker {
         shape,
         color,
@@ -235,15 +245,6 @@ fn draw_set<DB: DrawingBackend>(
     points.extend(truth.map(|p| (p, Marker::Diamond, TRUTH, "true state")));
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
     let mut chart_notes = Vec::new();
-    match (c.inside, c.kf_inside) {
-        (Some(a), Some(b)) => chart_notes.push(format!(
-            "truth {} the conformal region, {} the Kalman one (score {})",
-            if a { "in" } else { "OUTSIDE" },
-            if b { "in" } else { "OUTSIDE" },
-            num(c.truth_score.unwrap_or(f64::NAN), 3)
-        )),
-        _ => chart_notes.push("measured data: no true state".to_string()),
-    }
     if report.n > 2 && two_d {
         chart_notes.push(format!(
             "n = {}: the shadows on {}, {}",
