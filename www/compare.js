@@ -218,7 +218,14 @@ export const mountCompare = async (root, presets) => mountPanel(root, {
         detail: { scenario: set.scenario, name: `compare-${set.method}-t${p.st.report.compare.at.t}.json` },
       }));
     });
-    // The toggles only redraw: the figure leaves the hidden methods out.
+    // One toggle per method a compare draws, from the registry's names (a new method needs no
+    // markup here); they only redraw: the figure leaves the hidden methods out.
+    const zoom = ui.toggles.querySelector('label.zoom');
+    for (const [m, name] of Object.entries(NAMES)) {
+      const label = document.createElement('label');
+      label.innerHTML = `<input type="checkbox" id="c-show-${m}" data-method="${m}" checked> ${escapeHtml(name)}`;
+      zoom.before(label);
+    }
     ui.toggles.addEventListener('change', () => {
       p.figures[0].hide = [...ui.toggles.querySelectorAll('input[data-method]')].filter((b) => !b.checked).map((b) => b.dataset.method);
       p.figures[0].zoom = ui.toggles.querySelector('#c-zoom').value;

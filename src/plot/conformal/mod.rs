@@ -173,30 +173,32 @@ fn draw_set<DB: DrawingBackend>(
         },
         marker(Marker::Cross, KF),
     ));
-    entries.push(Entry::new(
+    // The two regions' entries: the same ellipse shape, two radii.
+    let region = |name: &str, color, dashed, fill| {
+        Entry::new(
+            if short {
+                name.to_string()
+            } else {
+                format!("{name} {} region", percent(c.level))
+            },
+            Swatch::Region {
+                color,
+                dashed,
+                fill,
+            },
+        )
+    };
+    entries.push(region(
         if short {
-            "conformal".to_string()
+            "conformal"
         } else {
-            format!("split conformal {} region", percent(c.level))
+            "split conformal"
         },
-        Swatch::Region {
-            color: CONFORMAL,
-            dashed: false,
-            fill: true,
-        },
+        CONFORMAL,
+        false,
+        true,
     ));
-    entries.push(Entry::new(
-        if short {
-            "Kalman χ²".to_string()
-        } else {
-            format!("Kalman χ² {} region", percent(c.level))
-        },
-        Swatch::Region {
-            color: KF,
-            dashed: true,
-            fill: false,
-        },
-    ));
+    entries.push(region("Kalman χ²", KF, true, false));
     let what = if c.tau == 0 {
         format!("State region at t = {t}: conformal vs Kalman")
     } else {
