@@ -146,7 +146,8 @@
 //!   - [`scenario::Scenario::explain`] ([`scenario::explain`]): one step of the report step by
 //!     step, rows of (quantity, equation number, TeX formula, value, note) from the method's
 //!     own `MethodScenario::explain` (SCF/KF: (35a–c), (38), (33)–(34), (40) at time t; LSCR:
-//!     the sign-perturbed sums, ranks and verdicts (17)–(19) at a point); the page's
+//!     the sign-perturbed sums, ranks and verdicts (17)–(19) at a point; ubb: the window,
+//!     hull (31), local error (5), Theorem 2's (25), (22) and active constraints at k); the page's
 //!     step-through card (`www/stepcard.js`) only lays them out;
 //!   - [`scenario::Scenario::first_accepted`]: the smallest value of the quantity a view animates
 //!     by rerunning (LSCR's t, GLLS's s) that the method's own validation accepts;

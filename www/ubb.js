@@ -300,6 +300,7 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
   },
   load,
   build,
+  stepCard: {}, // the window, hull, central estimate and Theorem 2's active constraints at k
   draw(p, k) {
     showTime(p);
     showNumbers(p, k);

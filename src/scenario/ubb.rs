@@ -1094,6 +1094,158 @@ impl Runs for Guarantee {
     }
 }
 
+/// One step of a set-membership report, step by step: the window, the interval hull and
+/// central estimate (31) with its local error (5), Theorem 2's linear optimal estimate (25) of
+/// each plotted component with its error (22) and the active constraints it comes from, the
+/// Kalman prediction and the verdict. Step k is the report's detail (`at`) or, for another
+/// step, the time cursor's: the same numbers the figure draws there.
+fn explain_ubb(s: &Scenario, report: &Report, t: Option<usize>) -> Result<super::StepExplanation> {
+    use super::explain::{check_step, StepValue as V};
+    use super::subscript;
+    let u = report
+        .ubb
+        .as_ref()
+        .ok_or_else(|| Error::field("report.ubb", "has no set-membership part"))?;
+    let k = t.unwrap_or(u.at.k);
+    let at: UbbStep = if k == u.at.k {
+        u.at.clone()
+    } else {
+        let mut cursor = UbbCursor::new(s.prepare_ubb()?)?;
+        check_step(k, cursor.steps())?;
+        detail_of(cursor.at(k)?)?
+    };
+    // Three significant digits for the bounds and gains listed in words.
+    let short = |v: f64| {
+        format!("{:.3}", v)
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    };
+    let mut out = super::StepExplanation {
+        method: "ubb".into(),
+        paper: "Tempo, Robust estimation and filtering in the presence of unknown but bounded noise".into(),
+        t: k,
+        point: None,
+        title: format!(
+            "The set of x({}) at step k = {k}: its interval hull, central estimate and Theorem 2 from y({}) … y({k})",
+            k + 1,
+            at.first
+        ),
+        rows: Vec::new(),
+    };
+    out.row(
+        "window",
+        "Theorem 5, (58)",
+        r"y(k-j), \dots, y(k)",
+        V::Text(format!(
+            "y({}) … y({k}): {} steps",
+            at.first,
+            k + 1 - at.first
+        )),
+        format!(
+            "the LP (36)–(41) on {} variables and {} rows, its bounds smoothed (45)–(46)",
+            at.size.variables, at.size.rows
+        ),
+    );
+    out.row(
+        "interval hull",
+        "(31)",
+        r"[\underline{x}_i, \overline{x}_i] = [\min_{T(h)} x_i, \max_{T(h)} x_i]",
+        V::Matrix(vec![at.lo.clone(), at.hi.clone()]),
+        "first row the least, second the largest value of each component over the feasible set",
+    );
+    out.row(
+        "central estimate",
+        "(31)",
+        r"\hat x = \tfrac{1}{2}(\underline{x} + \overline{x})",
+        V::Vector(at.center.clone()),
+        "strongly optimal: the hull's midpoint",
+    );
+    out.row(
+        "local error",
+        "(5)",
+        r"\max_i \tfrac{1}{2}(\overline{x}_i - \underline{x}_i)",
+        V::Scalar(at.radius),
+        "guaranteed: no consistent state is farther from the central estimate",
+    );
+    match (&at.linear, &at.linear_refused) {
+        (Some(linear), _) => {
+            for l in linear {
+                let c = format!("x{}({})", subscript(l.component + 1), k + 1);
+                out.row(
+                    &format!("Theorem 2 estimate of {c}"),
+                    "(25)",
+                    r"\varphi = S\,\tilde P^{-1}\,\tilde d",
+                    V::Scalar(l.estimate),
+                    "linear in the data of the n active constraints below",
+                );
+                out.row(
+                    &format!("its error E for {c}"),
+                    "(22)",
+                    r"E(\varphi_o) = \sum_j |g_j|\, b_{t_j}",
+                    V::Scalar(l.error),
+                    "never below the hull's half-width: the central estimate is optimal",
+                );
+                let rows: Vec<String> = l
+                    .active
+                    .iter()
+                    .map(|a| {
+                        let (what, bound) = match a.kind {
+                            crate::ubb::RowKind::Measurement => ("η", "ε"),
+                            crate::ubb::RowKind::Process => ("u", "τ"),
+                            crate::ubb::RowKind::Prior => ("x", "δ"),
+                            crate::ubb::RowKind::Sum => ("Σx", "the sum"),
+                        };
+                        format!(
+                            "{what}{}({}) at ±{} ({bound}, gain {})",
+                            subscript(a.index + 1),
+                            a.t,
+                            short(a.bound),
+                            short(a.gain)
+                        )
+                    })
+                    .collect();
+                out.row(
+                    &format!("active constraints for {c}"),
+                    "(22)",
+                    r"|P_{t_j} f - d_{t_j}| = b_{t_j},\ j = 1, \dots, n",
+                    V::Text(rows.join("; ")),
+                    "the rows of (22) at their bounds at the LP's optimal vertex",
+                );
+            }
+        }
+        (None, Some(why)) => out.row(
+            "Theorem 2",
+            "(22)",
+            r"\varphi = S\,\tilde P^{-1}\,\tilde d",
+            V::Text(why.clone()),
+            "the set and its hull stand without it",
+        ),
+        (None, None) => {}
+    }
+    out.row(
+        "Kalman prediction",
+        "",
+        r"\hat x_{k+1|k}",
+        V::Vector(at.kf.center.clone()),
+        "for comparison: the centre of the Kalman ellipse drawn beside the set",
+    );
+    if let Some(inside) = u.track.iter().find(|st| st.k == k).and_then(|st| st.inside) {
+        out.row(
+            "verdict",
+            "(31)",
+            r"x(k+1) \in [\underline{x}, \overline{x}]",
+            V::Text(if inside {
+                "in the hull".into()
+            } else {
+                "out of the hull".into()
+            }),
+            "guaranteed while the noise respects its bounds",
+        );
+    }
+    Ok(out)
+}
+
 /// Set-membership estimation (Tempo): the `ubb` block, the hull of x(k+1) at every step, the
 /// exact polygon and the guarantee study.
 pub(crate) struct Ubb;
@@ -1116,6 +1268,15 @@ impl MethodScenario for Ubb {
                 "ubb: whether the truth lies in the Kalman ellipsoid",
             ),
         ]
+    }
+    fn explain(
+        &self,
+        s: &Scenario,
+        report: &Report,
+        t: Option<usize>,
+        _point: Option<&[f64]>,
+    ) -> Result<super::StepExplanation> {
+        explain_ubb(s, report, t)
     }
     fn steps(&self) -> RangeInclusive<usize> {
         // One LP window per step: ubb-series takes about 16 ms a step natively (33 s at 2000).

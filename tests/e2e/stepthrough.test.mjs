@@ -1,5 +1,6 @@
 // The "One step, step by step" card (www/stepcard.js, the core's Scenario::explain): at three
-// steps of the SCF view and at three points of the LSCR view, the numbers the card shows equal
+// steps of the SCF view, at three points of the LSCR view and at three steps of the
+// set-membership view (its hull, centre and Theorem 2's active constraints), the numbers the card shows equal
 // the report's (downloaded as a user would): SCF's estimate and SCF centre are the KF and SCF
 // regions' centres at the time shown; LSCR's verdict at the true state placed in the plane is the
 // report's truth_inside. The formulas are rendered by KaTeX (no raw TeX shown). Screenshots of
@@ -77,6 +78,29 @@ export default async function stepthrough({ newPage, baseUrl, waitReady, assert,
   assert.ok(seen.has(true) && seen.has(false), 'the three points include one inside and one outside the region');
   await page.$eval(card('lscr'), (e) => e.scrollIntoView());
   await page.locator(card('lscr')).screenshot({ path: join(screenshotDir, 'stepthrough-lscr-desktop.png') });
+
+  // Set membership: the hull and central estimate at three steps k equal the report's track,
+  // and Theorem 2's active constraints are listed.
+  await page.goto(`${baseUrl}#ubb/preset/ubb-track`);
+  await waitReady(page);
+  await idle(page, 'ubbBusy');
+  await page.click(`${card('ubb')} summary`);
+  const ubbReport = await download('b-dl-report');
+  for (const k of [10, 25, 40]) {
+    await setField(page, 'b-time', k, (p) => idle(p, 'ubbBusy'));
+    await shownAt('ubb', k);
+    const r = await rows('ubb');
+    const st = ubbReport.ubb.track.find((s) => s.k === k);
+    assert.ok(st, `the report's track has k = ${k}`);
+    const centre = numbersIn(r.find((x) => x.name === 'central estimate')?.value || '');
+    assert.ok(centre.length === 2 && centre.every((v, i) => close(v, st.center[i])), `k = ${k}: the card's centre ${centre} is the track's ${st.center}`);
+    const active = r.filter((x) => x.name.startsWith('active constraints for'));
+    assert.ok(active.length >= 1 && active.every((x) => /gain/.test(x.value)), `k = ${k}: Theorem 2's active constraints are listed`);
+    const verdict = r.find((x) => x.name === 'verdict')?.value || '';
+    assert.match(verdict, st.inside ? /^in the hull/ : /^out of the hull/, `k = ${k}: the verdict is the track's`);
+  }
+  await page.$eval(card('ubb'), (e) => e.scrollIntoView());
+  await page.locator(card('ubb')).screenshot({ path: join(screenshotDir, 'stepthrough-ubb-desktop.png') });
   await page.close();
 
   // Phone: the card fits the width.

@@ -186,3 +186,81 @@ fn a_method_without_a_step_through_refuses_in_words() {
     assert_eq!(err.field, "explain");
     assert!(err.message.contains("no step-through"), "{err:?}");
 }
+
+/// Set membership: at three steps k of ubb-track, the card's hull, central estimate and local
+/// error equal the report's track at k; Theorem 2's estimate and error of each plotted
+/// component equal the time cursor's detail at k (the figure's), its error is never below the
+/// hull's half-width (the central estimate is optimal), and the verdict is the track's.
+#[test]
+fn ubb_step_equals_the_report_and_the_cursor() {
+    let s = presets::get("ubb-track").unwrap();
+    let report = s.run().unwrap();
+    let u = report.ubb.as_ref().unwrap();
+    let first = u.track[0].k;
+    let mut cursor = s.cursor().unwrap().expect("ubb has a time cursor");
+    for k in [first, 20, u.at.k] {
+        let e = s.explain(&report, Some(k), None).unwrap();
+        assert_eq!(e.t, k);
+        let st = u.track.iter().find(|t| t.k == k).expect("a track step");
+        let hull = matrix(row(&e, "interval hull"));
+        close(
+            hull.row(0).transpose().as_slice(),
+            &st.lo,
+            &format!("k = {k}: lower ends"),
+        );
+        close(
+            hull.row(1).transpose().as_slice(),
+            &st.hi,
+            &format!("k = {k}: upper ends"),
+        );
+        close(
+            &vector(row(&e, "central estimate")),
+            &st.center,
+            &format!("k = {k}: centre"),
+        );
+        close(
+            &vector(row(&e, "local error")),
+            &[st.radius],
+            &format!("k = {k}: radius"),
+        );
+        let detail = cursor.at(k).unwrap();
+        let linear = detail["linear"].as_array().expect("Theorem 2 at k");
+        assert!(!linear.is_empty());
+        for l in linear {
+            let c = l["component"].as_u64().unwrap() as usize;
+            let name = format!("x{}({})", ["₁", "₂", "₃"][c], k + 1);
+            let est = vector(row(&e, &format!("Theorem 2 estimate of {name}")));
+            let err = vector(row(&e, &format!("its error E for {name}")));
+            close(
+                &est,
+                &[l["estimate"].as_f64().unwrap()],
+                &format!("k = {k}: φ of {name}"),
+            );
+            close(
+                &err,
+                &[l["error"].as_f64().unwrap()],
+                &format!("k = {k}: E of {name}"),
+            );
+            let half = 0.5 * (st.hi[c] - st.lo[c]);
+            assert!(
+                err[0] >= half * (1.0 - 1e-9),
+                "k = {k}: E {} below the half-width {half}",
+                err[0]
+            );
+            assert!(
+                matches!(row(&e, &format!("active constraints for {name}")), StepValue::Text(t) if t.contains("gain"))
+            );
+        }
+        let verdict = matches!(row(&e, "verdict"), StepValue::Text(t) if t == "in the hull");
+        assert_eq!(
+            Some(verdict),
+            st.inside,
+            "k = {k}: the verdict is the track's"
+        );
+    }
+    // A step outside the report's is refused, naming the field.
+    assert_eq!(
+        s.explain(&report, Some(10_000), None).unwrap_err().field,
+        "explain.t"
+    );
+}
