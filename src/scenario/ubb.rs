@@ -1186,8 +1186,17 @@ fn explain_ubb(s: &Scenario, report: &Report, t: Option<usize>) -> Result<super:
                     V::Scalar(l.error),
                     "never below the hull's half-width: the central estimate is optimal",
                 );
-                let rows: Vec<String> = l
+                // The rows that carry weight, largest gain first (an active row of gain 0 adds
+                // nothing to φ or E: the vertex's degenerate rows).
+                let top = l.active.iter().map(|a| a.gain.abs()).fold(0.0, f64::max);
+                let mut weighty: Vec<_> = l
                     .active
+                    .iter()
+                    .filter(|a| a.gain.abs() > 1e-9 * top)
+                    .collect();
+                weighty.sort_by(|a, b| b.gain.abs().total_cmp(&a.gain.abs()));
+                let shown = weighty.len().min(8);
+                let mut rows: Vec<String> = weighty[..shown]
                     .iter()
                     .map(|a| {
                         let (what, bound) = match a.kind {
@@ -1197,7 +1206,7 @@ fn explain_ubb(s: &Scenario, report: &Report, t: Option<usize>) -> Result<super:
                             crate::ubb::RowKind::Sum => ("Σx", "the sum"),
                         };
                         format!(
-                            "{what}{}({}) at ±{} ({bound}, gain {})",
+                            "{what}{}({}) at ±{} ({bound}), gain {}",
                             subscript(a.index + 1),
                             a.t,
                             short(a.bound),
@@ -1205,6 +1214,13 @@ fn explain_ubb(s: &Scenario, report: &Report, t: Option<usize>) -> Result<super:
                         )
                     })
                     .collect();
+                if weighty.len() > shown {
+                    rows.push(format!("{} more with smaller gains", weighty.len() - shown));
+                }
+                let idle = l.active.len() - weighty.len();
+                if idle > 0 {
+                    rows.push(format!("{idle} active with gain 0"));
+                }
                 out.row(
                     &format!("active constraints for {c}"),
                     "(22)",
