@@ -59,15 +59,19 @@ export default async function served({ baseUrl, newPage, waitReady, assert }) {
     const page = await newPage({ viewport: { width: 1280, height: 900 } });
     const sizes = [];
     const wasm = [];
-    page.context().on('requestfinished', (r) => {
-      sizes.push(r.sizes().then((z) => z.responseBodySize + z.responseHeadersSize));
+    // A request that finishes after the count (a late thumbnail, a lazy import) must not reject
+    // unhandled when the page closes: that crashed the whole harness once (TargetClosedError).
+    const onFinished = (r) => {
+      sizes.push(r.sizes().then((z) => z.responseBodySize + z.responseHeadersSize, () => 0));
       if (new URL(r.url()).pathname.endsWith('.wasm')) wasm.push(new URL(r.url()).pathname);
-    });
+    };
+    page.context().on('requestfinished', onFinished);
     await page.goto(baseUrl + route);
     await waitReady(page);
     const bytes = (await Promise.all(sizes)).reduce((a, b) => a + b, 0);
     assert.ok(wasm.length <= 1, `${route || 'the landing view'}: the module is fetched once, not by every thread (${wasm.join(', ')})`);
     lines.push(`${route || 'landing'} ${(bytes / 1024).toFixed(0)} KiB`);
+    page.context().off('requestfinished', onFinished);
     await page.close();
   }
   console.log(`    [page bytes] a first visit moves (encoded, workers included): ${lines.join(', ')}`);
