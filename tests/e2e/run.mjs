@@ -68,12 +68,13 @@ process.on('unhandledRejection', (e) => {
 for (const file of files) {
   const name = file.replace(/\.(test|site)\.mjs$/, '');
   current = name;
-  // A browser that crashes under a test (Chromium's own process dying: seen once in CI, the
-  // page's tests all passing on the rerun) is relaunched and that test runs once more, saying
-  // so; an assertion failure is never rerun.
+  // A browser or a page's renderer that crashes under a test (Chromium's process dying, its
+  // 'crash' event: seen once each in full local runs, the test passing alone 6 of 6 times) is
+  // relaunched or replaced and that test runs once more, saying so; an assertion failure is
+  // never rerun.
   for (let attempt = 1; attempt <= 2; attempt++) {
   if (!browser.isConnected()) browser = await chromium.launch(CHROMIUM);
-  const contexts = [], pages = [], errors = [], warnings = [];
+  const contexts = [], pages = [], errors = [], warnings = [], crashed = [];
   const newPage = async (opts = {}) => {
     const context = await browser.newContext(opts);
     contexts.push(context);
@@ -85,6 +86,7 @@ for (const file of files) {
     });
     const page = await context.newPage();
     pages.push(page);
+    page.on('crash', () => { crashed.push(page.url()); });
     page.on('console', (m) => {
       const loc = m.location(), where = loc && loc.url ? ` (${loc.url}:${loc.lineNumber})` : '';
       if (loc && /\/favicon\.ico$/.test(loc.url)) return; // browser-initiated, not the page's doing
@@ -120,8 +122,10 @@ for (const file of files) {
     failure = e;
   }
   const secs = ((Date.now() - t0) / 1000).toFixed(1);
-  if (failure && !browser.isConnected() && attempt === 1) {
-    console.log(`  ${name}: the browser crashed during the test (${failure.message || failure}): relaunched, the test runs once more`);
+  if (failure && (!browser.isConnected() || crashed.length) && attempt === 1) {
+    const what = browser.isConnected() ? `a page's renderer crashed (${crashed.join(', ')})` : 'the browser crashed';
+    console.log(`  ${name}: ${what} during the test (${failure.message || failure}): the test runs once more`);
+    for (const c of contexts) await c.close().catch(() => {});
     continue;
   }
   for (const w of warnings) console.log(`  ${name}: ${w}`);
