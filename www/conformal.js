@@ -133,16 +133,17 @@ function startStudy(p) {
   return { scenario: json, runs: total, study, total, at: ` at t = ${st.scenario.time}` };
 }
 
-// The counts against the core's bands: in words, only once every run asked for is counted.
+// The counts, their bands and the verdicts, all the core's (said once every run is counted).
 function showStudy({ ui }, c, done) {
   const hint = (t) => ` <span class="hint">(${t})</span>`;
   const of = (k) => `${int(k)} / ${int(c.runs)}`;
   const band = ([lo, hi]) => `[${int(lo)}, ${int(hi)}]`;
-  const where = (k, [lo, hi]) => (k < lo ? '<b class="warn">below its band</b>' : k > hi ? '<b class="warn">above its band</b>' : '<b class="good">in its band</b>');
-  const judged = done && c.runs === c.total;
-  const line = (name, k, b, what) => `<p>${name}: <b>${of(k)}</b> inside — band ${band(b)}${hint(what)}${judged ? ` — ${where(k, b)}` : ''}</p>`;
-  let html = line('conformal', c.inside, c.band, `99.9 % binomial band of ${int(c.total)} runs from level ${c.level} to the promise’s upper bound`)
-    + line('Kalman', c.kf_inside, c.kf_band, `99.9 % binomial band at level ${c.level}`);
+  // The core's verdict (present once every run is counted).
+  const said = (v) => (v ? ` — <b class="${v === 'in its band' ? 'good' : 'warn'}">${v}</b>` : '');
+  const judged = done && c.verdict;
+  const line = (name, k, b, v, what) => `<p>${name}: <b>${of(k)}</b> inside — band ${band(b)}${hint(what)}${judged ? said(v) : ''}</p>`;
+  let html = line('conformal', c.inside, c.band, c.verdict, `99.9 % binomial band of ${int(c.total)} runs from level ${c.level} to the promise’s upper bound`)
+    + line('Kalman', c.kf_inside, c.kf_band, c.kf_verdict, `99.9 % binomial band at level ${c.level}`);
   if (c.at) {
     html += `<p>at the fixed state ${vec(c.at)}: conformal <b>${of(c.fixed_inside)}</b>, Kalman <b>${of(c.fixed_kf_inside)}</b> inside`
       + `${hint('runs whose state at t is this one: neither promise is about a fixed state, so no band')}</p>`;

@@ -634,8 +634,25 @@ pub struct ConformalStudyReport {
     pub band: (usize, usize),
     /// The Kalman count's band at its nominal level.
     pub kf_band: (usize, usize),
+    /// Where each count lies against its band ("in its band", "below its band", "above its
+    /// band"): said once every run is counted (a partial count is no verdict).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kf_verdict: Option<&'static str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub at: Option<Vec<f64>>,
+}
+
+/// A finished count against its band, in words.
+fn against_band(count: usize, (lo, hi): (usize, usize)) -> &'static str {
+    if count < lo {
+        "below its band"
+    } else if count > hi {
+        "above its band"
+    } else {
+        "in its band"
+    }
 }
 
 /// The study's runs.
@@ -711,12 +728,16 @@ impl Runs for ConformalStudy {
     fn report(&self, count: &ConformalCount) -> ConformalStudyReport {
         let p = &self.prepared;
         let (_, lower, upper) = promise(p.spec.calibration, p.level).unwrap_or((1.0, p.level, 1.0));
+        let conformal_band = (band(self.total, lower).0, band(self.total, upper).1);
+        let finished = count.runs == self.total;
         ConformalStudyReport {
             count: *count,
             total: self.total,
             level: p.level,
-            band: (band(self.total, lower).0, band(self.total, upper).1),
+            band: conformal_band,
             kf_band: band(self.total, p.level),
+            verdict: finished.then(|| against_band(count.inside, conformal_band)),
+            kf_verdict: finished.then(|| against_band(count.kf_inside, band(self.total, p.level))),
             at: p.study_at.as_ref().map(|x| x.as_slice().to_vec()),
         }
     }

@@ -140,6 +140,9 @@ fn marginal_coverage_in_band_and_kalman_below_under_heavy_tails() {
         kf < klo,
         "Student-t: Kalman's χ² count {kf} should fall below its band's {klo}: {r}"
     );
+    // The study says so itself (the page shows these words, it judges nothing).
+    assert_eq!(r["verdict"], "in its band", "{r}");
+    assert_eq!(r["kf_verdict"], "below its band", "{r}");
 }
 
 /// At the fixed far-out state, conformal's coverage is far below its level (as Kalman's is);

@@ -8,7 +8,7 @@
 use crate::error::{Error, Result};
 use crate::plot::figures::{Area, Canvas, CompareLook, Figures, Request, SetFill};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, sub, Axes, Entry, Marker, Swatch, KF, MUTED, TRUTH};
+use crate::plot::style::{self, num, percent, sub, Axes, Entry, Marker, Swatch, KF, MUTED, TRUTH};
 use crate::plot::view::{Frame, Panel, PanelSpec};
 use crate::scenario::{ConformalReport, Report};
 use plotters::prelude::*;
@@ -69,11 +69,6 @@ impl Figures for ConformalFigures {
             layer: 2,
         })
     }
-}
-
-fn percent(p: f64) -> String {
-    let s = format!("{:.1}", 100.0 * p);
-    format!("{} %", s.trim_end_matches('0').trim_end_matches('.'))
 }
 
 /// The "conformalset" panel.
@@ -309,22 +304,21 @@ fn draw_aci<DB: DrawingBackend>(
         })
         .collect();
     let stacked = root.dim_in_pixel().1 >= 460;
-    let pct = |p: f64| percent(p);
     let mut notes = vec![format!(
         "ACI (Gibbs & Candès): γ = {}, target miss rate α = {}; over {} steps ACI covers {}, Kalman {}",
         num(a.gamma, 3),
         num(a.miss, 3),
         a.steps.len(),
-        pct(a.coverage),
-        pct(a.kf_coverage)
+        percent(a.coverage),
+        percent(a.kf_coverage)
     )];
     if let (Some(w), Some(k)) = (a.worst, a.kf_worst) {
         notes.push(format!(
             "worst {} steps: ACI {} (from t = {}), Kalman {} (from t = {})",
             a.window,
-            pct(w.0),
+            percent(w.0),
             w.1,
-            pct(k.0),
+            percent(k.0),
             k.1
         ));
     }

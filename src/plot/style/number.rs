@@ -85,3 +85,14 @@ pub fn pct(alpha: f64) -> String {
         format!("{} %", sig(p))
     }
 }
+
+/// A probability as a percentage for a figure: whole when within 0.05 of one ("90 %"), else
+/// one decimal ("99.1 %").
+pub fn percent(p: f64) -> String {
+    let v = 100.0 * p;
+    if (v - v.round()).abs() < 0.05 {
+        format!("{:.0} %", v)
+    } else {
+        format!("{:.1} %", v)
+    }
+}

@@ -13,7 +13,7 @@
 use crate::error::{Error, Result};
 use crate::plot::figures::{Area, Request};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, sig, sub, Entry, Marker, Swatch, KF, TRUTH};
+use crate::plot::style::{self, num, percent, sig, sub, Entry, Marker, Swatch, KF, TRUTH};
 use crate::plot::view::PanelSpec;
 use crate::plot::view::{Frame, Panel};
 use crate::scenario::{Report, UbbReport};
@@ -125,16 +125,6 @@ pub(crate) fn check(report: &Report, panel: Panel) -> Result<&UbbReport> {
 /// The level of a 2-D ellipse of radius² `r2` (χ²₂: 1 − e^{−r²/2}).
 pub fn level_2d(r2: f64) -> f64 {
     1.0 - (-0.5 * r2).exp()
-}
-
-/// "99 %" (one decimal when needed).
-pub fn percent(p: f64) -> String {
-    let v = 100.0 * p;
-    if (v - v.round()).abs() < 0.05 {
-        format!("{:.0} %", v)
-    } else {
-        format!("{:.1} %", v)
-    }
 }
 
 /// The "ubbset" panel.
