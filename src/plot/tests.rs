@@ -1653,6 +1653,7 @@ fn uniform_without_truth() -> (Scenario, Report, Scenario, Report) {
     d.data = Some(crate::scenario::DataSpec {
         y: u.y[1..].to_vec(),
         u: u.u[1..].to_vec(),
+        t: Vec::new(),
     });
     let rd = d.run().expect("data run");
     let mut one = s.clone();

@@ -784,6 +784,7 @@ impl ComparePrepared {
             .with_data(DataSpec {
                 y: self.y[..t].to_vec(),
                 u: Vec::new(),
+                t: Vec::new(),
             })
             .with_alpha(s.alpha);
         // The title as its figures would show it (cut at `error::DISPLAY_CHARS`): each derived
@@ -1247,6 +1248,12 @@ impl MethodScenario for Compare {
         Some(
             "the compare draws its record from compare.noise (its law) and derives what each member assumes from it; make the assumptions wrong with compare.bound_scale",
         )
+    }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("its members (LSCR, GLLS, the uniform LP) need every measurement of the one record they share")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::NotTime
     }
     fn max_states(&self) -> usize {
         // Every set is drawn in the state plane.

@@ -752,6 +752,12 @@ impl MethodScenario for Conformal {
     fn true_noise(&self) -> Option<&'static str> {
         None
     }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("its scores come from the Kalman filter, which reads every measurement (gaps are being added: until then, fill or cut the record)")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::OneBased
+    }
     fn max_states(&self) -> usize {
         super::MAX_MODEL_DIM
     }
@@ -1029,7 +1035,7 @@ fn drifting_record() -> DataSpec {
             f[1][0] * x[0] + f[1][1] * x[1] + v * normal(),
         ];
     }
-    DataSpec { y, u: vec![] }
+    DataSpec { y, u: vec![], t: vec![] }
 }
 
 fn presets() -> Vec<Preset> {

@@ -464,7 +464,7 @@ fn parse(text: &str, q: usize, r: usize, limits: Limits) -> Result<DataSpec> {
             u.push(ur);
         }
     }
-    Ok(DataSpec { y, u })
+    Ok(DataSpec { y, u, t: Vec::new() })
 }
 
 #[cfg(test)]
@@ -486,6 +486,7 @@ mod tests {
         DataSpec {
             y: y.iter().map(|r| r.to_vec()).collect(),
             u: u.iter().map(|r| r.to_vec()).collect(),
+            t: Vec::new(),
         }
     }
 
@@ -700,6 +701,11 @@ mod tests {
 pub struct Table {
     pub columns: Vec<String>,
     pub rows: Vec<Vec<Option<f64>>>,
+    /// The record's own time of each row (`data.t` as shown), written as the second column
+    /// `record_time` when the record has times ([`super::Report::table`] fills it).
+    pub record_time: Vec<String>,
+    /// The report's warnings, written as `# warning: …` lines above the header.
+    pub warnings: Vec<String>,
 }
 
 impl Table {
@@ -708,6 +714,8 @@ impl Table {
         Table {
             columns,
             rows: Vec::new(),
+            record_time: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -747,13 +755,33 @@ impl Table {
     /// shortest round-trip form (a value read back is the value written; exponent notation
     /// for very small and large ones), empty cells where a row has no value.
     pub fn to_csv(&self) -> String {
-        let mut out = self.columns.join(",");
+        let mut out = String::new();
+        for w in &self.warnings {
+            out.push_str("# warning: ");
+            out.push_str(&w.replace(['\n', '\r'], " "));
+            out.push('\n');
+        }
+        let with_time = !self.record_time.is_empty();
+        let mut header = self.columns.clone();
+        if with_time {
+            header.insert(header.len().min(1), "record_time".into());
+        }
+        out.push_str(&header.join(","));
         out.push('\n');
-        for row in &self.rows {
-            let cells: Vec<String> = row
+        for (i, row) in self.rows.iter().enumerate() {
+            let mut cells: Vec<String> = row
                 .iter()
                 .map(|v| v.map(csv_number).unwrap_or_default())
                 .collect();
+            if with_time {
+                let label = self.record_time.get(i).cloned().unwrap_or_default();
+                let label = if label.contains([',', '"']) {
+                    format!("\"{}\"", label.replace('"', "\"\""))
+                } else {
+                    label
+                };
+                cells.insert(cells.len().min(1), label);
+            }
             out.push_str(&cells.join(","));
             out.push('\n');
         }

@@ -699,6 +699,12 @@ impl MethodScenario for Glls {
             "GLLS draws its simulated measurement noise by glls.noise (gaussian, bounded or worst) within its own bound",
         )
     }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("its horizon stacks s + 1 consecutive measurements into the observability matrix Γ_{s+1} (6): the guaranteed ball (35) and κ (17) are computed for that operator, which a missing row changes")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::NotTime
+    }
     fn max_states(&self) -> usize {
         crate::glls::MAX_STATES
     }

@@ -888,6 +888,12 @@ impl MethodScenario for Lscr {
     fn true_noise(&self) -> Option<&'static str> {
         None
     }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("its sign-perturbed sums (17) run over every measurement of the record: the regression (11), (20)–(21) has no term for a missing y, and the exact level of Theorem 3.2 counts all t of them")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::OneBased
+    }
     fn max_states(&self) -> usize {
         crate::lscr::MAX_STATES
     }

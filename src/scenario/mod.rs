@@ -40,6 +40,7 @@ pub mod ubb;
 pub mod uniform;
 pub use crate::scf::{CollisionSpec, CoverageCurve, CurveSpec, ExperimentSpec};
 pub use budget::{Job, Work};
+// `Gaps`, `TimeIndex`, `RecordTime`: defined below, beside `DataSpec`.
 pub use compare::{CompareReport, CompareSpec};
 pub use conformal::{ConformalReport, ConformalSpec};
 pub use csv::data_from_csv;
@@ -52,15 +53,129 @@ pub use scf::{CollisionReport, ScfPrepared};
 pub use ubb::{UbbReport, UbbSpec};
 pub use uniform::{UniformReport, UniformSpec};
 
-/// Observed data.
+/// Observed data: a user's record.
+///
+/// A missing measurement (JSON `null`, a CSV cell that is empty, `NA` or `nan`) is a **gap**:
+/// it is held as `f64::NAN` in [`DataSpec::y`] and written back as `null`. Nothing else can put
+/// a NaN there (JSON has none, and the CSV reader refuses `inf`), so a NaN in `y` always means
+/// "not measured". A gap keeps its row: a record of N rows is N steps in every report. Each
+/// method says what it does with a gap ([`Gaps`]), and one check refuses a record with a gap
+/// for a method that cannot take one, naming the row and its time, before any work.
 #[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DataSpec {
-    /// y_1, y_2, …: one measurement vector per time step.
+    /// y_1, y_2, …: one measurement vector per time step; `null` (NaN) entries are gaps.
+    #[serde(with = "gap_rows")]
     pub y: Vec<Vec<f64>>,
     /// Measured inputs u_1, u_2, … (one vector is held constant).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub u: Vec<Vec<f64>>,
+    /// The record's own time of each row (`data.t`: numbers such as years, or ISO dates such
+    /// as `"1913"`, `"1959-03"`, `"1959-03-31"`), increasing; reports, tables and figures read
+    /// it out beside the step index. Empty: steps 1, 2, … only.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub t: Vec<RecordTime>,
+}
+
+/// One row's time in a user's record (`data.t`): a number (a year, an index) or an ISO date.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum RecordTime {
+    Number(f64),
+    Date(String),
+}
+
+impl RecordTime {
+    /// The time as shown: a whole number without decimals ("1913"), a date as written.
+    pub fn label(&self) -> String {
+        match self {
+            RecordTime::Number(x) if x.fract() == 0.0 && x.abs() < 1e15 => format!("{}", *x as i64),
+            RecordTime::Number(x) => format!("{x}"),
+            RecordTime::Date(d) => d.clone(),
+        }
+    }
+    /// A sortable key: the number, or the date's (year, month, day) as one number.
+    fn key(&self) -> Option<f64> {
+        match self {
+            RecordTime::Number(x) => x.is_finite().then_some(*x),
+            RecordTime::Date(d) => iso_date_key(d),
+        }
+    }
+}
+
+/// An ISO date `YYYY`, `YYYY-MM` or `YYYY-MM-DD` (a time after a `T` or space is allowed and
+/// ordered by its text) as year·10⁴ + month·10² + day, or `None` when it is not one.
+pub(crate) fn iso_date_key(d: &str) -> Option<f64> {
+    let d = d.trim();
+    let date = d.split(['T', ' ']).next()?;
+    let parts: Vec<&str> = date.split('-').collect();
+    if parts.is_empty() || parts.len() > 3 || parts[0].len() != 4 {
+        return None;
+    }
+    let num = |p: &str, lo: u32, hi: u32| -> Option<u32> {
+        (p.len() == 2 || p.len() == 4)
+            .then(|| p.parse::<u32>().ok())
+            .flatten()
+            .filter(|v| (lo..=hi).contains(v))
+    };
+    let year = num(parts[0], 0, 9999)?;
+    let month = parts.get(1).map_or(Some(0), |p| num(p, 1, 12))?;
+    let day = parts.get(2).map_or(Some(0), |p| num(p, 1, 31))?;
+    let time = d[date.len()..].trim_start_matches(['T', ' ']);
+    let seconds = if time.is_empty() {
+        0.0
+    } else {
+        let hms: Vec<f64> = time
+            .trim_end_matches('Z')
+            .split(':')
+            .map(|x| x.parse::<f64>().ok())
+            .collect::<Option<Vec<_>>>()?;
+        hms.iter().fold(0.0, |acc, v| acc * 60.0 + v) / 86_400.0
+    };
+    Some(year as f64 * 1e4 + month as f64 * 1e2 + day as f64 + seconds)
+}
+
+/// `data.y` in JSON: rows of numbers where `null` is a gap (NaN inside).
+mod gap_rows {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    pub fn serialize<S: Serializer>(rows: &[Vec<f64>], s: S) -> Result<S::Ok, S::Error> {
+        let v: Vec<Vec<Option<f64>>> = rows
+            .iter()
+            .map(|r| r.iter().map(|x| (!x.is_nan()).then_some(*x)).collect())
+            .collect();
+        v.serialize(s)
+    }
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<f64>>, D::Error> {
+        let v = Vec::<Vec<Option<f64>>>::deserialize(d)?;
+        Ok(v.into_iter()
+            .map(|r| r.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
+            .collect())
+    }
+}
+
+/// What a method does with a gap in a user's record (a missing measurement, [`DataSpec`]):
+/// a required item of every method's descriptor ([`MethodScenario::gaps`]), so a new method
+/// decides, and one check ([`Scenario::source`]) refuses for it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Gaps {
+    /// The method takes the gap by its own mathematics, said in these words (the report says
+    /// them too): e.g. "the Kalman update is skipped: the set widens".
+    Handled(&'static str),
+    /// The method cannot take a gap, for this reason; a record with one is refused naming its
+    /// row and time.
+    Refused(&'static str),
+}
+
+/// How a method's CSV table and figures count time ([`MethodScenario::time_index`]), so the
+/// record's own time ([`DataSpec::t`]) can be read out beside it in one place.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TimeIndex {
+    /// The first column is t = 1, 2, …: row t of the record.
+    OneBased,
+    /// The first column is k = 0, 1, …: row k + 1 of the record (Tempo's y(0), y(1), …).
+    ZeroBased,
+    /// The table's rows are not times (GLLS's horizon s).
+    NotTime,
 }
 
 /// A state x_c imposed at time t_c: the simulation draws the past backwards from it.
@@ -285,6 +400,13 @@ pub struct Report {
     /// the page shows them; absent when there is nothing to say.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub notices: Vec<String>,
+    /// What the reader must know about the answer, one sentence each: an assumption of the
+    /// method's promise that the scenario does not meet (GLLS's box under state noise, …), an
+    /// estimate sitting on an artificial bound, the record's gaps and what the method did with
+    /// them. The CLI prints them, the CSV table carries them as `#` lines above its header, and
+    /// the page shows them beside the figures; absent when there is nothing to say.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// What the figures take from the scenario besides the numbers (title, axis names, …):
     /// made with the report, so the page and the CLI draw the same figure from it.
     #[serde(default)]
@@ -315,6 +437,20 @@ pub struct FigureContext {
     /// The scenario's collision check (the two bodies' components and d_min).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collision: Option<CollisionSpec>,
+    /// The record's own time of each row as shown ("1913", "1959-03-31"; `data.t`), row t − 1
+    /// for step t: axes, cursors and tables read it out beside the step index. Empty for a
+    /// simulation or a record without times.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub times: Vec<String>,
+}
+
+impl FigureContext {
+    /// The record's time of step t (1-based) as shown, if the record has one.
+    pub fn time_label(&self, t: usize) -> Option<&str> {
+        t.checked_sub(1)
+            .and_then(|i| self.times.get(i))
+            .map(String::as_str)
+    }
 }
 
 impl FigureContext {
@@ -357,6 +493,12 @@ impl FigureContext {
             names: names.iter().map(|n| crate::error::displayed(n)).collect(),
             measured: direct_measurements(&s.model),
             collision: collision.cloned(),
+            times: s
+                .data
+                .as_ref()
+                .filter(|d| d.t.len() == d.y.len())
+                .map(|d| d.t.iter().map(|t| crate::error::displayed(&t.label())).collect())
+                .unwrap_or_default(),
         }
     }
 }
@@ -709,6 +851,97 @@ impl Scenario {
     }
 }
 
+impl DataSpec {
+    /// The first gap: (row index, component), 0-based.
+    pub fn first_gap(&self) -> Option<(usize, usize)> {
+        self.gaps().next()
+    }
+    /// Every gap: (row index, component), 0-based, in order.
+    pub fn gaps(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.y.iter().enumerate().flat_map(|(k, r)| {
+            r.iter()
+                .enumerate()
+                .filter(|(_, x)| x.is_nan())
+                .map(move |(j, _)| (k, j))
+        })
+    }
+    /// The rows with at least one gap (0-based).
+    pub fn gap_rows(&self) -> Vec<usize> {
+        (0..self.y.len())
+            .filter(|&k| self.y[k].iter().any(|x| x.is_nan()))
+            .collect()
+    }
+    /// "row 21 (t = 21, time 1891)": a row (0-based index k) as a user finds it in the record.
+    pub fn row_words(&self, k: usize) -> String {
+        match self.t.get(k) {
+            Some(time) => format!("row {} (t = {}, time {})", k + 1, k + 1, time.label()),
+            None => format!("row {} (t = {})", k + 1, k + 1),
+        }
+    }
+    /// The error of a gap at row k that a computation cannot take, with the reason.
+    pub(crate) fn gap_error(&self, k: usize, why: &str) -> Error {
+        let count = self.gap_rows().len();
+        Error::field(
+            format!("data.y[{k}]"),
+            format!(
+                "is missing at {} ({count} {} with a gap in all): {why}; fill the gap, cut the record before it, or use a method that takes gaps (kf, scf, conformal, ubb)",
+                self.row_words(k),
+                if count == 1 { "row" } else { "rows" }
+            ),
+        )
+    }
+    /// `data.t`: one time per row, each a finite number or an ISO date, strictly increasing.
+    pub(crate) fn check_times(&self) -> Result<()> {
+        if self.t.is_empty() {
+            return Ok(());
+        }
+        if self.t.len() != self.y.len() {
+            return Err(Error::field(
+                "data.t",
+                format!(
+                    "has {} times for {} rows of data.y: give one time per row, or none",
+                    self.t.len(),
+                    self.y.len()
+                ),
+            ));
+        }
+        let mut last: Option<(f64, usize)> = None;
+        for (k, time) in self.t.iter().enumerate() {
+            let Some(key) = time.key() else {
+                return Err(Error::field(
+                    format!("data.t[{k}]"),
+                    format!(
+                        "is {}: a time is a number (a year, an index) or an ISO date (\"1913\", \"1959-03\", \"1959-03-31\")",
+                        crate::error::quoted(&time.label())
+                    ),
+                ));
+            };
+            if let Some((prev, j)) = last {
+                if key <= prev {
+                    return Err(Error::field(
+                        format!("data.t[{k}]"),
+                        format!(
+                            "is {}, not after row {}'s {}: the times of a record increase strictly (one row per time step)",
+                            time.label(),
+                            j + 1,
+                            self.t[j].label()
+                        ),
+                    ));
+                }
+            }
+            last = Some((key, k));
+        }
+        let kinds = self.t.iter().filter(|t| matches!(t, RecordTime::Number(_))).count();
+        if kinds != 0 && kinds != self.t.len() {
+            return Err(Error::field(
+                "data.t",
+                "mixes numbers and dates: give every time as a number or every time as a date",
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Where a scenario's measurements come from: the user's `data` or a seeded `simulate` block.
 /// Every method goes through `Scenario::source`, so the choice, the step-count limits and
 /// their wording are the same for all five.
@@ -776,16 +1009,46 @@ impl<'a> Source<'a> {
             .collect::<Result<Vec<_>>>()
             .map(Some)
     }
-    /// The user's measurements y_1, y_2, … as vectors of length q (empty for a simulation).
+    /// The user's measurements y_1, y_2, … as vectors of length q (empty for a simulation),
+    /// for a method that needs every one: a gap is refused naming its row and time (the
+    /// generic gate, [`Scenario::source`], refuses first for a method whose [`Gaps`] says so).
     pub fn measurements(&self, q: usize) -> Result<Vec<DVector<f64>>> {
-        match self {
-            Source::Data(d) => {
-                d.y.iter()
-                    .enumerate()
-                    .map(|(k, r)| linalg::vector(&format!("data.y[{k}]"), r, q))
-                    .collect()
+        let y = self.measurements_with_gaps(q)?;
+        if let Source::Data(d) = self {
+            if let Some((k, _)) = d.first_gap() {
+                return Err(d.gap_error(k, "this computation needs every measurement"));
             }
+        }
+        Ok(y)
+    }
+    /// The user's measurements with their gaps: a NaN entry is a component not measured at
+    /// that step ([`DataSpec`]). For the methods whose [`Gaps`] is `Handled`.
+    pub fn measurements_with_gaps(&self, q: usize) -> Result<Vec<DVector<f64>>> {
+        match self {
+            Source::Data(d) => d
+                .y
+                .iter()
+                .enumerate()
+                .map(|(k, r)| {
+                    let field = format!("data.y[{k}]");
+                    if r.len() != q {
+                        return linalg::vector(&field, r, q);
+                    }
+                    if let Some(j) = r.iter().position(|x| x.is_infinite()) {
+                        return Err(Error::field(field, format!("has a non-finite entry at position {j}")));
+                    }
+                    Ok(DVector::from_column_slice(r))
+                })
+                .collect(),
             Source::Simulate(_) => Ok(Vec::new()),
+        }
+    }
+    /// The record's own time of each step (empty for a simulation or a record without
+    /// `data.t`).
+    pub fn record_times(&self) -> &[RecordTime] {
+        match self {
+            Source::Data(d) => &d.t,
+            Source::Simulate(_) => &[],
         }
     }
 }
@@ -950,6 +1213,12 @@ pub(crate) trait MethodScenario: Sync {
     fn true_noise(&self) -> Option<&'static str>;
     /// The most states n the method takes (its run refuses more, naming the model field).
     fn max_states(&self) -> usize;
+    /// What the method does with a gap in a user's record ([`Gaps`]). Required, so a new
+    /// method decides; [`Scenario::source`] refuses a gap for a method that cannot take one.
+    fn gaps(&self) -> Gaps;
+    /// How the method's CSV table counts time ([`TimeIndex`]), so [`Report::table`] adds the
+    /// record's own time beside it. Required, so a new method decides.
+    fn time_index(&self) -> TimeIndex;
     /// The keys of the method's report that hold or judge the true state, each with what it
     /// is: a report on `data` has none of them (beside the shared `x_true`, [`truth_keys`]).
     /// A key starting with '.' is a whole path in the report.
@@ -1229,6 +1498,14 @@ impl Scenario {
             (Some(d), None) => Source::Data(d),
             (None, Some(s)) => Source::Simulate(s),
         };
+        if let Source::Data(d) = &source {
+            d.check_times()?;
+            // The one gate of gaps (a missing measurement): a method that cannot take one is
+            // refused here, naming the row and its time, before any work.
+            if let (Some((k, _)), Gaps::Refused(why)) = (d.first_gap(), method.gaps()) {
+                return Err(d.gap_error(k, &format!("method \"{}\" cannot take a gap: {why}", self.method)));
+            }
+        }
         let range = method.steps();
         let steps = source.steps();
         if !range.contains(&steps) {
@@ -1376,8 +1653,11 @@ impl Scenario {
 /// The path of the first null in a report's JSON that stands for a non-finite number (a null
 /// under a nullable key is an absent region; an entry of a list never is one).
 fn first_null(v: &serde_json::Value) -> Option<String> {
-    first_leaf(v, &|x, key, in_list, _| {
-        (x.is_null() && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
+    first_leaf(v, &|x, key, in_list, path| {
+        // A `null` in the report's measurements `y` (and its `ubb.y`) is a gap of the
+        // user's record ([`DataSpec`]): no number stands there.
+        let gap = in_list && key == "y" && (path.starts_with("y[") || path.starts_with("ubb.y["));
+        (x.is_null() && !gap && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
             .then_some(())
     })
     .map(|(path, ())| path)
@@ -1449,7 +1729,29 @@ impl Report {
     /// hold) is an error naming `csv.<column> at <first column>=<row>`
     /// ([`csv::Table::check_finite`]), never an `inf` in the file.
     pub fn table(&self) -> Result<csv::Table> {
-        let table = make_method(self.method).table(self);
+        let method = make_method(self.method);
+        let mut table = method.table(self);
+        // The record's own time beside the method's time column ([`TimeIndex`]).
+        let row_of = |x: f64| match method.time_index() {
+            TimeIndex::OneBased => (x >= 1.0).then(|| x as usize - 1),
+            TimeIndex::ZeroBased => (x >= 0.0).then_some(x as usize),
+            TimeIndex::NotTime => None,
+        };
+        if !self.figure.times.is_empty() && method.time_index() != TimeIndex::NotTime {
+            table.record_time = table
+                .rows
+                .iter()
+                .map(|r| {
+                    r.first()
+                        .copied()
+                        .flatten()
+                        .and_then(row_of)
+                        .and_then(|i| self.figure.times.get(i).cloned())
+                        .unwrap_or_default()
+                })
+                .collect();
+        }
+        table.warnings = self.warnings.clone();
         table.check_finite()?;
         Ok(table)
     }
@@ -1505,6 +1807,7 @@ impl Report {
             conformal: None,
             compare: None,
             notices: Vec::new(),
+            warnings: Vec::new(),
             figure: FigureContext::of(s),
         }
     }

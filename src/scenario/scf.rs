@@ -622,6 +622,12 @@ impl MethodScenario for Scf {
     fn true_noise(&self) -> Option<&'static str> {
         None
     }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("the SCF ratio matrix (38) and the Kalman recursion (35a–c) read a measurement at every step (gaps are being added: until then, fill or cut the record)")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::OneBased
+    }
     fn max_states(&self) -> usize {
         super::MAX_MODEL_DIM
     }

@@ -1272,6 +1272,12 @@ impl MethodScenario for Ubb {
             "the set-membership method draws its simulated noise within ubb.sim_tau and ubb.sim_eps, apart from the bounds it assumes",
         )
     }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("its feasible set T(h) (3) intersects a measurement strip at every step (gaps are being added: until then, fill or cut the record)")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::ZeroBased
+    }
     fn max_states(&self) -> usize {
         MAX_STATES
     }

@@ -766,6 +766,12 @@ impl MethodScenario for Uniform {
             "the uniform-noise LP draws its simulated noise uniformly within the model's half-widths; its noise is not Gaussian, so a covariance scale does not apply",
         )
     }
+    fn gaps(&self) -> super::Gaps {
+        super::Gaps::Refused("its state LP (6)–(10) ties each sample's output innovation to the state at that time: a missing sample leaves the MAP estimate of Pavelková's window undefined there")
+    }
+    fn time_index(&self) -> super::TimeIndex {
+        super::TimeIndex::OneBased
+    }
     fn max_states(&self) -> usize {
         MAX_STATES
     }

@@ -110,7 +110,7 @@ fn simulating_presets() -> Vec<(String, Scenario, Scenario)> {
             );
             let mut direct = s.clone();
             direct.simulate = None;
-            direct.data = Some(DataSpec { y: sim.y, u });
+            direct.data = Some(DataSpec { y: sim.y, u, t: Vec::new() });
             (p.name, s, direct)
         })
         .collect()

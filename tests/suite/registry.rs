@@ -1009,6 +1009,7 @@ fn data_gives_the_simulated_estimates(m: Method) {
         d.data = Some(DataSpec {
             y: sim.y.clone(),
             u: inputs_used(&s, &sim_v),
+            t: Vec::new(),
         });
         let name = format!("{name} on data");
         let on_data = run(&name, &d);

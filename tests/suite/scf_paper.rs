@@ -446,7 +446,8 @@ fn scalar_example_from_json() {
         s.data,
         Some(DataSpec {
             y: y.clone(),
-            u: vec![]
+            u: vec![],
+            t: vec![]
         })
     );
     let r = s.run().unwrap();
