@@ -884,9 +884,10 @@ impl DataSpec {
         Error::field(
             format!("data.y[{k}]"),
             format!(
-                "is missing at {} ({count} {} with a gap in all): {why}; fill the gap, cut the record before it, or use a method that takes gaps (kf, scf, conformal, ubb)",
+                "is missing at {} ({count} {} with a gap in all): {why}; fill the gap, cut the record before it, or use a method that takes gaps ({})",
                 self.row_words(k),
-                if count == 1 { "row" } else { "rows" }
+                if count == 1 { "row" } else { "rows" },
+                methods_taking_gaps()
             ),
         )
     }
@@ -939,6 +940,20 @@ impl DataSpec {
             ));
         }
         Ok(())
+    }
+}
+
+/// The methods whose descriptor takes a gap ([`Gaps::Handled`]), for messages: "kf, scf, …".
+fn methods_taking_gaps() -> String {
+    let names: Vec<&str> = Method::ALL
+        .into_iter()
+        .filter(|&m| matches!(make_method(m).gaps(), Gaps::Handled(_)))
+        .map(Method::name)
+        .collect();
+    if names.is_empty() {
+        "none yet".into()
+    } else {
+        names.join(", ")
     }
 }
 
