@@ -451,6 +451,25 @@ impl FigureContext {
             .and_then(|i| self.times.get(i))
             .map(String::as_str)
     }
+
+    /// The time of record row i (0-based) as shown, also past the record's end (a predicted
+    /// state x_{t+1}, x_{t+τ}) when its times are evenly spaced whole numbers (years,
+    /// quarters' indices): the last time plus the steps beyond it. `None` otherwise.
+    pub fn row_time(&self, i: usize) -> Option<String> {
+        if let Some(label) = self.times.get(i) {
+            return Some(label.clone());
+        }
+        let numbers: Vec<i64> = self
+            .times
+            .iter()
+            .map(|l| l.parse::<i64>().ok())
+            .collect::<Option<_>>()?;
+        let (&last, &before) = (numbers.last()?, numbers.get(numbers.len().checked_sub(2)?)?);
+        let step = last - before;
+        let even = numbers.windows(2).all(|w| w[1] - w[0] == step);
+        let beyond = i64::try_from(i + 1 - numbers.len()).ok()?;
+        (even && step > 0).then(|| (last + step * beyond).to_string())
+    }
 }
 
 impl FigureContext {
@@ -1316,6 +1335,16 @@ fn method_blocks(m: Method) -> impl Iterator<Item = &'static str> {
         .chain(m.study_block().and_then(|b| b.split('.').next()))
 }
 
+/// What method `m` does with a gap in a user's record ([`MethodScenario::gaps`]).
+pub fn gaps(m: Method) -> Gaps {
+    make_method(m).gaps()
+}
+
+/// How method `m`'s CSV table counts time ([`MethodScenario::time_index`]).
+pub fn time_index(m: Method) -> TimeIndex {
+    make_method(m).time_index()
+}
+
 /// The most states n method `m` takes ([`MethodScenario::max_states`]).
 pub fn max_states(m: Method) -> usize {
     make_method(m).max_states()
@@ -1761,7 +1790,7 @@ impl Report {
                         .copied()
                         .flatten()
                         .and_then(row_of)
-                        .and_then(|i| self.figure.times.get(i).cloned())
+                        .and_then(|i| self.figure.row_time(i))
                         .unwrap_or_default()
                 })
                 .collect();
