@@ -138,6 +138,20 @@
 //!     ([`scenario::Report::set_study`]: GLLS's precision panel);
 //!   - the report's [`scenario::FigureContext`] (title, axis names, measured components,
 //!     collision check: what a figure takes from the scenario);
+//!   - a user's record ([`scenario::DataSpec`]): a gap (a missing measurement: JSON `null`, a
+//!     CSV cell that is empty, `NA`, `nan`, `#N/A`) is held as NaN in `data.y` and keeps its
+//!     row; `data.t` the record's own times ([`scenario::RecordTime`]: numbers or ISO dates,
+//!     checked increasing). What a method does with a gap is a required descriptor item
+//!     (`MethodScenario::gaps`, [`scenario::Gaps`]), and one gate in `Scenario::source`
+//!     refuses a gap for a method that cannot take one, naming the row, its time and the
+//!     reason, before any work; how its CSV table counts time is another
+//!     (`MethodScenario::time_index`, [`scenario::TimeIndex`]), so [`scenario::Report::table`]
+//!     adds the `record_time` column in one place; the report's
+//!     [`scenario::FigureContext::times`] carry the record's times to the figures and the page;
+//!     [`scenario::Report::warnings`] are the sentences a user must read with the answer (an
+//!     assumption not met, an estimate on an artificial bound, the gaps and what was done),
+//!     printed by the CLI, written above the CSV table and shown by the page
+//!     (`tests/suite/record_gates.rs` loops over every method);
 //!   - the one observations step ([`scenario::Source`]: `data` or `simulate`, one step-count
 //!     check per method, and `simulate.true_noise` ([`scenario::TrueNoise`]: the simulation's
 //!     noise as scales of the model's V, W, which the filters still assume) checked against
@@ -364,7 +378,11 @@
 //!   unsharded result bit for bit (`tests/suite/shards.rs`). JSON text keeps every f64
 //!   (serde_json's `float_roundtrip`), so parts passed as files or between workers merge
 //!   exactly too.
-//! * Time is 1-based as in the papers; JSON matrices are lists of rows; every number in a report
+//! * Time is 1-based as in the papers (Tempo's and Gubarev & Mishchenko's y(0) is the first row);
+//!   which set each method gives at which time from which data is one table, README "Your own
+//!   record"; a record's own times are read out beside the index, never instead of it. A
+//!   report has one step per record row, gaps included; a `null` in a report's `y` is a gap and
+//!   the only null that stands where a number could; JSON matrices are lists of rows; every number in a report
 //!   is a JSON number; an ellipsoid is `{"center", "cov", "radius2"}` meaning
 //!   (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2.
 //!
