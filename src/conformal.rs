@@ -25,6 +25,18 @@
 //!   long-run miss rate obeys |(1/T) Σ err_t − α| ≤ (max(α₁, 1 − α₁) + γ)/(γT) (their
 //!   Proposition 4.1) — provided a set is empty when α_t ≥ 1 and the whole space when
 //!   α_t ≤ 0, which [`aci`] does. It needs no true state, so it runs on measured data.
+//!   The bound holds over the T *scored* steps, the whole-line steps of the start included
+//!   (their err_t = 0 is part of the recursion the proof sums); the coverage a reader wants is
+//!   the one over the steps that have an interval, reported apart from those warm-up steps
+//!   ([`AciStep::warmup`]).
+//!
+//! Gaps (a missing measurement): the filter skips its update there (or makes a partial one,
+//! [`crate::kalman::KalmanGains::with_gaps`]). The split conformal region at t uses the
+//! filter at t with those updates skipped, and every calibration run is filtered with the
+//! same gains (the same skipped updates), so its score has the law of the record's: the runs
+//! stay exchangeable with the record. ACI has nothing to score at a step with a missing
+//! output: no miss or cover is counted there and α_t is not updated (the step is left out of
+//! the sequence (2) runs over; its interval for the missing y is still reported).
 //!
 //! The heavy-tailed law ([`NoiseLaw::StudentT`]) is the multivariate Student-t with ν > 2
 //! degrees of freedom scaled to the same covariance as the Gaussian: z·√((ν − 2)/g) with
@@ -160,20 +172,28 @@ pub struct AciStep {
     /// q_t: the set's radius in normalized units (+∞: the whole space, α_t ≤ 0 or too few
     /// past scores; `None`-like emptiness is `empty`).
     pub q: f64,
-    /// The set is empty (α_t ≥ 1).
+    /// The set is empty (α_t ≥ 1): ACI's own answer, which misses (Gibbs & Candès's rule
+    /// that keeps α_t bounded).
     pub empty: bool,
-    /// err_t: the score left the set.
-    pub err: bool,
+    /// err_t: the score left the set; `None` at a step with no score (a gap: nothing to
+    /// count, α_t not updated).
+    pub err: Option<bool>,
+    /// A warm-up step: before the first finite (or empty) set, the past holds too few scores
+    /// for the ⌈(1 − α_t)·t⌉-th smallest, so the set is the whole space and cannot miss.
+    pub warmup: bool,
 }
 
 /// Adaptive conformal inference over `scores` r_1 … r_T with target miss rate `miss` (α),
 /// step size `gamma` and α₁ = `miss`. q_t is the ⌈(1 − α_t)(t)⌉-th smallest of the t − 1 past
 /// scores (the split conformal rank with the past as calibration), +∞ when that rank exceeds
-/// t − 1 (α_t ≤ 0 included); the set is empty when α_t ≥ 1.
-pub fn aci(scores: &[f64], miss: f64, gamma: f64) -> Vec<AciStep> {
+/// t − 1 (α_t ≤ 0 included); the set is empty when α_t ≥ 1. A `None` score (a gap) gives the
+/// step's set from the past as it stands, counts nothing and leaves α_t and the past as they
+/// are: the recursion (2) runs over the scored steps only.
+pub fn aci(scores: &[Option<f64>], miss: f64, gamma: f64) -> Vec<AciStep> {
     let mut past: Vec<f64> = Vec::with_capacity(scores.len());
     let mut alpha_t = miss;
     let mut out = Vec::with_capacity(scores.len());
+    let mut warming = true;
     for &r in scores {
         let (q, empty) = if alpha_t >= 1.0 {
             (0.0, true)
@@ -184,18 +204,41 @@ pub fn aci(scores: &[f64], miss: f64, gamma: f64) -> Vec<AciStep> {
                 _ => (f64::INFINITY, false),
             }
         };
-        let err = empty || r > q;
+        warming &= q.is_infinite() && !empty;
+        let err = r.map(|r| empty || r > q);
         out.push(AciStep {
             alpha_t,
             q,
             empty,
             err,
+            warmup: warming,
         });
-        alpha_t += gamma * (miss - f64::from(u8::from(err)));
-        let at = past.partition_point(|p| *p <= r);
-        past.insert(at, r);
+        if let (Some(r), Some(err)) = (r, err) {
+            alpha_t += gamma * (miss - f64::from(u8::from(err)));
+            let at = past.partition_point(|p| *p <= r);
+            past.insert(at, r);
+        }
     }
     out
+}
+
+/// Where Proposition 4.1's bound stops saying anything: the coverage lies in [0, 1], so its
+/// distance from 1 − α is at most max(α, 1 − α), and a bound at or above that rules out no
+/// coverage at all. Returns that largest possible distance.
+pub fn aci_largest_gap(miss: f64) -> f64 {
+    miss.max(1.0 - miss)
+}
+
+/// The fewest scored steps T at which Proposition 4.1's bound rules out some coverage:
+/// the smallest T with (max(α₁, 1 − α₁) + γ)/(γT) < max(α, 1 − α), α₁ = α.
+pub fn aci_informative_steps(miss: f64, gamma: f64) -> usize {
+    let m = aci_largest_gap(miss);
+    let t = (miss.max(1.0 - miss) + gamma) / (gamma * m);
+    let mut steps = t.floor().max(1.0) as usize;
+    while aci_bound(miss, gamma, steps) >= m {
+        steps += 1;
+    }
+    steps
 }
 
 /// The theoretical bound on ACI's long-run miss rate over T steps (Gibbs & Candès,
@@ -249,17 +292,47 @@ mod tests {
     fn aci_empties_above_one_and_opens_below_zero() {
         // All-equal scores: q = the score, so no non-empty set misses; with no misses α_t
         // rises by γα a step until α_t ≥ 1 empties the set, which then misses.
-        let steps = aci(&[1.0; 50], 0.5, 0.5);
-        assert!(steps.iter().all(|s| s.empty || !s.err));
-        assert!(steps.iter().any(|s| s.empty && s.err && s.alpha_t >= 1.0));
+        let steps = aci(&[Some(1.0); 50], 0.5, 0.5);
+        assert!(steps.iter().all(|s| s.empty || s.err == Some(false)));
+        assert!(steps
+            .iter()
+            .any(|s| s.empty && s.err == Some(true) && s.alpha_t >= 1.0));
         // Rising scores: each exceeds every past one, so every finite set misses; α_t falls
         // until α_t ≤ 0 opens the whole space, which holds it.
-        let rising: Vec<f64> = (0..50).map(f64::from).collect();
+        let rising: Vec<Option<f64>> = (0..50).map(|i| Some(f64::from(i))).collect();
         let steps = aci(&rising, 0.1, 0.5);
-        assert!(steps.iter().all(|s| s.q.is_infinite() || s.err));
+        assert!(steps.iter().all(|s| s.q.is_infinite() || s.err == Some(true)));
         assert!(steps
             .iter()
             .skip(1)
-            .any(|s| s.alpha_t <= 0.0 && s.q.is_infinite() && !s.err));
+            .any(|s| s.alpha_t <= 0.0 && s.q.is_infinite() && s.err == Some(false) && !s.warmup));
+    }
+
+    #[test]
+    fn aci_skips_a_gap_and_marks_the_warm_up() {
+        // α = 0.5: the first set needs ⌈(N + 1)·0.5⌉ ≤ N past scores, N = 1; step 1 is the
+        // whole line (warm-up, covered), and α_t rises by γα to 0.75 before step 2.
+        let scores = [Some(1.0), None, Some(2.0), Some(0.5)];
+        let steps = aci(&scores, 0.5, 0.5);
+        assert!(steps[0].warmup && steps[0].q.is_infinite() && steps[0].err == Some(false));
+        // The gap: no count, α_t unchanged after it, its set still from the past.
+        assert_eq!(steps[1].err, None);
+        assert_eq!(steps[1].alpha_t, 0.75);
+        assert_eq!(steps[2].alpha_t, 0.75);
+        assert!(!steps[1].warmup && steps[1].q == 1.0);
+        // Step 3: q = the ⌈2·0.25⌉ = 1st smallest of {1}: 2 > 1 misses, α falls by γ(1 − α).
+        assert_eq!(steps[2].err, Some(true));
+        assert_eq!(steps[3].alpha_t, 0.75 + 0.5 * (0.5 - 1.0));
+        assert!(!steps[3].warmup);
+    }
+
+    #[test]
+    fn aci_bound_says_something_from_the_informative_length_on() {
+        for (miss, gamma) in [(0.1, 0.01), (0.05, 0.005), (0.5, 0.1), (0.2, 1.0)] {
+            let t = aci_informative_steps(miss, gamma);
+            let m = aci_largest_gap(miss);
+            assert!(aci_bound(miss, gamma, t) < m, "{miss} {gamma}");
+            assert!(t == 1 || aci_bound(miss, gamma, t - 1) >= m, "{miss} {gamma}");
+        }
     }
 }

@@ -9,11 +9,11 @@ use super::csv::{cells, flag, Table};
 use super::preset::Preset;
 use super::{DataSpec, MethodScenario, Report, Scenario, SimulateSpec, Source};
 use crate::conformal::{
-    aci, aci_bound, mahalanobis2, min_calibration, order_statistic, promise, split_rank,
-    worst_window, NoiseLaw, Simulator,
+    aci, aci_bound, aci_informative_steps, aci_largest_gap, mahalanobis2, min_calibration,
+    order_statistic, promise, split_rank, worst_window, NoiseLaw, Simulator,
 };
 use crate::error::{Error, Result};
-use crate::kalman::KalmanGains;
+use crate::kalman::{innovation, KalmanGains};
 use crate::linalg;
 use crate::method::Method;
 use crate::model::{ConditionedSampler, Inputs, LinearModel, MatrixSpec, ModelSpec};
@@ -138,19 +138,39 @@ pub struct AciReportStep {
     pub t: usize,
     /// ŷ_{t|t−1}.
     pub y_hat: Vec<f64>,
-    /// √diag S_t: each output's one-step standard deviation.
+    /// √diag S_t: each output's one-step standard deviation (of the innovation e_t).
     pub sd: Vec<f64>,
-    /// r_t = ‖S_t^{−1/2} e_t‖.
-    pub score: f64,
+    /// r_t = ‖S_t^{−1/2} e_t‖; absent at a gap (an output of y_t missing: nothing to score).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub score: Option<f64>,
     pub alpha_t: f64,
     /// q_t (absent: the whole space, too few past scores or α_t ≤ 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub q: Option<f64>,
     /// The set is empty (α_t ≥ 1).
     pub empty: bool,
-    pub err: bool,
-    /// The Kalman set {r ≤ √χ²_q(level)} missed.
-    pub kf_err: bool,
+    /// The ACI set missed y_t; absent at a gap (no miss or cover is counted there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub err: Option<bool>,
+    /// The Kalman set {r ≤ √χ²_q(level)} missed; absent at a gap.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kf_err: Option<bool>,
+    /// A warm-up step: the past holds too few scores for a quantile, the set is the whole
+    /// line, and the step is kept apart from the coverage.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub warmup: bool,
+}
+
+impl AciReportStep {
+    /// The ACI set's shadow on each output: ŷ_j ± q_t·√S_jj (the projection of the ellipsoid
+    /// {y : ‖S^{−1/2}(y − ŷ)‖ ≤ q_t} on output j; for one output, the interval itself).
+    /// `None` where the set is the whole line or empty.
+    pub fn bounds(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        let q = self.q.filter(|_| !self.empty)?;
+        let lo = self.y_hat.iter().zip(&self.sd).map(|(y, s)| y - q * s).collect();
+        let hi = self.y_hat.iter().zip(&self.sd).map(|(y, s)| y + q * s).collect();
+        Some((lo, hi))
+    }
 }
 
 /// Adaptive conformal inference on the record's outputs.
@@ -162,13 +182,37 @@ pub struct AciReport {
     /// √χ²_q(level): the Kalman set's radius in the same normalized units.
     pub kf_radius: f64,
     pub steps: Vec<AciReportStep>,
-    /// Fraction of steps whose output lay in the ACI set, and in the Kalman one.
+    /// Fraction of the steps with an ACI interval (scored, past the warm-up, not the whole
+    /// line) whose output lay in the ACI set, and in the Kalman one over the same steps.
     pub coverage: f64,
     pub kf_coverage: f64,
-    /// |mean err − α| ≤ bound (Gibbs & Candès, Proposition 4.1).
+    /// How many steps `coverage` counts.
+    pub covered_steps: usize,
+    /// Warm-up steps: the first scored steps, whose set is the whole line because the past
+    /// holds too few scores for a quantile (they cannot miss, and are not in `coverage`).
+    pub warmup: usize,
+    /// Later scored steps whose set is the whole line (α_t ≤ 0, or a rank past the scores
+    /// held): not in `coverage` either.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub whole_line: usize,
+    /// Steps with an output missing (gaps): not scored, not counted, α_t not updated.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub gaps: usize,
+    /// T: the scored steps, warm-up included; Proposition 4.1 is about these.
+    pub scored: usize,
+    /// 1 − (1/T) Σ err_t over the T scored steps (warm-up and whole-line steps covering):
+    /// the quantity Proposition 4.1 bounds.
+    pub long_run_coverage: f64,
+    /// |long-run miss rate − α| ≤ bound = (max(α₁, 1 − α₁) + γ)/(γT) (Gibbs & Candès,
+    /// Proposition 4.1).
     pub bound: f64,
+    /// The bound rules out no coverage: bound ≥ max(α, 1 − α), the largest distance a coverage
+    /// in [0, 1] can have from 1 − α (the report's warnings say so).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub bound_vacuous: bool,
     pub window: usize,
-    /// Lowest coverage over `window` consecutive steps and that window's first step.
+    /// Lowest coverage over `window` consecutive steps with an interval and that window's
+    /// first step t.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst: Option<(f64, usize)>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -294,12 +338,27 @@ impl Scenario {
         model
             .check_inputs(&inputs)
             .map_err(|e| Error::field(format!("{}.{}", source.prefix(), e.field), e.message))?;
+        // The record's gaps (empty for a simulation): the filter skips or narrows its update
+        // there, in the record and in every calibration run alike.
+        let record = source.measurements_with_gaps(model.q())?;
+        let unscored = record.iter().filter(|y| y.iter().any(|x| x.is_nan())).count();
+        if unscored > 0 && steps - unscored < n0 + 1 {
+            return Err(Error::field(
+                "data.y",
+                format!(
+                    "has {} of {steps} rows with a gap: ACI scores only the complete rows, and its quantile of the past needs at least {} at level {level} (a finite quantile of the first {n0} normalized innovations)",
+                    unscored,
+                    n0 + 1
+                ),
+            ));
+        }
         // ACI's first finite quantile needs n0 past scores.
         if steps < n0 + 1 {
             return Err(Error::field(
                 source.steps_field(),
                 format!(
-                    "gives {steps} steps: ACI's quantile of the past needs at least {} at level {level} (a finite quantile of the first {n0} normalized innovations)",
+                    "gives {}: ACI's quantile of the past needs at least {} at level {level} (a finite quantile of the first {n0} normalized innovations)",
+                    super::scf::plural(steps, "step", "steps"),
                     n0 + 1
                 ),
             ));
@@ -347,7 +406,7 @@ impl Scenario {
             }
         }
         let truth_model = self.true_model(&model)?;
-        let gains = KalmanGains::new(&model, steps)?;
+        let gains = KalmanGains::with_gaps(&model, steps, &record)?;
         // P_{t+τ|t} = F P F^T + V, τ times from P_t (SCF footnote 16); the mean is data's.
         let zero = DVector::zeros(n);
         let p_target =
@@ -364,7 +423,7 @@ impl Scenario {
         let chi2_state = chi2_quantile(level, n)?;
         let chi2_output = chi2_quantile(level, model.q())?;
         let (y, x_true) = match &source {
-            Source::Data(_) => (source.measurements(model.q())?, None),
+            Source::Data(_) => (record, None),
             Source::Simulate(sim) => {
                 let mut rng = ChaCha8Rng::seed_from_u64(sim.seed);
                 let traj = match &sim.condition {
@@ -439,7 +498,9 @@ impl ConformalPrepared {
         let mut x = x_pred.clone();
         for (i, yt) in y.iter().enumerate().take(self.time) {
             let s = i + 1;
-            x = &x_pred + &self.gains.steps[i].k * (yt - m.h(s) * &x_pred);
+            // The record's gaps are in the gains (a zero column of K_t): a calibration run's
+            // output there adds nothing, as the record's missing one does.
+            x = &x_pred + &self.gains.steps[i].k * innovation(yt, m.h(s), &x_pred);
             x_pred = m.f(s) * &x + m.input_term(s, &self.inputs);
         }
         for s in self.time..self.time + self.tau {
@@ -522,7 +583,9 @@ impl ConformalPrepared {
         })
     }
 
-    /// ACI on the record's normalized innovations.
+    /// ACI on the record's normalized innovations. A step with an output missing is not
+    /// scored (its innovation has no full y_t): ACI counts nothing there and leaves α_t as it
+    /// is ([`aci`]); the filter still updates with the outputs measured.
     fn aci(&self) -> Result<AciReport> {
         let m = &self.model;
         let mut x_pred = m.x1_mean.clone();
@@ -536,7 +599,8 @@ impl ConformalPrepared {
             let chol = Cholesky::new(s.clone())
                 .ok_or_else(|| Error::field("model.W", "gives a singular innovation covariance"))?;
             let y_hat = h * &x_pred;
-            let score = mahalanobis2(yt, &y_hat, &chol).sqrt();
+            let complete = yt.iter().all(|x| !x.is_nan());
+            let score = complete.then(|| mahalanobis2(yt, &y_hat, &chol).sqrt());
             rows.push((
                 t,
                 y_hat.as_slice().to_vec(),
@@ -544,7 +608,7 @@ impl ConformalPrepared {
                 score,
             ));
             scores.push(score);
-            let x = &x_pred + &g.k * (yt - &y_hat);
+            let x = &x_pred + &g.k * innovation(yt, h, &x_pred);
             x_pred = m.f(t) * &x + m.input_term(t, &self.inputs);
         }
         let miss = 1.0 - self.level;
@@ -562,24 +626,85 @@ impl ConformalPrepared {
                 q: a.q.is_finite().then_some(a.q),
                 empty: a.empty,
                 err: a.err,
-                kf_err: score > kf_radius,
+                kf_err: score.map(|r| r > kf_radius),
+                warmup: a.warmup && score.is_some(),
             })
             .collect();
-        let err: Vec<bool> = steps.iter().map(|s| s.err).collect();
-        let kf_err: Vec<bool> = steps.iter().map(|s| s.kf_err).collect();
-        let rate = |e: &[bool]| 1.0 - e.iter().filter(|x| **x).count() as f64 / e.len() as f64;
+        let summary = AciSummary::of(&steps, self.window);
+        let scored = summary.scored;
+        let bound = aci_bound(miss, self.spec.gamma, scored);
         Ok(AciReport {
             gamma: self.spec.gamma,
             miss,
             kf_radius,
-            coverage: rate(&err),
-            kf_coverage: rate(&kf_err),
-            bound: aci_bound(miss, self.spec.gamma, err.len()),
+            coverage: summary.coverage,
+            kf_coverage: summary.kf_coverage,
+            covered_steps: summary.covered,
+            warmup: summary.warmup,
+            whole_line: summary.whole_line,
+            gaps: summary.gaps,
+            scored,
+            long_run_coverage: summary.long_run_coverage,
+            bound,
+            bound_vacuous: bound >= aci_largest_gap(miss),
             window: self.window,
-            worst: worst_window(&err, self.window),
-            kf_worst: worst_window(&kf_err, self.window),
+            worst: summary.worst,
+            kf_worst: summary.kf_worst,
             steps,
         })
+    }
+}
+
+/// ACI's counts from its steps: which steps have an interval, the coverage over them, the
+/// warm-up, whole-line and gap steps apart, and the long-run coverage Proposition 4.1 bounds.
+struct AciSummary {
+    coverage: f64,
+    kf_coverage: f64,
+    covered: usize,
+    warmup: usize,
+    whole_line: usize,
+    gaps: usize,
+    scored: usize,
+    long_run_coverage: f64,
+    worst: Option<(f64, usize)>,
+    kf_worst: Option<(f64, usize)>,
+}
+
+impl AciSummary {
+    fn of(steps: &[AciReportStep], window: usize) -> AciSummary {
+        let scored: Vec<&AciReportStep> = steps.iter().filter(|s| s.err.is_some()).collect();
+        // A step with an interval: scored, and a finite or empty set (an empty set is ACI's
+        // own answer at α_t ≥ 1 and misses, Gibbs & Candès).
+        let with_interval: Vec<&AciReportStep> = scored
+            .iter()
+            .copied()
+            .filter(|s| s.q.is_some() || s.empty)
+            .collect();
+        let misses = |v: &[&AciReportStep], kf: bool| {
+            v.iter()
+                .filter(|s| if kf { s.kf_err } else { s.err } == Some(true))
+                .count()
+        };
+        let rate = |v: &[&AciReportStep], kf: bool| {
+            1.0 - misses(v, kf) as f64 / v.len().max(1) as f64
+        };
+        let warmup = scored.iter().filter(|s| s.warmup).count();
+        let err: Vec<bool> = with_interval.iter().map(|s| s.err == Some(true)).collect();
+        let kf_err: Vec<bool> = with_interval.iter().map(|s| s.kf_err == Some(true)).collect();
+        // A window's first step as the step t it starts at.
+        let at = |w: Option<(f64, usize)>| w.map(|(c, k)| (c, with_interval[k - 1].t));
+        AciSummary {
+            coverage: rate(&with_interval, false),
+            kf_coverage: rate(&with_interval, true),
+            covered: with_interval.len(),
+            warmup,
+            whole_line: scored.len() - with_interval.len() - warmup,
+            gaps: steps.len() - scored.len(),
+            scored: scored.len(),
+            long_run_coverage: rate(&scored, false),
+            worst: at(worst_window(&err, window)),
+            kf_worst: at(worst_window(&kf_err, window)),
+        }
     }
 }
 
@@ -743,6 +868,13 @@ impl Runs for ConformalStudy {
     }
 }
 
+/// A number for a sentence: four decimals at most, trailing zeros cut ("0.9", "2.275").
+fn short(x: f64) -> String {
+    let s = format!("{x:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
 /// Conformal prediction beside the Kalman filter: the `conformal` block.
 pub(crate) struct Conformal;
 
@@ -753,7 +885,7 @@ impl MethodScenario for Conformal {
         None
     }
     fn gaps(&self) -> super::Gaps {
-        super::Gaps::Refused("its scores come from the Kalman filter, which reads every measurement (gaps are being added: until then, fill or cut the record)")
+        super::Gaps::Handled("the Kalman update is skipped at a gap (partial where only some outputs are missing), in the record and in every calibration run alike, so the split conformal region stays calibrated; ACI scores no step with a gap: no miss or cover is counted there and αₜ is not updated")
     }
     fn time_index(&self) -> super::TimeIndex {
         super::TimeIndex::OneBased
@@ -797,12 +929,38 @@ impl MethodScenario for Conformal {
             .x_true
             .as_ref()
             .map(|xs| xs.iter().map(|x| x.as_slice().to_vec()).collect());
+        let times = s.data.as_ref().map_or(&[][..], |d| d.t.as_slice());
+        if let Some(gaps) = super::scf::GapRows::of(&p.y, times) {
+            r.warnings.push(format!(
+                "The record has gaps at {}: the Kalman update is skipped there (partial where only some outputs are missing), in the record and in every calibration run alike, so the region at t = {} comes from the filter with those updates skipped and stays calibrated; ACI scores none of these steps: no miss or cover is counted there and αₜ is not updated (its coverage and bound count the {} scored steps).",
+                gaps.words(),
+                c.time,
+                c.aci.scored
+            ));
+        }
+        if c.aci.bound_vacuous {
+            let a = &c.aci;
+            let largest = c.level.max(1.0 - c.level);
+            r.warnings.push(format!(
+                "ACI's long-run bound (Gibbs & Candès, Prop. 4.1) over these T = {} scored steps is {}: |coverage − {}| ≤ {} rules out no coverage at all, since any coverage from 0 to 1 lies within max(α, 1 − α) = {} of {}; at γ = {} it says something from T = {} scored steps on.",
+                a.scored,
+                short(a.bound),
+                c.level,
+                short(a.bound),
+                short(largest),
+                c.level,
+                a.gamma,
+                aci_informative_steps(a.miss, a.gamma)
+            ));
+        }
         r.conformal = Some(c);
         Ok(r)
     }
     fn table(&self, r: &Report) -> Table {
-        // One row per step t: the data, ŷ_{t|t−1}, the ACI and Kalman radii (normalized
-        // units) and whether each set missed y_t.
+        // One row per step t: the data (empty at a gap), ŷ_{t|t−1}, √S (each output's
+        // innovation standard deviation), the score, q_t (ACI's quantile, in normalized
+        // units), the ACI set's bounds ŷ ± q_t·√S (empty where it is the whole line or empty)
+        // and whether each set missed y_t (empty at a gap: nothing scored).
         let Some(c) = &r.conformal else {
             return Table::new(vec!["t".into()]);
         };
@@ -810,16 +968,28 @@ impl MethodScenario for Conformal {
         let mut columns = vec!["t".to_string()];
         columns.extend(Table::numbered("y", q));
         columns.extend(Table::numbered("y_hat", q));
-        columns.extend(["score", "aci_q", "aci_miss", "kf_miss"].map(String::from));
+        columns.extend(Table::numbered("sd", q));
+        columns.extend(["score", "aci_q"].map(String::from));
+        columns.extend(Table::numbered("aci_lower", q));
+        columns.extend(Table::numbered("aci_upper", q));
+        columns.extend(["aci_warmup", "aci_miss", "kf_miss"].map(String::from));
         let mut table = Table::new(columns);
         for st in &c.aci.steps {
             let mut row = vec![Some(st.t as f64)];
-            row.extend(cells(r.y.get(st.t - 1).map(|y| y.as_slice()), q));
+            row.extend(
+                cells(r.y.get(st.t - 1).map(|y| y.as_slice()), q)
+                    .map(|c| c.filter(|x| !x.is_nan())),
+            );
             row.extend(cells(Some(&st.y_hat), q));
-            row.push(Some(st.score));
+            row.extend(cells(Some(&st.sd), q));
+            row.push(st.score);
             row.push(st.q);
-            row.push(flag(Some(st.err)));
-            row.push(flag(Some(st.kf_err)));
+            let bounds = st.bounds();
+            row.extend(cells(bounds.as_ref().map(|b| b.0.as_slice()), q));
+            row.extend(cells(bounds.as_ref().map(|b| b.1.as_slice()), q));
+            row.push(flag(Some(st.warmup)));
+            row.push(flag(st.err));
+            row.push(flag(st.kf_err));
             table.push(row);
         }
         table
@@ -916,7 +1086,8 @@ fn work(s: &Scenario, job: Job) -> Work {
         Term::new(
             "conformal.calibration",
             format!(
-                "= {calibration} with {n} states and {} = {steps}",
+                "= {calibration} with {} and {} = {steps}",
+                super::scf::plural(n, "state", "states"),
                 s.steps_field()
             ),
             "(N + 2) · steps · (n² + nq + q²): every calibration run simulated and filtered",

@@ -150,7 +150,8 @@ impl Scenario {
         // The simulation draws from the true noise; every filter below assumes the model's.
         let truth = self.true_model(&model)?;
         let (y, x_true) = match source {
-            Source::Data(_) => (source.measurements(model.q())?, None),
+            // A gap (NaN) is a step whose update is skipped, or partial ([`Scf::gaps`]).
+            Source::Data(_) => (source.measurements_with_gaps(model.q())?, None),
             Source::Simulate(s) => {
                 let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
                 let traj: Trajectory = match &s.condition {
@@ -181,7 +182,21 @@ impl Scenario {
         if y.len() < n {
             return Err(Error::field(
                 source.steps_field(),
-                format!("gives {} measurements: at least n = {n} are needed before an SCF region exists", y.len()),
+                format!(
+                    "gives {}: at least n = {n} are needed before an SCF region exists",
+                    plural(y.len(), "measurement", "measurements")
+                ),
+            ));
+        }
+        let measured = y.iter().filter(|v| v.iter().any(|x| !x.is_nan())).count();
+        if self.method == Method::Scf && measured < n {
+            return Err(Error::field(
+                "data.y",
+                format!(
+                    "has {measured} measured {} of {} (the others are gaps): at least n = {n} are needed before an SCF region exists (footnote 13: U_tA_t (38) is singular before n measurements)",
+                    if measured == 1 { "row" } else { "rows" },
+                    y.len()
+                ),
             ));
         }
         if let Some(t) = self.time {
@@ -233,6 +248,9 @@ impl Scenario {
                 "needs a stable time-invariant model with the stationary prior and no inputs",
             ));
         }
+        if o.asymptotic && measured < y.len() {
+            return Err(scf::asymptotic_gap_error());
+        }
         scf_resolution(self, &model, &y, x_true.as_deref())?;
         Ok(ScfPrepared {
             scenario: self.clone(),
@@ -258,7 +276,7 @@ fn scf_resolution(
 ) -> Result<()> {
     let largest = |v: &[DVector<f64>]| crate::precision::largest(v.iter().map(|x| x.as_slice()));
     let magnitude = largest(y).max(x_true.map_or(0.0, largest));
-    let gains = crate::kalman::KalmanGains::new(model, y.len())?;
+    let gains = crate::kalman::KalmanGains::with_gaps(model, y.len(), y)?;
     let thinnest = gains
         .steps
         .iter()
@@ -345,7 +363,41 @@ impl ScfPrepared {
         report.asymptotic = asymptotic;
         report.collision = collision;
         report.coverage_curve = coverage_curve;
+        if let Some(w) = self.gap_warning() {
+            report.warnings.push(w);
+        }
         Ok(report)
+    }
+
+    /// The report's sentence on the record's gaps: where they are and what the filter did.
+    fn gap_warning(&self) -> Option<String> {
+        let times = self
+            .scenario
+            .data
+            .as_ref()
+            .map_or(&[][..], |d| d.t.as_slice());
+        let gaps = GapRows::of(&self.y, times)?;
+        let scf = self.scenario.method == Method::Scf;
+        let mut w = format!(
+            "The record has gaps at {}: the Kalman update is skipped at {} (x̂ₜ = x̂ₜ⁻, Pₜ = Pₜ⁻), so the sets widen there",
+            gaps.words(),
+            if gaps.full == gaps.rows.len() { "each" } else { "each row with no output measured" },
+        );
+        if scf {
+            w.push_str(
+                ", and the ratio matrix UₜAₜ (38) only propagates there (Kₜ = 0): the SCF region (33)–(34) widens faster than the Kalman one",
+            );
+        }
+        if gaps.full < gaps.rows.len() {
+            let partial = gaps.rows.len() - gaps.full;
+            w.push_str(&format!(
+                "; at {} only some outputs are missing: the update uses the measured ones (the observed rows of H, that block of W){}",
+                plural(partial, "row", "rows"),
+                if scf { ", in (38) too" } else { "" },
+            ));
+        }
+        w.push('.');
+        Some(w)
     }
 
     fn collisions(&self, c: &CollisionSpec, steps: &[ScfStep]) -> Result<Vec<CollisionReport>> {
@@ -365,7 +417,8 @@ impl ScfPrepared {
             ));
         }
         let tau = self.options.tau;
-        let o = crate::kalman::Offline::new(&self.model, steps.len() + tau, &self.inputs)?;
+        let o =
+            crate::kalman::Offline::with_gaps(&self.model, steps.len() + tau, &self.inputs, &self.y)?;
         let mut out = Vec::new();
         for st in steps {
             let g = &o.gains.steps[st.t - 1];
@@ -408,7 +461,7 @@ impl ScfPrepared {
     }
 
     fn coverage_curve(&self, c: &CurveSpec, time: usize) -> Result<CoverageCurve> {
-        scf::experiment::coverage_curve(&self.model, &self.inputs, &self.options, c, time)
+        scf::experiment::coverage_curve(&self.model, &self.inputs, &self.options, c, time, &self.y)
     }
 
     /// The conditional Monte Carlo of a scenario with `simulate.condition` and `experiment`
@@ -428,6 +481,95 @@ impl ScfPrepared {
             e,
             s.scf_options().collision.as_ref(),
         )
+    }
+}
+
+/// "1 row", "2 rows".
+pub(crate) fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// "1, 3": 0-based indices as a reader counts them.
+fn one_based(idx: &[usize]) -> String {
+    idx.iter()
+        .map(|j| (j + 1).to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The gap rows of a record (a NaN entry in y_t is a missing output, [`super::DataSpec`]), for
+/// the report's sentence on them (KF, SCF, conformal).
+pub(crate) struct GapRows {
+    /// The rows (0-based) with at least one output missing.
+    pub rows: Vec<usize>,
+    /// How many of them have no output at all.
+    pub full: usize,
+    /// The record's own time labels (`data.t`), when it has them.
+    times: Vec<String>,
+}
+
+impl GapRows {
+    /// The record's gaps, `None` without one.
+    pub(crate) fn of(y: &[DVector<f64>], times: &[super::RecordTime]) -> Option<GapRows> {
+        let rows: Vec<usize> = (0..y.len())
+            .filter(|&k| y[k].iter().any(|x| x.is_nan()))
+            .collect();
+        if rows.is_empty() {
+            return None;
+        }
+        let full = rows.iter().filter(|&&k| y[k].iter().all(|x| x.is_nan())).count();
+        Some(GapRows {
+            rows,
+            full,
+            times: times.iter().map(|t| crate::error::displayed(&t.label())).collect(),
+        })
+    }
+
+    /// "40 rows (t = 21 … 40, 61 … 80; times 1891 … 1910, 1931 … 1950)": the count and the
+    /// first few runs of consecutive rows, with the record's times when it has them.
+    pub(crate) fn words(&self) -> String {
+        const SHOWN: usize = 4;
+        let mut runs: Vec<(usize, usize)> = Vec::new();
+        for &k in &self.rows {
+            match runs.last_mut() {
+                Some(r) if r.1 + 1 == k => r.1 = k,
+                _ => runs.push((k, k)),
+            }
+        }
+        let span = |(a, b): (usize, usize), f: &dyn Fn(usize) -> String| {
+            if a == b {
+                f(a)
+            } else {
+                format!("{} … {}", f(a), f(b))
+            }
+        };
+        let steps: Vec<String> = runs
+            .iter()
+            .take(SHOWN)
+            .map(|&r| span(r, &|k| (k + 1).to_string()))
+            .collect();
+        let mut out = format!(
+            "{} (t = {}",
+            plural(self.rows.len(), "row", "rows"),
+            steps.join(", ")
+        );
+        if runs.len() > SHOWN {
+            let more = runs.len() - SHOWN;
+            out.push_str(&format!(
+                " and {more} more {}",
+                if more == 1 { "stretch" } else { "stretches" }
+            ));
+        }
+        if self.times.len() > *self.rows.last().unwrap_or(&0) {
+            let times: Vec<String> = runs
+                .iter()
+                .take(SHOWN)
+                .map(|&r| span(r, &|k| self.times[k].clone()))
+                .collect();
+            out.push_str(&format!("; {} {}", if self.rows.len() == 1 { "time" } else { "times" }, times.join(", ")));
+        }
+        out.push(')');
+        out
     }
 }
 
@@ -451,7 +593,7 @@ impl ScfPrepared {
         let model = &self.model;
         let u = &self.inputs;
         let n = model.n();
-        let offline = kalman::Offline::new(model, t, u)?;
+        let offline = kalman::Offline::with_gaps(model, t, u, &self.y)?;
         let (gains, ratio) = if self.options.asymptotic {
             let ss = kalman::steady_state(model)?;
             let gamma = model.stationary_covariance()?;
@@ -476,8 +618,26 @@ impl ScfPrepared {
         };
         let h = model.h(t);
         let y = &self.y[t - 1];
-        let e = y - h * &x_pred;
-        let s = linalg::symmetrize(&(h * &g.p_pred * h.transpose() + model.w(t)));
+        // A gap: the outputs measured at t ([`kalman::KalmanGains::with_gaps`]).
+        let observed = kalman::observed_outputs(Some(y), model.q());
+        let missing: Vec<usize> = (0..model.q()).filter(|j| !observed.contains(j)).collect();
+        let h_o = h.select_rows(&observed);
+        let w_o = model.w(t).select_rows(&observed).select_columns(&observed);
+        let e = y.select_rows(&observed) - &h_o * &x_pred;
+        let s = linalg::symmetrize(&(&h_o * &g.p_pred * h_o.transpose() + w_o));
+        let gap_note = |full: &str| -> String {
+            if missing.is_empty() {
+                full.to_string()
+            } else if observed.is_empty() {
+                format!("y_{t} is missing (a gap of the record): no measurement, so the update is skipped")
+            } else {
+                format!(
+                    "outputs {} of y_{t} are missing (a gap): the measured ones only, rows {} of H and that block of W",
+                    one_based(&missing),
+                    one_based(&observed)
+                )
+            }
+        };
         let scf_paper = self.scenario.method == Method::Scf;
         let mut out = super::StepExplanation {
             method: self.scenario.method.to_string(),
@@ -522,40 +682,58 @@ impl ScfPrepared {
             V::matrix(&g.p_pred),
             "",
         );
-        out.row(
-            "innovation",
-            "(35a)",
-            r"e_t = y_t - H \hat x^-_t",
-            V::vector(&e),
-            "the measurement minus its prediction",
-        );
-        out.row(
-            "innovation covariance",
-            "(35b)",
-            r"S_t = H P^-_t H^\top + W",
-            V::matrix(&s),
-            "",
-        );
+        if observed.is_empty() {
+            let none = || V::Text("none: y is missing at this step".into());
+            out.row("innovation", "(35a)", r"e_t = y_t - H \hat x^-_t", none(), gap_note(""));
+            out.row("innovation covariance", "(35b)", r"S_t = H P^-_t H^\top + W", none(), "");
+        } else {
+            out.row(
+                "innovation",
+                "(35a)",
+                r"e_t = y_t - H \hat x^-_t",
+                V::vector(&e),
+                gap_note("the measurement minus its prediction"),
+            );
+            out.row(
+                "innovation covariance",
+                "(35b)",
+                r"S_t = H P^-_t H^\top + W",
+                V::matrix(&s),
+                "",
+            );
+        }
         out.row(
             "gain",
             "(35b)",
             r"K_t = P^-_t H^\top S_t^{-1}",
             V::matrix(&g.k),
-            "",
+            if missing.is_empty() {
+                String::new()
+            } else {
+                "zero in the columns of the missing outputs (all of them at a gap: K_t = 0)".into()
+            },
         );
         out.row(
             "estimate",
             "(35a)",
             r"\hat x^{\mathrm{KF}}_t = \hat x^-_t + K_t e_t",
             V::vector(&means[t - 1]),
-            "the centre of the KF region",
+            if observed.is_empty() {
+                "the centre of the KF region: the prediction itself (no update at a gap)"
+            } else {
+                "the centre of the KF region"
+            },
         );
         out.row(
             "covariance",
             "(35c)",
             r"P_t = P^-_t - K_t S_t K_t^\top",
             V::matrix(&g.p),
-            "the shape of the KF region",
+            if observed.is_empty() {
+                "the shape of the KF region: P_t = P⁻_t (no update at a gap)"
+            } else {
+                "the shape of the KF region"
+            },
         );
         if scf_paper {
             let asym = if self.options.asymptotic {
@@ -572,10 +750,18 @@ impl ScfPrepared {
                     r"U_tA_t = F(U_{t-1}A_{t-1})F^b + K_t\bigl(H - HF(U_{t-1}A_{t-1})F^b\bigr)"
                 },
                 V::matrix(&ratio),
-                format!("measurement-independent{asym}"),
+                if observed.is_empty() {
+                    format!("measurement-independent{asym}; at a gap K_t = 0, so U_tA_t = F(U_{{t-1}}A_{{t-1}})F^b")
+                } else {
+                    format!("measurement-independent{asym}")
+                },
             );
             let m_t = &offline.moments.mean[t - 1];
-            match (t >= n)
+            let measured_steps = self.y[..t]
+                .iter()
+                .filter(|v| v.iter().any(|x| !x.is_nan()))
+                .count();
+            match (measured_steps >= n)
                 .then(|| scf::scf_from_ratio(&ratio, &means[t - 1], &g.p, m_t))
                 .flatten()
             {
@@ -600,7 +786,7 @@ impl ScfPrepared {
                     "(33)",
                     r"\hat x_t = (U_tA_t)^{-1}\,\hat x^{\mathrm{KF}}_t",
                     V::Text("none yet".into()),
-                    format!("U_tA_t is singular at t = {t} (t < n = {n} or too few informative measurements): no SCF region"),
+                    format!("U_tA_t is singular at t = {t} (fewer than n = {n} measured steps, or too few informative measurements): no SCF region"),
                 ),
             }
         }
@@ -623,7 +809,11 @@ impl MethodScenario for Scf {
         None
     }
     fn gaps(&self) -> super::Gaps {
-        super::Gaps::Refused("the SCF ratio matrix (38) and the Kalman recursion (35a–c) read a measurement at every step (gaps are being added: until then, fill or cut the record)")
+        if self.kalman_only {
+            super::Gaps::Handled("the Kalman update is skipped at a step with no measurement (x̂ₜ = x̂ₜ⁻, Pₜ = Pₜ⁻) and uses the measured outputs only at a step with some missing (the observed rows of H, that block of W): the set widens through a gap")
+        } else {
+            super::Gaps::Handled("the Kalman update is skipped at a step with no measurement (Kₜ = 0) and partial at one with some outputs missing; the ratio matrix UₜAₜ (38) takes the same gain, so it only propagates through a gap and the SCF region (33)–(34) widens; the asymptotic SCF (IV-B) refuses a gap")
+        }
     }
     fn time_index(&self) -> super::TimeIndex {
         super::TimeIndex::OneBased
@@ -689,10 +879,11 @@ impl MethodScenario for Scf {
                 .and_then(|xs| xs.get(st.t.wrapping_sub(1)))
                 .map(|x| x.as_slice());
             let mut row = vec![Some(st.t as f64)];
-            row.extend(cells(
-                r.y.get(st.t.wrapping_sub(1)).map(|y| y.as_slice()),
-                q,
-            ));
+            // A gap's NaN is an empty cell.
+            row.extend(
+                cells(r.y.get(st.t.wrapping_sub(1)).map(|y| y.as_slice()), q)
+                    .map(|c| c.filter(|x| !x.is_nan())),
+            );
             if truth {
                 row.extend(cells(x, n));
             }
@@ -834,7 +1025,13 @@ fn work(s: &Scenario, job: Job) -> Work {
     let steps = s.written_steps();
     let steps_field = s.steps_field();
     let mut w = Work::default();
-    let model = || format!("({n} states, {q} outputs) with {steps_field} = {steps}");
+    let states = plural(n, "state", "states");
+    let model = || {
+        format!(
+            "({states}, {}) with {steps_field} = {steps}",
+            plural(q, "output", "outputs")
+        )
+    };
     let per_step = OPS_STEP_CUBE * (f(n).powi(3) + f(n * n * q) + f(q).powi(3)) + OPS_STEP;
     w.ops(
         Term::new(
@@ -855,7 +1052,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "simulate.condition.t",
-                format!("= {t_c} with {n} states"),
+                format!("= {t_c} with {states}"),
                 "t_c · (n³ + n²q + q³): the backward representation, then per run t_c filter steps",
                 f(t_c) * per_step,
             )
@@ -870,7 +1067,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "scf.tau",
-                format!("= {} with {steps_field} = {steps} and {n} states", o.tau),
+                format!("= {} with {steps_field} = {steps} and {states}", o.tau),
                 "steps · τ · n³: a τ-step prediction at every step (target region, collision check)",
                 f(predictions)
                     * f(steps)
@@ -889,7 +1086,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "scf.coverage_curve.points",
-                format!("= {} with {n} states", c.points),
+                format!("= {} with {states}", c.points),
                 "points · draws · n²: a Monte Carlo of the conditional coverage per point (n > 1)",
                 f(c.points) * per_point,
             )

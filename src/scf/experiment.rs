@@ -107,13 +107,17 @@ pub struct CoverageCurve {
 /// Draws per point of a Monte Carlo coverage curve.
 pub const CURVE_DRAWS: usize = 2000;
 
-/// Fig. 1 for component `c.component` at time `time` (filtering, full state conditioned).
+/// Fig. 1 for component `c.component` at time `time` (filtering, full state conditioned), with
+/// the filter of the record `y` (its gaps: skipped or partial updates; the conditional law
+/// below holds for any linear Bayesian estimate of x_t from the measured outputs, so it holds
+/// with the gaps' P_t and R_t = I − P_tΓ_t⁻¹ (41)).
 pub fn coverage_curve(
     model: &LinearModel,
     u: &Inputs,
     opts: &ScfOptions,
     c: &CurveSpec,
     time: usize,
+    y: &[DVector<f64>],
 ) -> Result<CoverageCurve> {
     let n = model.n();
     if c.component >= n {
@@ -134,7 +138,7 @@ pub fn coverage_curve(
             "must be a whole number from 2 to 2001",
         ));
     }
-    let off = Offline::new(model, time, u)?;
+    let off = Offline::with_gaps(model, time, u, y)?;
     let (p, gamma, m) = if opts.asymptotic {
         let ss = kalman::steady_state(model)?;
         (ss.p, model.stationary_covariance()?, DVector::zeros(n))
@@ -820,7 +824,13 @@ impl ConditionalExperiment {
         {
             return Err(Error::field(
                 "model",
-                format!("couples {} states and {} outputs in one block: the Monte Carlo supports blocks of at most 16 states and 8 outputs", b.states.len(), b.outputs.len()),
+                format!(
+                    "couples {} state{} and {} output{} in one block: the Monte Carlo supports blocks of at most 16 states and 8 outputs",
+                    b.states.len(),
+                    if b.states.len() == 1 { "" } else { "s" },
+                    b.outputs.len(),
+                    if b.outputs.len() == 1 { "" } else { "s" }
+                ),
             ));
         }
         Ok(ConditionalExperiment {

@@ -36,6 +36,34 @@ pub const RATIO_RCOND_MIN: f64 = 1e-12;
 
 /// The ratio matrices R_t = U_tA_t, t = 1..=T, by the recursion (38) from R_0 = 0 (39).
 /// For t ≥ 2 the backward matrix is F^b_t = Γ_{t−1}F_{t−1}ᵀΓ_t⁻¹ ((30), or (45) when Γ_t moves).
+///
+/// **Gaps.** The SCF conditions on the observations: with y_t (or some of its outputs)
+/// missing, the batch (31)–(32) at time t simply has no row block (or fewer rows) for it. Let
+/// y°_t = S_t y_t be the measured outputs (S_t the selection of the observed rows, q° of q),
+/// H° = S_t H, W° = S_t W S_tᵀ. Then
+///
+/// * (32) reads [y°]_1^t = A_t x_t + ν_t with A_t = [H°; A_{t−1}F^b] (the decomposition
+///   under (37) with H° in place of H; A_t = A_{t−1}F^b when nothing is measured), and x_t
+///   and ν_t are still independent (ν_t holds the backward noise (29) and the measured w's),
+///   so Conditions 1 and 3 of Section III hold and (33)–(34) still give the SCF region, with
+///   the U_t of the filter that saw [y°]_1^t;
+/// * the Kalman filter on [y°]_1^t is (35a)–(35c) with H°, W° at t: gain K°_t (n × q°),
+///   x̂ᴷᶠ_t = F x̂ᴷᶠ_{t−1} + K°_t (y°_t − H° F x̂ᴷᶠ_{t−1}); with nothing measured, K°_t is
+///   empty and x̂ᴷᶠ_t = F x̂ᴷᶠ_{t−1}, P_t = P⁻_t ([`crate::kalman::KalmanGains::with_gaps`]);
+/// * so (37) becomes U_t[h°; η] = FU_{t−1}η + K°_t(h° − H°FU_{t−1}η), and applying it to the
+///   columns of A_t = [H°; A_{t−1}F^b] as the paper does gives
+///   R_t = F R_{t−1} F^b + K°_t (H° − H° F R_{t−1} F^b): (38) with the missing rows of H left
+///   out. With K_t = K°_t S_t (the n × q gain whose columns at the missing outputs are zero,
+///   as the filter stores it), K°_t H° = K_t H, so this is (38) exactly as written; with
+///   nothing measured, K_t = 0 and R_t = F R_{t−1} F^b: the ratio only propagates.
+/// * (14) P_t = Γ_t − R_t Γ_t holds for the linear Bayesian estimate of any such batch, so the
+///   closed form (41) R_t = I − P_t Γ_t⁻¹ still holds with the gap's P_t (tested along the
+///   recursion). Over a gap P_t grows towards Γ_t and R_t shrinks towards 0: Π_t = R_t⁻¹P_t
+///   (34) widens faster than P_t, and once fewer than n independent measurements remain in
+///   [y°]_1^t (Condition 2, A_t of full column rank, footnote 13's "t ≥ n" counted in
+///   measured steps) R_t is singular and there is no SCF region ([`scf_from_ratio`]).
+///
+/// This function needs nothing more than the gains: a gap is already in K_t.
 pub fn ratio_recursion(model: &LinearModel, offline: &Offline) -> Result<Vec<DMatrix<f64>>> {
     let n = model.n();
     let mut out: Vec<DMatrix<f64>> = Vec::with_capacity(offline.gains.steps.len());
@@ -231,7 +259,13 @@ pub fn run(
         Ellipsoid::new(&DVector::zeros(n), &DMatrix::identity(n, n), 1.0).project(idx)?;
     }
     let r2 = chi2_quantile(opts.alpha, n)?;
-    let mut offline = Offline::new(model, steps + opts.tau, u)?;
+    let gap = y.iter().any(|v| v.iter().any(|x| x.is_nan()));
+    if opts.asymptotic && gap {
+        return Err(asymptotic_gap_error());
+    }
+    // The gains with the record's gaps (skipped or partial updates); the steps past the
+    // record (τ ahead) measure every output, and are cut off here anyway.
+    let mut offline = Offline::with_gaps(model, steps + opts.tau, u, y)?;
     offline.gains.steps.truncate(steps);
     let (gains, ratios) = if opts.asymptotic {
         let ss = kalman::steady_state(model)?;
@@ -254,12 +288,15 @@ pub fn run(
     let kf_means = gains.filter(model, y, u);
     let mut out = Vec::with_capacity(steps);
     let mut any_scf = false;
+    // Footnote 13's "t ≥ n" counts measurements: the steps with at least one output measured.
+    let mut measured_steps = 0;
     for i in 0..steps {
         let t = i + 1;
+        measured_steps += usize::from(y[i].iter().any(|x| !x.is_nan()));
         let g = &gains.steps[i];
         let m_t = &offline.moments.mean[i];
         let kf = Ellipsoid::new(&kf_means[i], &g.p, r2);
-        let scf = if t >= n {
+        let scf = if measured_steps >= n {
             scf_from_ratio(&ratios[i], &kf_means[i], &g.p, m_t)
                 .map(|(c, pi)| Ellipsoid::new(&c, &pi, r2))
         } else {
@@ -297,7 +334,16 @@ pub fn run(
             target,
         });
     }
-    if steps >= n && !any_scf && !opts.kf_only {
+    if !any_scf && !opts.kf_only && gap && measured_steps >= n {
+        return Err(Error::field(
+            "data.y",
+            format!(
+                "leaves the state unobservable: with the record's gaps the ratio matrix U_tA_t (38) stayed singular at every step \
+                 ({measured_steps} of {steps} steps measured; Condition 2 needs n = {n} independent measurements in the batch (32)) — fill gaps, or estimate observable components only"
+            ),
+        ));
+    }
+    if steps >= n && !any_scf && !opts.kf_only && !gap {
         return Err(Error::field(
             "model.H",
             "does not make the state observable from the data: the ratio matrix U_tA_t stayed singular \
@@ -309,6 +355,16 @@ pub fn run(
         steps: out,
         kf_means,
     })
+}
+
+/// The asymptotic filter (IV-B) cannot take a gap: its constant K̄, P̄ and R̄ = I − P̄Γ⁻¹ are
+/// the limits of (35b)–(35c) and (41) when every measurement arrives; at a gap P_t leaves P̄
+/// (it grows by FP̄Fᵀ + V − P̄) and a region with P̄ would be too small for the level claimed.
+pub(crate) fn asymptotic_gap_error() -> Error {
+    Error::field(
+        "scf.asymptotic",
+        "cannot take a record with gaps: the asymptotic SCF (IV-B) uses the limits K̄, P̄, R̄ of a filter that reads every measurement, and at a gap P_t leaves P̄, so its regions would be too small; use the recursive SCF (\"asymptotic\": false), which skips the update at a gap",
+    )
 }
 
 /// Every number of a run must be finite (a report is JSON numbers; NaN/∞ would become null).

@@ -212,6 +212,7 @@ fn non_finite_entries() {
     assert_eq!(e.field, "model.V");
     assert!(e.to_string().contains("non-finite"), "{e}");
 
+    // A NaN in data.y is a gap (JSON null), which SCF takes; an infinity is refused.
     let mut s = Scenario::from_json(&base().to_string()).unwrap();
     s.data.as_mut().unwrap().y[2][0] = f64::INFINITY;
     let e = s.run().unwrap_err();
@@ -272,6 +273,9 @@ fn non_finite_entries() {
     let text = with(base(), &["model", "W"], json!([[null]])).to_string();
     let e = Scenario::from_json(&text).unwrap_err();
     assert!(e.field.starts_with("model.W"), "{e}");
+    let text = with(base(), &["data", "y"], json!([[0.1], ["NaN"], [0.2]])).to_string();
+    let e = Scenario::from_json(&text).unwrap_err();
+    assert_eq!(e.field, "data.y[1][0]", "{e}");
     // A list where a number belongs: the first entry decides the reading (a sequence of
     // matrices), and the entry that breaks it is named.
     let text = with(base(), &["model", "F"], json!([[[0.9], 0.1], [0.0, 0.8]])).to_string();

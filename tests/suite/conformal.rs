@@ -209,7 +209,10 @@ fn aci_long_run_miss_rate_within_its_bound() {
             let a = &report.conformal.as_ref().expect("conformal").aci;
             let t = a.steps.len();
             assert_eq!(t, 2000);
-            let misses = a.steps.iter().filter(|s| s.err).count() as f64 / t as f64;
+            let misses =
+                a.steps.iter().filter(|s| s.err == Some(true)).count() as f64 / t as f64;
+            assert_eq!(a.scored, t);
+            assert!(rel_close(1.0 - a.long_run_coverage, misses, 1e-12));
             let bound = (0.9f64.max(0.1) + gamma) / (gamma * t as f64);
             assert!(rel_close(a.bound, bound, 1e-12));
             assert!(
@@ -217,7 +220,8 @@ fn aci_long_run_miss_rate_within_its_bound() {
                 "{noise} {extra} γ = {gamma}: miss rate {misses} not within {bound} of 0.1"
             );
             if !extra.is_null() {
-                let kf = a.steps.iter().filter(|s| s.kf_err).count() as f64 / t as f64;
+                let kf =
+                    a.steps.iter().filter(|s| s.kf_err == Some(true)).count() as f64 / t as f64;
                 assert!(
                     kf > 0.3,
                     "the Kalman interval with 9× the output noise misses {kf}"

@@ -55,6 +55,7 @@ mod csv;
 mod determinism;
 mod explain;
 mod fuzz;
+mod gaps;
 mod gallery;
 mod generator;
 mod glls;

@@ -305,17 +305,39 @@ fn draw_aci<DB: DrawingBackend>(
         .collect();
     let stacked = root.dim_in_pixel().1 >= 460;
     let mut notes = vec![format!(
-        "ACI (Gibbs & Candès): γ = {}, target miss rate α = {}; over {} steps ACI covers {}, Kalman {}",
+        "ACI (Gibbs & Candès): γ = {}, target miss rate α = {}; over the {} with an ACI interval ACI covers {}, Kalman {}",
         num(a.gamma, 3),
         num(a.miss, 3),
-        a.steps.len(),
+        if a.covered_steps == 1 { "1 step".to_string() } else { format!("{} steps", a.covered_steps) },
         percent(a.coverage),
         percent(a.kf_coverage)
     )];
+    // The steps kept apart from that coverage, said once.
+    let mut apart = Vec::new();
+    if a.warmup > 0 {
+        apart.push(format!(
+            "{} warm-up {} (the whole line: too few past scores)",
+            a.warmup,
+            if a.warmup == 1 { "step" } else { "steps" }
+        ));
+    }
+    if a.whole_line > 0 {
+        apart.push(format!("{} later whole-line", a.whole_line));
+    }
+    if a.gaps > 0 {
+        apart.push(format!(
+            "{} {} with a gap (not scored, no dot)",
+            a.gaps,
+            if a.gaps == 1 { "step" } else { "steps" }
+        ));
+    }
+    if !apart.is_empty() {
+        notes.push(format!("apart: {}", apart.join(", ")));
+    }
     if let (Some(w), Some(k)) = (a.worst, a.kf_worst) {
         notes.push(format!(
-            "worst {} steps: ACI {} (from t = {}), Kalman {} (from t = {})",
-            a.window,
+            "worst {}: ACI {} (from t = {}), Kalman {} (from t = {})",
+            if a.window == 1 { "step".to_string() } else { format!("{} steps", a.window) },
             percent(w.0),
             w.1,
             percent(k.0),
@@ -390,12 +412,14 @@ fn draw_aci<DB: DrawingBackend>(
         (area, None)
     };
     let (t0, t1) = (ts[0], ts[ts.len() - 1].max(ts[0] + 1.0));
+    // A gap's NaN takes no part in the window.
     let ys = y
         .iter()
         .chain(&kf_lo)
         .chain(&kf_hi)
         .copied()
-        .chain(finite.iter().flat_map(|&(_, lo, hi)| [lo, hi]));
+        .chain(finite.iter().flat_map(|&(_, lo, hi)| [lo, hi]))
+        .filter(|v| v.is_finite());
     let win = Win::time((t0, t1), ys);
     let x_desc = "time t";
     let y_desc = "output y₁";
@@ -436,30 +460,45 @@ fn draw_aci<DB: DrawingBackend>(
         |v: &[f64]| -> Vec<(f64, f64)> { ts.iter().copied().zip(v.iter().copied()).collect() };
     style::path(root, &chart, &pts(&kf_lo), &KF, 1, Some(style::DASH))?;
     style::path(root, &chart, &pts(&kf_hi), &KF, 1, Some(style::DASH))?;
-    let measured = pts(&y);
+    // A gap is a break in the dots: nothing is drawn at a step whose y₁ is missing.
+    let measured: Vec<(f64, f64)> = pts(&y).into_iter().filter(|p| p.1.is_finite()).collect();
     style::dots(root, &chart, &measured, &MUTED, 2)?;
     let mut marks = style::marks_of(&chart, &measured);
-    for (s, p) in a.steps.iter().zip(&measured) {
-        if s.err {
-            style::marker_inside(root, &chart, *p, Marker::Ring, &CONFORMAL, &mut marks)?;
+    for (s, &yv) in a.steps.iter().zip(&y) {
+        if !yv.is_finite() {
+            continue;
         }
-        if s.kf_err {
-            style::marker_inside(root, &chart, *p, Marker::Cross, &KF, &mut marks)?;
+        let p = (s.t as f64, yv);
+        if s.err == Some(true) {
+            style::marker_inside(root, &chart, p, Marker::Ring, &CONFORMAL, &mut marks)?;
+        }
+        if s.kf_err == Some(true) {
+            style::marker_inside(root, &chart, p, Marker::Cross, &KF, &mut marks)?;
         }
     }
     let mut frame = style::frame_of(&chart, x_desc, y_desc);
     if let Some(bottom) = bottom {
-        let running = |errs: &mut dyn Iterator<Item = bool>| -> Vec<(f64, f64)> {
+        // The running coverage over the steps with an ACI interval (as `coverage` counts:
+        // warm-up, whole-line and gap steps apart).
+        let counted: Vec<_> = a
+            .steps
+            .iter()
+            .filter(|s| s.err.is_some() && (s.q.is_some() || s.empty))
+            .collect();
+        let running = |kf: bool| -> Vec<(f64, f64)> {
             let mut hits = 0usize;
-            errs.enumerate()
-                .map(|(i, e)| {
-                    hits += usize::from(!e);
-                    (ts[i], hits as f64 / (i + 1) as f64)
+            counted
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    let e = if kf { s.kf_err } else { s.err };
+                    hits += usize::from(e == Some(false));
+                    (s.t as f64, hits as f64 / (i + 1) as f64)
                 })
                 .collect()
         };
-        let aci = running(&mut a.steps.iter().map(|s| s.err));
-        let kf = running(&mut a.steps.iter().map(|s| s.kf_err));
+        let aci = running(false);
+        let kf = running(true);
         let lo = aci
             .iter()
             .chain(&kf)

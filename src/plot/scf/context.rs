@@ -50,8 +50,9 @@ impl<'a> Ctx<'a> {
             return Err(Error::field(
                 "plot",
                 format!(
-                    "names component {i}, but the state has {} components (0-based)",
-                    report.n
+                    "names component {i}, but the state has {} component{} (0-based)",
+                    report.n,
+                    if report.n == 1 { "" } else { "s" }
                 ),
             ));
         }
@@ -87,7 +88,13 @@ impl<'a> Ctx<'a> {
     /// Measurement of component i at time s, when a row of y measures it directly.
     pub fn measurement(&self, s: usize, i: usize) -> Option<f64> {
         let [_, row] = *self.figure().measured.iter().find(|[c, _]| *c == i)?;
-        self.report.y.get(s.checked_sub(1)?)?.get(row).copied()
+        // A gap of the record (NaN) is no measurement: nothing is drawn there.
+        self.report
+            .y
+            .get(s.checked_sub(1)?)?
+            .get(row)
+            .copied()
+            .filter(|v| !v.is_nan())
     }
     /// Axis name of component i.
     pub fn name(&self, i: usize) -> String {
