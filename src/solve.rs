@@ -76,10 +76,21 @@ impl Blame {
             &self.hint
         };
         self.error(format!(
-            "leaves no {} consistent with the data under these bounds — {hint}",
+            "leaves no {} {INFEASIBLE} — {hint}",
             self.unknowns()
         ))
     }
+}
+
+/// The words of every infeasible problem's error ([`Blame::infeasible`]).
+const INFEASIBLE: &str = "consistent with the data under these bounds";
+
+/// Whether `e` is the error of an infeasible problem ([`Blame::infeasible`]): no unknowns
+/// consistent with the data under the bounds. The set it asked for exists and is empty (the
+/// data contradict the bounds), which a compare counts as a set that misses the state, not as
+/// a set that could not be computed.
+pub fn is_infeasible(e: &Error) -> bool {
+    e.message.starts_with("leaves no ") && e.message.contains(INFEASIBLE)
 }
 
 impl From<&Blame> for Blame {

@@ -24,7 +24,7 @@ const richText = (t) => withScripts(t, (w) => w.replace(/(\p{L}[\u0300-\u036f]?)
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {
   name: 'custom',
-  description: 'Your own F, G, H (two states): every method runs on the same simulated record, with its parameters derived from σ_v², σ_w² and the noise law.',
+  description: 'Your own F, G, H (any number of states: one draws intervals side by side, three or more the plane of compare.plane, [0, 1] by default): every method runs on the same simulated record, with its parameters derived from σ_v², σ_w² and the noise law.',
   scenario: {
     method: 'compare', title: 'Custom model',
     model: { F: [[0.9, 0.2], [-0.1, 0.8]], G: [[1], [0.5]], H: [[1, 0]], sigma_v2: 0.01, sigma_w2: 0.01 },
@@ -118,23 +118,36 @@ function showNumbers(p) {
   const when = c.target === 'predict' ? `x${sub(at.target_time)} predicted from y₁ … y${sub(at.t)}` : `x${sub(at.target_time)} from y₁ … y${sub(at.t)}`;
   ui['num-title'].textContent = `Every method, for ${when}`;
   const counts = p.counts && p.counts.t === at.t ? p.counts : null;
-  const head = ['method', 'promises', 'assumes', 'area', `holds x${sub(at.target_time)}`, 'time',
-    ...(counts ? ['holds x̄ (counted)', '99.9 % band', 'verdict'] : [])];
+  // n = 1: each set is an interval, its measure a length.
+  const measure = st.report.plot.length === 1 ? 'length' : 'area';
+  const head = ['method', 'promises', 'assumes', measure, `holds x${sub(at.target_time)}`, 'time',
+    ...(counts ? ['holds x̄ (runs with a set)', 'no set', '99.9 % band', 'verdict'] : [])];
   const rows = c.rows.map((row, i) => {
     const set = at.sets[i];
     const assume = `${richText(row.assumes)}${row.met ? ' <b class="good">✓ met</b>' : `<br><b class="warn">✗ ${richText(row.violated || 'violated')}</b>`}`;
     const level = row.level == null ? '' : ` <span class="nw">(${row.at_least ? '≥ ' : ''}${pct(row.level)})</span>`;
-    const area = set.set ? (set.area == null ? 'unbounded' : fmt(set.area)) : `<span class="warn">no set</span>`;
-    const holds = set.set ? verdict(set.holds, 'yes', 'no') : `<span class="hint">${escapeHtml(set.reason || '')}</span>`;
+    // An empty set (the data contradict the method's bounds) holds nothing; no set is no set.
+    const area = set.set ? (set.area == null ? 'unbounded' : fmt(set.area)) : `<span class="warn">${set.empty ? 'empty set' : 'no set'}</span>`;
+    // No set is neither a hit nor a miss: the core's reason, and what would give one.
+    const why = `${escapeHtml(set.reason || '')}${set.remedy ? `<br><b>a set needs:</b> ${escapeHtml(set.remedy)}` : ''}`;
+    const holds = set.set ? verdict(set.holds, 'yes', 'no')
+      : `${set.empty && set.holds != null ? `${verdict(set.holds, 'yes', 'no')}<br>` : ''}<span class="hint">${why}</span>`;
     const time = set.seconds == null ? '–' : `${(1000 * set.seconds).toFixed(1)} ms`;
     const open = set.scenario ? `<br><button type="button" class="open-panel" data-i="${i}" title="the same scenario and data in the method's own panel">open in its panel</button>` : '';
     const cells = [`<b>${NAMES[row.method] || escapeHtml(row.method)}</b>${set.note ? `<br><span class="hint">${richText(set.note)}</span>` : ''}${open}`,
       `${escapeHtml(row.promise)}${level}`, assume, area, holds, time];
     if (counts) {
+      // The counts, band and verdict are the core's (over the runs with a set); the page only
+      // colours by the core's standing.
       const k = counts.methods.find((m) => m.method === row.method);
-      cells.push(k ? `${int(k.holds)} / ${int(counts.runs)}` : '–',
+      const tone = { kept: 'good', broken: 'warn', does_not_apply: 'hint', no_promise: 'hint' };
+      const noSet = k && k.no_set > 0
+        ? `${int(k.no_set)}${k.no_set_reason ? `<br><span class="hint">${escapeHtml(k.no_set_reason)}${k.no_set_remedy ? `<br><b>a set needs:</b> ${escapeHtml(k.no_set_remedy)}` : ''}</span>` : ''}`
+        : (k ? '0' : '–');
+      cells.push(k ? `${int(k.holds)} / ${int(k.with_set)}` : '–',
+        noSet,
         k?.band ? `[${int(k.band[0])}, ${int(k.band[1])}]` : '–',
-        k ? `<span class="${/below|failed/.test(k.verdict) ? 'warn' : 'good'}">${escapeHtml(k.verdict)}</span>` : '–');
+        k ? `<span class="${tone[k.standing] || 'hint'}">${escapeHtml(k.verdict)}</span>` : '–');
     }
     // data-label: on a phone the rows stack, and each value says its column (style.css).
     return `<tr>${cells.map((v, j) => (j === 0 ? `<th>${v}</th>` : `<td data-label="${escapeHtml(head[j])}">${v}</td>`)).join('')}</tr>`;
@@ -142,7 +155,8 @@ function showNumbers(p) {
   ui.numbers.innerHTML = `<div class="table-scroll"><table class="est compare-table"><thead><tr>${head.map((h) => `<th>${h}</th>`).join('')}</tr></thead>`
     + `<tbody>${rows.join('')}</tbody></table></div>`
     + `<p class="hint">${LAWS[c.noise] || escapeHtml(c.noise)} noise, σ<sub>v</sub> = ${fmt(c.sigma_v)}, σ<sub>w</sub> = ${fmt(c.sigma_w)}; bounds given to the bounded methods: b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}`
-    + `${at.truth ? `; true x${sub(at.target_time)} = (${at.truth.map(fmt).join(', ')})` : '; your data: no truth'}.</p>`;
+    + `${at.truth ? `; true x${sub(at.target_time)} = (${at.truth.map(fmt).join(', ')})` : '; your data: no truth'}.</p>`
+    + (st.report.warnings || []).map((w) => `<p class="hint warn">${escapeHtml(w)}</p>`).join('');
   // Whether the bounds are below the noise's is the core's verdict (the rows' `violated`).
   const tight = c.rows.map((r) => r.violated).find((v) => /bounds are/.test(v || ''));
   ui['bounds-out'].innerHTML = `b<sub>v</sub> = ${fmt(c.bound_v)}, b<sub>w</sub> = ${fmt(c.bound_w)}${tight ? ` <b class="warn">${richText(tight)}</b>` : ''}`;
@@ -157,7 +171,15 @@ function placeTruth(p, e) {
   if (!at) return;
   const span = Math.max(Math.abs(at.chart.x_range[1] - at.chart.x_range[0]), Math.abs(at.chart.y_range[1] - at.chart.y_range[0]));
   const digits = Math.max(0, 3 - Math.floor(Math.log10(span)));
-  ui.xbar.value = [at.x, at.y].map((v) => +v.toFixed(digits)).join(' ');
+  // The click gives the plane's components (one for n = 1, whose rows are methods); the
+  // state's other components stay as they were (the simulated truth's at first).
+  const { plot, n } = st.report;
+  const c = st.report.compare;
+  const before = ui.xbar.value.trim().split(/[\s,]+/).map(Number);
+  const x = before.length === n && before.every(Number.isFinite)
+    ? before : (c.x_true?.[c.at.target_time - 1] || new Array(n).fill(0)).slice();
+  plot.forEach((k, i) => { x[k] = i === 0 ? at.x : at.y; });
+  ui.xbar.value = x.map((v) => +v.toFixed(digits)).join(' ');
   // The state drawn is the target of the time shown.
   ui.ct.value = String(st.report.compare.at.target_time);
   // Gaussian noise: the record itself is drawn given the state (the picture shows it there).
@@ -169,7 +191,9 @@ function placeTruth(p, e) {
 function startStudy({ ui, st }) {
   if (!st.report) throw new Error('no valid scenario to count');
   const s = JSON.parse(JSON.stringify(st.scenario));
-  const x = s.compare.study?.x || st.report.compare.at.truth;
+  // The whole true state (the simulated one at the target time when none was placed).
+  const c = st.report.compare;
+  const x = s.compare.study?.x || c.x_true?.[c.at.target_time - 1];
   if (!x) throw { field: 'compare.study.x', message: 'the study needs a true state: click the figure to place one' };
   if (!s.simulate) throw { field: 'data', message: 'the study draws new records: it needs a simulated scenario, not your data' };
   const total = wholeNumber('compare.study.runs', ui.runs.value);

@@ -491,7 +491,14 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
             )
         });
         let area = match (&set.set, set.area) {
-            (None, _) => format!("no set: {}", notation(set.reason.as_deref().unwrap_or(""))),
+            (None, _) => format!(
+                "{}: {}{}",
+                if set.empty { "empty set" } else { "no set" },
+                notation(set.reason.as_deref().unwrap_or("")),
+                set.remedy
+                    .as_deref()
+                    .map_or(String::new(), |r| format!("<br>a set needs: {}", notation(r)))
+            ),
             (Some(_), None) => "unbounded".to_string(),
             (Some(_), Some(a)) => number(a),
         };
@@ -502,15 +509,20 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
         };
         let count = counts.and_then(|cs| cs.iter().find(|m| m["method"] == row.method.name()));
         let (counted, verdict) = match (count, study) {
-            (Some(m), Some(s)) => (
+            // Over the runs with a set: a run without one is no miss, counted apart.
+            (Some(m), Some(_)) => (
                 format!(
-                    "{} / {}{}",
+                    "{} / {}{}{}",
                     m["holds"],
-                    s["runs"],
+                    m["with_set"],
                     m["band"].as_array().map_or(String::new(), |b| format!(
                         " <small>(99.9 % band {}–{})</small>",
                         b[0], b[1]
-                    ))
+                    )),
+                    match m["no_set"].as_u64() {
+                        Some(k) if k > 0 => format!(" <small>({k} runs without a set)</small>"),
+                        _ => String::new(),
+                    }
                 ),
                 notation(m["verdict"].as_str().unwrap_or("")),
             ),

@@ -68,6 +68,7 @@ use crate::study::{self, Runs, Study, Tally};
 use nalgebra::{DMatrix, DVector};
 use rand::{Rng, RngExt};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
 use std::sync::OnceLock;
 
@@ -144,6 +145,17 @@ pub struct CompareSpec {
     pub window: usize,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub study: Option<CompareStudySpec>,
+    /// The two state components a model of n ≥ 3 states is drawn in (every set projected on
+    /// them, the truth too); default [0, 1]. A model of n ≤ 2 states has its own plane (n = 2)
+    /// or line (n = 1), and takes none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane: Option<[usize; 2]>,
+    /// Each member's own options, by method name: `{"glls": {"horizon": 8}, "ubb": {"delta":
+    /// [2, 2]}}`. Each key must be one its member passes through (`CompareMember::options`):
+    /// what the compare derives from its noise law, target and record (bounds, levels, the
+    /// target time, the plane) is not among them.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub members: BTreeMap<String, serde_json::Map<String, serde_json::Value>>,
 }
 fn default_bound_sigmas() -> f64 {
     3.0
@@ -155,9 +167,17 @@ fn default_window() -> usize {
     10
 }
 
-/// Most simulated steps or data rows of a compare (each step of the time cursor reruns every
-/// method on the rows up to it).
-pub const MAX_STEPS: usize = 150;
+/// Most simulated steps or data rows of a compare: the most any member takes
+/// (`MethodScenario::steps` of each). Within it the work budget decides (each member's own
+/// estimate on the record, `work` below); a member whose own range ends earlier gives no set
+/// past it, saying so.
+pub fn max_steps() -> usize {
+    members()
+        .iter()
+        .map(|m| *super::make_method(m.method).steps().end())
+        .max()
+        .unwrap_or(2)
+}
 /// Largest window of the set-membership methods.
 pub const MAX_WINDOW: usize = 40;
 /// Support LPs of each exact polygon (Tempo's feasible set, Pavelková's consistent states).
@@ -177,6 +197,23 @@ pub enum PlaneSet {
         bounded: bool,
         window: BoxSet,
     },
+    /// lo ≤ x ≤ hi: a set of a scalar state (n = 1).
+    Interval { lo: f64, hi: f64 },
+}
+
+impl PlaneSet {
+    /// The interval c ± √(r²·σ²) of a one-dimensional ellipsoid, or the ellipse of a planar one.
+    pub(crate) fn of_ellipsoid(e: Ellipsoid) -> PlaneSet {
+        if e.dim() == 1 {
+            let half = (e.radius2 * e.cov[0][0]).max(0.0).sqrt();
+            PlaneSet::Interval {
+                lo: e.center[0] - half,
+                hi: e.center[0] + half,
+            }
+        } else {
+            PlaneSet::Ellipse(e)
+        }
+    }
 }
 
 /// One method's set at the cursor's time, or why it has none.
@@ -197,6 +234,14 @@ pub struct MethodSet {
     /// Why the method has no set here (its own error, naming its field).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// What would give it one (an option of the compare or of the member, in words).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub remedy: Option<String>,
+    /// The method's set is empty: the data contradict its bounds (its solver finds no state
+    /// consistent with them, `reason`). An empty set holds no state: with a truth, `holds` is
+    /// false, and a study counts it as a miss. Not "no set" (a set that could not be computed).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub empty: bool,
     /// What the set is besides (the horizon, the prediction carried over, bounds extended).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -227,6 +272,9 @@ pub struct CompareRow {
     /// Whether `level` is a lower bound (LSCR) rather than exact.
     #[serde(default)]
     pub at_least: bool,
+    /// The member's own options passed from `compare.members.<method>`, as given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub options: Option<serde_json::Value>,
 }
 
 /// The detail at one time t: every method's set.
@@ -235,8 +283,9 @@ pub struct CompareAt {
     pub t: usize,
     /// t + 1 (prediction) or t.
     pub target_time: usize,
+    /// The true target state's components in the plane (one for n = 1), simulation only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub truth: Option<[f64; 2]>,
+    pub truth: Option<Vec<f64>>,
     pub sets: Vec<MethodSet>,
 }
 
@@ -336,27 +385,39 @@ pub(crate) struct ComparePrepared {
     bound_v: f64,
     bound_w: f64,
     members: Vec<Member>,
-    /// The record: y_1 … y_T, and x_1 … x_{T+1} when simulated.
+    /// The state components the sets are drawn in: [i, j] (n ≥ 2), [0] (n = 1).
+    plane: Vec<usize>,
+    /// The record: y_1 … y_T (a gap is NaN), and x_1 … x_{T+1} when simulated.
     y: Vec<Vec<f64>>,
     x: Option<Vec<DVector<f64>>>,
+    /// Without a record (the work estimate, [`Scenario::prepare_compare_shape`]): the steps T
+    /// it will have. Each member's scenario then holds T empty rows: its estimate reads sizes
+    /// only.
+    shape_steps: Option<usize>,
     time: usize,
 }
 
 impl Scenario {
+    /// The compare prepared with its record (simulated or read): what the report, the cursor
+    /// and the study run on.
     pub(crate) fn prepare_compare(&self) -> Result<ComparePrepared> {
+        self.prepare_compare_with(true)
+    }
+
+    /// The compare prepared without its record: every check of the scenario's own fields,
+    /// and the steps the record will have, so that the work estimate reads each member's
+    /// sizes before any record is simulated.
+    fn prepare_compare_shape(&self) -> Result<ComparePrepared> {
+        self.prepare_compare_with(false)
+    }
+
+    fn prepare_compare_with(&self, with_record: bool) -> Result<ComparePrepared> {
         let spec = self
             .block(&self.compare, "the noise law and the target")?
             .clone();
         let lm = LinearModel::from_spec(&self.model)?;
-        if lm.n() != 2 {
-            return Err(Error::field(
-                "model.F",
-                format!(
-                    "is {n}×{n}: a compare draws every set in the state plane, so it takes n = 2 states",
-                    n = lm.n()
-                ),
-            ));
-        }
+        let n = lm.n();
+        let plane = compare_plane(n, spec.plane)?;
         if !lm.is_time_invariant() {
             return Err(Error::field(
                 "model",
@@ -391,41 +452,36 @@ impl Scenario {
             ));
         }
         let members = chosen_members(spec.methods.as_deref())?;
+        check_member_options(&spec, &members)?;
         let factor = match spec.noise {
             NoiseLaw::Uniform => 3f64.sqrt(),
             NoiseLaw::Gaussian | NoiseLaw::Truncated => spec.bound_sigmas,
         } * spec.bound_scale;
         let source = self.source(&Compare)?;
         let steps = source.steps();
-        let (y, x) = match source {
-            super::Source::Data(d) => {
-                let y = source.measurements(lm.q())?;
-                if !d.u.is_empty() {
-                    return Err(Error::field(
-                        "data.u",
-                        "is given, but a compare takes no inputs",
-                    ));
-                }
-                (y, None)
+        match source {
+            super::Source::Data(d) if !d.u.is_empty() => {
+                return Err(Error::field(
+                    "data.u",
+                    "is given, but a compare takes no inputs",
+                ))
             }
-            super::Source::Simulate(sim) => {
-                if !sim.u.is_empty() {
-                    return Err(Error::field(
-                        "simulate.u",
-                        "is given, but a compare takes no inputs",
-                    ));
-                }
-                let mut rng = study::run_stream(sim.seed, 0);
-                let (x, y) = match &sim.condition {
-                    Some(c) => {
-                        let x_c = linalg::vector("simulate.condition.x", &c.x, 2)?;
-                        record_conditioned(&lm, spec.noise, steps, c.t, &x_c, &mut rng)?
-                    }
-                    None => record(&lm, &noise, spec.noise, spec.bound_sigmas, steps, &mut rng),
-                };
-                (y, Some(x))
+            super::Source::Simulate(sim) if !sim.u.is_empty() => {
+                return Err(Error::field(
+                    "simulate.u",
+                    "is given, but a compare takes no inputs",
+                ))
             }
-        };
+            _ => {}
+        }
+        if let super::Source::Simulate(sim) = source {
+            if let Some(c) = &sim.condition {
+                linalg::vector("simulate.condition.x", &c.x, n)?;
+                if spec.noise != NoiseLaw::Gaussian {
+                    return Err(condition_needs_gaussian(spec.noise));
+                }
+            }
+        }
         let time = spec.time.unwrap_or(steps);
         if !(2..=steps).contains(&time) {
             return Err(Error::field(
@@ -435,7 +491,26 @@ impl Scenario {
                 ),
             ));
         }
-        Ok(ComparePrepared {
+        let (y, x) = if !with_record {
+            (Vec::new(), None)
+        } else {
+            match source {
+                // A gap (NaN) stays in the record: each member takes it as its own method does.
+                super::Source::Data(_) => (source.measurements_with_gaps(lm.q())?, None),
+                super::Source::Simulate(sim) => {
+                    let mut rng = study::run_stream(sim.seed, 0);
+                    let (x, y) = match &sim.condition {
+                        Some(c) => {
+                            let x_c = linalg::vector("simulate.condition.x", &c.x, n)?;
+                            record_conditioned(&lm, spec.noise, steps, c.t, &x_c, &mut rng)?
+                        }
+                        None => record(&lm, &noise, spec.noise, spec.bound_sigmas, steps, &mut rng),
+                    };
+                    (y, Some(x))
+                }
+            }
+        };
+        let prepared = ComparePrepared {
             scenario: self.clone(),
             bound_v: factor * noise.sigma_v,
             bound_w: factor * noise.sigma_w,
@@ -443,11 +518,101 @@ impl Scenario {
             model: lm,
             noise,
             members,
+            plane,
             y: y.iter().map(|v| v.iter().copied().collect()).collect(),
             x,
+            shape_steps: (!with_record).then_some(steps),
             time,
-        })
+        };
+        // A member's options that its block does not read as given (a wrong type, an unknown
+        // value) are the compare's to refuse, naming `compare.members.<method>.<key>`: tried
+        // on each member's scenario at the compare's time.
+        for &m in &prepared.members {
+            if let Ok(derived) = m.of.derived_scenario(&prepared, prepared.time) {
+                prepared.with_member_options(m.method, derived)?;
+            }
+        }
+        Ok(prepared)
     }
+}
+
+/// The plane of a model of n states: [0, 1] for n = 2, [0] (a line) for n = 1, and for n ≥ 3
+/// `compare.plane` (default [0, 1]), two different components below n.
+fn compare_plane(n: usize, plane: Option<[usize; 2]>) -> Result<Vec<usize>> {
+    match (n, plane) {
+        (0, _) => Err(Error::field("model.F", "has no rows: a compare needs a state")),
+        (1, None) => Ok(vec![0]),
+        (1, Some(_)) => Err(Error::field(
+            "compare.plane",
+            "is given, but the model has n = 1 state: its sets are intervals of x, drawn side by side (remove compare.plane)",
+        )),
+        (2, None | Some([0, 1])) => Ok(vec![0, 1]),
+        (2, Some(p)) => Err(Error::field(
+            "compare.plane",
+            format!(
+                "is {p:?}, but the model has n = 2 states: they are the plane [0, 1] (remove compare.plane)"
+            ),
+        )),
+        (_, None) => Ok(vec![0, 1]),
+        (n, Some([i, j])) if i < n && j < n && i != j => Ok(vec![i, j]),
+        (n, Some(p)) => Err(Error::field(
+            "compare.plane",
+            format!(
+                "is {p:?}: name two different state components from 0 to {} (the model has n = {n} states)",
+                n - 1
+            ),
+        )),
+    }
+}
+
+/// The refusal of a record drawn given a state under a law with no exact such draw.
+fn condition_needs_gaussian(law: NoiseLaw) -> Error {
+    Error::field(
+        "simulate.condition",
+        format!(
+            "needs Gaussian noise: with {} noise there is no exact draw of the past given a state (remove the condition, or choose \"noise\": \"gaussian\")",
+            law.name()
+        ),
+    )
+}
+
+/// `compare.members`: each key a method the compare runs, each option one its member passes
+/// through ([`CompareMember::options`]).
+fn check_member_options(spec: &CompareSpec, members: &[Member]) -> Result<()> {
+    for (name, options) in &spec.members {
+        let field = format!("compare.members.{name}");
+        let Some(m) = members.iter().find(|m| m.method.name() == name) else {
+            let runs: Vec<&str> = members.iter().map(|m| m.method.name()).collect();
+            return Err(Error::field(
+                field,
+                format!(
+                    "names no method of this compare: it runs {} (compare.methods)",
+                    runs.join(", ")
+                ),
+            ));
+        };
+        let passed = m.of.options();
+        for key in options.keys() {
+            if !passed.contains(&key.as_str()) {
+                let which = if passed.is_empty() {
+                    format!("a compare passes none of \"{}\"'s options", m.method)
+                } else {
+                    format!(
+                        "a compare passes {} to \"{}\"",
+                        passed.join(", "),
+                        m.method
+                    )
+                };
+                return Err(Error::field(
+                    format!("{field}.{}", crate::error::cut(key, crate::error::ECHO_CHARS)),
+                    format!(
+                        "is not an option the compare passes through: {which}; the others come from the compare's noise law, bounds, target, window and record"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The members of `compare.methods` in its order (default: every member), each named once.
@@ -498,7 +663,7 @@ fn record<R: Rng>(
 ) -> (Vec<DVector<f64>>, Vec<DVector<f64>>) {
     let (f, h) = (lm.f(1), lm.h(1));
     let p = noise.g.ncols();
-    let mut x = &lm.x1_mean + linalg::psd_sqrt(&lm.x1_cov) * normal_vector(2, rng);
+    let mut x = &lm.x1_mean + linalg::psd_sqrt(&lm.x1_cov) * normal_vector(lm.n(), rng);
     let mut xs = Vec::with_capacity(steps + 1);
     let mut ys = Vec::with_capacity(steps);
     for _ in 0..steps {
@@ -522,13 +687,7 @@ fn record_conditioned<R: Rng>(
     rng: &mut R,
 ) -> Result<(Vec<DVector<f64>>, Vec<DVector<f64>>)> {
     if law != NoiseLaw::Gaussian {
-        return Err(Error::field(
-            "simulate.condition",
-            format!(
-                "needs Gaussian noise: with {} noise there is no exact draw of the past given a state (remove the condition, or choose \"noise\": \"gaussian\")",
-                law.name()
-            ),
-        ));
+        return Err(condition_needs_gaussian(law));
     }
     let traj = lm.simulate_conditioned(steps + 1, &crate::model::Inputs::none(), t_c, x_c, rng)?;
     let mut y = traj.y;
@@ -548,26 +707,42 @@ pub(crate) trait CompareMember: Sync {
     /// What the method assumes of the noise, whether the record's law meets it, and what it
     /// promises (the module docs' table gives the parameters behind it).
     fn assumption(&self, p: &ComparePrepared) -> Assumption;
+    /// The keys of the method's own block that a compare passes through from
+    /// `compare.members.<method>` (laid over the block [`Self::derived_scenario`] builds, by
+    /// [`ComparePrepared::with_member_options`]): the method's own choices (a horizon, a bound
+    /// on x(0), strings). Not what the compare derives from its noise law, target and record
+    /// (bounds, levels, the target time, the plane): a key outside this list is refused by
+    /// name. Required, so a new member decides.
+    fn options(&self) -> &'static [&'static str];
     /// The method's own scenario on the record's first t rows, its parameters derived from the
-    /// noise law: [`ComparePrepared::own_scenario`] with the method's block.
+    /// noise law: [`ComparePrepared::own_scenario`] with the method's block (the member's
+    /// options of `compare.members` are laid over it by the compare).
     fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario>;
-    /// The set of the target state read from the method's own report of its derived scenario,
+    /// The set of the target state (its components in the compare's plane,
+    /// [`ComparePrepared::plane`]) read from the method's own report of its derived scenario,
     /// carried to the target by the model the method assumes where its paper's set is of
-    /// another time (or an error saying why it has none). `truth`: the true target state, to
-    /// say whether the set holds it.
+    /// another time (or an error saying why it has none). `truth`: the true target state's
+    /// plane components, to say whether the set holds them.
     fn plane_set(
         &self,
         p: &ComparePrepared,
         report: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading>;
+    /// What would give the method a set when it has none (`error`, its own reason): the option
+    /// of the compare or of `compare.members.<method>` to change, in words; `None` when no
+    /// option would. The compare says first what it knows of every member (a gap the method
+    /// refuses, a record past the method's steps).
+    fn remedy(&self, _p: &ComparePrepared, _error: &Error) -> Option<String> {
+        None
+    }
     /// Whether the method's set of the target state holds `truth`: what a study's run counts
     /// (an error: the method gives no set, counted as such). `scenario` is
     /// [`Self::derived_scenario`]'s. The default builds the method's whole report and reads the
     /// set from it, as the report and the cursor do ([`Self::plane_set`]); a member overrides it
     /// with only the work the set at the target time needs, and must give the same verdict
     /// (`compare::tests::the_study_counts_what_the_reports_count`).
-    fn holds_at(&self, p: &ComparePrepared, scenario: &Scenario, truth: [f64; 2]) -> Result<bool> {
+    fn holds_at(&self, p: &ComparePrepared, scenario: &Scenario, truth: &[f64]) -> Result<bool> {
         let report = scenario.run()?;
         self.plane_set(p, &report, Some(truth))?
             .holds
@@ -583,6 +758,61 @@ pub(crate) trait CompareMember: Sync {
 pub(crate) fn checked_as_run(s: &Scenario) -> Result<()> {
     s.check_method_blocks()?;
     s.work(Job::Report).check(Job::Report)
+}
+
+/// The image F·E of an ellipsoid of any dimension n under the n×n map F: centre F·c, shape
+/// F·C·Fᵀ, the same r² (exact; degenerate when F is singular). The plane's own 2×2 case is
+/// [`crate::sets::map_ellipse`].
+pub(crate) fn map_ellipsoid(f: &DMatrix<f64>, e: &Ellipsoid) -> Ellipsoid {
+    let c = f * e.center_vec();
+    let cov = f * e.cov_mat() * f.transpose();
+    Ellipsoid::new(&c, &cov, e.radius2)
+}
+
+/// The polygon P·F·B of the box B = [lo, hi] (n components) under the n×n map F and the
+/// projection P on the plane's two components: the zonotope with centre P·F·(lo + hi)/2 and
+/// one generator P·F·e_k·(hi_k − lo_k)/2 per component, built as the Minkowski sum of its
+/// segments (exact; n sums, so any n). `f = None`: the box itself projected.
+pub(crate) fn projected_box_image(
+    f: Option<&DMatrix<f64>>,
+    lo: &[f64],
+    hi: &[f64],
+    plane: [usize; 2],
+) -> Vec<[f64; 2]> {
+    let n = lo.len();
+    let column = |k: usize| -> [f64; 2] {
+        match f {
+            Some(f) => [f[(plane[0], k)], f[(plane[1], k)]],
+            None => [
+                f64::from(u8::from(k == plane[0])),
+                f64::from(u8::from(k == plane[1])),
+            ],
+        }
+    };
+    let mut centre = [0.0; 2];
+    let mut poly: Vec<[f64; 2]> = Vec::new();
+    for k in 0..n {
+        let col = column(k);
+        let (mid, half) = (0.5 * (lo[k] + hi[k]), 0.5 * (hi[k] - lo[k]));
+        centre[0] += col[0] * mid;
+        centre[1] += col[1] * mid;
+        let g = [col[0] * half, col[1] * half];
+        if g == [0.0, 0.0] {
+            continue;
+        }
+        let segment = [[-g[0], -g[1]], g];
+        poly = if poly.is_empty() {
+            segment.to_vec()
+        } else {
+            crate::sets::minkowski_sum(&poly, &segment)
+        };
+    }
+    if poly.is_empty() {
+        poly.push([0.0, 0.0]);
+    }
+    poly.iter()
+        .map(|v| [v[0] + centre[0], v[1] + centre[1]])
+        .collect()
 }
 
 /// A method's assumption and promise: its row of the compare table without the method.
@@ -646,6 +876,12 @@ fn row(p: &ComparePrepared, m: Member) -> CompareRow {
         promise: a.promise.to_string(),
         level: a.level,
         at_least: a.at_least,
+        options: p
+            .spec
+            .members
+            .get(m.method.name())
+            .filter(|o| !o.is_empty())
+            .map(|o| serde_json::Value::Object(o.clone())),
     }
 }
 
@@ -659,6 +895,8 @@ impl MethodSet {
             area: None,
             holds: None,
             reason: None,
+            remedy: None,
+            empty: false,
             note: None,
             seconds: None,
             scenario: None,
@@ -716,7 +954,57 @@ impl ComparePrepared {
 
     /// The steps of the record (y_1 … y_T: T).
     pub(crate) fn steps(&self) -> usize {
-        self.y.len()
+        self.shape_steps.unwrap_or(self.y.len())
+    }
+
+    /// The number n of states.
+    pub(crate) fn n(&self) -> usize {
+        self.model.n()
+    }
+
+    /// The state components the sets are drawn in: [i, j] for n ≥ 2 (`compare.plane`; [0, 1]
+    /// for n = 2), [0] for n = 1 (each set an interval). A member gives the set of these
+    /// components of the target state.
+    pub(crate) fn plane(&self) -> &[usize] {
+        &self.plane
+    }
+
+    /// The option `key` of `method`'s block given in `compare.members`, if any.
+    pub(crate) fn member_option(&self, method: Method, key: &str) -> Option<&serde_json::Value> {
+        self.spec.members.get(method.name())?.get(key)
+    }
+
+    /// The rank of the observability matrix [H; HF; …; HF^{n−1}]: n when the record's outputs
+    /// determine the state (the members' remedies say when no option could).
+    pub(crate) fn observability_rank(&self) -> usize {
+        let (f, h) = (self.model.f(1), self.model.h(1));
+        let n = self.n();
+        let q = h.nrows();
+        let mut o = DMatrix::zeros(q * n, n);
+        let mut block = h.clone();
+        for k in 0..n {
+            o.view_mut((k * q, 0), (q, n)).copy_from(&block);
+            block = &block * f;
+        }
+        let scale = o.amax().max(f64::MIN_POSITIVE);
+        o.svd(false, false)
+            .singular_values
+            .iter()
+            .filter(|&&s| s > 1e-10 * scale)
+            .count()
+    }
+
+    /// "(F, H) is not observable …" when it is not: no horizon or number of steps gives a set
+    /// that needs the outputs to determine the state.
+    pub(crate) fn unobservable(&self) -> Option<String> {
+        let rank = self.observability_rank();
+        (rank < self.n()).then(|| {
+            format!(
+                "(F, H) is not observable: [H; HF; …; HF^{}] has rank {rank} < n = {}, so no number of measurements determines the state",
+                self.n() - 1,
+                self.n()
+            )
+        })
     }
 
     /// The window of the set-membership methods at time t (`compare.window`, at most t).
@@ -780,11 +1068,21 @@ impl ComparePrepared {
     /// compare's α and its title: a member adds its block.
     pub(crate) fn own_scenario(&self, method: Method, model: ModelSpec, t: usize) -> Scenario {
         let s = &self.scenario;
+        // Without a record (the work estimate) t empty rows: the member's estimate reads the
+        // record's length only. The record's own times go with their rows.
+        let y = match self.shape_steps {
+            Some(_) => vec![Vec::new(); t],
+            None => self.y[..t].to_vec(),
+        };
+        let times = match &s.data {
+            Some(d) if d.t.len() >= t && self.shape_steps.is_none() => d.t[..t].to_vec(),
+            _ => Vec::new(),
+        };
         let own = Scenario::new(method, model)
             .with_data(DataSpec {
-                y: self.y[..t].to_vec(),
+                y,
                 u: Vec::new(),
-                t: Vec::new(),
+                t: times,
             })
             .with_alpha(s.alpha);
         // The title as its figures would show it (cut at `error::DISPLAY_CHARS`): each derived
@@ -799,16 +1097,124 @@ impl ComparePrepared {
         t + usize::from(self.predicts())
     }
 
-    fn truth(&self, t: usize) -> Option<[f64; 2]> {
+    /// The true target state's plane components at time t (simulation only).
+    fn truth(&self, t: usize) -> Option<Vec<f64>> {
         let x = self.x.as_ref()?.get(self.target_time(t) - 1)?;
-        Some([x[0], x[1]])
+        Some(self.in_plane(x.as_slice()))
     }
 
-    /// One method's set at t, or the reason it has none.
-    fn method_set(&self, m: Member, t: usize, truth: Option<[f64; 2]>) -> MethodSet {
+    /// The components of a full state in the compare's plane (one for n = 1).
+    fn in_plane(&self, x: &[f64]) -> Vec<f64> {
+        self.plane.iter().map(|&i| x[i]).collect()
+    }
+
+    /// The first row (0-based) of y_1 … y_t with a gap, if any.
+    fn first_gap_before(&self, t: usize) -> Option<usize> {
+        self.y[..t.min(self.y.len())]
+            .iter()
+            .position(|r| r.iter().any(|v| v.is_nan()))
+    }
+
+    /// `method`'s scenario at t as the compare runs it: its member's derived scenario with the
+    /// member's options of `compare.members` laid over its block.
+    pub(crate) fn member_scenario(&self, method: Method, t: usize) -> Result<Scenario> {
+        let m = self
+            .members
+            .iter()
+            .chain(members().iter())
+            .find(|m| m.method == method)
+            .copied()
+            .ok_or_else(|| {
+                Error::field(
+                    "compare.methods",
+                    format!("\"{method}\" does not join a compare"),
+                )
+            })?;
+        self.with_member_options(method, m.of.derived_scenario(self, t)?)
+    }
+
+    /// `derived` with `method`'s options of `compare.members` laid over its block (the keys
+    /// were checked against the member's [`CompareMember::options`]): the scenario written as
+    /// JSON, each option set in the block, and read back as a scenario, so the block's own
+    /// types read them; an option they refuse names `compare.members.<method>.<key>`.
+    pub(crate) fn with_member_options(&self, method: Method, mut derived: Scenario) -> Result<Scenario> {
+        let Some(options) = self
+            .spec
+            .members
+            .get(method.name())
+            .filter(|o| !o.is_empty())
+        else {
+            return Ok(derived);
+        };
+        let block = method.block().unwrap_or("");
+        // The record is put back after: only the block is rewritten.
+        let data = derived.data.take();
+        let mut v = serde_json::to_value(&derived).map_err(|e| {
+            Error::field(
+                format!("compare.members.{method}"),
+                format!("could not be laid over the member's scenario: {e}"),
+            )
+        })?;
+        if let Some(root) = v.as_object_mut() {
+            let entry = root
+                .entry(block.to_string())
+                .or_insert_with(|| serde_json::Value::Object(Default::default()));
+            if let Some(b) = entry.as_object_mut() {
+                for (k, x) in options {
+                    b.insert(k.clone(), x.clone());
+                }
+            }
+        }
+        let mut s = crate::parse::from_value::<Scenario>(&v, "").map_err(|e| {
+            match e.field.strip_prefix(block).filter(|rest| rest.starts_with('.')) {
+                Some(rest) => Error::field(format!("compare.members.{method}{rest}"), e.message),
+                None => Error::field(format!("compare.members.{method}"), e.to_string()),
+            }
+        })?;
+        s.data = data;
+        Ok(s)
+    }
+
+    /// What would give `m` a set at t, its error `e` being why it has none: a record the
+    /// method cannot take (a gap before t, more rows than it takes), else the member's own
+    /// [`CompareMember::remedy`].
+    fn remedy(&self, m: Member, t: usize, e: &Error) -> Option<String> {
+        let own = super::make_method(m.method);
+        if let (super::Gaps::Refused(_), Some(k)) = (own.gaps(), self.first_gap_before(t)) {
+            // Row k (0-based) is y_{k+1}: the k rows before it end at t = k.
+            return Some(match k {
+                0 | 1 => format!(
+                    "a record without gaps: \"{}\" cannot take one, and the first is data.y[{k}]",
+                    m.method
+                ),
+                _ => format!(
+                    "compare.time at most {k} (before the first gap, data.y[{k}]), or a record without gaps: \"{}\" cannot take one",
+                    m.method
+                ),
+            });
+        }
+        let range = own.steps();
+        if !range.contains(&t) {
+            return Some(format!(
+                "compare.time from {} to {}: \"{}\" takes {} to {} measurements",
+                range.start().max(&2),
+                range.end().min(&self.steps()),
+                m.method,
+                range.start(),
+                range.end()
+            ));
+        }
+        m.of.remedy(self, e)
+    }
+
+    /// One method's set at t, or the reason it has none (and what would give one).
+    fn method_set(&self, m: Member, t: usize, truth: Option<&[f64]>) -> MethodSet {
         let clock = CLOCK.get();
         let start = clock.map(|c| c());
-        let scenario = m.of.derived_scenario(self, t);
+        let scenario = m
+            .of
+            .derived_scenario(self, t)
+            .and_then(|d| self.with_member_options(m.method, d));
         let result = scenario
             .as_ref()
             .map_err(Clone::clone)
@@ -824,7 +1230,15 @@ impl ComparePrepared {
                 set.holds = r.holds;
                 set.note = r.note;
             }
-            Err(e) => set.reason = Some(e.to_string()),
+            Err(e) => {
+                // An empty set (the data contradict the bounds) is a set that holds nothing.
+                if crate::solve::is_infeasible(&e) {
+                    set.empty = true;
+                    set.holds = truth.map(|_| false);
+                }
+                set.remedy = self.remedy(m, t, &e);
+                set.reason = Some(e.to_string());
+            }
         }
         set.seconds = seconds;
         set.scenario = scenario.ok().and_then(|s| serde_json::to_value(s).ok());
@@ -845,13 +1259,43 @@ impl ComparePrepared {
         Ok(CompareAt {
             t,
             target_time: self.target_time(t),
-            truth,
             sets: self
                 .members
                 .iter()
-                .map(|&m| self.method_set(m, t, truth))
+                .map(|&m| self.method_set(m, t, truth.as_deref()))
                 .collect(),
+            truth,
         })
+    }
+
+    /// The record's gaps in words, and what the members do with them (empty without gaps).
+    fn gap_warnings(&self) -> Vec<String> {
+        let rows: Vec<usize> = (0..self.y.len())
+            .filter(|&k| self.y[k].iter().any(|v| v.is_nan()))
+            .collect();
+        let Some(&first) = rows.first() else {
+            return Vec::new();
+        };
+        let (taking, refusing): (Vec<Member>, Vec<Member>) = self
+            .members
+            .iter()
+            .partition(|m| matches!(super::make_method(m.method).gaps(), super::Gaps::Handled(_)));
+        let names = |ms: &[Member]| ms.iter().map(|m| m.method.name()).collect::<Vec<_>>().join(", ");
+        let mut w = format!(
+            "data.y has {} row{} with a gap (the first is data.y[{first}]): each method takes a gap as its own method does",
+            rows.len(),
+            if rows.len() == 1 { "" } else { "s" }
+        );
+        if !taking.is_empty() {
+            w.push_str(&format!(" ({} take it)", names(&taking)));
+        }
+        if !refusing.is_empty() {
+            w.push_str(&format!(
+                "; {} cannot take one and have no set from the first gap on (each row says why)",
+                names(&refusing)
+            ));
+        }
+        vec![w]
     }
 
     fn report(&self) -> Result<Report> {
@@ -874,16 +1318,18 @@ impl ComparePrepared {
             rows: self.members.iter().map(|&m| row(self, m)).collect(),
             at,
         };
+        // The report's `plot` is the compare's plane: [0, 1] (n = 2), [i, j] (n ≥ 3) or [0].
         let mut r = Report::of(
             s,
             s.alpha,
-            (2, self.model.q()),
+            (self.model.n(), self.model.q()),
             self.time,
-            vec![0, 1],
+            self.plane.clone(),
             self.y.clone(),
         );
         r.x_true = c.x_true.clone();
         r.compare = Some(c);
+        r.warnings.extend(self.gap_warnings());
         Ok(r)
     }
 }
@@ -900,15 +1346,34 @@ impl Cursor for CompareCursor {
     }
 }
 
-/// Hits per method over a range of runs.
+/// Why a method gave no set in a study's run, and what would give it one: the first such run
+/// of a range (by run index, so that the sum of ranges keeps the earliest, whatever the
+/// chunks or shards).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NoSet {
+    /// The run (0-based) this reason is from.
+    pub run: usize,
+    /// The method's own error.
+    pub reason: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub remedy: Option<String>,
+}
+
+/// Counts per method over a range of runs. A run either gave a set that held the state
+/// (`holds`), gave a set that missed it, or gave no set (`no_set`): a set that does not exist
+/// neither holds nor misses, so those runs are counted apart and the verdict is over the runs
+/// with a set.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct CompareCounts {
     pub runs: usize,
     /// Per method (in the study's order): runs whose set held the state.
     pub holds: Vec<usize>,
     /// Per method: runs where the method gave no set (its run refused: e.g. bounds the data
-    /// contradict). A set that does not exist holds nothing: these count as misses.
+    /// contradict, a state its record does not determine).
     pub no_set: Vec<usize>,
+    /// Per method: why its first run without a set had none (`None`: every run had one).
+    #[serde(default)]
+    pub no_set_first: Vec<Option<NoSet>>,
 }
 
 impl Tally for CompareCounts {
@@ -931,35 +1396,87 @@ impl Tally for CompareCounts {
     }
     fn add(&mut self, later: &Self) -> std::result::Result<(), String> {
         // The shape is checked even against no runs: the zero counts have the study's.
-        if later.holds.len() != self.holds.len() || later.no_set.len() != self.no_set.len() {
+        let k = self.holds.len();
+        if later.holds.len() != k || later.no_set.len() != k || self.no_set.len() != k {
             return Err(format!(
-                "counts of {} methods, not {}",
+                "counts of {} methods, not {k}",
                 later.holds.len(),
-                self.holds.len()
             ));
+        }
+        if later.no_set_first.len() != later.no_set.len() {
+            return Err(format!(
+                "no_set_first has {} entries for {} methods",
+                later.no_set_first.len(),
+                later.no_set.len()
+            ));
+        }
+        // A reason stands for at least one run without a set, and only then.
+        for (j, (n, first)) in later.no_set.iter().zip(&later.no_set_first).enumerate() {
+            if (*n > 0) != first.is_some() {
+                return Err(format!(
+                    "no_set[{j}] = {n} with{} a reason in no_set_first[{j}]",
+                    if first.is_some() { "" } else { "out" }
+                ));
+            }
         }
         crate::study::add_count(&mut self.runs, later.runs, "runs")?;
         crate::study::add_counts(&mut self.holds, &later.holds, "holds", "methods' holds")?;
         crate::study::add_counts(&mut self.no_set, &later.no_set, "no_set", "methods' no_set")?;
+        self.no_set_first.resize(k, None);
+        for (mine, theirs) in self.no_set_first.iter_mut().zip(&later.no_set_first) {
+            match (mine.as_ref(), theirs) {
+                (None, Some(t)) => *mine = Some(t.clone()),
+                (Some(m), Some(t)) if t.run < m.run => *mine = Some(t.clone()),
+                _ => {}
+            }
+        }
         Ok(())
     }
+}
+
+/// How a count stands against its method's promise (the page colours by it; the words are
+/// the verdict's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Standing {
+    /// Inside the band, above a lower bound, or never failed.
+    Kept,
+    /// Below the band, above an exact level's band, or failed.
+    Broken,
+    /// No run gave a set: the promise was never put to the test.
+    DoesNotApply,
+    /// The method promises no probability.
+    NoPromise,
 }
 
 /// One method's count beside its promise.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MethodCount {
     pub method: Method,
+    /// Runs whose set held the state.
     pub holds: usize,
+    /// Runs whose set missed the state (a run without a set is no miss: `no_set`).
     pub misses: usize,
+    /// Runs where the method gave no set.
     pub no_set: usize,
+    /// Runs with a set (holds + misses): what the verdict is over.
+    pub with_set: usize,
     pub promise: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub level: Option<f64>,
-    /// The 99.9 % binomial band of the count under the promised level.
+    /// The 99.9 % binomial band of the count under the promised level, over the runs with a
+    /// set.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub band: Option<[usize; 2]>,
     /// The count against the promise, in words.
     pub verdict: String,
+    pub standing: Standing,
+    /// Why the first run without a set had none (the method's own error).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_set_reason: Option<String>,
+    /// What would give it one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_set_remedy: Option<String>,
 }
 
 /// The study's result.
@@ -969,7 +1486,8 @@ pub struct CompareStudyReport {
     pub total: usize,
     pub t: usize,
     pub target_time: usize,
-    pub x: [f64; 2],
+    /// The true target state (every component).
+    pub x: Vec<f64>,
     /// How the records were drawn given the state.
     pub conditioning: String,
     pub methods: Vec<MethodCount>,
@@ -989,7 +1507,7 @@ enum Path {
 /// The compare study: records given the target state, every method's set counted.
 struct CompareStudy {
     prepared: ComparePrepared,
-    x: [f64; 2],
+    x: Vec<f64>,
     rows: Vec<CompareRow>,
     total: usize,
     seed: u64,
@@ -1004,7 +1522,7 @@ impl CompareStudy {
                 "is missing: give the true state x (and runs, seed) to count",
             )
         })?;
-        let x = linalg::vector("compare.study.x", &spec.x, 2)?;
+        let x = linalg::vector("compare.study.x", &spec.x, prepared.n())?;
         let total = runs.unwrap_or(spec.runs);
         if !(1..=super::MAX_STUDY_RUNS).contains(&total) {
             return Err(Error::field(
@@ -1032,7 +1550,7 @@ impl CompareStudy {
             .map(|&m| row(&prepared, m))
             .collect();
         Ok(CompareStudy {
-            x: [x[0], x[1]],
+            x: x.iter().copied().collect(),
             rows,
             total,
             seed: spec.seed,
@@ -1052,18 +1570,44 @@ impl CompareStudy {
             let saved = std::mem::replace(&mut self.prepared.y, y);
             for (j, &m) in self.prepared.members.iter().enumerate() {
                 let p = &self.prepared;
-                let holds = match path {
-                    Path::Fast => {
-                        m.of.derived_scenario(p, t)
-                            .and_then(|s| m.of.holds_at(p, &s, truth))
-                            .ok()
+                let verdict: std::result::Result<bool, (String, Option<String>)> = match path {
+                    Path::Fast => match m
+                        .of
+                        .derived_scenario(p, t)
+                        .and_then(|d| p.with_member_options(m.method, d))
+                        .and_then(|s| m.of.holds_at(p, &s, &truth))
+                    {
+                        Ok(h) => Ok(h),
+                        // An empty set holds no state: a miss, not a run without a set.
+                        Err(e) if crate::solve::is_infeasible(&e) => Ok(false),
+                        Err(e) => Err((e.to_string(), p.remedy(m, t, &e))),
+                    },
+                    Path::Report => {
+                        let set = p.method_set(m, t, Some(&truth));
+                        match (set.holds, set.reason) {
+                            (Some(h), _) => Ok(h),
+                            (None, reason) => Err((
+                                reason.unwrap_or_else(|| {
+                                    "the set could not be checked against the state".into()
+                                }),
+                                set.remedy,
+                            )),
+                        }
                     }
-                    Path::Report => p.method_set(m, t, Some(truth)).holds,
                 };
-                match holds {
-                    Some(true) => c.holds[j] += 1,
-                    Some(false) => {}
-                    None => c.no_set[j] += 1,
+                match verdict {
+                    Ok(true) => c.holds[j] += 1,
+                    Ok(false) => {}
+                    Err((reason, remedy)) => {
+                        c.no_set[j] += 1;
+                        if c.no_set_first[j].is_none() {
+                            c.no_set_first[j] = Some(NoSet {
+                                run: i,
+                                reason,
+                                remedy,
+                            });
+                        }
+                    }
                 }
             }
             self.prepared.y = saved;
@@ -1072,8 +1616,8 @@ impl CompareStudy {
         c
     }
 
-    /// Run i's record up to y_t and its true target state.
-    fn draw(&self, i: usize) -> (Vec<Vec<f64>>, [f64; 2]) {
+    /// Run i's record up to y_t and its true target state's plane components.
+    fn draw(&self, i: usize) -> (Vec<Vec<f64>>, Vec<f64>) {
         let p = &self.prepared;
         let t = p.time;
         let mut rng = study::run_stream(self.seed, i);
@@ -1098,9 +1642,63 @@ impl CompareStudy {
                 .iter()
                 .map(|v| v.iter().copied().collect())
                 .collect(),
-            [x[0], x[1]],
+            p.in_plane(x.as_slice()),
         )
     }
+}
+
+/// One method's count against its promise: the verdict over the runs with a set (`holds` of
+/// `with_set`) against the exact binomial band of the promised level over those runs
+/// ([`stats::band`]); with no run with a set, no verdict: the promise does not apply.
+fn verdict(row: &CompareRow, holds: usize, with_set: usize, no_set: usize) -> (Option<[usize; 2]>, String, Standing) {
+    let misses = with_set - holds;
+    let apart = if no_set > 0 && with_set > 0 {
+        format!(
+            " ({no_set} run{} without a set not counted)",
+            if no_set == 1 { "" } else { "s" }
+        )
+    } else {
+        String::new()
+    };
+    if with_set == 0 {
+        return (
+            None,
+            "does not apply: no run gave a set (see why)".to_string(),
+            Standing::DoesNotApply,
+        );
+    }
+    let Some(level) = row.level else {
+        return (None, "no probability promised".to_string(), Standing::NoPromise);
+    };
+    let (lo, hi) = stats::band(with_set, level);
+    let band = Some([lo, hi]);
+    let (words, standing) = if level >= 1.0 {
+        if misses == 0 {
+            ("never failed".to_string(), Standing::Kept)
+        } else {
+            (
+                format!(
+                    "failed {misses} time{}{}",
+                    if misses == 1 { "" } else { "s" },
+                    if row.met {
+                        ""
+                    } else {
+                        " (its assumption is violated)"
+                    }
+                ),
+                Standing::Broken,
+            )
+        }
+    } else if holds < lo {
+        ("below the 99.9 % band of its promise".to_string(), Standing::Broken)
+    } else if holds > hi && !row.at_least {
+        ("above the 99.9 % band of its promise".to_string(), Standing::Broken)
+    } else if holds > hi {
+        ("above its level (a lower bound): kept".to_string(), Standing::Kept)
+    } else {
+        ("inside the 99.9 % band of its promise".to_string(), Standing::Kept)
+    };
+    (band, format!("{words}{apart}"), standing)
 }
 
 impl Runs for CompareStudy {
@@ -1118,6 +1716,7 @@ impl Runs for CompareStudy {
             runs: 0,
             holds: vec![0; k],
             no_set: vec![0; k],
+            no_set_first: vec![None; k],
         }
     }
     fn run(&mut self, range: std::ops::Range<usize>) -> Result<CompareCounts> {
@@ -1143,48 +1742,23 @@ impl Runs for CompareStudy {
             .map(|(j, row)| {
                 let holds = c.holds.get(j).copied().unwrap_or(0);
                 let no_set = c.no_set.get(j).copied().unwrap_or(0);
-                let misses = c.runs - holds;
-                let band = row.level.filter(|_| c.runs > 0).map(|l| {
-                    let (lo, hi) = stats::band(c.runs, l);
-                    [lo, hi]
-                });
-                let verdict = match (row.level, band) {
-                    (Some(l), _) if l >= 1.0 => {
-                        if misses == 0 {
-                            "never failed".to_string()
-                        } else {
-                            format!(
-                                "failed {misses} times{}",
-                                if row.met {
-                                    ""
-                                } else {
-                                    " (its assumption is violated)"
-                                }
-                            )
-                        }
-                    }
-                    (Some(_), Some([lo, hi])) => {
-                        if holds < lo {
-                            "below the 99.9 % band of its promise".to_string()
-                        } else if holds > hi && !row.at_least {
-                            "above the 99.9 % band of its promise".to_string()
-                        } else if holds > hi {
-                            "above its level (a lower bound): kept".to_string()
-                        } else {
-                            "inside the 99.9 % band of its promise".to_string()
-                        }
-                    }
-                    _ => "no probability promised".to_string(),
-                };
+                // Merged counts are checked (holds + no_set ≤ runs); a hand-made one saturates.
+                let with_set = c.runs.saturating_sub(no_set).max(holds);
+                let (band, verdict, standing) = verdict(row, holds, with_set, no_set);
+                let first = c.no_set_first.get(j).cloned().flatten();
                 MethodCount {
                     method: row.method,
                     holds,
-                    misses,
+                    misses: with_set - holds,
                     no_set,
+                    with_set,
                     promise: row.promise.clone(),
                     level: row.level,
                     band,
                     verdict,
+                    standing,
+                    no_set_reason: first.as_ref().map(|f| f.reason.clone()),
+                    no_set_remedy: first.and_then(|f| f.remedy),
                 }
             })
             .collect();
@@ -1193,49 +1767,92 @@ impl Runs for CompareStudy {
             total: self.total,
             t: p.time,
             target_time: p.target_time(p.time),
-            x: self.x,
+            x: self.x.clone(),
             conditioning,
             methods,
         }
     }
 }
 
-/// The compare's cost is its methods' own: each derived scenario's estimate on the whole record
-/// (what the report and one cursor step cost at most), their terms renamed to the compare's
-/// fields (a method's window is `compare.window`, anything else the record's length). A study's
-/// run reruns them all on a fresh record. A scenario that cannot be prepared costs nothing
-/// here: its validation names the field.
+/// The compare's cost is its methods' own, estimated before any record is drawn: the compare
+/// prepared without its record ([`Scenario::prepare_compare_shape`]: its own checks and the
+/// record's length T), each member's scenario on T rows (what the report and any step of the
+/// cursor cost at most; a study's run: at `compare.time`), with the member's options, and its
+/// own estimate ([`Scenario::work`]), the terms renamed to the compare's fields: a member's
+/// option given in `compare.members` keeps its name there, a window is `compare.window`,
+/// anything else the record's length (`data.y` or `simulate.steps`). A member whose own range
+/// of steps ends before T costs nothing: it gives no set, saying so. A scenario that cannot
+/// be prepared costs nothing here: its validation names the field.
 fn work(s: &Scenario, job: Job) -> Work {
     let mut w = Work::default();
-    let Ok(p) = s.prepare_compare() else {
+    let Ok(p) = s.prepare_compare_shape() else {
         return w;
     };
     let steps_field = s.steps_field();
+    let t = match job {
+        Job::Report => p.steps(),
+        Job::Study { .. } => p.time,
+    };
     for &Member { method: m, of } in &p.members {
-        let Ok(d) = of.derived_scenario(&p, p.steps()) else {
+        let Ok(d) = of
+            .derived_scenario(&p, t)
+            .and_then(|d| p.with_member_options(m, d))
+        else {
             continue;
         };
+        let block = m.block().unwrap_or("");
         let own = d.work(Job::Report);
         for (terms, into) in [
             (own.operations, &mut w.operations),
             (own.bytes, &mut w.bytes),
         ] {
-            for mut t in terms {
-                let field = if t.field.ends_with(".window") {
-                    "compare.window"
-                } else {
-                    steps_field
+            for mut term in terms {
+                let key = term
+                    .field
+                    .strip_prefix(block)
+                    .and_then(|k| k.strip_prefix('.'))
+                    .map(|k| k.split(['.', '[']).next().unwrap_or(k));
+                let field = match key {
+                    Some(k) if p.member_option(m, k).is_some() => {
+                        format!("compare.members.{m}.{}", &term.field[block.len() + 1..])
+                    }
+                    _ if term.field.ends_with(".window") => "compare.window".to_string(),
+                    _ => steps_field.to_string(),
                 };
-                t.sizes = format!("(method \"{m}\": {} {})", t.field, t.sizes);
-                t.field = field.to_string();
+                let sizes = if steps_field == "data.y" {
+                    term.sizes.clone()
+                } else {
+                    // The member's scenario holds the record as data; the compare simulates it.
+                    term.sizes.replace("data.y", steps_field)
+                };
+                term.sizes = format!("(method \"{m}\": {} {sizes})", term.field);
+                term.field = field;
                 if let Job::Study { .. } = job {
-                    t.field = "compare.study.runs".to_string();
-                    t.advice =
+                    term.field = "compare.study.runs".to_string();
+                    term.advice =
                         "one run of the study reruns every method: fewer steps or methods".into();
                 }
-                into.push(t);
+                into.push(term);
             }
         }
+    }
+    w
+}
+
+/// A method without a set in words: its row, the time, its reason and what would give one.
+fn no_set_words(i: usize, set: &MethodSet, t: usize) -> String {
+    let mut w = format!(
+        "method {i} (\"{}\") has {} at t = {t}: {}",
+        set.method,
+        if set.empty {
+            "an empty set (it holds no state)"
+        } else {
+            "no set"
+        },
+        set.reason.as_deref().unwrap_or("no reason given")
+    );
+    if let Some(r) = &set.remedy {
+        w.push_str(&format!(" — a set needs: {r}"));
     }
     w
 }
@@ -1250,14 +1867,19 @@ impl MethodScenario for Compare {
         )
     }
     fn gaps(&self) -> super::Gaps {
-        super::Gaps::Refused("its members (LSCR, GLLS, the uniform LP) need every measurement of the one record they share")
+        super::Gaps::Handled("each member takes a gap as its own method does (its descriptor's Gaps); a member whose method cannot take one has no set from the first gap on, and says why")
     }
     fn time_index(&self) -> super::TimeIndex {
         super::TimeIndex::NotTime
     }
     fn max_states(&self) -> usize {
-        // Every set is drawn in the state plane.
-        2
+        // The most any member takes: a member past its own limit gives no set, saying so (a
+        // plane of n ≥ 3 states is drawn by projection, `compare.plane`).
+        members()
+            .iter()
+            .map(|m| super::make_method(m.method).max_states())
+            .max()
+            .unwrap_or(2)
     }
     fn truth_keys(&self) -> &'static [(&'static str, &'static str)] {
         &[(
@@ -1266,7 +1888,7 @@ impl MethodScenario for Compare {
         )]
     }
     fn steps(&self) -> RangeInclusive<usize> {
-        2..=MAX_STEPS
+        2..=max_steps()
     }
     fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
         let lm = LinearModel::from_spec(&s.model)?;
@@ -1297,9 +1919,12 @@ impl MethodScenario for Compare {
         Ok(())
     }
     fn table(&self, r: &Report) -> Table {
-        // One row per method at the report's time: its set's area and whether it holds the truth.
+        // One row per method at the report's time (`method`: its row, 0-based, in the
+        // report's order): whether it has a set, the set's area (its length for n = 1) and
+        // whether it holds the truth. A method without a set has empty area and holds cells, and
+        // a `# warning:` line above the header names it, its reason and what would give one.
         let mut table = Table::new(
-            ["method", "area", "holds", "level", "assumption_met"]
+            ["method", "area", "holds", "level", "assumption_met", "has_set"]
                 .map(String::from)
                 .to_vec(),
         );
@@ -1314,7 +1939,11 @@ impl MethodScenario for Compare {
                 flag(set.holds),
                 row.and_then(|r| r.level),
                 flag(row.map(|r| r.met)),
+                flag(Some(set.set.is_some() || set.empty)),
             ]);
+            if set.set.is_none() {
+                table.warnings.push(no_set_words(i, set, c.at.t));
+            }
         }
         table
     }
@@ -1440,7 +2069,15 @@ mod tests {
             let (mut fast_s, mut full_s) = (0.0, 0.0);
             for i in 0..runs {
                 let (a, da) = timed(|| study.counts(i..i + 1, Path::Fast));
-                let (b, db) = timed(|| study.counts(i..i + 1, Path::Report));
+                let (mut b, db) = timed(|| study.counts(i..i + 1, Path::Report));
+                // The same verdicts, and a reason exactly where there is no set (its words
+                // may differ: the fast path stops at the first window that fails).
+                assert_eq!(
+                    a.no_set_first.iter().map(Option::is_some).collect::<Vec<_>>(),
+                    b.no_set_first.iter().map(Option::is_some).collect::<Vec<_>>(),
+                    "{name}: run {i}"
+                );
+                b.no_set_first = a.no_set_first.clone();
                 assert_eq!(a, b, "{name}: run {i}");
                 fast.add(&a).expect("adds");
                 full.add(&b).expect("adds");

@@ -1012,6 +1012,10 @@ impl MethodScenario for Conformal {
 }
 
 impl CompareMember for Conformal {
+    fn options(&self) -> &'static [&'static str] {
+        // The calibration runs N and their seed: its own choices; the level is the compare's α.
+        &["calibration", "seed"]
+    }
     fn compare_order(&self) -> usize {
         // Beside the Kalman region whose ellipse it rescales, before SCF.
         0
@@ -1039,23 +1043,25 @@ impl CompareMember for Conformal {
     }
     fn plane_set(
         &self,
-        _p: &ComparePrepared,
+        p: &ComparePrepared,
         r: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading> {
         let c = r
             .conformal
             .as_ref()
             .ok_or_else(|| Error::field("report.conformal", "is missing"))?;
-        let e = c.region.project(&[0, 1])?;
+        // The region of the whole state, projected on the plane (its shadow: it holds the
+        // plane's components whenever the region holds the state, so "≥ α" stays true).
+        let e = c.region.project(p.plane())?;
         Ok(PlaneReading {
             area: Some(e.volume()),
-            holds: truth.map(|x| e.contains(&x)),
+            holds: truth.map(|x| e.contains(x)),
             note: Some(format!(
                 "radius² {:.3} from N = {} calibration runs (χ²: {:.3})",
                 c.radius2, c.calibration, c.chi2_radius2
             )),
-            set: PlaneSet::Ellipse(e),
+            set: PlaneSet::of_ellipsoid(e),
             outline: None,
         })
     }

@@ -1041,6 +1041,11 @@ fn work(s: &Scenario, job: Job) -> Work {
 // Compare: what a compare asks of GLLS (`scenario::compare`)
 
 impl CompareMember for Glls {
+    fn options(&self) -> &'static [&'static str] {
+        // The method's own choices: its horizon (or the longest it searches), the estimator and
+        // the regularization rank. μ is the compare's (√q·b_w from its bounds).
+        &["horizon", "max_horizon", "estimator", "p"]
+    }
     fn compare_order(&self) -> usize {
         3
     }
@@ -1074,7 +1079,11 @@ impl CompareMember for Glls {
             p: None,
             mu: Some((q as f64).sqrt() * p.bounds().1),
             noise: GllsNoise::default(),
-            plane: None,
+            // Its panel draws the compare's plane (n ≥ 3; n ≤ 2 draws its own).
+            plane: match p.plane() {
+                &[i, j] if p.n() >= 3 => Some([i, j]),
+                _ => None,
+            },
             monte_carlo: None,
         });
         Ok(s)
@@ -1083,12 +1092,15 @@ impl CompareMember for Glls {
         &self,
         p: &ComparePrepared,
         r: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading> {
         let g = r
             .glls
             .as_ref()
             .ok_or_else(|| Error::field("report.glls", "has no glls part"))?;
+        if p.n() != 2 {
+            return plane_set_projected(p, g, truth);
+        }
         let corners = box_corners(&g.box_current.lo, &g.box_current.hi);
         // The ball is of x_t; without state noise (GLLS's assumption) x_{t+1} = F·x_t, so the
         // prediction set is the ellipse F·ball and its box the parallelogram F·box.
@@ -1108,12 +1120,58 @@ impl CompareMember for Glls {
         };
         Ok(PlaneReading {
             area: Some(ball.volume()),
-            holds: truth.map(|x| ball.contains(&x)),
+            holds: truth.map(|x| ball.contains(x)),
             note: Some(note),
             set: PlaneSet::Ellipse(ball),
             outline: Some(outline),
         })
     }
+    fn remedy(&self, p: &ComparePrepared, e: &Error) -> Option<String> {
+        if !e.field.starts_with("glls.horizon") {
+            return None;
+        }
+        Some(match p.unobservable() {
+            Some(why) => format!("no horizon: {why}, and GLLS needs x(k − s) determined by y(k − s … k)"),
+            None => "a longer horizon, compare.members.glls.horizon (s + 1 measurements must determine x(k − s), Γ_{s+1} of rank n (6)), or a later compare.time".to_string(),
+        })
+    }
+}
+
+/// GLLS's set of a model of n ≠ 2 states: the ball of x_t (or F·ball, the prediction without
+/// state noise) projected on the compare's plane (its shadow: it holds the plane's components
+/// whenever the ball holds the state), an interval for n = 1; the box (or F·box) projected the
+/// same way, the outline.
+fn plane_set_projected(
+    p: &ComparePrepared,
+    g: &GllsReport,
+    truth: Option<&[f64]>,
+) -> Result<PlaneReading> {
+    let f = p.model().f(1);
+    let (ball, note) = if p.predicts() {
+        (
+            super::compare::map_ellipsoid(f, &g.ball_current),
+            format!("horizon s = {}; F·ball (no state noise), projected", g.s),
+        )
+    } else {
+        (g.ball_current.clone(), format!("horizon s = {}", g.s))
+    };
+    let e = ball.project(p.plane())?;
+    let outline = match p.plane() {
+        &[i, j] => Some(super::compare::projected_box_image(
+            p.predicts().then_some(f),
+            &g.box_current.lo,
+            &g.box_current.hi,
+            [i, j],
+        )),
+        _ => None,
+    };
+    Ok(PlaneReading {
+        area: Some(e.volume()),
+        holds: truth.map(|x| e.contains(x)),
+        note: Some(note),
+        set: PlaneSet::of_ellipsoid(e),
+        outline,
+    })
 }
 
 // ---------------------------------------------------------------------------------------------

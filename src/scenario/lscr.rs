@@ -1256,18 +1256,41 @@ impl CompareMember for Lscr {
             violated: None,
             promise: "for every state, at least",
             // The level 1 − 2qn/M (19) comes from the M and q the run chooses (not from the
-            // time): its run on the whole record says it.
-            level: self
-                .derived_scenario(p, p.steps())
-                .and_then(|s| s.run())
-                .ok()
-                .and_then(|r| r.lscr.map(|l| l.level)),
+            // time): read from the member's scenario on the whole record.
+            level: p
+                .member_scenario(Method::Lscr, p.steps())
+                .and_then(|s| promised_level(&s))
+                .ok(),
             at_least: true,
+        }
+    }
+    fn options(&self) -> &'static [&'static str] {
+        // The strings (M, q, their construction and seed) and the figure's window and raster;
+        // with M or q given the compare's α no longer chooses them.
+        &["M", "q", "construction", "seed", "window", "resolution"]
+    }
+    fn remedy(&self, p: &ComparePrepared, e: &Error) -> Option<String> {
+        match (e.field.as_str(), p.n()) {
+            ("model.F", 1) => Some("a model of n ≥ 2 states (LSCR's scenario takes no scalar state)".to_string()),
+            ("compare.plane", _) => Some("a model of n = 2 states".to_string()),
+            _ => None,
         }
     }
     fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
         // The compare's model as written (only its F, H and the BLUE's variances are read);
-        // the joint level the compare's α, with random strings (point 4).
+        // the joint level the compare's α, with random strings (point 4), unless the member's
+        // options give M or q.
+        if p.n() > 2 {
+            return Err(Error::field(
+                "compare.plane",
+                format!(
+                    "is a plane of n = {} states, but LSCR's region X̂ (18) is a union of polyhedra in all n dimensions whose projection on a plane is not computed (LSCR's own panel draws 2-D slices of it)",
+                    p.n()
+                ),
+            ));
+        }
+        let chosen = p.member_option(Method::Lscr, "M").is_some()
+            || p.member_option(Method::Lscr, "q").is_some();
         let mut s = p.own_scenario(Method::Lscr, p.written_model(), t);
         s.lscr = Some(LscrSpec {
             estimate: if p.predicts() {
@@ -1278,7 +1301,7 @@ impl CompareMember for Lscr {
             index: None,
             m: None,
             q: None,
-            level: Some(p.alpha()),
+            level: (!chosen).then_some(p.alpha()),
             construction: Construction::Random,
             seed: 1,
             strings: None,
@@ -1294,14 +1317,14 @@ impl CompareMember for Lscr {
         &self,
         _p: &ComparePrepared,
         r: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading> {
         let l = r
             .lscr
             .as_ref()
             .ok_or_else(|| Error::field("report.lscr", "has no lscr part"))?;
         Ok(PlaneReading {
-            holds: truth.map(|x| l.region.contains(&x)),
+            holds: truth.map(|x| l.region.contains(x)),
             area: l.bounded.then_some(l.area),
             note: Some(format!("M = {}, q = {}", l.m, l.q)),
             set: PlaneSet::Region {
@@ -1315,9 +1338,9 @@ impl CompareMember for Lscr {
     /// Whether X̂ (18) holds the true state: its sign-perturbed sums evaluated at that one
     /// point, as [`plane_set`](Self::plane_set) reads `region.contains` from the report; the
     /// report's boundary, window, area, BLUE and Kalman ellipses are not needed for it (they
-    /// were most of a compare study's run). The state is the plane (compare's models are 2-D;
-    /// a larger one takes the report's path).
-    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: [f64; 2]) -> Result<bool> {
+    /// were most of a compare study's run). The state is the plane (a compare gives LSCR a set
+    /// for n = 2 only; another n takes the report's path, which says why it has none).
+    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: &[f64]) -> Result<bool> {
         super::compare::checked_as_run(s)?;
         let prepared = s.prepare_lscr()?;
         let est = &prepared.estimator;
@@ -1334,8 +1357,22 @@ impl CompareMember for Lscr {
         Ok(est
             .problem
             .region(&sums, &est.strings, est.q)
-            .contains(&truth))
+            .contains(truth))
     }
+}
+
+/// The joint level 1 − 2qn/M (19) an LSCR scenario promises, from its options alone for
+/// random strings (point 4: M is the strings' count as chosen, [`lscr::choose_m_q`] for a
+/// level); group or explicit strings fix M themselves, so their estimator is built.
+pub(crate) fn promised_level(s: &Scenario) -> Result<f64> {
+    let spec = s.block(&s.lscr, "estimate, M, q, …")?;
+    let n = LscrModel::from_spec(&s.model)?.f.nrows();
+    let options = spec.options(n, s.written_steps())?;
+    if options.strings.is_none() && options.construction == Construction::Random {
+        let (m, q) = (options.m as f64, options.q as f64);
+        return Ok(1.0 - 2.0 * q * n as f64 / m);
+    }
+    Ok(s.prepare_lscr()?.estimator.levels().1)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1701,7 +1701,13 @@ fn first_null(v: &serde_json::Value) -> Option<String> {
     first_leaf(v, &|x, key, in_list, path| {
         // A `null` in the report's measurements `y` (and its `ubb.y`) is a gap of the
         // user's record ([`DataSpec`]): no number stands there.
-        let gap = in_list && key == "y" && (path.starts_with("y[") || path.starts_with("ubb.y["));
+        // A compare's members keep their own scenario on the record, gaps included
+        // (`compare.at.sets[i].scenario.data.y`; in a cursor's detail `sets[i].scenario…`).
+        let gap = in_list
+            && key == "y"
+            && (path.starts_with("y[")
+                || path.starts_with("ubb.y[")
+                || path.contains("].scenario.data.y["));
         (x.is_null() && !gap && (in_list || !NULLABLE_REPORT_KEYS.iter().any(|(k, _)| *k == key)))
             .then_some(())
     })
@@ -1796,7 +1802,8 @@ impl Report {
                 })
                 .collect();
         }
-        table.warnings = self.warnings.clone();
+        // The report's warnings first, then the table's own (a compare's methods without a set).
+        table.warnings.splice(0..0, self.warnings.iter().cloned());
         table.check_finite()?;
         Ok(table)
     }

@@ -1126,6 +1126,15 @@ fn work(s: &Scenario, job: Job) -> Work {
 // Compare: what a compare asks of KF and SCF (`scenario::compare`)
 
 impl CompareMember for Scf {
+    fn options(&self) -> &'static [&'static str] {
+        // SCF's asymptotic filter (IV-B); the Kalman region has no option of its own (its
+        // level is the compare's α, its components the compare's plane).
+        if self.kalman_only {
+            &[]
+        } else {
+            &["asymptotic"]
+        }
+    }
     fn compare_order(&self) -> usize {
         // KF first: the textbook's region, then SCF's beside it.
         if self.kalman_only {
@@ -1159,20 +1168,22 @@ impl CompareMember for Scf {
         } else {
             Method::Scf
         };
-        // The compare's model with its variances as written; the target region is of both
-        // states τ = 1 step ahead (the prediction) or τ = 0 (the filter).
+        // The compare's model with its variances as written; the target region is of the
+        // plane's components ζ (both states for n = 2, x itself for n = 1, the two chosen for
+        // n ≥ 3: a region of ζ at level α, (40)) τ = 1 step ahead (the prediction) or τ = 0
+        // (the filter).
         let own = p.own_scenario(method, p.written_model(), t);
         Ok(with_target_region(
             own,
             usize::from(p.predicts()),
-            vec![0, 1],
+            p.plane().to_vec(),
         ))
     }
     fn plane_set(
         &self,
-        _p: &ComparePrepared,
+        p: &ComparePrepared,
         r: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading> {
         let step = r
             .steps
@@ -1186,18 +1197,35 @@ impl CompareMember for Scf {
             target.kf.clone()
         } else {
             target.scf.clone().ok_or_else(|| {
+                let why = p.unobservable().unwrap_or_else(|| {
+                    "too few measurements to determine the state".to_string()
+                });
                 Error::field(
                     "report.steps.target.scf",
-                    format!("is absent at t = {}: the ratio matrix is still singular (too few measurements)", step.t),
+                    format!("is absent at t = {}: the ratio matrix (38) is singular: {why}", step.t),
                 )
             })?
         };
         Ok(PlaneReading {
             area: Some(e.volume()),
-            holds: truth.map(|x| e.contains(&x)),
-            set: PlaneSet::Ellipse(e),
+            holds: truth.map(|x| e.contains(x)),
+            set: PlaneSet::of_ellipsoid(e),
             outline: None,
             note: None,
+        })
+    }
+    fn remedy(&self, p: &ComparePrepared, e: &Error) -> Option<String> {
+        if e.field != "report.steps.target.scf" {
+            return None;
+        }
+        Some(match p.unobservable() {
+            Some(why) => format!(
+                "no option of the compare: {why}, and the SCF ratio matrix (38) is invertible only once the measurements determine the state (the Kalman region has no such need)"
+            ),
+            None => format!(
+                "more measurements before the target than the n = {} states (a later compare.time): the ratio matrix (38) is singular until they determine the state",
+                p.n()
+            ),
         })
     }
 }

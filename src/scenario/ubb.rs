@@ -1573,6 +1573,12 @@ fn work(s: &Scenario, job: Job) -> Work {
 // Compare: what a compare asks of the set-membership estimator (`scenario::compare`)
 
 impl CompareMember for Ubb {
+    fn options(&self) -> &'static [&'static str] {
+        // A bound on x(0) (its half-widths δ, centre and sum) and the polygon's LP budget. The
+        // bounds ε, τ are the compare's (b_w, b_v of its noise law), the window its
+        // `compare.window`, the norm l∞ (the per-sample bounds they are).
+        &["delta", "x0_center", "x0_sum", "budget"]
+    }
     fn compare_order(&self) -> usize {
         4
     }
@@ -1589,6 +1595,12 @@ impl CompareMember for Ubb {
     fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
         // Per-sample l∞ bounds (45)–(46): τ = b_v on v, ε = b_w on w, no smoothing, no box of
         // x(0); the window of j + 1 = `compare.window` steps ending at k = t − 1.
+        let &[i, j] = p.plane() else {
+            return Err(Error::field(
+                "model.F",
+                "is 1×1: Tempo's set is computed and drawn in a plane of two state components (ubb.plane), which a scalar state does not have",
+            ));
+        };
         let (bound_v, bound_w) = p.bounds();
         let mut model = p.bare_model();
         model.g = Some(linalg::to_rows(p.noise_g()));
@@ -1607,7 +1619,7 @@ impl CompareMember for Ubb {
             window: Some(p.window(t)),
             noise: default_noise(),
             time: Some(t - 1),
-            plane: Some([0, 1]),
+            plane: Some([i, j]),
             budget: POLYGON_BUDGET,
             basis: None,
             sim_eps: None,
@@ -1621,7 +1633,7 @@ impl CompareMember for Ubb {
         &self,
         p: &ComparePrepared,
         r: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading> {
         predicts_only(p)?;
         let u = r
@@ -1631,7 +1643,7 @@ impl CompareMember for Ubb {
         let poly = &u.at.polygon;
         Ok(PlaneReading {
             area: Some(polygon_area(&poly.vertices)),
-            holds: truth.map(|x| poly.contains(x, 1e-9)),
+            holds: truth.map(|x| poly.contains([x[0], x[1]], 1e-9)),
             set: PlaneSet::Polygon {
                 vertices: poly.vertices.clone(),
             },
@@ -1644,7 +1656,7 @@ impl CompareMember for Ubb {
     /// `at`); of the steps before it only whether each bounded window is feasible (one LP,
     /// where the report's track solves its interval hull, 2n LPs): the report refuses the
     /// whole record when an earlier window contradicts the bounds, and so must this.
-    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: [f64; 2]) -> Result<bool> {
+    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: &[f64]) -> Result<bool> {
         predicts_only(p)?;
         super::compare::checked_as_run(s)?;
         let prepared = s.prepare_ubb()?;
@@ -1667,7 +1679,23 @@ impl CompareMember for Ubb {
         }
         let step = prepared.problem.step(&run.y, k)?;
         let (_, poly, _) = step.hull_and_polygon(prepared.plane, prepared.spec.budget)?;
-        Ok(poly.contains(truth, 1e-9))
+        Ok(poly.contains([truth[0], truth[1]], 1e-9))
+    }
+    fn remedy(&self, p: &ComparePrepared, e: &Error) -> Option<String> {
+        match e.field.as_str() {
+            "ubb.delta" => Some(match p.unobservable() {
+                Some(why) => format!(
+                    "a finite bound on x(0): compare.members.ubb.delta (and x0_center, its centre; x(0) is x₁), since {why}"
+                ),
+                None => "a finite bound on x(0): compare.members.ubb.delta (and x0_center, its centre; x(0) is x₁), or a later compare.time (more measurements in the window)".to_string(),
+            }),
+            "model.F" => Some("a model of n ≥ 2 states".to_string()),
+            "compare.target" => Some("compare.target \"predict\"".to_string()),
+            "ubb.eps" | "ubb.tau" | "ubb.window" => Some(
+                "bounds the record does not contradict: a larger compare.bound_scale (or compare.bound_sigmas)".to_string(),
+            ),
+            _ => None,
+        }
     }
 }
 

@@ -983,6 +983,12 @@ fn work(s: &Scenario) -> Work {
 const X_BOUND_PER_SCALE: f64 = 1e4;
 
 impl CompareMember for Uniform {
+    fn options(&self) -> &'static [&'static str] {
+        // The box on the window's states and the polygon's support directions. The half-width
+        // bounds are the compare's (b_v, b_w of its noise law), Θ its model, the window its
+        // `compare.window`.
+        &["x_bound", "directions"]
+    }
     fn compare_order(&self) -> usize {
         5
     }
@@ -1003,6 +1009,23 @@ impl CompareMember for Uniform {
     fn derived_scenario(&self, p: &ComparePrepared, t: usize) -> Result<Scenario> {
         // |(G v)_i| ≤ Σ_j |G_ij|·b_v: the half-width bound of each state's innovation. The
         // LP needs positive half-widths: a state without noise gets 10⁻⁶ of the largest.
+        let &[i, j] = p.plane() else {
+            return Err(Error::field(
+                "model.F",
+                "is 1×1: Pavelková's consistent set is computed and drawn as a polygon of two state components (uniform.plane), which a scalar state does not have",
+            ));
+        };
+        if p.n() > 2 && p.predicts() {
+            // F·P ⊕ G·[−b_v, b_v] needs the consistent set of the whole x_t mapped by F's two
+            // rows: its projection on two coordinates (the polygon) does not determine that.
+            return Err(Error::field(
+                "compare.target",
+                format!(
+                    "is \"predict\", but with n = {} states Pavelková's prediction of the plane's components needs the consistent set of all of x_t mapped by F, and only its projection on the plane is computed",
+                    p.n()
+                ),
+            ));
+        }
         let (bound_v, bound_w) = p.bounds();
         let xr: Vec<f64> = p
             .noise_g()
@@ -1026,7 +1049,7 @@ impl CompareMember for Uniform {
             yr_max: Some(vec![bound_w; p.model().q()]),
             x_bound: X_BOUND_PER_SCALE * p.record_scale(),
             time: Some(t),
-            plane: Some([0, 1]),
+            plane: Some([i, j]),
             directions: POLYGON_BUDGET,
         });
         Ok(s)
@@ -1035,7 +1058,7 @@ impl CompareMember for Uniform {
         &self,
         p: &ComparePrepared,
         r: &Report,
-        truth: Option<[f64; 2]>,
+        truth: Option<&[f64]>,
     ) -> Result<PlaneReading> {
         let w = r
             .uniform
@@ -1071,7 +1094,7 @@ impl CompareMember for Uniform {
     /// The on-line run up to t (each window's Θ and bounds depend on the steps before) and
     /// the consistent polygon at t, without the optimal face and half-width ranges the
     /// report adds there.
-    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: [f64; 2]) -> Result<bool> {
+    fn holds_at(&self, p: &ComparePrepared, s: &Scenario, truth: &[f64]) -> Result<bool> {
         super::compare::checked_as_run(s)?;
         let mut prepared = s.prepare_uniform()?;
         let time = prepared.spec.time.unwrap_or(prepared.steps);
@@ -1085,6 +1108,16 @@ impl CompareMember for Uniform {
         };
         Ok(target_set(p, &poly, Some(truth)).1 == Some(true))
     }
+    fn remedy(&self, p: &ComparePrepared, e: &Error) -> Option<String> {
+        match e.field.as_str() {
+            "model.F" => Some("a model of n ≥ 2 states".to_string()),
+            "compare.target" => Some(format!(
+                "compare.target \"filter\" (the consistent set of x_t itself, projected on the plane), or a model of n = 2 states (n = {} here)",
+                p.n()
+            )),
+            _ => None,
+        }
+    }
 }
 
 /// The target's set from the consistent polygon P of x_t, and whether it holds `truth`. P is
@@ -1093,8 +1126,10 @@ impl CompareMember for Uniform {
 fn target_set(
     p: &ComparePrepared,
     poly: &SupportPolygon,
-    truth: Option<[f64; 2]>,
+    truth: Option<&[f64]>,
 ) -> (Vec<[f64; 2]>, Option<bool>) {
+    let truth = truth.map(|x| [x[0], x[1]]);
+    // A prediction reaches here for n = 2 only (`derived_scenario` refuses it for n > 2).
     if p.predicts() {
         let f = p.model().f(1);
         let image: Vec<[f64; 2]> = poly.vertices.iter().map(|&v| map_point(f, v)).collect();

@@ -103,8 +103,8 @@ fn check_against_panels(s: &Scenario) {
                     other => panic!("{what}: {other:?}"),
                 }
                 assert_eq!(set.area, l.bounded.then_some(l.area));
-                if let Some(x) = c.at.truth {
-                    assert_eq!(set.holds, Some(l.region.contains(&x)));
+                if let Some(x) = &c.at.truth {
+                    assert_eq!(set.holds, Some(l.region.contains(x)));
                 }
             }
             Method::Glls => {
@@ -417,8 +417,16 @@ fn a_compare_refuses_by_field() {
             "simulate.condition",
         ),
         (
-            serde_json::json!({"model": {"F": [[0.5, 0, 0], [1, 0.7, 0], [0, 0, 0.1]], "H": [[0, 1, 0]], "G": [[1], [0], [0]]}}),
-            "model.F",
+            serde_json::json!({"model": {"F": [[0.5, 0, 0], [1, 0.7, 0], [0, 0, 0.1]], "H": [[0, 1, 0]], "G": [[1], [0], [0]]}, "compare": {"plane": [0, 3]}}),
+            "compare.plane",
+        ),
+        (
+            serde_json::json!({"compare": {"plane": [1, 0]}}),
+            "compare.plane",
+        ),
+        (
+            serde_json::json!({"compare": {"members": {"glls": {"mu": 1}}}}),
+            "compare.members.glls.mu",
         ),
         (
             serde_json::json!({"model": {"B": [[1.0], [0.0]]}}),

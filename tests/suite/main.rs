@@ -49,6 +49,7 @@ mod bad_input;
 mod bench;
 mod cli;
 mod compare;
+mod compare_no_set;
 mod conformal;
 mod coverage;
 mod csv;

@@ -158,11 +158,13 @@ fn count_sums_are_checked_not_wrapped() {
         runs: 1,
         holds: vec![usize::MAX, 0],
         no_set: vec![0, 0],
+        no_set_first: vec![None, None],
     };
     let later = CompareCounts {
         runs: 1,
         holds: vec![2, 0],
         no_set: vec![0, 0],
+        no_set_first: vec![None, None],
     };
     let e = c.add(&later).expect_err("compare counts overflow");
     assert!(e.contains("holds[0] overflows"), "{e}");
@@ -171,11 +173,13 @@ fn count_sums_are_checked_not_wrapped() {
         runs: 0,
         holds: vec![0, 0],
         no_set: vec![0, 0],
+        no_set_first: vec![None, None],
     };
     let e = zero.add(&CompareCounts {
         runs: 1,
         holds: vec![1],
         no_set: vec![0],
+        no_set_first: vec![None],
     });
     assert!(e.is_err(), "counts of 1 method merged into a study of 2");
 }

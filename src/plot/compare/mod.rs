@@ -18,6 +18,7 @@ use crate::plot::view::{Frame, Panel, Zoom};
 use crate::scenario::compare::{MethodSet, PlaneSet, Target};
 use crate::scenario::{CompareReport, Report};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, VPos};
 
 /// A set more than this many times the median set's extent is cut at the window (zoom "auto").
 const FOCUS: f64 = 6.0;
@@ -70,27 +71,45 @@ pub(crate) fn check(report: &Report, figures_of: FiguresOf) -> Result<&CompareRe
         )
     })?;
     let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    // The plane's components: two (a plane of sets), or one (intervals of a scalar state).
+    let dims = report.plot.len();
+    if !(1..=2).contains(&dims) {
+        return Err(Error::field(
+            "report.plot",
+            format!("names {dims} components: a compare draws a plane (two) or a line (one)"),
+        ));
+    }
     for s in &c.at.sets {
         look(figures_of, s.method)?;
         let ok = match &s.set {
             Some(PlaneSet::Ellipse(e)) => {
-                e.dim() == 2 && finite(&e.center) && e.cov.iter().all(|r| r.len() == 2 && finite(r))
+                dims == 2
+                    && e.dim() == 2
+                    && finite(&e.center)
+                    && e.cov.iter().all(|r| r.len() == 2 && finite(r))
             }
-            Some(PlaneSet::Polygon { vertices }) => vertices.iter().all(|v| finite(v)),
+            Some(PlaneSet::Polygon { vertices }) => dims == 2 && vertices.iter().all(|v| finite(v)),
             Some(PlaneSet::Region { loops, .. }) => {
-                loops.iter().all(|l| l.points.iter().all(|p| finite(p)))
+                dims == 2 && loops.iter().all(|l| l.points.iter().all(|p| finite(p)))
             }
+            Some(PlaneSet::Interval { lo, hi }) => dims == 1 && finite(&[*lo, *hi]) && lo <= hi,
             None => true,
         };
         if !ok {
             return Err(Error::field(
                 "report.compare.at.sets",
                 format!(
-                    "holds a set of \"{}\" that is not a finite 2-D set",
+                    "holds a set of \"{}\" that is not a finite {dims}-D set",
                     s.method
                 ),
             ));
         }
+    }
+    if c.at.truth.as_ref().is_some_and(|x| x.len() != dims || !finite(x)) {
+        return Err(Error::field(
+            "report.compare.at.truth",
+            format!("must be {dims} finite numbers (the true state in the plane)"),
+        ));
     }
     Ok(c)
 }
@@ -106,7 +125,8 @@ fn loops(s: &MethodSet) -> Result<Vec<Vec<(f64, f64)>>> {
             .iter()
             .map(|l| l.points.iter().map(|p| (p[0], p[1])).collect())
             .collect(),
-        None => Vec::new(),
+        // An interval is drawn on its row ([`draw_intervals`]), not as a loop.
+        Some(PlaneSet::Interval { .. }) | None => Vec::new(),
     })
 }
 
@@ -115,6 +135,9 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let (report, view, fonts) = (request.report, request.view, request.fonts);
     let figures_of = request.figures_of;
     let c = check(report, figures_of)?;
+    if report.plot.len() == 1 {
+        return draw_intervals(root, request, c);
+    }
     let look = |m: Method| look(figures_of, m);
     let at = &c.at;
     let short = fonts.compact;
@@ -159,7 +182,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             cut.push(look(s.method)?.label);
         }
     }
-    let truth = at.truth.map(|p| (p[0], p[1]));
+    let truth = at.truth.as_ref().map(|p| (p[0], p[1]));
     if let Some(p) = truth {
         w.add(p.0, p.1);
     }
@@ -169,32 +192,12 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         w.add(1.0, 1.0);
     }
     let win = w.padded(0.08, 0.08);
-    let which = match c.target {
-        Target::Predict => format!(
-            "x{} predicted from y₁ … y{}",
-            style::sub(at.target_time),
-            style::sub(at.t)
-        ),
-        Target::Filter => format!(
-            "x{} from y₁ … y{}",
-            style::sub(at.target_time),
-            style::sub(at.t)
-        ),
-    };
-    let law = match c.noise {
-        crate::scenario::compare::NoiseLaw::Gaussian => "Gaussian",
-        crate::scenario::compare::NoiseLaw::Uniform => "uniform",
-        crate::scenario::compare::NoiseLaw::Truncated => "truncated Gaussian",
-    };
-    let mut notes = vec![format!(
-        "{law} noise; bounds b_v = {}, b_w = {}",
-        style::sig(c.bound_v),
-        style::sig(c.bound_w)
-    )];
+    let which = which_state(report, c);
+    let mut notes = noise_notes(c);
     let missing: Vec<String> = shown
         .iter()
         .filter(|s| s.set.is_none())
-        .map(|s| Ok(format!("{}: no set", look(s.method)?.label)))
+        .map(|s| Ok(format!("{}: {}", look(s.method)?.label, no_set_word(s))))
         .collect::<Result<_>>()?;
     if !missing.is_empty() && !short {
         notes.push(missing.join("; "));
@@ -237,7 +240,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let what = format!("Every method's set for {which}");
     let title = style::title(&report.figure, &fonts, &what, &what);
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
-    let (xd, yd) = (axis(report, 0), axis(report, 1));
+    let (xd, yd) = (axis(report, report.plot[0]), axis(report, report.plot[1]));
     let chart = style::equal_chart(&area, &fonts, win, &xd, &yd)?;
     let mut marks = Vec::new();
     // What the chart shows (the equal-aspect window may be wider than asked): every set is cut
@@ -322,6 +325,191 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(style::frame_of(&chart, &xd, &yd))
+}
+
+/// Which state the sets are of, in words: "x₃₁ predicted from y₁ … y₃₀" (with the plane's
+/// components named for a model of n ≥ 3 states).
+fn which_state(report: &Report, c: &CompareReport) -> String {
+    let at = &c.at;
+    let part = if report.n > 2 {
+        let names: Vec<String> = report.plot.iter().map(|&i| format!("x{}", style::sub(i + 1))).collect();
+        format!(" ({} of n = {})", names.join(", "), report.n)
+    } else {
+        String::new()
+    };
+    match c.target {
+        Target::Predict => format!(
+            "x{} predicted from y₁ … y{}{part}",
+            style::sub(at.target_time),
+            style::sub(at.t)
+        ),
+        Target::Filter => format!(
+            "x{} from y₁ … y{}{part}",
+            style::sub(at.target_time),
+            style::sub(at.t)
+        ),
+    }
+}
+
+/// The noise law and the bounds, the figure's first note.
+fn noise_notes(c: &CompareReport) -> Vec<String> {
+    let law = match c.noise {
+        crate::scenario::compare::NoiseLaw::Gaussian => "Gaussian",
+        crate::scenario::compare::NoiseLaw::Uniform => "uniform",
+        crate::scenario::compare::NoiseLaw::Truncated => "truncated Gaussian",
+    };
+    vec![format!(
+        "{law} noise; bounds b_v = {}, b_w = {}",
+        style::sig(c.bound_v),
+        style::sig(c.bound_w)
+    )]
+}
+
+/// The compare of a scalar state (n = 1): each method's interval on its own row, top to bottom
+/// in the report's order, the method named at the row's left, the truth a vertical line
+/// through every row; a method without a set keeps its row with "no set".
+fn draw_intervals<DB: DrawingBackend>(
+    root: &Area<DB>,
+    request: &Request,
+    c: &CompareReport,
+) -> Result<Frame> {
+    let (report, view, fonts) = (request.report, request.view, request.fonts);
+    let look = |m: Method| look(request.figures_of, m);
+    let at = &c.at;
+    let short = fonts.compact;
+    let shown: Vec<&MethodSet> = at
+        .sets
+        .iter()
+        .filter(|s| !view.hide.contains(&s.method))
+        .collect();
+    let pieces: Vec<Option<(f64, f64)>> = shown
+        .iter()
+        .map(|s| match s.set {
+            Some(PlaneSet::Interval { lo, hi }) => Some((lo, hi)),
+            _ => None,
+        })
+        .collect();
+    // The window: every interval (zoom "full"), or by default those of comparable length, as
+    // the plane's sets are (a far longer one is cut at the window and the chart says so).
+    let mut lengths: Vec<f64> = pieces.iter().flatten().map(|(lo, hi)| hi - lo).collect();
+    lengths.sort_by(f64::total_cmp);
+    let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
+    let rows = shown.len().max(1) as f64;
+    let mut w = Win::empty();
+    let mut cut = Vec::new();
+    for (s, piece) in shown.iter().zip(&pieces) {
+        let Some((lo, hi)) = *piece else { continue };
+        if view.zoom == Zoom::Full || median == 0.0 || hi - lo <= FOCUS * median {
+            w.add_x(lo);
+            w.add_x(hi);
+        } else {
+            cut.push(look(s.method)?.label);
+        }
+    }
+    let truth = at.truth.as_ref().map(|x| x[0]);
+    if let Some(x) = truth {
+        w.add_x(x);
+    }
+    if w.is_empty() {
+        w.add_x(-1.0);
+        w.add_x(1.0);
+    }
+    w.add_y(-0.5);
+    w.add_y(rows - 0.5);
+    let win = w.padded(0.08, 0.0);
+    let which = which_state(report, c);
+    let mut notes = noise_notes(c);
+    let missing: Vec<String> = shown
+        .iter()
+        .filter(|s| s.set.is_none())
+        .map(|s| Ok(format!("{}: {}", look(s.method)?.label, no_set_word(s))))
+        .collect::<Result<_>>()?;
+    if !missing.is_empty() && !short {
+        notes.push(missing.join("; "));
+    }
+    let mut entries = Vec::new();
+    if truth.is_some() {
+        entries.push(Entry::new(
+            format!("true state x{}", style::sub(at.target_time)),
+            Swatch::Marker {
+                shape: Marker::Diamond,
+                color: TRUTH,
+                size: 5,
+            },
+        ));
+    }
+    let what = format!("Every method's interval for {which}");
+    let title = style::title(&report.figure, &fonts, &what, &what);
+    let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
+    let xd = axis(report, report.plot[0]);
+    let chart = style::rows_chart(&area, &fonts, win, &xd)?;
+    let shown_win = Win::of_chart(&chart);
+    let mut marks = Vec::new();
+    let label_style = fonts.tick();
+    for (i, (s, piece)) in shown.iter().zip(&pieces).enumerate() {
+        let l = look(s.method)?;
+        // The first method on the top row.
+        let y = rows - 1.0 - i as f64;
+        let name = match (piece, s.holds) {
+            (None, _) => format!("{}: {}", l.label, no_set_word(s)),
+            (Some(_), Some(true)) if !short => format!("{} (holds it)", l.label),
+            (Some(_), Some(false)) if !short => format!("{} (misses it)", l.label),
+            _ => l.label.to_string(),
+        };
+        if let Some((lo, hi)) = *piece {
+            let (a, b) = (lo.max(shown_win.x0), hi.min(shown_win.x1));
+            if a <= b {
+                let dash = l.dashed.then_some(style::DASH);
+                style::path(root, &chart, &[(a, y), (b, y)], &l.color, 4, dash)?;
+                for end in [lo, hi] {
+                    if shown_win.contains(end, y) {
+                        style::path(root, &chart, &[(end, y - 0.18), (end, y + 0.18)], &l.color, 2, None)?;
+                    }
+                }
+                marks.extend(style::marks_of(&chart, &[(a, y), (b, y)]));
+            }
+        }
+        // The method's name just above its row, at the window's left.
+        let at_px = style::px(&chart, (shown_win.x0, y + 0.22));
+        let color = if piece.is_some() { l.color } else { style::MUTED };
+        style::text(
+            root,
+            &name,
+            (at_px.0 + 4, at_px.1),
+            &label_style.color(&color),
+            (HPos::Left, VPos::Bottom),
+        )?;
+    }
+    if let Some(x) = truth {
+        style::path(root, &chart, &[(x, -0.5), (x, rows - 0.5)], &TRUTH, 1, Some(style::DASH))?;
+        for i in 0..shown.len() {
+            marks.push(style::px(&chart, (x, i as f64)));
+        }
+    }
+    let mut chart_notes = Vec::new();
+    if !cut.is_empty() {
+        chart_notes.push(if short {
+            format!("{} cut at the window", cut.join(", "))
+        } else {
+            format!(
+                "{} reaches beyond the window (zoom “full”: every interval whole)",
+                cut.join(", ")
+            )
+        });
+    }
+    style::chart_notes(root, &chart, &fonts, &chart_notes, &mut marks)?;
+    style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
+    Ok(style::frame_of(&chart, &xd, ""))
+}
+
+/// "empty set" (the data contradict the method's bounds: a set that holds nothing) or "no set"
+/// (the method could not give one here).
+fn no_set_word(s: &MethodSet) -> &'static str {
+    if s.empty {
+        "empty set"
+    } else {
+        "no set"
+    }
 }
 
 fn axis(report: &Report, c: usize) -> String {

@@ -54,7 +54,7 @@ pub fn chart<'a, DB: DrawingBackend>(
     fonts: &Fonts,
     axes: &Axes,
 ) -> Result<Chart<'a, DB>> {
-    chart_with(area, fonts, axes, false)
+    chart_with(area, fonts, axes, YAxis::Linear)
 }
 
 /// A chart of a state plane: both axes in the same units, so they share one scale (a disk
@@ -77,6 +77,25 @@ pub fn equal_chart<'a, DB: DrawingBackend>(
     chart(area, fonts, &axes)
 }
 
+/// A chart of rows (y = 0, 1, … one per row, named by the caller beside each): x labelled, the
+/// y axis without numbers or name (the compare's intervals of a scalar state, side by side).
+pub fn rows_chart<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    win: Win,
+    x_desc: &str,
+) -> Result<Chart<'a, DB>> {
+    let axes = Axes {
+        win,
+        x_desc,
+        y_desc: "",
+        x_integer: false,
+        equal: false,
+        x_labels: true,
+    };
+    chart_with(area, fonts, &axes, YAxis::Rows)
+}
+
 /// A chart whose y values are log10 of the quantity: the axis is linear in log10 and labelled
 /// 10ᵏ at decades (with 2·10ᵏ, 5·10ᵏ and unlabelled 3, 4, 6, … ·10ᵏ lines when the window
 /// spans fewer than three decades). The caller plots log10 values.
@@ -85,7 +104,7 @@ pub fn log_chart<'a, DB: DrawingBackend>(
     fonts: &Fonts,
     axes: &Axes,
 ) -> Result<Chart<'a, DB>> {
-    chart_with(area, fonts, axes, true)
+    chart_with(area, fonts, axes, YAxis::Log)
 }
 
 /// One tick of a log axis: position (log10), label (empty: grid line only), decade or not.
@@ -189,12 +208,23 @@ pub fn log_ticks(lo: f64, hi: f64, px: i32) -> Vec<LogTick> {
     out
 }
 
+/// How a chart's y axis is labelled.
+#[derive(Clone, Copy, PartialEq)]
+enum YAxis {
+    Linear,
+    /// log10 values, labelled at decades.
+    Log,
+    /// Rows: no numbers (the caller names each row).
+    Rows,
+}
+
 fn chart_with<'a, DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     fonts: &Fonts,
     axes: &Axes,
-    log_y: bool,
+    y_axis: YAxis,
 ) -> Result<Chart<'a, DB>> {
+    let log_y = y_axis == YAxis::Log;
     let mut win = axes.win;
     let yd = decimals(win.y1 - win.y0);
     let tick = fonts.tick();
@@ -218,7 +248,7 @@ fn chart_with<'a, DB: DrawingBackend>(
         for t in &ticks {
             yw = yw.max(text_size(area, &t.label, &tick)?.0 as i32);
         }
-    } else {
+    } else if y_axis == YAxis::Linear {
         for v in [win.y0, win.y1, 0.5 * (win.y0 + win.y1)] {
             yw = yw.max(text_size(area, &num(v, yd), &tick)?.0 as i32);
         }
@@ -275,6 +305,10 @@ fn chart_with<'a, DB: DrawingBackend>(
         .bold_line_style(GRID)
         .axis_style(MUTED);
     if log_y {
+        mesh.y_label_formatter(&no_label)
+            .disable_y_mesh()
+            .set_tick_mark_size(LabelAreaPosition::Left, 0);
+    } else if y_axis == YAxis::Rows {
         mesh.y_label_formatter(&no_label)
             .disable_y_mesh()
             .set_tick_mark_size(LabelAreaPosition::Left, 0);
