@@ -8,9 +8,11 @@
 use crate::error::{Error, Result};
 use crate::plot::figures::{Area, Canvas, CompareLook, Figures, Request, SetFill};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, percent, sub, Axes, Entry, Marker, Swatch, KF, MUTED, TRUTH};
+use crate::plot::style::{
+    self, num, percent, sub, Axes, Entry, Marker, RecordTimes, Swatch, KF, MUTED, TRUTH,
+};
 use crate::plot::view::{Frame, Panel, PanelSpec};
-use crate::scenario::{ConformalReport, Report};
+use crate::scenario::{ConformalReport, Report, TimeIndex};
 use plotters::prelude::*;
 
 /// Conformal's colour (reddish purple, Okabe–Ito).
@@ -195,7 +197,10 @@ fn draw_set<DB: DrawingBackend>(
     ));
     entries.push(region("Kalman χ²", KF, true, false));
     let what = if c.tau == 0 {
-        format!("State region at t = {t}: conformal vs Kalman")
+        format!(
+            "State region at {}: conformal vs Kalman",
+            RecordTimes::of(&report.figure, TimeIndex::OneBased).at("t", t)
+        )
     } else {
         format!(
             "Region of x{} from y₁ … y{}: conformal vs Kalman",
@@ -266,6 +271,7 @@ fn draw_aci<DB: DrawingBackend>(
 ) -> Result<Frame> {
     let (report, fonts) = (request.report, request.fonts);
     let short = fonts.compact;
+    let record = RecordTimes::of(&report.figure, TimeIndex::OneBased);
     let a = &c.aci;
     let ts: Vec<f64> = a.steps.iter().map(|s| s.t as f64).collect();
     let y: Vec<f64> = a
@@ -397,9 +403,9 @@ fn draw_aci<DB: DrawingBackend>(
         .copied()
         .chain(finite.iter().flat_map(|&(_, lo, hi)| [lo, hi]));
     let win = Win::time((t0, t1), ys);
-    let x_desc = "time t";
+    let x_desc = record.axis_name("time t");
     let y_desc = "output y₁";
-    let chart = style::chart(
+    let chart = style::time_chart(
         &top,
         &fonts,
         &Axes {
@@ -410,6 +416,7 @@ fn draw_aci<DB: DrawingBackend>(
             equal: false,
             x_labels: bottom.is_none(),
         },
+        &record,
     )?;
     // The band in runs of consecutive finite steps.
     let mut run: Vec<(f64, f64, f64)> = Vec::new();
@@ -436,9 +443,15 @@ fn draw_aci<DB: DrawingBackend>(
         |v: &[f64]| -> Vec<(f64, f64)> { ts.iter().copied().zip(v.iter().copied()).collect() };
     style::path(root, &chart, &pts(&kf_lo), &KF, 1, Some(style::DASH))?;
     style::path(root, &chart, &pts(&kf_hi), &KF, 1, Some(style::DASH))?;
+    // A gap of the user's record (NaN: not measured) has no dot and no miss marker.
     let measured = pts(&y);
-    style::dots(root, &chart, &measured, &MUTED, 2)?;
-    let mut marks = style::marks_of(&chart, &measured);
+    let known: Vec<(f64, f64)> = measured
+        .iter()
+        .copied()
+        .filter(|p| p.1.is_finite())
+        .collect();
+    style::dots(root, &chart, &known, &MUTED, 2)?;
+    let mut marks = style::marks_of(&chart, &known);
     for (s, p) in a.steps.iter().zip(&measured) {
         if s.err {
             style::marker_inside(root, &chart, *p, Marker::Ring, &CONFORMAL, &mut marks)?;
@@ -469,7 +482,7 @@ fn draw_aci<DB: DrawingBackend>(
             .max(0.0);
         let win2 = Win::time((t0, t1), [lo, 1.0].into_iter());
         let y2 = "running coverage";
-        let chart2 = style::chart(
+        let chart2 = style::time_chart(
             &bottom,
             &fonts,
             &Axes {
@@ -480,6 +493,7 @@ fn draw_aci<DB: DrawingBackend>(
                 equal: false,
                 x_labels: true,
             },
+            &record,
         )?;
         style::path(
             root,
