@@ -403,7 +403,8 @@ fn draw_aci<DB: DrawingBackend>(
         .copied()
         .chain(finite.iter().flat_map(|&(_, lo, hi)| [lo, hi]));
     let win = Win::time((t0, t1), ys);
-    let x_desc = record.axis_name("time t");
+    let steps_name = "time t";
+    let x_desc = record.axis_name(steps_name);
     let y_desc = "output y₁";
     let chart = style::time_chart(
         &top,
@@ -460,7 +461,7 @@ fn draw_aci<DB: DrawingBackend>(
             style::marker_inside(root, &chart, *p, Marker::Cross, &KF, &mut marks)?;
         }
     }
-    let mut frame = style::frame_of(&chart, x_desc, y_desc);
+    let mut frame = style::frame_of(&chart, steps_name, y_desc);
     if let Some(bottom) = bottom {
         let running = |errs: &mut dyn Iterator<Item = bool>| -> Vec<(f64, f64)> {
             let mut hits = 0usize;
@@ -505,7 +506,7 @@ fn draw_aci<DB: DrawingBackend>(
         )?;
         style::path(root, &chart2, &aci, &CONFORMAL, 2, None)?;
         style::path(root, &chart2, &kf, &KF, 2, Some(style::DASH))?;
-        frame.more.push(style::frame_of(&chart2, x_desc, y2));
+        frame.more.push(style::frame_of(&chart2, steps_name, y2));
     }
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(frame)

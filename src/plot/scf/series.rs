@@ -211,7 +211,10 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
     let title = cx.title("KF and SCF estimates over time");
     let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let parts = area.split_evenly((comps.len().max(1), 1));
-    let xd = record.axis_name("time t (steps)");
+    // The frame names x in its units, steps (the page's read-out adds the record's time); the
+    // drawn axis says what its ticks read.
+    let steps_name = "time t (steps)";
+    let xd = record.axis_name(steps_name);
     let mut frames: Vec<Frame> = Vec::new();
     for (idx, (c, part)) in comps.iter().zip(&parts).enumerate() {
         let mut win = Win::empty();
@@ -337,7 +340,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
             marks.extend(style::marks_of(&chart, &truth));
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, xd, &yd));
+        frames.push(style::frame_of(&chart, steps_name, &yd));
     }
     let mut it = frames.into_iter();
     let mut first = it.next().ok_or_else(|| {

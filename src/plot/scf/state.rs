@@ -726,7 +726,8 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     let title = cx.title("KF and SCF intervals over time");
     let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let yd = cx.name(k);
-    let xd = record.axis_name("time t (steps)");
+    let steps_name = "time t (steps)";
+    let xd = record.axis_name(steps_name);
     let chart = style::time_chart(
         &area,
         &fonts,
@@ -804,5 +805,5 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     marks.extend(style::marks_of(&chart, &khi));
     marks.extend(style::marks_of(&chart, &tr));
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
-    Ok(style::frame_of(&chart, xd, &yd))
+    Ok(style::frame_of(&chart, steps_name, &yd))
 }

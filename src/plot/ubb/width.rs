@@ -131,7 +131,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     } else {
         "hull width hi − lo".to_string()
     };
-    let step_label = record.axis_name(if short { STEP_SHORT } else { STEP });
+    let steps_name = if short { STEP_SHORT } else { STEP };
+    let step_label = record.axis_name(steps_name);
     let axes = Axes {
         win,
         x_desc: step_label,
@@ -173,7 +174,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         cursor_k as f64,
         &record.at("k", cursor_k),
     )?;
-    let mut frame = style::frame_of(&chart, step_label, &y_desc);
+    let mut frame = style::frame_of(&chart, steps_name, &y_desc);
 
     if let Some(bottom) = bottom {
         let mut ys: Vec<f64> = Vec::new();
@@ -224,7 +225,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             )?;
         }
         style::cursor(root, &chart2, &fonts, cursor_k as f64, "")?;
-        frame.more.push(style::frame_of(&chart2, step_label, &y2));
+        frame.more.push(style::frame_of(&chart2, steps_name, &y2));
     }
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(frame)

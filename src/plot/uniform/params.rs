@@ -4,7 +4,7 @@
 //! there are no true values: the curves stand alone.
 
 use super::time_series::{
-    cell, check, columns, cursor, grid, level, short_labels, stacked, time_win, window_band,
+    cell, check, columns, cursor, grid, level, short_labels, stacked, time_win, window_band, TIME,
 };
 use crate::plot::style::{self, sig, sub, Entry, Swatch, TEXT};
 
@@ -189,7 +189,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         if row == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, u.time_name(), yd));
+        frames.push(style::frame_of(&chart, TIME, yd));
     }
     Ok(stacked(frames.into_iter()).unwrap_or_else(|| Frame {
         x_range: (0.0, 1.0),

@@ -676,7 +676,7 @@ pub fn draw_states<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
         if i == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, u.time_name(), &yd));
+        frames.push(style::frame_of(&chart, TIME, &yd));
 
         // Errors.
         let Some(bottom) = bottom else { continue };
@@ -726,7 +726,7 @@ pub fn draw_states<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
                 (HPos::Center, VPos::Center),
             )?;
         }
-        err_frames.push(style::frame_of(&chart, u.time_name(), &yd));
+        err_frames.push(style::frame_of(&chart, TIME, &yd));
     }
     stacked(frames.into_iter().chain(err_frames))
         .ok_or_else(|| Error::field("report.uniform", "has no state components"))
@@ -879,7 +879,7 @@ pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
         if j == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, u.time_name(), &yd));
+        frames.push(style::frame_of(&chart, TIME, &yd));
 
         let Some(bottom) = bottom else { continue };
         let e: Vec<(f64, f64)> = y.iter().zip(&p).map(|(a, b)| (a.0, b.1 - a.1)).collect();
@@ -916,7 +916,7 @@ pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
         }
         style::path(root, &chart, &e, &UNIFORM_LP, 2, None)?;
         cursor(root, &chart, &fonts, &u, false)?;
-        err_frames.push(style::frame_of(&chart, u.time_name(), &yd));
+        err_frames.push(style::frame_of(&chart, TIME, &yd));
     }
     stacked(frames.into_iter().chain(err_frames))
         .ok_or_else(|| Error::field("report.uniform", "has no outputs"))
