@@ -13,6 +13,7 @@ import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, wholeNumber } from './parse.js';
 import { withScripts, verdict, sub } from './richtext.js';
 import { fmt, vec, int } from './format.js';
+import { recordTime } from './cursor.js';
 
 // The custom mode is one more "preset" whose model comes from the text boxes.
 const CUSTOM_PRESET = {
@@ -64,9 +65,9 @@ function load(p, s) {
 }
 
 // What the controls show at once: the level, the time, the law's row (ν only for Student-t).
-function showControls({ ui }) {
+function showControls({ ui, st }) {
   ui['alpha-out'].textContent = Number(ui.alpha.value).toFixed(3);
-  ui['time-out'].textContent = `= ${ui.time.value}`;
+  ui['time-out'].textContent = `= ${ui.time.value}${recordTime(st.report, Number(ui.time.value))}`;
   const t = ui.noise.value === 'student_t';
   ui['nu-row'].hidden = !t;
   ui['law-out'].textContent = t
@@ -99,7 +100,7 @@ function showNumbers({ ui, st }) {
   const c = r.conformal;
   const a = c.aci;
   const x = (i) => `x${sub(i + 1)}`;
-  ui['num-title'].textContent = `At t = ${c.time}: level α = ${c.level}, ${c.calibration} calibration runs`;
+  ui['num-title'].textContent = `At t = ${c.time}${recordTime(r, c.time)}: level α = ${c.level}, ${c.calibration} calibration runs`;
   const rows = [];
   const row = (h, d) => rows.push(`<tr><th>${h}</th><td>${d}</td></tr>`);
   const hint = (t) => ` <span class="hint">(${t})</span>`;

@@ -21,6 +21,17 @@ export const timeOf = (key) => ({
   setTime: (s, v) => { s[key].time = v; },
 });
 
+// The record's own time at a cursor step, as the report carries it (report.figure.times, the
+// user's data.t as the core writes it: row t − 1 for t = 1, 2, …; row k for the set-membership
+// step k = 0, 1, … with zeroBased): " · 1890" to follow "k = 19", or '' when the record has no
+// times (a simulation) or none at that step. Text only: the page computes no time.
+export function recordTime(report, step, zeroBased = false) {
+  const times = report?.figure?.times;
+  const row = zeroBased ? step : step - 1;
+  const label = Array.isArray(times) && Number.isInteger(row) ? times[row] : undefined;
+  return typeof label === 'string' && label ? ` · ${label}` : '';
+}
+
 export function timeCursor({ worker, session, st, setBusy, redraw, showError }, spec) {
   const details = new Map(); // step → JSON text of the report's `at` there (this report's cursor)
   let key = null; // the worker's cursor of the kept report

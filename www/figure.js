@@ -128,6 +128,7 @@ export class Figure {
     this.cursor = card.querySelector('.cursor');
     this.frame = null;
     this.time = null;
+    this.report = null; // the report drawn (the panel sets it): its record times for read-outs
     this.cssPerPx = 1; // CSS pixels per pixel of the frame (presentZoom)
     this.canvas.addEventListener('mousemove', (e) => this.showCursor(e.offsetX, e.offsetY));
     this.canvas.addEventListener('mouseleave', () => { this.cursor.textContent = ''; });

@@ -89,6 +89,29 @@ function computeNote(staleNote, saveScenario) {
   };
 }
 
+// The report's warnings beside the figures (report.warnings: the core's sentences the reader must
+// know about this answer — an assumption of the method's promise not met, an estimate on an
+// artificial bound, the record's gaps and what the method did with them): a calm box after the
+// stale and compute notes, above the figure cards, one list item each, hidden when there are none.
+// `show(report)` puts a new report's warnings in; the page adds no words of its own.
+function warningsBox(staleNote) {
+  const box = Object.assign(document.createElement('div'), { className: 'warnings', hidden: true });
+  box.setAttribute('role', 'status');
+  const head = Object.assign(document.createElement('p'), { className: 'warnings-head', textContent: 'Read this answer with:' });
+  head.id = `${staleNote.id}-warnings-head`;
+  box.setAttribute('aria-labelledby', head.id);
+  const list = document.createElement('ul');
+  box.append(head, list);
+  staleNote.after(box);
+  return {
+    show(report) {
+      const said = Array.isArray(report?.warnings) ? report.warnings.filter((w) => typeof w === 'string' && w) : [];
+      list.replaceChildren(...said.map((w) => Object.assign(document.createElement('li'), { textContent: w })));
+      box.hidden = !said.length;
+    },
+  };
+}
+
 // What the skeleton writes into an element of the view marked data-part="<name>", given the
 // panel's id prefix: the numbers card's downloads, and the notes card's heading and notes.
 const PARTS = {
@@ -179,6 +202,9 @@ export function mountPanel(root, spec) {
   // The figure cards: the core's figures for the methods of the panel's presets.
   figureCards(root, [...new Set([...spec.presets, spec.custom].filter(Boolean).map((x) => x.scenario.method))]);
   const figures = [...root.querySelectorAll('figure.card')].map((c) => new FigureClass(c, session, stem));
+  // The report's warnings, above the figure cards (made before the compute note, which goes
+  // between them and the stale note).
+  const warnings = warningsBox(ui.stale);
   const errors = fieldErrors(root, ui.stale, spec.errorsWithin ?? 'form ');
   const setBusy = busyFlag(spec.busy);
   const isCustom = () => st.preset === spec.custom;
@@ -293,6 +319,9 @@ export function mountPanel(root, spec) {
     }
     st.report = JSON.parse(json);
     st.reportJson = json;
+    warnings.show(st.report);
+    // The figures' pointer read-outs name a step with the record's time (report.figure.times).
+    for (const f of figures) f.report = st.report;
     if (cur) st.cursorSteps = session.cursorSteps();
     st.scenario = scenario;
     p.cursor?.reset(ran.text, ran.cursor);

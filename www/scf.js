@@ -4,6 +4,7 @@ import { mountPanel, clone } from './panel.js';
 import { mountMonteCarlo } from './montecarlo.js';
 import { parseMatrix, parseVector, wholeNumber } from './parse.js';
 import { fmtFixed as fmt, noiseReadout } from './format.js';
+import { recordTime } from './cursor.js';
 
 const scale = (m, k) => (Array.isArray(m) ? m.map((r) => scale(r, k)) : m * k);
 
@@ -193,7 +194,7 @@ function showNumbers({ ui, st }, t) {
     html += `<p>Steady state: Γ = ${fmt(a.gamma[0][0])}, P̄ = ${fmt(a.p[0][0])}, ratio R̄ = ${fmt(a.ratio[0][0])}, Π̄ = ${fmt(a.pi[0][0])}</p>`;
   }
   ui.numbers.innerHTML = html;
-  ui['num-t'].textContent = t;
+  ui['num-t'].textContent = `${t}${recordTime(st.report, t)}`;
 }
 
 function showOutputs(p) {
@@ -204,7 +205,7 @@ function showOutputs(p) {
   ui['tv-out'].textContent = (10 ** Number(ui.tv.value)).toFixed(2);
   ui['tw-out'].textContent = (10 ** Number(ui.tw.value)).toFixed(2);
   ui['noise-readout'].textContent = noiseReadout(trueScales(p), ['V', 'W']);
-  ui['time-out'].textContent = ui.time.value;
+  ui['time-out'].textContent = `${ui.time.value}${recordTime(st.report, Number(ui.time.value))}`;
   const a = st.report && st.report.asymptotic;
   const x = Number(ui.xbar.value);
   ui['rare-hint'].textContent = isRobots(p)

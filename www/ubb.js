@@ -17,7 +17,7 @@ import { studyRunner, busyFlag } from './chunked.js';
 import { parseNumber, parseVector, wholeNumber } from './parse.js';
 import { withScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt, vec, int } from './format.js';
-import { timeOf } from './cursor.js';
+import { timeOf, recordTime } from './cursor.js';
 
 const NORM = { linf: 'l∞', l1: 'l₁', l2: 'l₂' };
 
@@ -46,7 +46,8 @@ class UbbFigure extends Figure {
 
   cursorText({ chart, x, y }) {
     const set = this.panel === 'ubbset';
-    return `${set ? `${chart.x_label} = ${fmt(x)}` : `k = ${Math.round(x)}`}, ${chart.y_label || 'y'} = ${fmt(y)}`;
+    const k = Math.round(x);
+    return `${set ? `${chart.x_label} = ${fmt(x)}` : `k = ${k}${recordTime(this.report, k, true)}`}, ${chart.y_label || 'y'} = ${fmt(y)}`;
   }
 }
 
@@ -100,7 +101,7 @@ function showSim({ ui }) {
 
 function showTime({ ui, st }) {
   const k = Number(ui.time.value);
-  ui['time-out'].textContent = `= ${k}`;
+  ui['time-out'].textContent = `= ${k}${recordTime(st.report, k, true)}`;
   const u = st.report?.ubb;
   ui['time-window'].textContent = u && u.at.k === k ? `window y(${u.at.first}) … y(${k})` : '';
   // The cursor's first step (the core's: the first with a bounded set; an earlier k shows it).
@@ -150,7 +151,7 @@ function showNumbers({ ui, st }, k) {
   const step = u.track.find((t) => t.k === k);
   const hull = at || step;
   if (!hull) {
-    ui['num-title'].textContent = `At step k = ${k}`;
+    ui['num-title'].textContent = `At step k = ${k}${recordTime(st.report, k, true)}`;
     ui.numbers.textContent = `No bounded set at step k = ${k}.`;
     return;
   }
@@ -161,7 +162,7 @@ function showNumbers({ ui, st }, k) {
   const names = (u.state_names || hull.lo.map((_, c) => `x${sub(c + 1)}`)).map(escapeHtml);
   const coef = !names[0].startsWith('x');
   const target = coef ? 'the coefficients a' : `x(${k + 1})`;
-  ui['num-title'].textContent = `At step k = ${k}: the set of ${target}${at ? ` from y(${at.first}) … y(${k})` : ''}, ${NORM[u.norm] || u.norm} bounds`;
+  ui['num-title'].textContent = `At step k = ${k}${recordTime(st.report, k, true)}: the set of ${target}${at ? ` from y(${at.first}) … y(${k})` : ''}, ${NORM[u.norm] || u.norm} bounds`;
   const rows = [];
   const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
   row('window', `${u.window} ${u.window === 1 ? 'step' : 'steps'}${at ? ` <span class="hint">(data y(${at.first}) … y(${k}))</span>` : ''}`);

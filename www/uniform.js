@@ -11,7 +11,7 @@ import { Figure } from './figure.js';
 import { parseMatrix, parseVector, parseNumber, matrixText, wholeNumber } from './parse.js';
 import { withScripts, verdict, sub, escapeHtml } from './richtext.js';
 import { fmt, vec } from './format.js';
-import { timeOf } from './cursor.js';
+import { timeOf, recordTime } from './cursor.js';
 
 const mat = (m) => (Array.isArray(m) && m.length && m[0].length
   ? `[${m.map((r) => r.map(fmt).join(' ')).join('; ')}]` : '–');
@@ -46,7 +46,7 @@ class UniformFigure extends Figure {
   stacked = true;
 
   cursorText({ chart, x, y }) {
-    const xs = this.panel === 'upolygon' ? fmt(x) : String(Math.round(x));
+    const xs = this.panel === 'upolygon' ? fmt(x) : `${Math.round(x)}${recordTime(this.report, Math.round(x))}`;
     return `${chart.x_label || 'x'} = ${xs}, ${chart.y_label || 'y'} = ${fmt(y)}`;
   }
 }
@@ -100,7 +100,7 @@ function timeRange(p, toEnd = false) {
 function showTime({ ui, st }) {
   const u = st.report?.uniform;
   const t = Number(ui.time.value);
-  ui['time-out'].textContent = `= ${t}`;
+  ui['time-out'].textContent = `= ${t}${recordTime(st.report, t)}`;
   ui['time-window'].textContent = u && u.at.time === t ? `window ${u.at.first} … ${t}: polygon, face ranges` : '';
 }
 
@@ -154,7 +154,7 @@ function showNumbers({ ui, st }, t) {
   const step = u.steps[t - 1];
   const truth = u.x_true ? u.x_true[t] : null;
   const pending = '… <span class="hint">(being computed)</span>';
-  ui['num-title'].textContent = `At the time cursor t = ${t}: window ${at ? `${at.first} … ${t} ` : ''}(∂ = ${u.window}), ${METHOD[u.estimator] || u.estimator}`;
+  ui['num-title'].textContent = `At the time cursor t = ${t}${recordTime(st.report, t)}: window ${at ? `${at.first} … ${t} ` : ''}(∂ = ${u.window}), ${METHOD[u.estimator] || u.estimator}`;
   const rows = [];
   const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
   row(`true x<sub>${t}</sub>`, truth ? vec(truth) : '– (data given)');

@@ -1865,3 +1865,304 @@ fn ubb_and_other_panels_do_not_mix() {
         "report.ubb.at.polygon"
     );
 }
+
+// ------------------------------------------------------------------ the record's own time
+
+/// A figure context whose record has `times` (as the report carries them, `data.t` shown).
+fn with_times(times: &[String]) -> FigureContext {
+    FigureContext {
+        times: times.to_vec(),
+        ..FigureContext::default()
+    }
+}
+
+fn years(from: i64, count: i64) -> Vec<String> {
+    (from..from + count).map(|y| y.to_string()).collect()
+}
+
+/// The labelled ticks of a time axis as (position, label).
+fn labelled(ticks: &[style::TimeTick]) -> Vec<(f64, String)> {
+    ticks
+        .iter()
+        .filter(|t| t.major)
+        .map(|t| (t.at, t.label.clone()))
+        .collect()
+}
+
+/// Years 1871 … 1970 over 100 steps: the labels at round years (every 20th with room for 6
+/// labels, every 10th with room for 10), each at the step of its year (t = year − 1870 for
+/// t = 1, 2, …; k = year − 1871 for ubb's k = 0, 1, …), with light lines between.
+#[test]
+fn a_time_axis_reads_the_record_years_at_round_years() {
+    let fig = with_times(&years(1871, 100));
+    let t = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::OneBased);
+    let ticks = t.ticks(0.0, 101.0, 6);
+    let want: Vec<(f64, String)> = (1880..=1960)
+        .step_by(20)
+        .map(|y| ((y - 1870) as f64, y.to_string()))
+        .collect();
+    assert_eq!(labelled(&ticks), want);
+    // Light lines every 10 years between them (1870 lies before the record: no line).
+    let light: Vec<f64> = ticks.iter().filter(|t| !t.major).map(|t| t.at).collect();
+    assert_eq!(light, vec![20.0, 40.0, 60.0, 80.0, 100.0]);
+    let ten: Vec<String> = labelled(&t.ticks(0.0, 101.0, 10))
+        .into_iter()
+        .map(|p| p.1)
+        .collect();
+    assert_eq!(
+        ten,
+        years(1880, 91).into_iter().step_by(10).collect::<Vec<_>>()
+    );
+    // A window on part of the record: only its years.
+    assert_eq!(
+        labelled(&t.ticks(35.0, 62.0, 3)),
+        vec![
+            (40.0, "1910".to_string()),
+            (50.0, "1920".to_string()),
+            (60.0, "1930".to_string())
+        ]
+    );
+    // ubb counts k from 0: k = 19 is row 20, 1890.
+    let k = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::ZeroBased);
+    assert_eq!(k.at("k", 19), "k = 19 (1890)");
+    assert_eq!(t.at("t", 40), "t = 40 (1910)");
+    assert_eq!(
+        labelled(&k.ticks(0.0, 99.0, 6))[0],
+        (9.0, "1880".to_string())
+    );
+    assert_eq!(t.axis_name("time t"), style::RECORD_TIME_AXIS);
+    // A GLLS-like axis that does not count time has no record time.
+    let none = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::NotTime);
+    assert!(none.is_empty() && none.ticks(0.0, 101.0, 6).is_empty());
+}
+
+/// Numbers that are not evenly spaced: a round value between two rows sits between their steps
+/// in proportion (1900 halfway from 1890 at t = 2 to 1910 at t = 3); fractional times get
+/// decimals.
+#[test]
+fn a_time_axis_places_round_times_between_uneven_rows() {
+    let fig = with_times(&["1880", "1890", "1910", "1911", "1950"].map(String::from));
+    let t = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::OneBased);
+    let ticks = labelled(&t.ticks(0.0, 6.0, 4));
+    let want = [
+        (1.0, "1880"),
+        (2.5, "1900"),
+        (4.0 + 9.0 / 39.0, "1920"),
+        (4.0 + 29.0 / 39.0, "1940"),
+    ];
+    assert_eq!(ticks.len(), want.len(), "{ticks:?}");
+    for ((at, label), (want_at, want_label)) in ticks.iter().zip(want) {
+        assert!(
+            (at - want_at).abs() < 1e-12 && label == want_label,
+            "{ticks:?}"
+        );
+    }
+    let fig = with_times(&["0.05", "0.1", "0.15", "0.2", "0.25"].map(String::from));
+    let t = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::OneBased);
+    let labels: Vec<String> = labelled(&t.ticks(0.0, 6.0, 3))
+        .into_iter()
+        .map(|p| p.1)
+        .collect();
+    assert_eq!(labels, vec!["0.1", "0.2"]);
+}
+
+/// Dates: ticks at every 1st, 2nd, 5th, 10th, … row from the first shown, labelled with the
+/// row's date as the record writes it; no times: no ticks, and the words are the steps alone.
+#[test]
+fn a_time_axis_labels_dates_at_rows_and_nothing_without_times() {
+    let months: Vec<String> = (0..36)
+        .map(|m| format!("{}-{:02}", 2001 + m / 12, m % 12 + 1))
+        .collect();
+    let fig = with_times(&months);
+    let t = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::OneBased);
+    let ticks = labelled(&t.ticks(0.0, 37.0, 4));
+    // 36 rows, at most 4 labels: every 10th row from the first.
+    assert_eq!(
+        ticks,
+        vec![
+            (1.0, "2001-01".to_string()),
+            (11.0, "2001-11".to_string()),
+            (21.0, "2002-09".to_string()),
+            (31.0, "2003-07".to_string()),
+        ]
+    );
+    assert_eq!(t.at("t", 14), "t = 14 (2002-02)");
+    let fig = with_times(&[]);
+    let t = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::OneBased);
+    assert!(t.is_empty() && t.ticks(0.0, 37.0, 4).is_empty());
+    assert_eq!(t.at("t", 14), "t = 14");
+    assert_eq!(t.axis_name("time t"), "time t");
+    // Times out of order (a report edited by hand) are labelled at rows, never a panic.
+    let fig = with_times(&["1900", "1890", "1910"].map(String::from));
+    let t = style::RecordTimes::of(&fig, crate::scenario::TimeIndex::OneBased);
+    assert_eq!(labelled(&t.ticks(0.0, 4.0, 3)).len(), 3);
+}
+
+/// Every time axis of every method reads the record's years when the report has them: the
+/// labelled years are in the SVG, the step numbers of the axis are not, the axis says it is
+/// the record's time and the cursor names the step with its year.
+#[test]
+fn every_time_panel_labels_its_axis_with_the_record_years() {
+    let cases: [(&str, &str, crate::scenario::TimeIndex); 6] = [
+        ("scf-scalar", "series", crate::scenario::TimeIndex::OneBased),
+        ("scf-scalar", "state", crate::scenario::TimeIndex::OneBased),
+        (
+            "uniform-paper",
+            "ustates",
+            crate::scenario::TimeIndex::OneBased,
+        ),
+        (
+            "uniform-paper",
+            "uparams",
+            crate::scenario::TimeIndex::OneBased,
+        ),
+        (
+            "ubb-track",
+            "ubbwidth",
+            crate::scenario::TimeIndex::ZeroBased,
+        ),
+        (
+            "conformal-gaussian",
+            "aciband",
+            crate::scenario::TimeIndex::OneBased,
+        ),
+    ];
+    for (name, panel, index) in cases {
+        let (_, mut r) = preset(name);
+        let rows = if r.method == Method::Ubb {
+            r.ubb.as_ref().expect("ubb").y.len()
+        } else {
+            r.y.len()
+        };
+        r.figure.times = years(1801, rows as i64);
+        let before = svg(&r, named(panel), None);
+        let step = match index {
+            crate::scenario::TimeIndex::ZeroBased => r.ubb.as_ref().expect("ubb").at.k,
+            _ if r.method == Method::UniformLp => r.uniform.as_ref().expect("uniform").at.time,
+            _ => r.time,
+        };
+        let year = style::RecordTimes::of(&r.figure, index)
+            .label(step)
+            .expect("a year at the shown step")
+            .to_string();
+        // The axis name (its apostrophe escaped in the SVG) and the cursor or title's step.
+        assert!(
+            before.contains("data.t)"),
+            "{name} {panel}: no record time axis"
+        );
+        // The shown step with its year, where the panel names it (aciband shows every step).
+        let shown = format!("{step} ({year})");
+        assert!(
+            panel == "aciband" || before.contains(&shown),
+            "{name} {panel}: no \"{shown}\""
+        );
+        let round = (1810..1801 + rows as i64)
+            .step_by(10)
+            .any(|y| before.contains(&format!("\n{y}\n</text>")));
+        assert!(round, "{name} {panel}: no round year on the axis");
+        if panel == "aciband" {
+            // The conformal region's title names its time with the year.
+            let c = r.conformal.as_ref().expect("conformal");
+            let t = c.time + c.tau;
+            let set = svg(&r, named("conformalset"), None);
+            let want = format!("State region at t = {t} ({})", 1800 + t);
+            assert!(
+                c.tau != 0 || set.contains(&want),
+                "conformalset: no \"{want}\""
+            );
+        }
+    }
+}
+
+// ------------------------------------------------------------------ gaps of a user's record
+
+/// The report `r` with gaps (NaN, JSON `null`: not measured) in its measurements `y` and
+/// `ubb.y` at the first, a middle and the last rows' first component; the number of gaps made.
+fn with_gaps(r: &Report) -> (Report, usize) {
+    let mut r = r.clone();
+    let mut made = 0;
+    let ubb_y = r.ubb.as_mut().map(|u| &mut u.y);
+    for rows in [Some(&mut r.y), ubb_y].into_iter().flatten() {
+        let n = rows.len();
+        for k in [0, n / 2, n.saturating_sub(1)] {
+            if let Some(v) = rows.get_mut(k).and_then(|row| row.first_mut()) {
+                if !v.is_nan() {
+                    *v = f64::NAN;
+                    made += 1;
+                }
+            }
+        }
+    }
+    (r, made)
+}
+
+/// Gaps of a user's record (a NaN in the report's `y` or `ubb.y`) in every preset's report:
+/// every useful panel of every method draws, at a page size and a small one and at the shown
+/// time's neighbours, an SVG that parses (usvg) and holds no "NaN" (a gap is no marker, never a
+/// point at NaN); and every method's presets put gaps somewhere.
+#[test]
+fn gaps_in_the_measurements_draw_no_nan_in_any_panel() {
+    let mut gapped_methods = std::collections::BTreeSet::new();
+    for p in presets::all() {
+        let r = p.scenario.run().expect("preset runs");
+        let (r, made) = with_gaps(&r);
+        if made > 0 {
+            gapped_methods.insert(r.method.to_string());
+        }
+        for panel in useful_panels(&r) {
+            for (w, h) in [(960, 640), (400, 250)] {
+                let out = report_svg(&r, &View::new(panel), w, h)
+                    .unwrap_or_else(|e| panic!("{} {} with gaps: {e}", p.name, panel.name()));
+                assert!(
+                    !out.contains("NaN"),
+                    "{} {} {w}×{h}: NaN in the SVG",
+                    p.name,
+                    panel.name()
+                );
+                resvg::usvg::Tree::from_str(&out, &resvg::usvg::Options::default())
+                    .unwrap_or_else(|e| panic!("{} {}: not an SVG: {e}", p.name, panel.name()));
+            }
+        }
+    }
+    // Every method whose report carries its measurements gets gaps (GLLS and LSCR keep theirs
+    // in their own blocks, which a gap never reaches: those methods refuse one).
+    for m in ["scf", "uniform_lp", "ubb", "conformal", "compare"] {
+        assert!(
+            gapped_methods.contains(m),
+            "no preset of {m} had a gap put in: {gapped_methods:?}"
+        );
+    }
+}
+
+/// A gap is simply no marker: the measurement dots of SCF's over-time chart lose one for each
+/// gap at a measured component, and the rest stay where they were.
+#[test]
+fn a_gap_removes_its_measurement_marker_only() {
+    let (_, r) = preset("scf-scalar");
+    let dots = |svg: &str| {
+        let hex = format!(
+            "fill=\"#{:02X}{:02X}{:02X}\"",
+            style::MEASURE.0,
+            style::MEASURE.1,
+            style::MEASURE.2
+        );
+        svg.split("<circle")
+            .skip(1)
+            .filter(|el| el.split("/>").next().unwrap_or("").contains(hex.as_str()))
+            .count()
+    };
+    for panel in ["state", "series"] {
+        let whole = dots(&svg(&r, named(panel), None));
+        let mut g = r.clone();
+        g.y[3][0] = f64::NAN;
+        g.y[7][0] = f64::NAN;
+        let gapped = svg(&g, named(panel), None);
+        assert!(whole > 10, "{panel}: {whole} dots");
+        assert_eq!(
+            dots(&gapped),
+            whole - 2,
+            "{panel}: two gaps, two dots fewer"
+        );
+        assert!(!gapped.contains("NaN"));
+    }
+}

@@ -8,9 +8,11 @@
 use crate::error::{Error, Result};
 use crate::plot::figures::{Area, Canvas, CompareLook, Figures, Request, SetFill};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, percent, sub, Axes, Entry, Marker, Swatch, KF, MUTED, TRUTH};
+use crate::plot::style::{
+    self, num, percent, sub, Axes, Entry, Marker, RecordTimes, Swatch, KF, MUTED, TRUTH,
+};
 use crate::plot::view::{Frame, Panel, PanelSpec};
-use crate::scenario::{ConformalReport, Report};
+use crate::scenario::{ConformalReport, Report, TimeIndex};
 use plotters::prelude::*;
 
 /// Conformal's colour (reddish purple, Okabe–Ito).
@@ -195,7 +197,10 @@ fn draw_set<DB: DrawingBackend>(
     ));
     entries.push(region("Kalman χ²", KF, true, false));
     let what = if c.tau == 0 {
-        format!("State region at t = {t}: conformal vs Kalman")
+        format!(
+            "State region at {}: conformal vs Kalman",
+            RecordTimes::of(&report.figure, TimeIndex::OneBased).at("t", t)
+        )
     } else {
         format!(
             "Region of x{} from y₁ … y{}: conformal vs Kalman",
@@ -266,6 +271,7 @@ fn draw_aci<DB: DrawingBackend>(
 ) -> Result<Frame> {
     let (report, fonts) = (request.report, request.fonts);
     let short = fonts.compact;
+    let record = RecordTimes::of(&report.figure, TimeIndex::OneBased);
     let a = &c.aci;
     let ts: Vec<f64> = a.steps.iter().map(|s| s.t as f64).collect();
     let y: Vec<f64> = a
@@ -421,9 +427,10 @@ fn draw_aci<DB: DrawingBackend>(
         .chain(finite.iter().flat_map(|&(_, lo, hi)| [lo, hi]))
         .filter(|v| v.is_finite());
     let win = Win::time((t0, t1), ys);
-    let x_desc = "time t";
+    let steps_name = "time t";
+    let x_desc = record.axis_name(steps_name);
     let y_desc = "output y₁";
-    let chart = style::chart(
+    let chart = style::time_chart(
         &top,
         &fonts,
         &Axes {
@@ -434,6 +441,7 @@ fn draw_aci<DB: DrawingBackend>(
             equal: false,
             x_labels: bottom.is_none(),
         },
+        &record,
     )?;
     // The band in runs of consecutive finite steps.
     let mut run: Vec<(f64, f64, f64)> = Vec::new();
@@ -476,7 +484,7 @@ fn draw_aci<DB: DrawingBackend>(
             style::marker_inside(root, &chart, p, Marker::Cross, &KF, &mut marks)?;
         }
     }
-    let mut frame = style::frame_of(&chart, x_desc, y_desc);
+    let mut frame = style::frame_of(&chart, steps_name, y_desc);
     if let Some(bottom) = bottom {
         // The running coverage over the steps with an ACI interval (as `coverage` counts:
         // warm-up, whole-line and gap steps apart).
@@ -508,7 +516,7 @@ fn draw_aci<DB: DrawingBackend>(
             .max(0.0);
         let win2 = Win::time((t0, t1), [lo, 1.0].into_iter());
         let y2 = "running coverage";
-        let chart2 = style::chart(
+        let chart2 = style::time_chart(
             &bottom,
             &fonts,
             &Axes {
@@ -519,6 +527,7 @@ fn draw_aci<DB: DrawingBackend>(
                 equal: false,
                 x_labels: true,
             },
+            &record,
         )?;
         style::path(
             root,
@@ -530,7 +539,7 @@ fn draw_aci<DB: DrawingBackend>(
         )?;
         style::path(root, &chart2, &aci, &CONFORMAL, 2, None)?;
         style::path(root, &chart2, &kf, &KF, 2, Some(style::DASH))?;
-        frame.more.push(style::frame_of(&chart2, x_desc, y2));
+        frame.more.push(style::frame_of(&chart2, steps_name, y2));
     }
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(frame)

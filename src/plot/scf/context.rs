@@ -2,9 +2,9 @@
 //! shown time, the truth and measurements at a time, and the axis names.
 
 use crate::error::{Error, Result};
-use crate::plot::style::{sub, Fonts};
+use crate::plot::style::{sub, Fonts, RecordTimes};
 use crate::plot::view::View;
-use crate::scenario::{FigureContext, Report};
+use crate::scenario::{FigureContext, Report, TimeIndex};
 use crate::scf::ScfStep;
 
 fn default_name(i: usize) -> String {
@@ -85,10 +85,10 @@ impl<'a> Ctx<'a> {
     pub fn truth(&self, s: usize, i: usize) -> Option<f64> {
         self.x_true(s).and_then(|x| x.get(i).copied())
     }
-    /// Measurement of component i at time s, when a row of y measures it directly.
+    /// Measurement of component i at time s, when a row of y measures it directly; none at a
+    /// gap of the user's record (a NaN in the report's `y`: not measured, so no marker).
     pub fn measurement(&self, s: usize, i: usize) -> Option<f64> {
         let [_, row] = *self.figure().measured.iter().find(|[c, _]| *c == i)?;
-        // A gap of the record (NaN) is no measurement: nothing is drawn there.
         self.report
             .y
             .get(s.checked_sub(1)?)?
@@ -119,6 +119,10 @@ impl<'a> Ctx<'a> {
             .title
             .clone()
             .unwrap_or_else(|| default.to_string())
+    }
+    /// The record's own time at the steps t = 1, 2, … (row t − 1; none for a simulation).
+    pub fn record(&self) -> RecordTimes<'a> {
+        RecordTimes::of(&self.report.figure, TimeIndex::OneBased)
     }
     /// The scenario's part of the figure (made with the report).
     pub fn figure(&self) -> &'a FigureContext {

@@ -177,7 +177,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         ));
     }
 
-    let mut notes = vec![format!("shown time t = {t}")];
+    let record = cx.record();
+    let mut notes = vec![format!("shown time {}", record.at("t", t))];
     if shown < r.plot.len() {
         notes.insert(
             0,
@@ -210,7 +211,10 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
     let title = cx.title("KF and SCF estimates over time");
     let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let parts = area.split_evenly((comps.len().max(1), 1));
-    let xd = "time t (steps)";
+    // The frame names x in its units, steps (the page's read-out adds the record's time); the
+    // drawn axis says what its ticks read.
+    let steps_name = "time t (steps)";
+    let xd = record.axis_name(steps_name);
     let mut frames: Vec<Frame> = Vec::new();
     for (idx, (c, part)) in comps.iter().zip(&parts).enumerate() {
         let mut win = Win::empty();
@@ -246,7 +250,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
             (part.clone(), yd.clone())
         };
         let last = idx + 1 == comps.len();
-        let chart = style::chart(
+        let chart = style::time_chart(
             &part,
             &fonts,
             &Axes {
@@ -257,6 +261,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
                 equal: false,
                 x_labels: last,
             },
+            &record,
         )?;
         if stacked {
             let (xr, yr) = chart.plotting_area().get_pixel_range();
@@ -325,7 +330,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
         style::dots(root, &chart, &known(&c.meas), &MEASURE, 2)?;
         style::path(root, &chart, &line(&c.kf, 0), &KF, 2, Some(style::DASH))?;
         style::path(root, &chart, &line(&c.scf, 0), &SCF, 2, None)?;
-        style::cursor(root, &chart, &fonts, t as f64, &format!("t = {t}"))?;
+        style::cursor(root, &chart, &fonts, t as f64, &record.at("t", t))?;
         if idx == 0 {
             let mut marks = Vec::new();
             for which in [1, 2] {
@@ -335,7 +340,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx) -> Result<Frame> {
             marks.extend(style::marks_of(&chart, &truth));
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }
-        frames.push(style::frame_of(&chart, xd, &yd));
+        frames.push(style::frame_of(&chart, steps_name, &yd));
     }
     let mut it = frames.into_iter();
     let mut first = it.next().ok_or_else(|| {

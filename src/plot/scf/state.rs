@@ -126,7 +126,7 @@ fn shown(cx: &Ctx, i: usize, j: usize) -> Result<Shown> {
     let target = step.target.as_ref();
     let pred = target.map_or(t, |g| g.time);
     let mut bodies: Vec<Body> = Vec::new();
-    let mut notes: Vec<String> = vec![format!("t = {t}")];
+    let mut notes: Vec<String> = vec![cx.record().at("t", t)];
     let region_name;
     let mut verdict: Option<String> = None;
     let plane_is_a = match spec {
@@ -693,7 +693,8 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
             },
         ));
     }
-    let mut notes = vec![format!("shown time t = {t}")];
+    let record = cx.record();
+    let mut notes = vec![format!("shown time {}", record.at("t", t))];
     let (klo, khi) = kf[t - 1];
     notes.push(format!("KF [{}, {}]", sig(klo), sig(khi)));
     match scf[t - 1] {
@@ -725,8 +726,9 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     let title = cx.title("KF and SCF intervals over time");
     let (area, side) = style::titled_legend(root, &fonts, &title, &notes, &entries)?;
     let yd = cx.name(k);
-    let xd = "time t (steps)";
-    let chart = style::chart(
+    let steps_name = "time t (steps)";
+    let xd = record.axis_name(steps_name);
+    let chart = style::time_chart(
         &area,
         &fonts,
         &Axes {
@@ -737,6 +739,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
             equal: false,
             x_labels: true,
         },
+        &record,
     )?;
 
     // SCF band (filled, solid bounds) in contiguous runs.
@@ -774,7 +777,7 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
         .collect();
     style::path(root, &chart, &tr, &TRUTH, 2, None)?;
     // The shown time: cursor and the two intervals as bars with caps.
-    style::cursor(root, &chart, &fonts, t as f64, &format!("t = {t}"))?;
+    style::cursor(root, &chart, &fonts, t as f64, &record.at("t", t))?;
     let bar =
         |x: f64, (lo, hi): (f64, f64), color: &RGBColor, dash: Option<(i32, i32)>| -> Result<()> {
             let (a, b) = (style::px(&chart, (x, lo)), style::px(&chart, (x, hi)));
@@ -802,5 +805,5 @@ fn over_time<DB: DrawingBackend>(root: &Area<DB>, cx: &Ctx, k: usize) -> Result<
     marks.extend(style::marks_of(&chart, &khi));
     marks.extend(style::marks_of(&chart, &tr));
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
-    Ok(style::frame_of(&chart, xd, &yd))
+    Ok(style::frame_of(&chart, steps_name, &yd))
 }

@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use crate::plot::erase::de;
 use crate::plot::geom::Win;
 use crate::plot::view::Frame;
+use crate::scenario::{FigureContext, TimeIndex};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -54,7 +55,7 @@ pub fn chart<'a, DB: DrawingBackend>(
     fonts: &Fonts,
     axes: &Axes,
 ) -> Result<Chart<'a, DB>> {
-    chart_with(area, fonts, axes, YAxis::Linear)
+    chart_with(area, fonts, axes, YAxis::Linear, None)
 }
 
 /// A chart of a state plane: both axes in the same units, so they share one scale (a disk
@@ -93,7 +94,7 @@ pub fn rows_chart<'a, DB: DrawingBackend>(
         equal: false,
         x_labels: true,
     };
-    chart_with(area, fonts, &axes, YAxis::Rows)
+    chart_with(area, fonts, &axes, YAxis::Rows, None)
 }
 
 /// A chart whose y values are log10 of the quantity: the axis is linear in log10 and labelled
@@ -104,7 +105,7 @@ pub fn log_chart<'a, DB: DrawingBackend>(
     fonts: &Fonts,
     axes: &Axes,
 ) -> Result<Chart<'a, DB>> {
-    chart_with(area, fonts, axes, YAxis::Log)
+    chart_with(area, fonts, axes, YAxis::Log, None)
 }
 
 /// One tick of a log axis: position (log10), label (empty: grid line only), decade or not.
@@ -218,11 +219,230 @@ enum YAxis {
     Rows,
 }
 
+/// The record's own time on a time axis and in the words of a figure (`data.t`, the report's
+/// [`FigureContext::times`]): the one place a panel's step becomes the record's time. A panel
+/// says how its steps count against the record's rows ([`TimeIndex`]: SCF, KF, conformal and
+/// uniform count t = 1, 2, …, row t − 1; ubb counts k = 0, 1, …, row k, Tempo's y(k)); its
+/// time charts ([`time_chart`]) then label their ticks with the record's time, its cursor and
+/// notes say "t = 40 (1910)" ([`RecordTimes::at`]). Without record times (a simulation, a
+/// record without `data.t`) every axis and every word is as it was.
+#[derive(Debug, Clone, Copy)]
+pub struct RecordTimes<'a> {
+    labels: &'a [String],
+    /// The step of the record's first row (1 for t = 1, 2, …; 0 for ubb's k): row i is step
+    /// i + first_step.
+    first_step: usize,
+}
+
+/// The x axis name of a time chart whose ticks read the record's own time. The record's
+/// column name is not known (`data.t` holds the times only), so the axis says what they are and
+/// where they come from; a narrow chart drops the parenthesis ([`without_qualifiers`]).
+pub const RECORD_TIME_AXIS: &str = "time (the record's data.t)";
+
+/// One tick of a time axis: position (steps), label (empty: a light grid line only), labelled
+/// or not.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimeTick {
+    pub at: f64,
+    pub label: String,
+    pub major: bool,
+}
+
+impl<'a> RecordTimes<'a> {
+    /// The record times of a report's figure, for a panel counting its steps by `index`
+    /// (`NotTime`: none).
+    pub fn of(fig: &'a FigureContext, index: TimeIndex) -> RecordTimes<'a> {
+        match index {
+            TimeIndex::OneBased => RecordTimes {
+                labels: &fig.times,
+                first_step: 1,
+            },
+            TimeIndex::ZeroBased => RecordTimes {
+                labels: &fig.times,
+                first_step: 0,
+            },
+            TimeIndex::NotTime => RecordTimes {
+                labels: &[],
+                first_step: 1,
+            },
+        }
+    }
+    /// Whether the record has no times (the axes then count steps as before).
+    pub fn is_empty(&self) -> bool {
+        self.labels.is_empty()
+    }
+    /// The record's time at step `step`, if the record has one there.
+    pub fn label(&self, step: usize) -> Option<&'a str> {
+        step.checked_sub(self.first_step)
+            .and_then(|row| self.labels.get(row))
+            .map(String::as_str)
+    }
+    /// "t = 40 (1910)": a step with its record time, as titles, notes and cursors say it;
+    /// "t = 40" where the record has no time.
+    pub fn at(&self, symbol: &str, step: usize) -> String {
+        match self.label(step) {
+            Some(l) => format!("{symbol} = {step} ({l})"),
+            None => format!("{symbol} = {step}"),
+        }
+    }
+    /// The name of the x axis: [`RECORD_TIME_AXIS`] when the ticks read the record's time,
+    /// else the panel's own (`plain`, which counts steps).
+    pub fn axis_name<'b>(&self, plain: &'b str) -> &'b str {
+        if self.is_empty() {
+            plain
+        } else {
+            RECORD_TIME_AXIS
+        }
+    }
+    /// The record's times as numbers (years, seconds), when every one is a finite number and
+    /// they increase strictly; `None` for dates (or a report whose times are not in order).
+    fn numbers(&self) -> Option<Vec<f64>> {
+        let v: Vec<f64> = self
+            .labels
+            .iter()
+            .map(|l| l.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+            .collect::<Option<_>>()?;
+        v.windows(2).all(|w| w[0] < w[1]).then_some(v)
+    }
+    /// The ticks of a time axis over steps [x0, x1] with at most `max_labels` labels (at
+    /// least 2). Where the record's times are numbers, the labels are at round values of
+    /// the record's own time (1880, 1900, … for years; a tick between two rows sits where
+    /// the time lies between theirs), with light lines between; otherwise (dates) at every
+    /// 1st, 2nd, 5th, 10th, … row from the first shown, labelled with the row's time as
+    /// written. Only inside the record's rows (no time is invented before or after it).
+    pub fn ticks(&self, x0: f64, x1: f64, max_labels: usize) -> Vec<TimeTick> {
+        let n = self.labels.len();
+        if n == 0 || !(x0.is_finite() && x1.is_finite() && x1 >= x0) {
+            return Vec::new();
+        }
+        let max_labels = max_labels.max(2);
+        let base = self.first_step as f64;
+        // The rows whose step lies in the window.
+        let first = (x0 - base).ceil().max(0.0);
+        let last = (x1 - base).floor().min((n - 1) as f64);
+        if first > last {
+            return Vec::new();
+        }
+        let (first, last) = (first as usize, last as usize);
+        let Some(v) = self.numbers() else {
+            // Dates: a nice number of rows apart, from the first row shown.
+            let rows = last - first + 1;
+            let step = nice_count(rows, max_labels);
+            return (first..=last)
+                .step_by(step)
+                .map(|i| TimeTick {
+                    at: i as f64 + base,
+                    label: self.labels[i].clone(),
+                    major: true,
+                })
+                .collect();
+        };
+        let (lo, hi) = (v[first], v[last]);
+        if last == first {
+            return vec![TimeTick {
+                at: first as f64 + base,
+                label: self.labels[first].clone(),
+                major: true,
+            }];
+        }
+        let whole = v.iter().all(|x| x.fract() == 0.0);
+        let Some((step, minor)) = nice_step(hi - lo, max_labels, whole) else {
+            return Vec::new();
+        };
+        let places = if step >= 1.0 {
+            0
+        } else {
+            (-step.log10()).ceil().max(0.0) as usize
+        };
+        // The step of a time between rows i and i + 1, by its place between their times.
+        let position = |x: f64| -> f64 {
+            let i = v.partition_point(|&r| r <= x).clamp(1, n - 1) - 1;
+            let f = ((x - v[i]) / (v[i + 1] - v[i])).clamp(0.0, 1.0);
+            i as f64 + f + base
+        };
+        let per_major = (step / minor).round() as i64;
+        let (k0, k1) = ((lo / minor).ceil() as i64, (hi / minor).floor() as i64);
+        let mut out = Vec::new();
+        for k in k0..=k1 {
+            let x = k as f64 * minor;
+            let major = k.rem_euclid(per_major) == 0;
+            out.push(TimeTick {
+                at: position(x),
+                label: if major { num(x, places) } else { String::new() },
+                major,
+            });
+        }
+        out
+    }
+}
+
+/// The step between labelled ticks over `span` with at most `max_labels` labels: 1, 2 or 5
+/// times a power of ten (at least 1 for whole-number times such as years), and the step of
+/// the light lines between them (a fifth of it, or half of a 2·10ᵏ; none finer than 1 for
+/// whole numbers, nor more than 400 lines in all).
+fn nice_step(span: f64, max_labels: usize, whole: bool) -> Option<(f64, f64)> {
+    if !(span.is_finite() && span > 0.0) {
+        return None;
+    }
+    let raw = span / max_labels as f64;
+    let mut e = raw.log10().floor() as i32;
+    let step = loop {
+        let p = 10f64.powi(e);
+        if let Some(m) = [1.0, 2.0, 5.0]
+            .into_iter()
+            .find(|m| span / (m * p) <= max_labels as f64)
+        {
+            break m * p;
+        }
+        e += 1;
+    };
+    let step = if whole { step.max(1.0) } else { step };
+    let mantissa = (step / 10f64.powi(step.log10().floor() as i32)).round();
+    let mut minor = if mantissa == 2.0 {
+        step / 2.0
+    } else {
+        step / 5.0
+    };
+    if (whole && minor < 1.0) || span / minor > 400.0 {
+        minor = step;
+    }
+    Some((step, minor))
+}
+
+/// Every `step`-th of `count` rows, `step` the least of 1, 2, 5, 10, 20, … leaving at most
+/// `max_labels` of them.
+fn nice_count(count: usize, max_labels: usize) -> usize {
+    let mut p = 1usize;
+    loop {
+        for m in [1, 2, 5] {
+            let step = m * p;
+            if count.div_ceil(step) <= max_labels {
+                return step;
+            }
+        }
+        p = p.saturating_mul(10);
+    }
+}
+
+/// A time chart ([`chart`]) whose x ticks read the record's own time ([`RecordTimes::ticks`])
+/// when it has one; the panel passes the axis name of [`RecordTimes::axis_name`]. Without
+/// record times it is [`chart`].
+pub fn time_chart<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fonts: &Fonts,
+    axes: &Axes,
+    record: &RecordTimes,
+) -> Result<Chart<'a, DB>> {
+    let record = (!record.is_empty()).then_some(record);
+    chart_with(area, fonts, axes, YAxis::Linear, record)
+}
+
 fn chart_with<'a, DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     fonts: &Fonts,
     axes: &Axes,
     y_axis: YAxis,
+    record: Option<&RecordTimes>,
 ) -> Result<Chart<'a, DB>> {
     let log_y = y_axis == YAxis::Log;
     let mut win = axes.win;
@@ -315,12 +535,23 @@ fn chart_with<'a, DB: DrawingBackend>(
     } else {
         mesh.y_label_formatter(&fy);
     }
-    if axes.x_labels {
+    if record.is_some() {
+        // The record's time: ticks, grid lines and labels drawn below, after the mesh.
+        mesh.x_label_formatter(&no_label)
+            .disable_x_mesh()
+            .set_tick_mark_size(LabelAreaPosition::Bottom, 0);
+        if axes.x_labels {
+            mesh.x_desc(x_desc);
+        }
+    } else if axes.x_labels {
         mesh.x_desc(x_desc).x_label_formatter(&fx);
     } else {
         mesh.x_label_formatter(&no_label);
     }
     mesh.draw().map_err(de)?;
+    if let Some(record) = record {
+        record_ticks(area, &chart, &tick, record, axes.x_labels, pw)?;
+    }
     if log_y {
         // The grid lines and labels of the decades (under everything drawn later).
         let (xr, _) = chart.plotting_area().get_pixel_range();
@@ -345,6 +576,58 @@ fn chart_with<'a, DB: DrawingBackend>(
         }
     }
     Ok(chart)
+}
+
+/// The x grid lines, tick marks and labels of a time chart that reads the record's time: as
+/// many labels as fit side by side (the widest of the record's labels measured), light lines
+/// between them where they are at least 6 pixels apart.
+fn record_ticks<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    tick: &TextStyle,
+    record: &RecordTimes,
+    labelled: bool,
+    pw: i32,
+) -> Result<()> {
+    let win = Win::of_chart(chart);
+    let widest = record
+        .labels
+        .iter()
+        .max_by_key(|l| l.chars().count())
+        .map_or(Ok((0, 0)), |l| text_size(area, l, tick))?
+        .0 as i32;
+    let max_labels = (pw / (widest + 16).max(1)).clamp(2, (pw / 55).clamp(3, 10)) as usize;
+    let ticks = record.ticks(win.x0, win.x1, max_labels);
+    let minor_px = {
+        let mut at: Vec<f64> = ticks.iter().map(|t| t.at).collect();
+        at.dedup();
+        let gap = at
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min);
+        px(chart, (win.x0 + gap.min(win.x1 - win.x0), win.y0)).0 - px(chart, (win.x0, win.y0)).0
+    };
+    let root = chart.plotting_area().strip_coord_spec();
+    for t in &ticks {
+        if !t.major && minor_px < 6 {
+            continue;
+        }
+        let bottom = px(chart, (t.at, win.y0));
+        let top = px(chart, (t.at, win.y1));
+        let color = if t.major { GRID } else { GRID_LIGHT };
+        polyline(&root, &[top, (bottom.0, bottom.1 - 1)], &color, 1, None)?;
+        if labelled && t.major {
+            polyline(area, &[bottom, (bottom.0, bottom.1 + 5)], &MUTED, 1, None)?;
+            text(
+                area,
+                &t.label,
+                (bottom.0, bottom.1 + 10),
+                tick,
+                (HPos::Center, VPos::Top),
+            )?;
+        }
+    }
+    Ok(())
 }
 
 /// The frame (ranges and pixel box) of a chart.

@@ -369,7 +369,10 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             fill: false,
         },
     ));
-    let what = format!("Feasible set at k = {k}: {target}, {norm} bounds");
+    let what = format!(
+        "Feasible set at {}: {target}, {norm} bounds",
+        style::RecordTimes::of(&report.figure, crate::scenario::TimeIndex::ZeroBased).at("k", k)
+    );
     let title = style::title(&report.figure, &fonts, &what, &what);
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;

@@ -6,7 +6,8 @@
 
 use super::set::{check, HULL, SECOND, SET};
 use crate::plot::geom::Win;
-use crate::plot::style::{self, num, sub, Axes, Entry, Swatch, MUTED};
+use crate::plot::style::{self, num, sub, Axes, Entry, RecordTimes, Swatch, MUTED};
+use crate::scenario::TimeIndex;
 
 use crate::error::Result;
 use crate::plot::figures::{Area, Request};
@@ -32,6 +33,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let [i, j] = u.plane;
     let short = fonts.compact;
     let cursor_k = view.time.unwrap_or(u.at.k);
+    // Step k is row k of the record (Tempo's y(k)).
+    let record = RecordTimes::of(&report.figure, TimeIndex::ZeroBased);
     let ks: Vec<f64> = u.track.iter().map(|t| t.k as f64).collect();
     let width = |c: usize| -> Vec<f64> { u.track.iter().map(|t| t.hi[c] - t.lo[c]).collect() };
     let (wi, wj) = (width(i), width(j));
@@ -128,7 +131,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     } else {
         "hull width hi − lo".to_string()
     };
-    let step_label = if short { STEP_SHORT } else { STEP };
+    let steps_name = if short { STEP_SHORT } else { STEP };
+    let step_label = record.axis_name(steps_name);
     let axes = Axes {
         win,
         x_desc: step_label,
@@ -137,7 +141,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         equal: false,
         x_labels: bottom.is_none(),
     };
-    let chart = style::chart(&top, &fonts, &axes)?;
+    let chart = style::time_chart(&top, &fonts, &axes, &record)?;
     let mut marks = Vec::new();
     if let Some(b) = bound {
         style::path(
@@ -168,9 +172,9 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         &chart,
         &fonts,
         cursor_k as f64,
-        &format!("k = {cursor_k}"),
+        &record.at("k", cursor_k),
     )?;
-    let mut frame = style::frame_of(&chart, step_label, &y_desc);
+    let mut frame = style::frame_of(&chart, steps_name, &y_desc);
 
     if let Some(bottom) = bottom {
         let mut ys: Vec<f64> = Vec::new();
@@ -190,7 +194,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             equal: false,
             x_labels: true,
         };
-        let chart2 = style::chart(&bottom, &fonts, &axes2)?;
+        let chart2 = style::time_chart(&bottom, &fonts, &axes2, &record)?;
         for (c, color) in [(i, SET), (j, SECOND)] {
             let lo: Vec<f64> = u.track.iter().map(|t| t.lo[c]).collect();
             let hi: Vec<f64> = u.track.iter().map(|t| t.hi[c]).collect();
@@ -221,7 +225,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             )?;
         }
         style::cursor(root, &chart2, &fonts, cursor_k as f64, "")?;
-        frame.more.push(style::frame_of(&chart2, step_label, &y2));
+        frame.more.push(style::frame_of(&chart2, steps_name, &y2));
     }
     style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
     Ok(frame)

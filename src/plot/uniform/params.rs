@@ -4,8 +4,7 @@
 //! there are no true values: the curves stand alone.
 
 use super::time_series::{
-    cell, check, columns, cursor, grid, level, short_labels, stacked, time_axes, time_win,
-    window_band, TIME,
+    cell, check, columns, cursor, grid, level, short_labels, stacked, time_win, window_band, TIME,
 };
 use crate::plot::style::{self, sig, sub, Entry, Swatch, TEXT};
 
@@ -22,7 +21,7 @@ type Curve = (String, RGBColor, Vec<(f64, f64)>, Option<f64>);
 pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
     let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, view, Panel::of(&super::time_series::PARAMS))?;
-    let (n, steps, t) = (u.n, u.steps, u.t);
+    let (n, steps) = (u.n, u.steps);
     let short = short_labels(root, &fonts);
     let a_true = u.u.theta_true.as_ref().map(|th| &th[0]);
     let m = u.m;
@@ -173,7 +172,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             part,
             &fonts,
             None,
-            &time_axes(win, yd, layout.x_labels(row, 2)),
+            &u.time_axes(win, yd, layout.x_labels(row, 2)),
+            &u.record,
         )?;
         window_band(root, &chart, &u)?;
         for (_, color, _, truth) in curves.iter() {
@@ -185,7 +185,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             style::path(root, &chart, pts, color, 2, None)?;
             marks.extend(style::marks_of(&chart, pts));
         }
-        cursor(root, &chart, &fonts, t, row == 0)?;
+        cursor(root, &chart, &fonts, &u, row == 0)?;
         if row == 0 {
             style::overlay_legend(root, &chart, &fonts, &entries, side, &marks)?;
         }

@@ -204,7 +204,10 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let title = style::title(
         &report.figure,
         &fonts,
-        &format!("States consistent with the window at t = {t}"),
+        &format!(
+            "States consistent with the window at {}",
+            u.record.at("t", t)
+        ),
         &format!(
             "States x{} consistent with the window (Pavelková, (4) at the bounds)",
             sub(t)

@@ -18,11 +18,12 @@ use crate::error::{Error, Result};
 use crate::plot::figures::{Area, Request};
 use crate::plot::geom::Win;
 use crate::plot::style::{
-    self, sig, sub, Axes, Entry, Fonts, LegendSide, Swatch, FACE, KF, TRUTH, UNIFORM_LP, WINDOW,
+    self, sig, sub, Axes, Entry, Fonts, LegendSide, RecordTimes, Swatch, FACE, KF, TRUTH,
+    UNIFORM_LP, WINDOW,
 };
 use crate::plot::view::PanelSpec;
 use crate::plot::view::{Frame, Panel, View};
-use crate::scenario::{FigureContext, Report, UniformReport};
+use crate::scenario::{FigureContext, Report, TimeIndex, UniformReport};
 use crate::uniform::Joint;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
@@ -89,6 +90,8 @@ pub(crate) struct U<'a> {
     pub truth: Option<&'a [Vec<f64>]>,
     /// KF estimates x_1 … x_T when simulated.
     pub kf: Option<&'a [Vec<f64>]>,
+    /// The record's own time at t = 1 … T (row t − 1 of the user's data; none simulated).
+    pub record: RecordTimes<'a>,
 }
 
 impl U<'_> {
@@ -109,6 +112,21 @@ impl U<'_> {
     /// Whether the window at the cursor is the report's (then its face and polygon apply).
     pub fn at_window(&self) -> bool {
         self.t == self.u.at.time
+    }
+    /// The x axis name of every time chart: [`TIME`], or the record's time.
+    pub fn time_name(&self) -> &'static str {
+        self.record.axis_name(TIME)
+    }
+    /// Axes of a time chart: t = 0 … T in whole steps on x, `y_desc` on y.
+    pub fn time_axes<'s>(&self, win: Win, y_desc: &'s str, x_labels: bool) -> Axes<'s> {
+        Axes {
+            win,
+            x_desc: self.time_name(),
+            y_desc,
+            x_integer: true,
+            equal: false,
+            x_labels,
+        }
     }
 }
 
@@ -209,6 +227,7 @@ pub(crate) fn check<'a>(report: &'a Report, view: &View, panel: Panel) -> Result
         t,
         truth: u.x_true.as_deref(),
         kf: u.kf.as_deref(),
+        record: RecordTimes::of(&report.figure, TimeIndex::OneBased),
     })
 }
 
@@ -294,13 +313,15 @@ pub(crate) fn grid<DB: DrawingBackend>(
     Ok((cells, side))
 }
 
-/// A chart on `part`, with an optional bold heading above its plotting area.
+/// A time chart on `part` (its ticks reading the record's time when it has one), with an
+/// optional bold heading above its plotting area.
 pub(crate) fn cell<'a, DB: DrawingBackend>(
     root: &Area<DB>,
     part: &Area<DB>,
     fonts: &Fonts,
     heading: Option<&str>,
     axes: &Axes,
+    record: &RecordTimes,
 ) -> Result<style::Chart<'a, DB>> {
     let hs = fonts.bold(if fonts.compact { 11.5 } else { 13.0 });
     let part = match heading {
@@ -310,7 +331,7 @@ pub(crate) fn cell<'a, DB: DrawingBackend>(
         }
         None => part.clone(),
     };
-    let chart = style::chart(&part, fonts, axes)?;
+    let chart = style::time_chart(&part, fonts, axes, record)?;
     if let Some(hd) = heading {
         let (xr, yr) = chart.plotting_area().get_pixel_range();
         let head = style::shorten(root, hd, &hs, (xr.end - xr.start).max(40) as u32)?;
@@ -376,20 +397,8 @@ fn values_over_errors<DB: DrawingBackend>(
     Ok((rows, side, layout))
 }
 
-/// The x axis of every time chart.
+/// The x axis of every time chart (without record times).
 pub(crate) const TIME: &str = "time t";
-
-/// Axes of a time chart: t = 0 … T in whole steps on x, `y_desc` on y.
-pub(crate) fn time_axes<'s>(win: Win, y_desc: &'s str, x_labels: bool) -> Axes<'s> {
-    Axes {
-        win,
-        x_desc: TIME,
-        y_desc,
-        x_integer: true,
-        equal: false,
-        x_labels,
-    }
-}
 
 /// A horizontal line at `y` across the time window `win` (zero, a bound, a true value).
 pub(crate) fn level<DB: DrawingBackend>(
@@ -431,16 +440,17 @@ pub(crate) fn window_band<DB: DrawingBackend>(
     style::band(root, chart, &[a, b], &[w.y0, w.y0], &[w.y1, w.y1], &WINDOW)
 }
 
-/// The time cursor (labelled on the top row only).
+/// The time cursor (labelled on the top row only, with the record's time).
 pub(crate) fn cursor<DB: DrawingBackend>(
     root: &Area<DB>,
     chart: &style::Chart<DB>,
     fonts: &Fonts,
-    t: usize,
+    u: &U,
     label: bool,
 ) -> Result<()> {
+    let t = u.t;
     let l = if label {
-        format!("t = {t}")
+        u.record.at("t", t)
     } else {
         String::new()
     };
@@ -468,13 +478,13 @@ fn ysym(m: usize, j: usize) -> String {
 fn window_entry(u: &U, short: bool) -> Entry {
     Entry::new(
         if short {
-            format!("window at t = {}", u.u.at.time)
+            format!("window at {}", u.record.at("t", u.u.at.time))
         } else {
             format!(
-                "sliding window x{}…x{} at t = {} (∂ = {})",
+                "sliding window x{}…x{} at {} (∂ = {})",
                 sub(u.u.at.first - 1),
                 sub(u.u.at.time),
-                u.u.at.time,
+                u.record.at("t", u.u.at.time),
                 u.u.window
             )
         },
@@ -649,7 +659,8 @@ pub fn draw_states<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
             top,
             &fonts,
             Some(&name),
-            &time_axes(win, &yd, layout.x_labels(0, 2)),
+            &u.time_axes(win, &yd, layout.x_labels(0, 2)),
+            &u.record,
         )?;
         window_band(root, &chart, &u)?;
         style::path(root, &chart, &truth_pts, &TRUTH, 2, None)?;
@@ -658,7 +669,7 @@ pub fn draw_states<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
         for &(x, a, b) in &bars {
             face_bar(root, &chart, x, a, b)?;
         }
-        cursor(root, &chart, &fonts, t, true)?;
+        cursor(root, &chart, &fonts, &u, true)?;
         let mut marks = style::marks_of(&chart, &truth_pts);
         marks.extend(style::marks_of(&chart, &lp_pts));
         marks.extend(style::marks_of(&chart, &kf_pts));
@@ -697,13 +708,14 @@ pub fn draw_states<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
             bottom,
             &fonts,
             (layout == Layout::SideBySide).then_some(side_heading.as_str()),
-            &time_axes(win, &yd, true),
+            &u.time_axes(win, &yd, true),
+            &u.record,
         )?;
         window_band(root, &chart, &u)?;
         level(root, &chart, win, 0.0, &TRUTH, 1, None)?;
         style::path(root, &chart, &kf_err, &KF, 2, Some(style::DASH))?;
         style::path(root, &chart, &lp_err, &UNIFORM_LP, 2, None)?;
-        cursor(root, &chart, &fonts, t, false)?;
+        cursor(root, &chart, &fonts, &u, false)?;
         if lp_err.is_empty() {
             let (xr, yr) = chart.plotting_area().get_pixel_range();
             style::text(
@@ -757,7 +769,7 @@ fn face_bar<DB: DrawingBackend>(
 pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
     let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, view, Panel::of(&OUTPUT))?;
-    let (m, steps, t) = (u.m, u.steps, u.t);
+    let (m, steps) = (u.m, u.steps);
     let short = short_labels(root, &fonts);
     let yr_true = u.u.yr_true.as_deref();
     let mut entries = vec![
@@ -855,12 +867,13 @@ pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
             top,
             &fonts,
             heading.as_deref(),
-            &time_axes(win, &yd, layout.x_labels(0, 2)),
+            &u.time_axes(win, &yd, layout.x_labels(0, 2)),
+            &u.record,
         )?;
         window_band(root, &chart, &u)?;
         style::path(root, &chart, &y, &TRUTH, 2, None)?;
         style::path(root, &chart, &p, &UNIFORM_LP, 2, None)?;
-        cursor(root, &chart, &fonts, t, true)?;
+        cursor(root, &chart, &fonts, &u, true)?;
         let mut marks = style::marks_of(&chart, &y);
         marks.extend(style::marks_of(&chart, &p));
         if j == 0 {
@@ -893,7 +906,8 @@ pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
             bottom,
             &fonts,
             (sbs || m > 1).then_some(side_heading.as_str()),
-            &time_axes(win, &yd, true),
+            &u.time_axes(win, &yd, true),
+            &u.record,
         )?;
         window_band(root, &chart, &u)?;
         level(root, &chart, win, 0.0, &TRUTH, 1, None)?;
@@ -901,7 +915,7 @@ pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
             level(root, &chart, win, v, &TRUTH, 1, Some((4, 4)))?;
         }
         style::path(root, &chart, &e, &UNIFORM_LP, 2, None)?;
-        cursor(root, &chart, &fonts, t, false)?;
+        cursor(root, &chart, &fonts, &u, false)?;
         err_frames.push(style::frame_of(&chart, TIME, &yd));
     }
     stacked(frames.into_iter().chain(err_frames))
