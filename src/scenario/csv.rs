@@ -35,7 +35,8 @@
 //!   the system, and a time places its row): such a cell is an error naming its row and column.
 //! * **Rows**: after the header (without one: from the first row on) every line is a row, so
 //!   no row is lost and none moves. A blank line is a row of gaps (in a one-column file, exactly
-//!   an empty cell), as is a line of empty cells (`,,`); a row of gaps only is a row. Blank
+//!   an empty cell), as is a line of empty cells (`,,`, or tabs only in a tab-separated file);
+//!   a row of gaps only is a row. Blank
 //!   lines at the very end of the file are not rows (a note says so when there is more than the
 //!   last line break), nor are blank lines before the header or first row, so a file without
 //!   header cannot begin with an empty cell: write `NA` (or add a header).
@@ -247,6 +248,12 @@ fn lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
 
 fn is_blank(line: &str) -> bool {
     line.trim().is_empty()
+}
+
+/// A blank line among the rows: white space only, but a line of tabs in a tab-separated file
+/// is a row of empty cells (a data frame's all-missing row), as `,,` is in a comma-separated one.
+fn is_blank_row(line: &str, delimiter: Delimiter) -> bool {
+    is_blank(line) && !(delimiter == Delimiter::Char('\t') && line.contains('\t'))
 }
 
 /// A `#` line that is not a spreadsheet error cell: the line's first cell (up to a tab,
@@ -898,7 +905,7 @@ fn parse(text: &str, q: usize, r: usize, chosen: &[String], limits: Limits) -> R
     let start = first_line + usize::from(header);
     let (mut last, mut total) = (start - 1, start - 1);
     for (n, l) in lines(text).skip(start - 1) {
-        if !is_blank(l) {
+        if !is_blank_row(l, delimiter) {
             last = n;
         }
         total = n;
@@ -975,7 +982,7 @@ fn parse(text: &str, q: usize, r: usize, chosen: &[String], limits: Limits) -> R
     let mut previous: Option<(f64, usize)> = None;
     let blank_row = vec![""; n];
     for (line, row_text) in lines(text).skip(start - 1).take(rows) {
-        let blank = is_blank(row_text);
+        let blank = is_blank_row(row_text, delimiter);
         let split;
         let cells: &[&str] = if blank {
             &blank_row

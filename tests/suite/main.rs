@@ -65,6 +65,7 @@ mod messages;
 mod metamorphic;
 mod planar;
 mod precision;
+mod records;
 mod registry;
 mod report_hooks;
 mod scf_paper;

@@ -715,7 +715,7 @@ fn csv_data_is_read_as_the_core_reads_it() {
     assert_eq!(shape, serde_json::json!({"outputs": 1, "inputs": 0}));
     let text = "y1\r\n0.5\r\n-1.25\r\n";
     let got: Value =
-        serde_json::from_str(&with_csv_data(&scenario, text, "real.csv").expect("CSV read"))
+        serde_json::from_str(&with_csv_data(&scenario, text, "real.csv", None).expect("CSV read"))
             .expect("JSON");
     let core = confset::scenario::Scenario::from_json(&scenario)
         .and_then(|s| s.with_csv_data(text))
@@ -728,7 +728,7 @@ fn csv_data_is_read_as_the_core_reads_it() {
     assert_eq!(got["data"]["y"], serde_json::json!([[0.5], [-1.25]]));
     assert!(got.get("simulate").is_none(), "simulate is dropped");
     let (message, field) =
-        thrown(with_csv_data(&scenario, "y1\n1\nx\n", "bad.csv").expect_err("bad cell"));
+        thrown(with_csv_data(&scenario, "y1\n1\nx\n", "bad.csv", None).expect_err("bad cell"));
     assert_eq!(field, "data.y");
     assert_eq!(message, "data.y row 3, column y1: 'x' is not a number");
     let (_, field) = thrown(data_shape("{}").expect_err("no scenario"));
