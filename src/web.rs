@@ -6,6 +6,8 @@
 //! const list = JSON.parse(presets());            // [{name, label, menu, description, scenario}, …]
 //! const shape = JSON.parse(dataShape(json));     // {outputs: q, inputs: r}: the CSV columns
 //! const withData = withCsvData(json, csvText, 'real.csv'); // the scenario with the file's data
+//! const header = JSON.parse(csvColumns(csvText)); // {columns: [names], time: k or null}
+//! const chosen = withCsvData(json, csvText, 'real.csv', ['flow']); // y1 = the column 'flow'
 //! const first = JSON.parse(firstAccepted(json)); // {field, value}: an animation's first step
 //! const s = new Session();
 //! const report = JSON.parse(s.run(JSON.stringify(list[0].scenario)));
@@ -176,16 +178,38 @@ pub fn method_panels(method: &str) -> Result<String, JsValue> {
 }
 
 /// The scenario (JSON) with `data` read from the CSV text of the file `name`, no `simulate`
-/// block and titled after the file (the core's `Scenario::with_csv_file`: the same parser as
-/// `confset run --data`). Errors name `data`, `data.y` or `data.u` (or the model field the
-/// data's shape cannot be read from). The page calls it in the panel's worker: a 20 MB file
-/// takes a fifth of a second to read.
+/// block and titled after the file (the core's `Scenario::with_csv_file_columns`: the same
+/// reader as `confset run --data`). `columns` (optional, a JS array of strings) names the
+/// header's columns to read as y1 … yq, then u1 … ur (`--columns`); without it the header's
+/// own names decide. Errors name `data`, `data.y`, `data.u`, `data.t`, `columns` (a name
+/// chosen) or the model field the data's shape cannot be read from. The page calls it in the
+/// panel's worker: a 20 MB file takes a fifth of a second to read.
 #[wasm_bindgen(js_name = withCsvData)]
-pub fn with_csv_data(scenario_json: &str, csv: &str, name: &str) -> Result<String, JsValue> {
+pub fn with_csv_data(
+    scenario_json: &str,
+    csv: &str,
+    name: &str,
+    columns: Option<Vec<String>>,
+) -> Result<String, JsValue> {
     let s = Scenario::from_json(scenario_json)
-        .and_then(|s| s.with_csv_file(csv, name))
+        .and_then(|s| s.with_csv_file_columns(csv, name, columns.as_deref().unwrap_or(&[])))
         .map_err(|e| js_error(&e))?;
     to_json("the scenario", &s)
+}
+
+/// The CSV text's header for the page's column picker (JSON `{"columns": [names], "time": k}`):
+/// the header's names (`[]` when the file has none; an unnamed column is `""`) and the index
+/// of the column read as the record's time when no column is chosen (`null`: none). Only the
+/// lines up to the header are read (`scenario::csv::csv_columns`, `csv_time_column`).
+#[wasm_bindgen(js_name = csvColumns)]
+pub fn csv_columns(csv: &str) -> Result<String, JsValue> {
+    use crate::scenario::csv;
+    let columns = csv::csv_columns(csv).map_err(|e| js_error(&e))?;
+    let time = csv::csv_time_column(&columns);
+    to_json(
+        "the CSV header",
+        &serde_json::json!({"columns": columns, "time": time}),
+    )
 }
 
 /// The shape of the scenario's `data` (JSON `{"outputs": q, "inputs": r}`): the columns a CSV

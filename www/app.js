@@ -66,10 +66,12 @@ function toolbar(d) {
       <textarea rows="3" readonly spellcheck="false" data-act="embed-text"></textarea></label>
     <div class="data-box card" hidden>
       <label class="row">Measured data <span class="hint">one row per time: columns y1 … yq, then u1 … ur;
-        a header row is optional; comma, semicolon, tab or spaces</span>
+        a header row is optional (a column named year, time or date is the record's time); comma,
+        semicolon, tab or spaces; an empty, NA or #N/A cell is a gap</span>
         <textarea rows="6" spellcheck="false" data-act="csv-text"></textarea></label>
       <p class="hint data-shape"></p>
       <p class="err data-err" role="alert"></p>
+      <div class="data-columns"></div>
       <div class="data-preview"></div>
       <p><button type="button" class="go" data-act="use-data">Run on these data</button></p>
     </div>`;
@@ -135,8 +137,11 @@ function toolbar(d) {
       box.querySelector('.data-preview').replaceChildren(...(preview ? [preview] : []));
     },
     hint(text) { box.querySelector('.data-shape').textContent = text; },
+    // The column picker (columnPicker), or none.
+    picker(el) { box.querySelector('.data-columns').replaceChildren(...(el ? [el] : [])); },
     clear() {
       box.querySelector('.data-err').textContent = '';
+      box.querySelector('.data-columns').replaceChildren();
       box.querySelector('.data-preview').replaceChildren();
       box.hidden = true;
       q('paste').setAttribute('aria-expanded', 'false');
@@ -206,21 +211,79 @@ async function loadDataFile(d, file) {
   await useData(d, text, file.name);
 }
 
-// The first rows of the data the core read, and their shape.
+// The first rows of the data the core read, and their shape: a gap (null) shows as "—", the
+// record's own time (data.t) in its own column.
 function dataPreview(data) {
-  const y = data.y, u = data.u || [];
+  const y = data.y, u = data.u || [], times = data.t || [];
   const q = y[0]?.length ?? 0, r = u[0]?.length ?? 0;
   const t = document.createElement('table');
   t.className = 'preview';
-  const head = [...Array(q)].map((_, i) => `y${i + 1}`).concat([...Array(r)].map((_, i) => `u${i + 1}`));
+  const head = (times.length ? ['time'] : []).concat([...Array(q)].map((_, i) => `y${i + 1}`), [...Array(r)].map((_, i) => `u${i + 1}`));
+  const cell = (v) => (v === null ? '<td title="gap: not measured">—</td>' : `<td>${+v.toPrecision(6)}</td>`);
+  const time = (i) => (times.length ? `<td>${escapeHtml(String(times[i]))}</td>` : '');
   t.innerHTML = `<caption>${y.length} row${y.length === 1 ? '' : 's'} · ${q} output${q === 1 ? '' : 's'}${r ? ` · ${r} input${r === 1 ? '' : 's'}` : ''}</caption>`
     + `<thead><tr><th>row</th>${head.map((h) => `<th>${h}</th>`).join('')}</tr></thead><tbody>${
-      y.slice(0, 5).map((row, i) => `<tr><th>${i + 1}</th>${row.concat(u[i] || []).map((v) => `<td>${+v.toPrecision(6)}</td>`).join('')}</tr>`).join('')
+      y.slice(0, 5).map((row, i) => `<tr><th>${i + 1}</th>${time(i)}${row.concat(u[i] || []).map(cell).join('')}</tr>`).join('')
     }${y.length > 5 ? `<tr><td colspan="${head.length + 1}">…</td></tr>` : ''}</tbody>`;
   return t;
 }
 
-async function useData(d, text, name) {
+const escapeHtml = (s) => s.replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
+
+// When a file with a header is refused (its names are not the model's: year,flow,rain), a
+// picker of its columns: one labelled select per output y1 … yq (each defaulting to the next
+// column that is not the record's time, as the core's csvColumns names it) and per input
+// u1 … ur (optional: none or all), and a button that reads the file again with that choice.
+// The core decides everything else: a bad choice is its error, shown by the data box.
+function columnPicker(d, text, name, header, shape, chosen) {
+  const { columns, time } = header;
+  const box = document.createElement('fieldset');
+  box.className = 'column-picker';
+  const legend = document.createElement('legend');
+  legend.textContent = `Choose the columns of ${name}`;
+  box.append(legend);
+  const label = (c, k) => (c === '' ? `(unnamed column ${k + 1})` : c);
+  const free = columns.map((_, k) => k).filter((k) => k !== time);
+  const rows = [];
+  const add = (role, pick, optional) => {
+    const l = document.createElement('label');
+    l.append(`${role} `);
+    const s = document.createElement('select');
+    if (optional) s.add(new Option('none', ''));
+    columns.forEach((c, k) => s.add(new Option(label(c, k), String(k))));
+    s.value = pick === undefined ? '' : String(pick);
+    l.append(s);
+    box.append(l, ' ');
+    rows.push({ s, optional });
+  };
+  // A choice made before is kept; else the defaults.
+  const at = (i) => (chosen && chosen[i] !== undefined ? columns.indexOf(chosen[i]) : -1);
+  for (let i = 0; i < shape.outputs; i++) add(`y${i + 1}`, at(i) >= 0 ? at(i) : (free[i] ?? free[0] ?? 0), false);
+  for (let i = 0; i < shape.inputs; i++) add(`u${i + 1}`, at(shape.outputs + i) >= 0 ? at(shape.outputs + i) : undefined, true);
+  const go = document.createElement('button');
+  go.type = 'button';
+  go.textContent = 'Run with these columns';
+  go.addEventListener('click', () => {
+    const names = (optional) => rows.filter((x) => x.optional === optional && x.s.value !== '').map((x) => columns[+x.s.value]);
+    useData(d, text, name, names(false).concat(names(true)));
+  });
+  box.append(go);
+  return box;
+}
+
+// The picker for this file, or none (no header, or its names cannot be read).
+function offerColumns(d, text, name, base, chosen) {
+  try {
+    const header = JSON.parse(confset.csvColumns(text));
+    const shape = JSON.parse(confset.dataShape(JSON.stringify(base)));
+    d.dataBox.picker(header.columns.length ? columnPicker(d, text, name, header, shape, chosen) : null);
+  } catch {
+    d.dataBox.picker(null);
+  }
+}
+
+// `columns`: the header's names chosen in the picker (y1 … yq, then u1 … ur), or undefined.
+async function useData(d, text, name, columns) {
   const api = await mounted.get(d.id);
   await dataHint(d);
   if (text.length > MAX_DATA_BYTES) return d.dataBox.show(`the data have ${(text.length / 1e6).toFixed(1)} MB of text: at most ${MAX_DATA_BYTES / 1e6} MB`);
@@ -231,10 +294,15 @@ async function useData(d, text, name) {
     // Read by the core in the panel's worker (a 150,000-row file held the page 0.1–0.2 s), and
     // titled after the file: the figures' title is the scenario's, and the preset's ("… (LSCR
     // paper, Fig. 1)") claims the paper's data.
-    scenario = await api.withCsvData(JSON.stringify(base), text, name);
+    scenario = await api.withCsvData(JSON.stringify(base), text, name, columns);
   } catch (e) {
-    return d.dataBox.show(e.message || String(e));
+    d.dataBox.show(e.message || String(e));
+    // A file with a header that the model's names do not read: offer its columns.
+    return offerColumns(d, text, name, base, columns);
   }
+  // A choice made stays on offer (to change it); a file read by its own names needs none.
+  if (columns) offerColumns(d, text, name, base, columns);
+  else d.dataBox.picker(null);
   d.beforeLoad = await stateOf(d);
   navigating++;
   try {

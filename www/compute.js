@@ -70,9 +70,11 @@ export function computeClient(panel) {
       return post({ firstAccepted: scenarioJson }).then((d) => JSON.parse(d.first));
     },
     // The scenario with the data of a CSV file (worker.js: the core's reader, off the page's
-    // thread): a Promise of the scenario object. Rejects as run() does (a refusal names `data…`).
-    withCsvData(scenarioJson, text, name) {
-      return post({ csv: { scenario: scenarioJson, text, name } }).then((d) => JSON.parse(d.withData));
+    // thread), its columns chosen by the header's names when `columns` is an array (y1 … yq,
+    // then u1 … ur): a Promise of the scenario object. Rejects as run() does (a refusal names
+    // `data…`, or `columns` for a name chosen).
+    withCsvData(scenarioJson, text, name, columns) {
+      return post({ csv: { scenario: scenarioJson, text, name, columns } }).then((d) => JSON.parse(d.withData));
     },
     // Called with (cursor key, t, at JSON) for every detail the worker sends (prefetched or
     // asked for): the panel keeps those of its report's cursor.

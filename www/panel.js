@@ -527,6 +527,6 @@ export function mountPanel(root, spec) {
   return {
     ...panelApi(ui.preset, menu, () => st.scenario, start), pause: () => p.animation?.stop(), redraw,
     // The scenario with a CSV file's data, read by the core in this panel's worker.
-    withCsvData: (scenarioJson, text, name) => worker.withCsvData(scenarioJson, text, name),
+    withCsvData: (scenarioJson, text, name, columns) => worker.withCsvData(scenarioJson, text, name, columns),
   };
 }

@@ -105,9 +105,9 @@ function firstJob({ id, firstAccepted: scenario }) {
   }
 }
 
-function csvJob({ id, csv: { scenario, text, name } }) {
+function csvJob({ id, csv: { scenario, text, name, columns } }) {
   try {
-    postMessage({ id, withData: withCsvData(scenario, text, name) });
+    postMessage({ id, withData: withCsvData(scenario, text, name, columns) });
   } catch (e) {
     answerError(id, e);
   }

@@ -43,7 +43,7 @@ pub use budget::{Job, Work};
 // `Gaps`, `TimeIndex`, `RecordTime`: defined below, beside `DataSpec`.
 pub use compare::{CompareReport, CompareSpec};
 pub use conformal::{ConformalReport, ConformalSpec};
-pub use csv::data_from_csv;
+pub use csv::{data_from_csv, data_from_csv_columns};
 pub use explain::{StepExplanation, StepRow, StepValue};
 pub use glls::{GllsReport, GllsSpec};
 pub use lscr::{LscrReport, LscrSpec};

@@ -55,7 +55,8 @@ fn write_csv(d: &DataSpec, delimiter: &str, header: bool, exponent: bool) -> Str
         .map(|i| ('y', i))
         .chain((0..r).map(|i| ('u', i)))
         .collect();
-    let mut text = String::from("# written by tests/suite/csv.rs\n");
+    // Comments and blank lines only before the header (after it every line is a row).
+    let mut text = String::from("# written by tests/suite/csv.rs\n\n# a second comment\n");
     if header {
         columns.reverse();
         let names: Vec<String> = columns
@@ -80,9 +81,6 @@ fn write_csv(d: &DataSpec, delimiter: &str, header: bool, exponent: bool) -> Str
             .collect();
         text += &cells.join(delimiter);
         text += if header { "\r\n" } else { "\n" };
-        if t == 0 {
-            text += "\n# a comment and a blank line between rows\n";
-        }
     }
     text
 }
@@ -225,13 +223,14 @@ fn csv_errors_name_the_row_the_column_and_the_counts() {
         .expect("a preset with two outputs");
     let (q, r) = s.data_shape().expect("shape");
     let row = |v: f64| vec![format!("{v}"); q].join(",");
-    // Line 7 of the file (header on line 1, a comment on line 3) holds the bad cell in y2.
+    // Line 7 of the file (header on line 1, a blank line, a row of gaps, on line 3) holds the
+    // bad cell in y2.
     let mut lines: Vec<String> = vec![(1..=q)
         .map(|i| format!("y{i}"))
         .collect::<Vec<_>>()
         .join(",")];
     lines.push(row(0.5));
-    lines.push("# a comment counts as a line".into());
+    lines.push(String::new());
     for t in 0..3 {
         lines.push(row(t as f64));
     }
@@ -267,11 +266,11 @@ fn csv_errors_name_the_row_the_column_and_the_counts() {
         "{name}"
     );
     // An unknown header name.
-    let e = error(&s, &format!("y1,time\n{}\n", row(1.0)));
+    let e = error(&s, &format!("y1,flow\n{}\n", row(1.0)));
     assert_eq!(e.field, "data");
     assert!(
         e.message
-            .starts_with("header (row 1), column 2: 'time' is not a column name"),
+            .starts_with("header (row 1), column 2: 'flow' is not a column name"),
         "{name}: {e}"
     );
     // Empty text.

@@ -68,6 +68,7 @@ mod metamorphic;
 mod planar;
 mod precision;
 mod record_gates;
+mod records;
 mod registry;
 mod report_hooks;
 mod scf_paper;

@@ -5,7 +5,9 @@
 //! figure list the page makes its cards from (`methodPanels`, `Session.usefulPanels`); a study
 //! split over workers (`restrict`, `partial`) and merged on the main thread (`merge`).
 
-use confset::web::{data_shape, method_panels, presets, with_csv_data, Cursor, Session, Study};
+use confset::web::{
+    csv_columns, data_shape, method_panels, presets, with_csv_data, Cursor, Session, Study,
+};
 use serde_json::Value;
 use wasm_bindgen::{JsCast, JsValue};
 
@@ -715,7 +717,7 @@ fn csv_data_is_read_as_the_core_reads_it() {
     assert_eq!(shape, serde_json::json!({"outputs": 1, "inputs": 0}));
     let text = "y1\r\n0.5\r\n-1.25\r\n";
     let got: Value =
-        serde_json::from_str(&with_csv_data(&scenario, text, "real.csv").expect("CSV read"))
+        serde_json::from_str(&with_csv_data(&scenario, text, "real.csv", None).expect("CSV read"))
             .expect("JSON");
     let core = confset::scenario::Scenario::from_json(&scenario)
         .and_then(|s| s.with_csv_data(text))
@@ -728,11 +730,41 @@ fn csv_data_is_read_as_the_core_reads_it() {
     assert_eq!(got["data"]["y"], serde_json::json!([[0.5], [-1.25]]));
     assert!(got.get("simulate").is_none(), "simulate is dropped");
     let (message, field) =
-        thrown(with_csv_data(&scenario, "y1\n1\nx\n", "bad.csv").expect_err("bad cell"));
+        thrown(with_csv_data(&scenario, "y1\n1\nx\n", "bad.csv", None).expect_err("bad cell"));
     assert_eq!(field, "data.y");
     assert_eq!(message, "data.y row 3, column y1: 'x' is not a number");
     let (_, field) = thrown(data_shape("{}").expect_err("no scenario"));
     assert!(!field.is_empty(), "the error names a field");
+    // The column picker: the header's names and its time column, then the file read with the
+    // columns chosen, as the core reads it (gaps as null, the times read).
+    let river = "year,flow,rain\n1871,1120,3\n1872,,4\n";
+    let header: Value = serde_json::from_str(&csv_columns(river).expect("header")).expect("JSON");
+    assert_eq!(header, serde_json::json!({"columns": ["year", "flow", "rain"], "time": 0}));
+    let none: Value = serde_json::from_str(&csv_columns("1\n2\n").expect("no header")).expect("JSON");
+    assert_eq!(none, serde_json::json!({"columns": [], "time": null}));
+    let (message, field) = thrown(with_csv_data(&scenario, river, "river.csv", None).expect_err("two candidates"));
+    assert_eq!(field, "data");
+    assert!(message.ends_with("or the column picker (page)"), "{message}");
+    let got: Value = serde_json::from_str(
+        &with_csv_data(&scenario, river, "river.csv", Some(vec!["rain".into()])).expect("chosen"),
+    )
+    .expect("JSON");
+    let core = confset::scenario::Scenario::from_json(&scenario)
+        .and_then(|s| s.with_csv_file_columns(river, "river.csv", &["rain".to_string()]))
+        .expect("core");
+    assert_eq!(got, serde_json::to_value(&core).expect("JSON"));
+    assert_eq!(got["data"]["y"], serde_json::json!([[3.0], [4.0]]));
+    assert_eq!(got["data"]["t"], serde_json::json!([1871.0, 1872.0]));
+    let flow: Value = serde_json::from_str(
+        &with_csv_data(&scenario, river, "river.csv", Some(vec!["flow".into()])).expect("chosen"),
+    )
+    .expect("JSON");
+    assert_eq!(flow["data"]["y"], serde_json::json!([[1120.0], [null]]));
+    let (message, field) = thrown(
+        with_csv_data(&scenario, river, "river.csv", Some(vec!["flux".into()])).expect_err("unknown"),
+    );
+    assert_eq!(field, "columns");
+    assert!(message.contains("'flux' (for y1) is not a column of the header"), "{message}");
 }
 in_browser!(csv_data_is_read_as_the_core_reads_it);
 

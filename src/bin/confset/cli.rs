@@ -199,9 +199,14 @@ struct Input {
 #[derive(Args)]
 struct DataArg {
     /// Measured data from CSV, replacing the scenario's data or simulation: columns y1 … yq,
-    /// then optionally u1 … ur, header optional
+    /// then optionally u1 … ur, header optional (a column named t, time, year or date is the
+    /// record's time; empty, NA, nan and #N/A cells are gaps)
     #[arg(long, value_name = "FILE.csv")]
     data: Option<PathBuf>,
+    /// The header's columns to read as y1 … yq, then optionally u1 … ur, in that order (other
+    /// columns are not used; the time column is found among them)
+    #[arg(long, value_name = "NAME,…", value_delimiter = ',', requires = "data")]
+    columns: Vec<String>,
 }
 
 #[derive(Args)]
@@ -375,8 +380,10 @@ fn scenario(input: &Input) -> Result<Scenario, Error> {
     }
 }
 
-/// The scenario with `--data FILE.csv` applied (`Scenario::with_csv_file`: its `data` read
-/// from the file, its `simulate` dropped, its title naming the file), or as it is without the flag.
+/// The scenario with `--data FILE.csv [--columns NAME,…]` applied
+/// (`Scenario::read_csv_file`: its `data` read from the file, its `simulate` dropped, its
+/// title naming the file), or as it is without the flag. The reader's notes (columns not used,
+/// blank lines at the end that are not rows) go to standard error as `note: FILE: …`.
 fn scenario_with_data(input: &Input, data: &DataArg) -> Result<Scenario, Error> {
     let s = scenario(input)?;
     let Some(path) = &data.data else {
@@ -388,14 +395,30 @@ fn scenario_with_data(input: &Input, data: &DataArg) -> Result<Scenario, Error> 
     );
     let path = path.display().to_string();
     let text = read_bounded(&path, MAX_CSV_BYTES, "the CSV data", "--data")?;
-    s.with_csv_file(&text, &name).map_err(|e| {
-        // Name the file, so "data.y row 7, …" points into it (a model error is the scenario's).
-        if e.field.starts_with("data") {
+    let (s, notes) = s.read_csv_file(&text, &name, &data.columns).map_err(|e| {
+        // Name the file, so "data.y row 7, …" points into it (a model error is the scenario's);
+        // a name chosen is the flag's.
+        if e.field == "columns" {
+            Error::field("--columns", format!("{} (in {path})", e.message))
+        } else if e.field.starts_with("data") {
             Error::field(e.field, format!("{} (in {path})", e.message))
         } else {
             e
         }
-    })
+    })?;
+    for note in notes {
+        eprintln!("note: {path}: {note}");
+    }
+    Ok(s)
+}
+
+/// A report's warnings (assumptions not met, gaps and what was done with them, …) on standard
+/// error, one `warning: …` line each: standard output stays the JSON or CSV (which hold them
+/// too, as `warnings` and `# warning:` lines).
+fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {}", w.replace(['\n', '\r'], " "));
+    }
 }
 
 /// A progress bar on standard error when it is a terminal; hidden otherwise (pipes, CI logs).
@@ -631,6 +654,7 @@ fn run(command: Command) -> Result<(), Error> {
             out,
         } => {
             let report = scenario_with_data(&input, &data)?.run()?;
+            print_warnings(&report.warnings);
             let text = match format {
                 Format::Json => json(&report)?,
                 Format::Csv => report.table()?.to_csv(),
@@ -688,6 +712,7 @@ fn run(command: Command) -> Result<(), Error> {
             }
             confset::scenario::compare::set_clock(seconds_since_start);
             let report = s.run()?;
+            print_warnings(&report.warnings);
             let study = match (&s.compare, no_study) {
                 (Some(c), false) if c.study.is_some() => Some(run_study(&s, runs)?),
                 _ => None,
@@ -745,6 +770,7 @@ fn run(command: Command) -> Result<(), Error> {
                 }
             }
             let report = s.run()?;
+            print_warnings(&report.warnings);
             let mut v = View::new(panel.unwrap_or_else(|| {
                 plot::useful_panels(&report)
                     .first()
