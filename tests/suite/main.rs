@@ -65,6 +65,7 @@ mod lscr;
 mod merge_checks;
 mod messages;
 mod metamorphic;
+mod nile;
 mod planar;
 mod precision;
 mod record_gates;
