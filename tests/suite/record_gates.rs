@@ -156,3 +156,29 @@ fn record_times_are_checked() {
     assert_eq!(d.row_words(1), "row 2 (t = 2, time 1872)");
 }
 in_browser!(record_times_are_checked);
+
+/// README's table of what each method does with a gap says what the descriptors say, for
+/// every method (a method that learns to take gaps must change its row in the same commit).
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_readme_gap_table_is_the_descriptors() {
+    const README: &str = include_str!("../../README.md");
+    let section = README
+        .split("## Your own record")
+        .nth(1)
+        .and_then(|s| s.split("\n## ").next())
+        .expect("README has the section \"Your own record\"");
+    for m in Method::ALL {
+        let row = section
+            .lines()
+            .map(str::trim)
+            .find(|l| l.starts_with(&format!("| {} | takes it", m.name())) || l.starts_with(&format!("| {} | refuses", m.name())))
+            .unwrap_or_else(|| panic!("README's gap table has no row for {m}"));
+        let takes = row.starts_with(&format!("| {} | takes it", m.name()));
+        assert_eq!(
+            takes,
+            matches!(scenario::gaps(m), Gaps::Handled(_)),
+            "README's gap row for {m} disagrees with its descriptor: {row}"
+        );
+    }
+}
+in_browser!(the_readme_gap_table_is_the_descriptors);
