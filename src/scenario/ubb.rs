@@ -14,7 +14,11 @@
 //! v = `simulate.u` or `data.u` through `model.B` (Leontief demand) and x(0) in the box
 //! `x0_center ± delta` (δ = null: unbounded). Without `H` there are no measurements (Markov
 //! chain); `basis` makes H time-varying, H(t) = [g₁(t+1) … g_l(t+1)] (Example 1). Times are
-//! the paper's: y(0 … steps−1), and step k estimates x(k+1).
+//! the paper's: y(0 … steps−1), and step k (row k of the report's track, 0-based; the record's
+//! row k + 1) holds the predicted set X(k+1 | y(0 … k)) (38) and the filtered set
+//! X(k | y(0 … k)) (`track[k].filtered`); `ubb.set` chooses which the figures draw. A state of
+//! one component (r = 1) has intervals for sets. A missing measurement (`null` in `data.y`) is
+//! a step without a measurement strip ([`crate::ubb`]'s note), and the report says where.
 //!
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
@@ -34,8 +38,8 @@ use crate::sets::{box_corners, polygon_area, Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
 use crate::ubb::{
-    Bounds, IntervalHull, L1Form, LinearEstimate, LpSize, NoiseMode, Norm, Run, Smoothing,
-    StateProblem, StateStep, System,
+    Bounds, IntervalHull, KalmanStep, L1Form, LinearEstimate, LpSize, NoiseMode, Norm, Run,
+    Smoothing, StateProblem, StateStep, System,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -92,6 +96,10 @@ pub struct UbbSpec {
     /// The step k shown (the set of x(k+1)); default: the last.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
+    /// The set the figures draw: "predicted", X(k+1 | y(0 … k)) (the paper's (38), the
+    /// default), or "filtered", X(k | y(0 … k)). The report holds both.
+    #[serde(default, skip_serializing_if = "SetChoice::is_predicted")]
+    pub set: SetChoice,
     /// State components of the polygon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane: Option<[usize; 2]>,
@@ -115,6 +123,23 @@ pub struct UbbSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub guarantee: Option<GuaranteeSpec>,
 }
+/// Which of a step's two sets the figures draw ([`UbbSpec::set`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SetChoice {
+    /// X(k+1 | y(0 … k)): the state one step ahead of the data (38).
+    #[default]
+    Predicted,
+    /// X(k | y(0 … k)): the state at the last measurement's time.
+    Filtered,
+}
+
+impl SetChoice {
+    pub fn is_predicted(&self) -> bool {
+        *self == SetChoice::Predicted
+    }
+}
+
 fn default_norm() -> Norm {
     Norm::Linf
 }
@@ -161,6 +186,22 @@ pub struct SmoothingReport {
     pub note: Option<String>,
 }
 
+/// The filtered set X(k | y(0 … k)) of a step of the track: its interval hull, central
+/// estimate and local error, and the Kalman filter's x(k|k), each with whether it holds the
+/// true x(k).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct FilteredHull {
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub center: Vec<f64>,
+    pub radius: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inside: Option<bool>,
+    pub kf_mean: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kf_inside: Option<bool>,
+}
+
 /// One step of the track: the interval hull of x(k+1).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct TrackStep {
@@ -177,6 +218,29 @@ pub struct TrackStep {
     pub kf_mean: Vec<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kf_inside: Option<bool>,
+    /// The filtered set X(k | y(0 … k)) of the same step; absent when it is unbounded though
+    /// the predicted set is not (δ = ∞ with a singular A: [`crate::ubb::StateStep::filtered`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered: Option<FilteredHull>,
+}
+
+/// The filtered set X(k | y(0 … k)) at the time cursor's step: its exact polygon in the
+/// plane, hull, centre, local error, the true x(k), the Kalman ellipse of x(k|k) and Theorem 2
+/// for x_i(k).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct UbbFiltered {
+    pub polygon: SupportPolygon,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub center: Vec<f64>,
+    pub radius: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth: Option<Vec<f64>>,
+    pub kf: Ellipsoid,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear: Option<Vec<LinearEstimate>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear_refused: Option<String>,
 }
 
 /// The step at the time cursor.
@@ -209,6 +273,9 @@ pub struct UbbStep {
     /// refused: the set itself does not depend on it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub linear_refused: Option<String>,
+    /// The filtered set X(k | y(0 … k)) at this step (absent when unbounded, as in the track).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered: Option<UbbFiltered>,
 }
 
 /// The report.
@@ -223,7 +290,12 @@ pub struct UbbReport {
     pub noise: NoiseMode,
     pub window: usize,
     pub gamma: f64,
+    /// The plotted components (with one state, [0, 0]: the polygon of the plane (x₁, x₁) is
+    /// the diagonal segment of the interval).
     pub plane: [usize; 2],
+    /// The set the figures draw (`ubb.set`).
+    #[serde(default, skip_serializing_if = "SetChoice::is_predicted")]
+    pub set: SetChoice,
     /// Names of the state components for axes and tables: "x₁", … or, with a basis
     /// (Example 1), the coefficients "a₁ (1)", "a₂ (k)", ….
     pub state_names: Vec<String>,
@@ -231,15 +303,19 @@ pub struct UbbReport {
     /// Per-component noise levels of the simulation.
     pub u_level: f64,
     pub eta_level: f64,
-    /// x(0 … steps) (simulation) and y(0 … steps−1).
+    /// x(0 … steps) (simulation) and y(0 … steps−1) (a gap of the record is `null`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x_true: Option<Vec<Vec<f64>>>,
+    #[serde(with = "super::gap_rows")]
     pub y: Vec<Vec<f64>>,
     /// Steps whose set is bounded (with δ = ∞ the first steps are not).
     pub track: Vec<TrackStep>,
     /// Steps where the truth left the hull (must be 0) and where it left the KF ellipsoid.
     pub outside: usize,
     pub kf_outside: usize,
+    /// The same counts for the filtered sets and the Kalman filter's x(k|k), against x(k).
+    pub filtered_outside: usize,
+    pub filtered_kf_outside: usize,
     pub at: UbbStep,
 }
 
@@ -265,8 +341,10 @@ pub struct UbbPrepared {
     pub x0: Option<DVector<f64>>,
     pub smoothing: SmoothingReport,
     pub plane: [usize; 2],
-    /// Given data (instead of a simulation).
+    /// Given data (instead of a simulation); a gap is NaN.
     pub data: Option<Vec<DVector<f64>>>,
+    /// The record's own times (`data.t`; empty for a simulation or a record without them).
+    pub times: Vec<super::RecordTime>,
 }
 
 /// Largest phase 2πk/P of a `sin:P` or `cos:P` basis function, in radians: a double's spacing
@@ -480,7 +558,17 @@ impl Scenario {
             None => DVector::zeros(r),
         };
         let plane = spec.plane.unwrap_or([0, 1.min(r - 1)]);
-        if r < 2 || plane[0] >= r || plane[1] >= r || plane[0] == plane[1] {
+        if r == 1 {
+            // One state: its set is an interval, drawn over time; there is no plane to name.
+            if plane != [0, 0] {
+                return Err(Error::field(
+                    "ubb.plane",
+                    format!(
+                        "is {plane:?}, but the state has one component (r = 1): its set is an interval [lo, hi], drawn as a band over the steps; leave ubb.plane out (or give [0, 0])"
+                    ),
+                ));
+            }
+        } else if plane[0] >= r || plane[1] >= r || plane[0] == plane[1] {
             return Err(Error::field(
                 "ubb.plane",
                 format!("must name two different state components below r = {r}"),
@@ -524,10 +612,12 @@ impl Scenario {
                 "is needed with ubb.x0_sum (a true x(0) on the simplex)",
             ));
         }
+        // A gap (NaN) stays in the data: each step leaves its strip out (the method's `gaps`).
         let data = match source {
-            Source::Data(_) => Some(source.measurements(c[0].nrows())?),
+            Source::Data(_) => Some(source.measurements_with_gaps(c[0].nrows())?),
             Source::Simulate(_) => None,
         };
+        let times = source.record_times().to_vec();
         ubb_resolution(
             self,
             &spec,
@@ -560,6 +650,7 @@ impl Scenario {
             smoothing,
             plane,
             data,
+            times,
         })
     }
 }
@@ -695,6 +786,70 @@ impl UbbPrepared {
         )
     }
 
+    /// What the reader must know beside the report ([`Report::warnings`]): the gaps of the
+    /// record and what the estimator did there, and the assumption behind the Kalman
+    /// comparison (it is not part of Tempo's method).
+    pub fn warnings(&self, s: &Scenario, u: &UbbReport) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(d) = &s.data {
+            let rows = d.gap_rows();
+            if !rows.is_empty() {
+                let q = u.q;
+                let partial = rows
+                    .iter()
+                    .filter(|&&k| d.y[k].iter().any(|v| !v.is_nan()))
+                    .count();
+                let partial = if partial > 0 && q > 1 {
+                    format!(" ({partial} of them miss only some of the {q} outputs: only those strips are left out)")
+                } else {
+                    String::new()
+                };
+                out.push(format!(
+                    "data.y has gaps (missing measurements) in {} of its {} rows: {}{partial}. At a gap step k the feasible set has no measurement strip: the set of x(k) is the previous prediction unclipped, and the set of x(k+1) is it mapped by A plus the noise set (Tempo's T(h) (3) with that row of the information (40) left out), so the sets can only grow there; the Kalman comparison skips the same rows of its update",
+                    rows.len(),
+                    d.y.len(),
+                    gap_ranges(d, &rows)
+                ));
+            }
+        }
+        let (eta, tau) = (u.eta_level, u.u_level);
+        let (law, var, v) = match u.noise {
+            NoiseMode::Random => (
+                "the variance of the uniform law on [−bound, bound], bound²/3",
+                "²/3",
+                1.0 / 3.0,
+            ),
+            NoiseMode::Bound => ("the variance of noise at ± the bound, bound²", "²", 1.0),
+        };
+        let mut noise = Vec::new();
+        if u.p > 0 {
+            noise.push(format!("Var u = {}{var} = {}", three_digits(tau), three_digits(v * tau * tau)));
+        }
+        if u.q > 0 {
+            noise.push(format!("Var η = {}{var} = {}", three_digits(eta), three_digits(v * eta * eta)));
+        }
+        let noise = if noise.is_empty() {
+            "no noise (no process noise and no measurements)".to_string()
+        } else {
+            format!("Gaussian noise with {law} ({} per component)", noise.join(", "))
+        };
+        let prior = match &self.problem.bounds.delta {
+            Some(_) => format!("x(0) with the variances δᵢ{var} of its box"),
+            None => {
+                let y: Vec<DVector<f64>> =
+                    u.y.iter().map(|r| DVector::from_column_slice(r)).collect();
+                format!(
+                    "x(0) diffuse (δ = ∞): variance {} on every component, (10⁴ times the data's magnitude)²",
+                    three_digits(self.problem.diffuse_prior(&y))
+                )
+            }
+        };
+        out.push(format!(
+            "the Kalman filter beside the sets (its ellipse at ubb.kf_level, kf_mean, kf_inside) is a comparison under a stated assumption, not part of Tempo's method: {noise}, and {prior}"
+        ));
+        out
+    }
+
     /// The report.
     pub fn report(&self) -> Result<UbbReport> {
         self.report_plain().map_err(|e| self.explained(e))
@@ -708,17 +863,37 @@ impl UbbPrepared {
         let chi_full = chi2_quantile(self.spec.kf_level, r)?;
         let mut track = Vec::new();
         let (mut outside, mut kf_outside) = (0, 0);
+        let (mut filtered_outside, mut filtered_kf_outside) = (0, 0);
         let first = self.first_bounded(&run.y)?;
         for k in first..self.steps {
             let Some(step) = self.bounded_step(&run.y, k)? else {
                 continue;
             };
-            let hull = step.hull()?;
-            let held = simulated.then(|| holds(&hull, &kf[k], chi_full, &run.x[k + 1]));
+            let (hull, filtered_hull) = step.hulls().map_err(|e| self.empty_at(k, e))?;
+            let held = simulated.then(|| holds(&hull, &kf[k].predicted, chi_full, &run.x[k + 1]));
             let (inside, kf_inside) = (held.map(|h| h.0), held.map(|h| h.1));
-            let m = &kf[k].0;
+            let m = &kf[k].predicted.0;
             outside += usize::from(inside == Some(false));
             kf_outside += usize::from(kf_inside == Some(false));
+            // The filtered set of the same T(h), against the true x(k) and the Kalman x(k|k).
+            let filtered = match filtered_hull {
+                Some(fh) => {
+                    let held = simulated.then(|| holds(&fh, &kf[k].filtered, chi_full, &run.x[k]));
+                    let (inside, kf_inside) = (held.map(|h| h.0), held.map(|h| h.1));
+                    filtered_outside += usize::from(inside == Some(false));
+                    filtered_kf_outside += usize::from(kf_inside == Some(false));
+                    Some(FilteredHull {
+                        center: fh.center(),
+                        radius: fh.radius(),
+                        lo: fh.lo,
+                        hi: fh.hi,
+                        inside,
+                        kf_mean: kf[k].filtered.0.iter().copied().collect(),
+                        kf_inside,
+                    })
+                }
+                None => None,
+            };
             track.push(TrackStep {
                 k,
                 center: hull.center(),
@@ -728,6 +903,7 @@ impl UbbPrepared {
                 inside,
                 kf_mean: m.iter().copied().collect(),
                 kf_inside,
+                filtered,
             });
         }
         let Some(last) = track.last() else {
@@ -749,6 +925,7 @@ impl UbbPrepared {
             window: self.problem.window,
             gamma: self.spec.gamma,
             plane: self.plane,
+            set: self.spec.set,
             state_names: self.state_names(),
             smoothing: self.smoothing.clone(),
             u_level: run.u_level,
@@ -758,17 +935,53 @@ impl UbbPrepared {
             track,
             outside,
             kf_outside,
+            filtered_outside,
+            filtered_kf_outside,
             at,
         })
     }
 
+    /// Where the data first contradict the bounds: an empty set's error (the LP's
+    /// infeasibility, `ubb.eps leaves no state consistent …`) with the step k at which the set
+    /// became empty and the record's row of y(k) (its time when `data.t` gives one). Other
+    /// errors pass unchanged.
+    fn empty_at(&self, k: usize, e: Error) -> Error {
+        if e.field != "ubb.eps" || !e.message.starts_with("leaves no state consistent") {
+            return e;
+        }
+        let row = if self.data.is_some() {
+            let record = super::DataSpec {
+                t: self.times.clone(),
+                ..Default::default()
+            };
+            format!(" ({} of the record)", record.row_words(k))
+        } else {
+            String::new()
+        };
+        // The window of step k (all the data without process noise), as StateProblem::step.
+        let len = if self.problem.system.p() == 0 {
+            k + 1
+        } else {
+            self.problem.window.clamp(1, k + 1)
+        };
+        Error::field(
+            e.field,
+            format!(
+                "{}; the set became empty at step k = {k}, when y({k}){row} joined the window y({} … {k})",
+                e.message,
+                k + 1 - len
+            ),
+        )
+    }
+
     /// Step k's feasible set, or `None` when it is unbounded (δ = ∞ and y(0 … k) do not fix
-    /// every direction yet): no set at that step.
+    /// x(k+1) yet): no set at that step. Data that contradict the bounds are the error, with
+    /// the step ([`UbbPrepared::empty_at`]).
     fn bounded_step(&self, y: &[DVector<f64>], k: usize) -> Result<Option<StateStep>> {
         match self.problem.step(y, k) {
             Ok(s) => Ok(Some(s)),
             Err(e) if e.field == "ubb.delta" => Ok(None),
-            Err(e) => Err(e),
+            Err(e) => Err(self.empty_at(k, e)),
         }
     }
 
@@ -801,11 +1014,32 @@ impl UbbPrepared {
         }
     }
 
-    /// The polygon, hull and prediction at step k.
-    pub fn at(&self, run: &Run, kf: &[(DVector<f64>, DMatrix<f64>)], k: usize) -> Result<UbbStep> {
-        let step = self.problem.step(&run.y, k)?;
-        let (hull, polygon, size): (IntervalHull, SupportPolygon, LpSize) =
-            step.hull_and_polygon(self.plane, self.spec.budget)?;
+    /// The components Theorem 2 estimates at the detail's step: the plane's two (one with a
+    /// single state).
+    fn plane_components(&self) -> Vec<usize> {
+        if self.plane[0] == self.plane[1] {
+            vec![self.plane[0]]
+        } else {
+            self.plane.to_vec()
+        }
+    }
+
+    /// The Kalman ellipse of (mean, covariance) in the plane at `ubb.kf_level`: the 2-D
+    /// projection at the χ²₂ level, or with one state the interval at the χ²₁ level.
+    fn kf_in_plane(&self, kf: &(DVector<f64>, DMatrix<f64>)) -> Result<Ellipsoid> {
+        let (m, p) = kf;
+        if self.problem.system.r() == 1 {
+            return Ok(Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 1)?));
+        }
+        Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 2)?).project(&self.plane)
+    }
+
+    /// The polygon, hull and prediction at step k, and the filtered set's.
+    pub fn at(&self, run: &Run, kf: &[KalmanStep], k: usize) -> Result<UbbStep> {
+        let step = self.problem.step(&run.y, k).map_err(|e| self.empty_at(k, e))?;
+        let (hull, polygon, size): (IntervalHull, SupportPolygon, LpSize) = step
+            .hull_and_polygon(self.plane, self.spec.budget)
+            .map_err(|e| self.empty_at(k, e))?;
         // y(k+1) = H(k+1) x(k+1) + η: the hull of H(k+1)x over the set, widened by the
         // newest sample's bound ε (weight 1 at age 0 in every norm).
         let sys = &self.problem.system;
@@ -818,16 +1052,38 @@ impl UbbPrepared {
                 .map(|i| [ph.lo[i] - self.spec.eps, ph.hi[i] + self.spec.eps])
                 .collect()
         };
-        let pl = [self.plane[0], self.plane[1]];
+        let pl = self.plane_components();
         // Theorem 2 beside the exact set, not in its place: where its LP (22) cannot be
         // solved (extreme scales: the metamorphic test's ×1e12 data) the step keeps its exact
         // polygon and hull and says why the linear estimate is missing.
-        let (linear, linear_refused) = match self.problem.theorem_2(&run.y, k, &pl) {
+        let split = |r: Result<Option<Vec<LinearEstimate>>>| match r {
             Ok(l) => (l, None),
             Err(e) => (None, Some(e.to_string())),
         };
-        let (m, p) = &kf[k];
-        let kf_plane = Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 2)?).project(&pl)?;
+        let (linear, linear_refused) = split(self.problem.theorem_2(&run.y, k, &pl));
+        let simulated = self.data.is_none();
+        let truth_at = |t: usize| -> Vec<f64> { self.plane.iter().map(|&i| run.x[t][i]).collect() };
+        let filtered = match &step.filtered {
+            Some(f) => {
+                let (fh, fpoly, _) = f
+                    .hull_and_polygon(self.plane, self.spec.budget)
+                    .map_err(|e| self.empty_at(k, e))?;
+                let (linear, linear_refused) =
+                    split(self.problem.theorem_2_filtered(&run.y, k, &pl));
+                Some(UbbFiltered {
+                    center: fh.center(),
+                    radius: fh.radius(),
+                    lo: fh.lo,
+                    hi: fh.hi,
+                    polygon: fpoly,
+                    truth: simulated.then(|| truth_at(k)),
+                    kf: self.kf_in_plane(&kf[k].filtered)?,
+                    linear,
+                    linear_refused,
+                })
+            }
+            None => None,
+        };
         Ok(UbbStep {
             k,
             first: step.first,
@@ -836,17 +1092,74 @@ impl UbbPrepared {
             lo: hull.lo,
             hi: hull.hi,
             polygon,
-            truth: self
-                .data
-                .is_none()
-                .then(|| pl.iter().map(|&i| run.x[k + 1][i]).collect()),
-            kf: kf_plane,
+            truth: simulated.then(|| truth_at(k + 1)),
+            kf: self.kf_in_plane(&kf[k].predicted)?,
             size,
             prediction,
             linear,
             linear_refused,
+            filtered,
         })
     }
+}
+
+/// A number in a sentence: about three significant digits, or 2.17e-5 for tiny and huge
+/// magnitudes.
+fn three_digits(v: f64) -> String {
+    let a = v.abs();
+    if v != 0.0 && v.is_finite() && !(1e-3..1e5).contains(&a) {
+        return format!("{v:.2e}");
+    }
+    let d = if v == 0.0 || !v.is_finite() {
+        0
+    } else {
+        (2.0 - a.log10().floor()).clamp(0.0, 8.0) as usize
+    };
+    let s = format!("{v:.d$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// The gap rows of a record (0-based, increasing) in words, runs of rows joined: "row 1
+/// (time 1959-03), rows 50–69 (times 1971-06 … 1976-03)", at most 12 runs and then how many
+/// rows more.
+fn gap_ranges(d: &super::DataSpec, rows: &[usize]) -> String {
+    const SHOWN: usize = 12;
+    let time = |k: usize| d.t.get(k).map(|t| t.label());
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &k in rows {
+        match runs.last_mut() {
+            Some((_, b)) if *b + 1 == k => *b = k,
+            _ => runs.push((k, k)),
+        }
+    }
+    let mut parts: Vec<String> = runs
+        .iter()
+        .take(SHOWN)
+        .map(|&(a, b)| {
+            if a == b {
+                match time(a) {
+                    Some(t) => format!("row {} (step k = {a}, time {t})", a + 1),
+                    None => format!("row {} (step k = {a})", a + 1),
+                }
+            } else {
+                match (time(a), time(b)) {
+                    (Some(ta), Some(tb)) => {
+                        format!("rows {}–{} (steps k = {a}–{b}, times {ta} … {tb})", a + 1, b + 1)
+                    }
+                    _ => format!("rows {}–{} (steps k = {a}–{b})", a + 1, b + 1),
+                }
+            }
+        })
+        .collect();
+    if runs.len() > SHOWN {
+        let more: usize = runs[SHOWN..].iter().map(|(a, b)| b - a + 1).sum();
+        parts.push(format!("and {more} rows more"));
+    }
+    parts.join(", ")
 }
 
 /// The set-membership cursor: the run, its Kalman predictions and the first bounded step made
@@ -855,7 +1168,7 @@ impl UbbPrepared {
 struct UbbCursor {
     prepared: UbbPrepared,
     run: Run,
-    kf: Vec<(DVector<f64>, DMatrix<f64>)>,
+    kf: Vec<KalmanStep>,
     first: usize,
 }
 
@@ -984,13 +1297,14 @@ impl UbbPrepared {
             let kf = self.problem.kalman(&run, self.spec.noise);
             match hull {
                 Some(hull) => {
-                    let (inside, kf_inside, excess) = holds(&hull, &kf[k], chi, &run.x[k + 1]);
+                    let (inside, kf_inside, excess) =
+                        holds(&hull, &kf[k].predicted, chi, &run.x[k + 1]);
                     count.worst_excess = count.worst_excess.max(excess);
                     count.outside += usize::from(!inside);
                     count.kf_outside += usize::from(!kf_inside);
                 }
                 None => {
-                    let (m, p) = &kf[k];
+                    let (m, p) = &kf[k].predicted;
                     let kf_inside = Ellipsoid::new(m, p, chi).contains(run.x[k + 1].as_slice());
                     count.empty += 1;
                     count.outside += 1;
@@ -1273,7 +1587,7 @@ impl MethodScenario for Ubb {
         )
     }
     fn gaps(&self) -> super::Gaps {
-        super::Gaps::Refused("its feasible set T(h) (3) intersects a measurement strip at every step (gaps are being added: until then, fill or cut the record)")
+        super::Gaps::Handled("a missing measurement drops its strip from the feasible set T(h) (3) (its row of the information (40) leaves the window's constraints): at that step the set is the previous one mapped by A plus the noise set, and it can only grow; the Kalman comparison skips the same rows of its update")
     }
     fn time_index(&self) -> super::TimeIndex {
         super::TimeIndex::ZeroBased
@@ -1301,8 +1615,10 @@ impl MethodScenario for Ubb {
         explain_ubb(s, report, t)
     }
     fn steps(&self) -> RangeInclusive<usize> {
-        // One LP window per step: ubb-series takes about 16 ms a step natively (33 s at 2000).
-        1..=150
+        // Up to the general count limit: what a record of N steps costs depends on the path
+        // (the exact planar or line recursion, or LPs), the window and the states, and the work
+        // budget (`work`) refuses a costly one before any work, naming its formula.
+        1..=super::MAX_COUNT as usize
     }
     fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
         // One output when `ubb.basis` gives the outputs (Example 1), else the rows of H; the
@@ -1324,15 +1640,11 @@ impl MethodScenario for Ubb {
         work(s, job)
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
-        let u = s.prepare_ubb()?.report()?;
-        let mut r = Report::of(
-            s,
-            s.alpha,
-            (u.r, u.q),
-            u.at.k,
-            u.plane.to_vec(),
-            u.y.clone(),
-        );
+        let prepared = s.prepare_ubb()?;
+        let u = prepared.report()?;
+        let plot = if u.r == 1 { vec![0] } else { u.plane.to_vec() };
+        let mut r = Report::of(s, s.alpha, (u.r, u.q), u.at.k, plot, u.y.clone());
+        r.warnings.extend(prepared.warnings(s, &u));
         r.ubb = Some(u);
         Ok(r)
     }
@@ -1345,6 +1657,8 @@ impl MethodScenario for Ubb {
         let Some(u) = &r.ubb else {
             return Table::new(vec!["k".into()]);
         };
+        // Then the same for the filtered set X(k | y(0 … k)) of the step, its columns named
+        // filtered_… (filtered_x_i: the true x(k); empty where that set is unbounded).
         let n = u.r;
         let truth = u.x_true.is_some();
         let mut columns = vec!["k".to_string()];
@@ -1356,6 +1670,15 @@ impl MethodScenario for Ubb {
         if truth {
             columns.extend(Table::numbered("x", n));
             columns.extend(["holds", "kf_holds"].map(String::from));
+        }
+        columns.extend(Table::numbered("filtered_center", n));
+        columns.extend(Table::numbered("filtered_lo", n));
+        columns.extend(Table::numbered("filtered_hi", n));
+        columns.push("filtered_radius".into());
+        columns.extend(Table::numbered("filtered_kf", n));
+        if truth {
+            columns.extend(Table::numbered("filtered_x", n));
+            columns.extend(["filtered_holds", "filtered_kf_holds"].map(String::from));
         }
         let mut table = Table::new(columns);
         for st in &u.track {
@@ -1369,6 +1692,20 @@ impl MethodScenario for Ubb {
                 let x = u.x_true.as_ref().and_then(|x| x.get(st.k + 1));
                 row.extend(cells(x.map(|x| x.as_slice()), n));
                 row.extend([flag(st.inside), flag(st.kf_inside)]);
+            }
+            let f = st.filtered.as_ref();
+            row.extend(cells(f.map(|f| f.center.as_slice()), n));
+            row.extend(cells(f.map(|f| f.lo.as_slice()), n));
+            row.extend(cells(f.map(|f| f.hi.as_slice()), n));
+            row.push(f.map(|f| f.radius));
+            row.extend(cells(f.map(|f| f.kf_mean.as_slice()), n));
+            if truth {
+                let x = u.x_true.as_ref().and_then(|x| x.get(st.k));
+                row.extend(cells(x.map(|x| x.as_slice()), n));
+                row.extend([
+                    flag(f.and_then(|f| f.inside)),
+                    flag(f.and_then(|f| f.kf_inside)),
+                ]);
             }
             table.push(row);
         }
@@ -1607,6 +1944,7 @@ impl CompareMember for Ubb {
             window: Some(p.window(t)),
             noise: default_noise(),
             time: Some(t - 1),
+            set: SetChoice::Predicted,
             plane: Some([0, 1]),
             budget: POLYGON_BUDGET,
             basis: None,
