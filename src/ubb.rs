@@ -912,6 +912,14 @@ pub struct StateStep {
     pub filtered: Option<Box<StateStep>>,
 }
 
+/// The largest rows·n·(rows + n) of Theorem 2's LP (22) solved at a step (a window of about
+/// 110 steps with one noise input and one output): beyond it one component's estimate would
+/// take over 0.2 s natively.
+pub const THEOREM_2_MAX_WORK: f64 = 1e7;
+/// Operations per unit of rows·n·(rows + n) of one dense simplex solve of (22) (measured: a
+/// window of 400 steps, 802 rows and 402 unknowns, 8.6 s natively).
+pub const THEOREM_2_OPS: f64 = 22.0;
+
 /// Section IV: the state x(k+1) from y(0 … k) with a window of `window` steps.
 #[derive(Debug, Clone)]
 pub struct StateProblem {
@@ -1279,6 +1287,20 @@ impl StateProblem {
                 bcols += &sys.b;
             }
             m_t = next;
+        }
+        // The dense simplex of (22) costs about rows·n·(rows + n) per solve (window 100: 0.1 s,
+        // window 400: 9 s natively): past THEOREM_2_MAX_WORK the estimate is left out, and the
+        // step says why (the set and its hull do not depend on it).
+        let work = (rows.len() * n) as f64 * (rows.len() + n) as f64;
+        if work > THEOREM_2_MAX_WORK {
+            return Err(Error::field(
+                "ubb.window",
+                format!(
+                    "is {len} steps: Theorem 2's LP (22) has {n} unknowns and {} rows there, about {:.1} s per component with the dense simplex; it is computed for windows up to about 100 steps (the set and its hull stand without it)",
+                    rows.len(),
+                    work * THEOREM_2_OPS / 1e9
+                ),
+            ));
         }
         let pm = DMatrix::from_fn(rows.len(), n, |i, j| rows[i].0[j]);
         let d = DVector::from_iterator(rows.len(), rows.iter().map(|row| row.1));

@@ -1173,6 +1173,13 @@ struct UbbCursor {
 }
 
 impl UbbCursor {
+    /// The cursor of a scenario, within the report's work budget (its preparation finds the
+    /// first bounded step, a search as long as the report's).
+    fn of(s: &Scenario) -> Result<UbbCursor> {
+        s.work(Job::Report).check(Job::Report)?;
+        UbbCursor::new(s.prepare_ubb()?)
+    }
+
     fn new(prepared: UbbPrepared) -> Result<UbbCursor> {
         let run = prepared.run_data();
         let kf = prepared.problem.kalman(&run, prepared.spec.noise);
@@ -1424,7 +1431,7 @@ fn explain_ubb(s: &Scenario, report: &Report, t: Option<usize>) -> Result<super:
     let at: UbbStep = if k == u.at.k {
         u.at.clone()
     } else {
-        let mut cursor = UbbCursor::new(s.prepare_ubb()?)?;
+        let mut cursor = UbbCursor::of(s)?;
         check_step(k, cursor.steps())?;
         detail_of(cursor.at(k)?)?
     };
@@ -1649,7 +1656,7 @@ impl MethodScenario for Ubb {
         Ok(r)
     }
     fn cursor(&self, s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
-        Ok(Some(Box::new(UbbCursor::new(s.prepare_ubb()?)?)))
+        Ok(Some(Box::new(UbbCursor::of(s)?)))
     }
     fn table(&self, r: &Report) -> Table {
         // One row per step k: the outer box of x(k+1) (31), its centre and local error (5),
@@ -1753,16 +1760,56 @@ const OPS_LP_ENUMERATED: f64 = 1300.0;
 /// Operations of one solve besides (setting it up, clarabel's start).
 const OPS_SOLVE: f64 = 30_000.0;
 /// Operations per entry of the dense constraint matrices a step builds (and reads into the
-/// solver's sparse form).
-const OPS_ENTRY: f64 = 1.5;
+/// solver's sparse form; a window of 400 times, 4 M entries, took 14 ms natively).
+const OPS_ENTRY: f64 = 3.0;
 /// Second-order cones (l2 bounds) against linear rows.
 const L2_FACTOR: f64 = 1.5;
+/// The exact planar recursion ([`crate::ubb::planar`]), per time of a window: a clip by one
+/// strip and the map by A of a polygon of about ten vertices, and per noise segment and time
+/// of the window OPS_VERTEX: a rotating A turns every segment of the window into its own
+/// pair of edges, so the polygon has up to 2·len vertices (measured: ubb-track, a window of
+/// 30 times, about 0.2 ms a step natively, a window of 400 about 36 ms; ubb-series without
+/// process noise about 2 µs per time).
+const OPS_CLIP: f64 = 1200.0;
+const OPS_MAP: f64 = 800.0;
+const OPS_VERTEX: f64 = 250.0;
+/// The line recursion ([`crate::ubb::interval`]) per time and unit of q + p + 1.
+const OPS_LINE: f64 = 100.0;
+/// Per earlier time k of every step: the nominal trajectory and the powers A⁰ … A^{k+1}
+/// rebuilt for the step (and with process noise the prior box of the window's first state,
+/// a sum over the times before it), OPS_HISTORY per matrix, OPS_HISTORY_SQUARE per entry and
+/// noise column (measured: 2.7e-7 s per step² with r = 2, p = 1; 1.7e-7 with r = 1).
+const OPS_HISTORY: f64 = 200.0;
+const OPS_HISTORY_SQUARE: f64 = 50.0;
+/// With δ = ∞, per row of a window's observability matrix and unit of r²: its SVD and the
+/// reconstructibility test.
+const OPS_OBSERVABILITY: f64 = 250.0;
+/// Per number of the report: computing it, its JSON tree in the finiteness check and its text
+/// (as SCF's), and the bytes it holds with its JSON.
+const OPS_NUMBER: f64 = 300.0;
+const BYTES_NUMBER: f64 = 80.0;
+
+/// Over the steps k = 0 … steps − 1 with a window len_k = min(k + 1, w): (Σ len, Σ len²) (the
+/// window grows until it reaches w, then slides; w = steps without process noise), and Σ k.
+fn window_sums(steps: usize, w: usize) -> (f64, f64, f64) {
+    let (n, w) = (f(steps), f(w.clamp(1, steps.max(1))));
+    let grow = w.min(n);
+    let rest = (n - grow).max(0.0);
+    let sum = grow * (grow + 1.0) / 2.0 + rest * w;
+    let sum2 = grow * (grow + 1.0) * (2.0 * grow + 1.0) / 6.0 + rest * w * w;
+    (sum, sum2, n * (n - 1.0) / 2.0)
+}
 
 /// The set-membership costs, step by step: the window (Theorem 5's j + 1, `ubb.window`, or all
-/// the data without process noise) sets the LP's size, dim = r(len + 1) + p·len unknowns; each
-/// step builds its dense constraint matrices ((q + p + r)·len × dim entries, the enumerated l1
-/// form 2^{m−1} rows) and solves 2r LPs for the hull; the step shown adds `ubb.budget` support
-/// LPs for the polygon. A study's run: one simulation and the hull at its step.
+/// the data without process noise) sets the size of each step's problem, dim = r(len + 1) +
+/// p·len unknowns. Every step rebuilds the nominal trajectory and the powers of A up to k
+/// (steps² terms), builds its dense constraint matrices ((q + p + r)·len × dim entries, the
+/// enumerated l1 form 2^{m−1} rows) and then either runs the exact recursion over its window
+/// (r ≤ 2 with l∞ bounds: no LP) or solves 4r LPs for the hulls of the predicted and the
+/// filtered set; with δ = ∞ it tests the window's observability matrix. The step shown adds,
+/// on the LP path, `ubb.budget` support LPs for each set's polygon, and Theorem 2's LP (22) per
+/// plotted component and set (a dense simplex, within [`crate::ubb::THEOREM_2_MAX_WORK`]). A
+/// study's run: one simulation and the hull at its step.
 fn work(s: &Scenario, job: Job) -> Work {
     let mut w = Work::default();
     let Some(spec) = &s.ubb else {
@@ -1777,6 +1824,7 @@ fn work(s: &Scenario, job: Job) -> Work {
     let g = s.model.g.as_deref().map_or((0, 0), rows_shape);
     let p = g.1;
     let steps = s.written_steps();
+    let steps_field = s.steps_field();
     let norm = |rows: Option<&Vec<Vec<f64>>>| {
         rows.map_or(0.0, |rows| {
             rows.iter()
@@ -1790,23 +1838,25 @@ fn work(s: &Scenario, job: Job) -> Work {
     };
     let sm = Smoothing::new(a_norm, norm(s.model.g.as_ref()), spec.tau, spec.alpha);
     let window = window_length(spec, &sm, p, steps).map_or(1, |(w, _, _)| w);
+    // Without process noise every step holds all the data: its window is k + 1.
+    let w_eff = if p == 0 { steps.max(1) } else { window };
+    let exact = (r == 1 || r == 2) && spec.norm == Norm::Linf;
     // Theorem 3's enumerated rows, when the longest window allows them (else refused first).
-    let longest = if p == 0 { steps } else { window.min(steps) };
+    let longest = w_eff.min(steps);
     let enumerated_form = spec.norm == Norm::L1
         && spec.l1_form == L1Form::Enumerated
         && (q * longest).max(p * longest) <= crate::ubb::MAX_ENUMERATED_M;
     let window_field = if spec.window.is_some() {
         "ubb.window"
     } else if p == 0 {
-        s.steps_field()
+        steps_field
     } else {
         "ubb.gamma"
     };
     let width = f(r + p + q);
-    // One step's solve and its dense matrices, for step k.
-    let solve = |k: usize| {
-        let len = if p == 0 { k + 1 } else { window.min(k + 1) };
-        let dim = if p == 0 { r } else { r * (len + 1) + p * len };
+    let dim = |len: usize| if p == 0 { r } else { r * (len + 1) + p * len };
+    // One LP solve of a step whose window holds len times, and its dense matrices' entries.
+    let solve = |len: usize| {
         let mut rows = 2 * (q + p) * len + r * len + 2 * r;
         let mut enumerated = 0;
         if enumerated_form {
@@ -1825,79 +1875,171 @@ fn work(s: &Scenario, job: Job) -> Work {
             L2_FACTOR
         } else {
             1.0
-        } + OPS_LP_ENUMERATED * f(enumerated) * f(dim);
-        (lp + OPS_SOLVE, OPS_ENTRY * f(rows) * f(dim))
+        } + OPS_LP_ENUMERATED * f(enumerated) * f(dim(len));
+        (lp + OPS_SOLVE, OPS_ENTRY * f(rows) * f(dim(len)))
     };
     let sizes = format!(
-        "({window}) with {} = {steps}, r = {r} states, p = {p} noise inputs, q = {q} outputs",
-        s.steps_field()
+        "= {steps} with a window of {} (ubb.window, or Theorem 5's j + 1 from ubb.gamma; all the data without process noise), r = {r} states, p = {p} noise inputs, q = {q} outputs",
+        if p == 0 { "k + 1".to_string() } else { window.to_string() }
     );
-    let hull = 2.0 * f(r);
+    let (sum_len, sum_len2, sum_k) = window_sums(steps, w_eff);
+    // Per step k: the nominal trajectory and the powers of A up to k (and the prior box).
+    let history = sum_k
+        * (OPS_HISTORY * if p > 0 { 2.0 } else { 1.0 }
+            + OPS_HISTORY_SQUARE * f(r * r) * f(1 + p));
     if let Job::Study { .. } = job {
         let k = spec.time.unwrap_or(steps.saturating_sub(1));
-        let (lp, fill) = solve(k);
+        let len = w_eff.min(k + 1);
+        let (lp, fill) = solve(len);
+        let hull = if exact { 0.0 } else { 2.0 * f(r) * lp };
         w.ops(
             Term::new(
                 window_field,
-                sizes,
-                "one run: the window's LP (2r solves for the hull) at the step checked",
-                hull * lp + fill + f(k) * f(r).powi(3),
+                format!("({window}) with ubb.time = {k}, r = {r} states"),
+                "one run: the window's set (2r LPs for the hull off the exact path) at the step checked",
+                hull + fill
+                    + f(k) * (OPS_HISTORY + OPS_HISTORY_SQUARE * f(r * r) * f(1 + p))
+                    + f(len) * (OPS_CLIP * f(q) + OPS_MAP + OPS_VERTEX * f(p * len)),
             )
             .advice("a shorter window or an earlier ubb.time"),
         );
         return w;
     }
-    let (mut solves, mut fills) = (0.0, 0.0);
-    for k in 0..steps {
-        let (lp, fill) = solve(k);
-        solves += hull * lp;
-        fills += fill;
-    }
     w.ops(
         Term::new(
-            window_field,
+            steps_field,
             sizes.clone(),
-            "steps · 2r LPs over the window's r(len + 1) + p·len unknowns",
-            solves,
+            "steps² · (r²(p + 1) + c) / 2: the nominal trajectory, the powers of A and the prior box rebuilt at every step",
+            history,
         )
-        .advice(
-            "fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states",
-        ),
+        .advice("fewer steps"),
     );
+    // The dense constraints of every step: (q + p + r)·len rows of dim = r(len + 1) + p·len.
+    let fills = OPS_ENTRY
+        * f(q + p + r)
+        * if p == 0 {
+            sum_len * f(r)
+        } else {
+            f(r + p) * sum_len2 + f(r) * sum_len
+        };
     w.ops(
         Term::new(
-            window_field,
+            steps_field,
             sizes.clone(),
-            "steps · (q + p + r)·len · dim: the dense constraints of every step",
+            "steps · (q + p + r)·len · dim: the dense constraints of every step's window",
             fills,
         )
-        .advice("fewer steps or a shorter window"),
+        .advice("fewer steps or a shorter window (ubb.window, or a larger ubb.gamma)"),
     );
+    if exact {
+        let recursion = if r == 2 {
+            sum_len * (OPS_CLIP * f(q) + OPS_MAP) + sum_len2 * OPS_VERTEX * f(p)
+        } else {
+            sum_len * OPS_LINE * f(q + p + 1)
+        };
+        w.ops(
+            Term::new(
+                steps_field,
+                sizes.clone(),
+                "steps · len · (q clips + the map + p·len polygon vertices): the exact recursion over every step's window (no LP)",
+                recursion,
+            )
+            .advice("fewer steps or a shorter window (ubb.window, or a larger ubb.gamma)"),
+        );
+    } else {
+        // 4r LPs per step: the hulls of the predicted and the filtered set on one loaded T(h).
+        let mut solves = 0.0;
+        if enumerated_form || p > 0 {
+            // The LP grows with the window until it slides: each distinct length once.
+            for len in 1..=w_eff.min(steps) {
+                let count = if len < w_eff.min(steps) { 1 } else { steps + 1 - len };
+                solves += f(count) * solve(len).0;
+            }
+        } else {
+            // Without process noise len = k + 1, and the solve is linear in it.
+            solves = OPS_LP_ROW * f(2 * q) * f(r + q) * sum_len
+                * if spec.norm == Norm::L2 { L2_FACTOR } else { 1.0 }
+                + OPS_SOLVE * f(steps);
+        }
+        w.ops(
+            Term::new(
+                steps_field,
+                sizes.clone(),
+                "steps · 4r LPs over the window's r(len + 1) + p·len unknowns (the hulls of the predicted and the filtered set)",
+                4.0 * f(r) * solves,
+            )
+            .advice(
+                "fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states",
+            ),
+        );
+    }
+    if spec.delta.is_none() {
+        w.ops(
+            Term::new(
+                steps_field,
+                sizes.clone(),
+                "steps · len · q · r²: the observability matrix of every window (δ = ∞)",
+                sum_len * f(q) * f(r * r) * OPS_OBSERVABILITY,
+            )
+            .advice("fewer steps, a bound δ on x(0) or a shorter window"),
+        );
+    }
     let k = spec.time.unwrap_or(steps.saturating_sub(1));
+    let len_k = w_eff.min(k + 1);
+    if !exact {
+        w.ops(
+            Term::new(
+                "ubb.budget",
+                format!("= {} with window {window} and r = {r} states", spec.budget),
+                "2·budget LPs for the predicted and the filtered polygon at the step shown",
+                f(2 * spec.budget + 2 * q + 2) * solve(len_k).0,
+            )
+            .advice("a smaller budget or a shorter window"),
+        );
+    }
+    // Theorem 2 at the step shown: per plotted component and set, a dense simplex on (22).
+    if spec.norm == Norm::Linf {
+        let n = f(r + p * len_k);
+        let rows = f((q + p) * len_k + r + 1);
+        let units = rows * n * (rows + n);
+        if units <= crate::ubb::THEOREM_2_MAX_WORK {
+            w.ops(
+                Term::new(
+                    window_field,
+                    format!("({window}) at the step shown with r = {r} states, p = {p}, q = {q}"),
+                    "2 sets · 2 components · rows·n·(rows + n): Theorem 2's LP (22) at the step shown",
+                    4.0 * (crate::ubb::THEOREM_2_OPS * units + OPS_SOLVE),
+                )
+                .advice("a shorter window"),
+            );
+        }
+    }
+    // The report: per step the two hulls, centres and Kalman means, the truth and the data.
+    let numbers = f(steps) * f(9 * r + q + 6);
     w.ops(
         Term::new(
-            "ubb.budget",
-            format!("= {} with window {window} and r = {r} states", spec.budget),
-            "budget LPs for the polygon (and Theorem 2's two) at the step shown",
-            f(spec.budget + 2 * q + 2) * solve(k).0,
+            steps_field,
+            format!("= {steps} with r = {r} states, q = {q} outputs"),
+            "steps · (9r + q): the numbers of the report and their JSON",
+            numbers * OPS_NUMBER,
         )
-        .advice("a smaller budget or a shorter window"),
+        .advice("fewer steps"),
     );
-    w.ops(
+    w.mem(
         Term::new(
-            s.steps_field(),
-            format!("= {steps} with r = {r} states, p = {p} noise inputs"),
-            "steps² · r³(p + 1): the powers of A and the prior box of each window",
-            f(steps) * f(steps) * f(r).powi(3) * f(p + 1),
+            steps_field,
+            format!("= {steps} with r = {r} states, q = {q} outputs"),
+            "steps · (9r + q): the report's hulls, centres, truth and data, and their JSON",
+            numbers * BYTES_NUMBER,
         )
         .advice("fewer steps"),
     );
     // The largest step's dense matrices (the solver's copy beside them).
-    let (_, fill) = solve(steps.saturating_sub(1));
+    let (_, fill) = solve(longest.max(1));
     w.mem(
         Term::new(
             window_field,
-            sizes,
+            format!("({window}) with {steps_field} = {steps}, r = {r} states, p = {p} noise inputs, q = {q} outputs"),
             "(q + p + r)·len · dim: the dense constraints of one step",
             fill / OPS_ENTRY * 8.0 * 2.0,
         )
