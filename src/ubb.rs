@@ -27,11 +27,24 @@
 //!
 //! A 2-D state with per-sample l∞ bounds (every 2-D preset) takes the planar path instead
 //! ([`planar`]): the same set, computed exactly by clipping, mapping and Minkowski sums of a
-//! convex polygon, with no LP; the LP path stays for r ≥ 3, l1/l2 bounds, and as its test
-//! oracle ([`StateProblem::step_lp`]).
+//! convex polygon, with no LP; a 1-D state the same recursion on intervals ([`interval`]). The
+//! LP path stays for r ≥ 3, l1/l2 bounds, and as their test oracle ([`StateProblem::step_lp`]).
+//!
+//! Each step gives two sets of the same T(h): the paper's predicted X(k+1 | y(0 … k)) (38) and
+//! the filtered X(k | y(0 … k)), the same unknowns read at time k ([`StateStep::filtered`]); the
+//! predicted set is the filtered one mapped by A plus the noise set B·U(k), since u(k) meets no
+//! measurement.
+//!
+//! A missing measurement (NaN in y(t), a gap of the record) drops its rows from the information
+//! (40)–(41): T(h) is the intersection of the bounds on the data present, and every norm of the
+//! stacked noise (l∞, l1, l2) bounds the samples present exactly as it bounds the whole
+//! sequence with the missing ones at 0, so the window's constraints are the same with that row
+//! left out. At a gap the set is only the dynamics (the map by A and the noise), and it can only
+//! grow: each gap removes a constraint.
 //!
 //! Every LP goes through [`crate::solve`].
 
+pub mod interval;
 pub mod planar;
 
 use crate::error::{Error, Result};
@@ -41,6 +54,7 @@ use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// The norm of a bound (weighted: ‖h‖^w = ‖(w_i h_i)‖).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -200,6 +214,12 @@ impl FeasibleSet {
             "state",
             &format!("{} may be too small{also}", self.field),
         )
+    }
+
+    /// The error of an empty T(h): the data contradict the bounds (the LP's infeasibility
+    /// message, word for word, for the exact paths that find it without an LP).
+    pub fn infeasible_error(&self) -> Error {
+        self.blame().infeasible()
     }
 
     /// The LP (or SOCP, with l2 bounds) of T(h) with a zero objective; slack variables of
@@ -873,14 +893,32 @@ pub struct StateStep {
     pub k: usize,
     /// First time of the window (s).
     pub first: usize,
-    pub set: FeasibleSet,
-    /// x(k+1) = offset + S f.
+    /// T(h) of the window, shared by the predicted set and its filtered view.
+    pub set: Arc<FeasibleSet>,
+    /// The state this step's set is of, x = offset + S f: x(k+1) (the predicted set), or x(k)
+    /// on the filtered view ([`StateStep::filtered`]).
     pub s_map: DMatrix<f64>,
     pub offset: DVector<f64>,
-    /// The planar path ran: the exact polygon of x(k+1) − offset (r = 2, l∞ bounds, the data
+    /// The planar path ran: the exact polygon of x − offset (r = 2, l∞ bounds, the data
     /// close the set). `None`: the LP path (the set's support LPs) answers.
     pub planar: Option<ConvexPolygon>,
+    /// The line path ran ([`interval`]): the exact interval of x − offset (r = 1, l∞ bounds).
+    pub interval: Option<[f64; 2]>,
+    /// The filtered set X(k | y(s … k)): the same T(h) read at time k (the same step with
+    /// S = the map of x(k), its own exact polygon or interval). `None` on the filtered view
+    /// itself, and when that set is unbounded though the predicted one is not (δ = ∞ and a
+    /// singular A that annihilates what the data leave free only by its last power:
+    /// [`StateProblem::step`]'s boundedness test).
+    pub filtered: Option<Box<StateStep>>,
 }
+
+/// The largest rows·n·(rows + n) of Theorem 2's LP (22) solved at a step (a window of about
+/// 110 steps with one noise input and one output): beyond it one component's estimate would
+/// take over 0.2 s natively.
+pub const THEOREM_2_MAX_WORK: f64 = 1e7;
+/// Operations per unit of rows·n·(rows + n) of one dense simplex solve of (22) (measured: a
+/// window of 400 steps, 802 rows and 402 unknowns, 8.6 s natively).
+pub const THEOREM_2_OPS: f64 = 22.0;
 
 /// Section IV: the state x(k+1) from y(0 … k) with a window of `window` steps.
 #[derive(Debug, Clone)]
@@ -980,31 +1018,44 @@ impl StateProblem {
             eq_rows.push((e, DVector::zeros(r * len)));
         }
         let mut bounds = Vec::new();
-        // Measurements (40)–(42) with the smoothed bound (46).
+        // Measurements (40)–(42) with the smoothed bound (46): the rows of the data present
+        // (a gap, NaN, drops its row: the module's note).
         let q = sys.c_at(0).nrows();
         if q > 0 {
-            let mut n_op = DMatrix::zeros(q * len, dim);
-            let mut h = DVector::zeros(q * len);
-            let mut w = DVector::zeros(q * len);
             for t in s..=k {
                 let c = sys.c_at(t);
                 if c.nrows() != q || y[t].len() != q {
                     return Err(output_mismatch(t, y[t].len(), c.nrows()));
                 }
-                let row = q * (t - s);
-                n_op.view_mut((row, 0), (q, dim))
-                    .copy_from(&(c * state_map(t)));
-                h.rows_mut(row, q).copy_from(&(&y[t] - c * &nominal[t]));
-                w.rows_mut(row, q).fill(age_weight(bd.beta, k - t));
             }
-            bounds.push(NormBound {
-                map: n_op,
-                center: h,
-                weights: w,
-                norm: bd.norm,
-                bound: bd.eps,
-                field: "ubb.eps".into(),
-            });
+            let present = (s..=k)
+                .map(|t| y[t].iter().filter(|v| !v.is_nan()).count())
+                .sum::<usize>();
+            if present > 0 {
+                let mut n_op = DMatrix::zeros(present, dim);
+                let mut h = DVector::zeros(present);
+                let mut w = DVector::zeros(present);
+                let mut row = 0;
+                for t in s..=k {
+                    let c = sys.c_at(t);
+                    let cm = c * state_map(t);
+                    let cx = c * &nominal[t];
+                    for i in (0..q).filter(|&i| !y[t][i].is_nan()) {
+                        n_op.row_mut(row).copy_from(&cm.row(i));
+                        h[row] = y[t][i] - cx[i];
+                        w[row] = age_weight(bd.beta, k - t);
+                        row += 1;
+                    }
+                }
+                bounds.push(NormBound {
+                    map: n_op,
+                    center: h,
+                    weights: w,
+                    norm: bd.norm,
+                    bound: bd.eps,
+                    field: "ubb.eps".into(),
+                });
+            }
         }
         // Process noise in the window (37) with the smoothed bound (45).
         if p > 0 {
@@ -1060,26 +1111,53 @@ impl StateProblem {
             }
             (e, v)
         });
-        if bd.delta.is_none() {
-            self.check_observable(&pow, s, k, r)?;
-        }
-        let set = FeasibleSet {
+        let filtered_bounded = if bd.delta.is_none() {
+            self.check_reconstructible(&pow, y, s, k)?
+        } else {
+            true
+        };
+        let set = Arc::new(FeasibleSet {
             dim,
             bounds,
             eq,
             l1_form: bd.l1_form,
             field: "ubb.eps".into(),
-        };
-        let planar = if exact && r == 2 && bd.norm == Norm::Linf {
+        });
+        // The exact paths (no LP): (predicted, filtered) polygons or intervals.
+        let (mut planar, mut planar_filtered) = (None, None);
+        let (mut interval, mut interval_filtered) = (None, None);
+        if exact && r == 2 && bd.norm == Norm::Linf {
             match self.planar(y, k, s, &nominal, start_half.as_ref()) {
-                planar::Outcome::Polygon(p) => Some(p),
+                planar::Outcome::Polygon {
+                    predicted,
+                    filtered,
+                } => (planar, planar_filtered) = (Some(predicted), filtered),
                 // The LP would be infeasible: its error, word for word.
-                planar::Outcome::Empty => return Ok(Err(Box::new(set.blame().infeasible()))),
-                planar::Outcome::Open => None,
+                planar::Outcome::Empty => return Ok(Err(Box::new(set.infeasible_error()))),
+                planar::Outcome::Open => {}
             }
-        } else {
-            None
-        };
+        } else if exact && r == 1 && bd.norm == Norm::Linf {
+            match self.line(y, k, s, &nominal, start_half.as_ref()) {
+                interval::Outcome::Interval {
+                    predicted,
+                    filtered,
+                } => (interval, interval_filtered) = (Some(predicted), filtered),
+                interval::Outcome::Empty => return Ok(Err(Box::new(set.infeasible_error()))),
+                interval::Outcome::Open => {}
+            }
+        }
+        let filtered = filtered_bounded.then(|| {
+            Box::new(StateStep {
+                k,
+                first: s,
+                set: Arc::clone(&set),
+                s_map: state_map(k),
+                offset: nominal[k].clone(),
+                planar: planar_filtered,
+                interval: interval_filtered,
+                filtered: None,
+            })
+        });
         Ok(Ok(StateStep {
             k,
             first: s,
@@ -1087,6 +1165,8 @@ impl StateProblem {
             s_map: state_map(k + 1),
             offset: nominal[k + 1].clone(),
             planar,
+            interval,
+            filtered,
         }))
     }
 
@@ -1105,6 +1185,27 @@ impl StateProblem {
         y: &[DVector<f64>],
         k: usize,
         components: &[usize],
+    ) -> Result<Option<Vec<LinearEstimate>>> {
+        self.linear_estimates(y, k, components, false)
+    }
+
+    /// [`StateProblem::theorem_2`] for the filtered state x_i(k) (S = the row of M_k in (39):
+    /// the same rows of (22), the solution operator read one step earlier).
+    pub fn theorem_2_filtered(
+        &self,
+        y: &[DVector<f64>],
+        k: usize,
+        components: &[usize],
+    ) -> Result<Option<Vec<LinearEstimate>>> {
+        self.linear_estimates(y, k, components, true)
+    }
+
+    fn linear_estimates(
+        &self,
+        y: &[DVector<f64>],
+        k: usize,
+        components: &[usize],
+        filtered: bool,
     ) -> Result<Option<Vec<LinearEstimate>>> {
         let sys = &self.system;
         let bd = &self.bounds;
@@ -1157,6 +1258,7 @@ impl StateProblem {
         // e(t) = M_t f (39): M_s = [I 0], M_{t+1} = A M_t + B on u(t)'s columns.
         let mut m_t = DMatrix::zeros(r, n);
         m_t.view_mut((0, 0), (r, r)).fill_with_identity();
+        let mut m_k = m_t.clone();
         for t in s..=k {
             let c = sys.c_at(t);
             if c.nrows() > 0 && y[t].len() != c.nrows() {
@@ -1165,7 +1267,11 @@ impl StateProblem {
             let eps = bd.eps / age_weight(bd.beta, k - t);
             let cm = c * &m_t;
             let cx = c * &nominal[t];
-            for i in 0..c.nrows() {
+            if t == k {
+                m_k = m_t.clone();
+            }
+            // A gap (NaN) has no row in the information (40).
+            for i in (0..c.nrows()).filter(|&i| !y[t][i].is_nan()) {
                 let row: Vec<f64> = cm.row(i).iter().copied().collect();
                 rows.push((row, y[t][i] - cx[i], eps, RowKind::Measurement, t, i));
             }
@@ -1182,6 +1288,20 @@ impl StateProblem {
             }
             m_t = next;
         }
+        // The dense simplex of (22) costs about rows·n·(rows + n) per solve (window 100: 0.1 s,
+        // window 400: 9 s natively): past THEOREM_2_MAX_WORK the estimate is left out, and the
+        // step says why (the set and its hull do not depend on it).
+        let work = (rows.len() * n) as f64 * (rows.len() + n) as f64;
+        if work > THEOREM_2_MAX_WORK {
+            return Err(Error::field(
+                "ubb.window",
+                format!(
+                    "is {len} steps: Theorem 2's LP (22) has {n} unknowns and {} rows there, about {:.1} s per component with the dense simplex; it is computed for windows up to about 100 steps (the set and its hull stand without it)",
+                    rows.len(),
+                    work * THEOREM_2_OPS / 1e9
+                ),
+            ));
+        }
         let pm = DMatrix::from_fn(rows.len(), n, |i, j| rows[i].0[j]);
         let d = DVector::from_iterator(rows.len(), rows.iter().map(|row| row.1));
         let b = DVector::from_iterator(rows.len(), rows.iter().map(|row| row.2));
@@ -1191,10 +1311,16 @@ impl StateProblem {
             RowKind::Process => 2,
             RowKind::Measurement => 3,
         };
+        // S: the row of x(k+1) = x̄(k+1) + M_{k+1} f, or of x(k) for the filtered set.
+        let (m_s, x_bar) = if filtered {
+            (&m_k, &nominal[k])
+        } else {
+            (&m_t, &nominal[k + 1])
+        };
         components
             .iter()
             .map(|&i| {
-                let sv = m_t.row(i).transpose();
+                let sv = m_s.row(i).transpose();
                 let lin = linear_optimal(&pm, &b, &sv, "ubb.eps")?;
                 let mut active: Vec<ActiveRow> = lin
                     .active
@@ -1214,7 +1340,7 @@ impl StateProblem {
                 active.sort_by_key(|a| (a.t, kind_order(a.kind), a.index));
                 Ok(LinearEstimate {
                     component: i,
-                    estimate: nominal[k + 1][i] + lin.apply(&d),
+                    estimate: x_bar[i] + lin.apply(&d),
                     error: lin.error.max(lin.intrinsic_error),
                     active,
                 })
@@ -1275,7 +1401,9 @@ impl StateProblem {
             .map(|t| {
                 let c = sys.c_at(t);
                 let eps = bd.eps / age_weight(bd.beta, k - t);
+                // A gap (NaN) has no strip: that time is the map and the noise alone.
                 let strips = (0..c.nrows())
+                    .filter(|&i| !y[t][i].is_nan())
                     .map(|i| {
                         // h_i = y_i − C_i x̄(t): the residual (40) in deviations.
                         let h = y[t][i] - (c[(i, 0)] * nominal[t][0] + c[(i, 1)] * nominal[t][1]);
@@ -1297,52 +1425,172 @@ impl StateProblem {
         planar::propagate(a, &noise, start.map(|h| [h[0], h[1]]), equal, &samples)
     }
 
-    /// With δ = ∞ the window's outputs must determine x(s) (the Remark on observability).
-    fn check_observable(&self, pow: &[DMatrix<f64>], s: usize, k: usize, r: usize) -> Result<()> {
-        let mut rows = Vec::new();
-        for t in s..=k {
-            let m = self.system.c_at(t) * &pow[t - s];
-            rows.extend(m.row_iter().map(|x| x.into_owned()));
-        }
-        let rank = if rows.is_empty() {
-            0
-        } else {
-            let m = DMatrix::from_rows(&rows);
-            // nalgebra's SVD panics on a NaN; overflowing powers of A must be an error. The
-            // outputs' rows (model.H, or ubb.basis) are checked finite when prepared, so a
-            // non-finite entry here is A's powers, or their product with those rows.
-            if m.iter().any(|x| !x.is_finite()) {
-                return Err(Error::field(
-                    "model.F",
-                    format!("has powers that overflow double precision over the window y({s} … {k}): A^{} times the output rows passes 1.8e308; shorten ubb.window or scale the model", k - s),
-                ));
-            }
-            let tol = 1e-9 * m.amax().max(1e-300);
-            crate::linalg::try_svd(m, false, false)
-                .ok_or_else(|| {
-                    Error::field(
-                        "model.F",
-                        format!("has an observability matrix over y({s} … {k}) without an SVD (an entry is not finite)"),
-                    )
-                })?
-                .rank(tol)
+    /// The line path of the window s … k ([`interval`]): the planar recursion's constraints on
+    /// a 1-D state, in deviations e = x − x̄.
+    fn line(
+        &self,
+        y: &[DVector<f64>],
+        k: usize,
+        s: usize,
+        nominal: &[DVector<f64>],
+        start: Option<&DVector<f64>>,
+    ) -> interval::Outcome {
+        let sys = &self.system;
+        let bd = &self.bounds;
+        // Σ_j |b_j|: the noise segments B·[−τ, τ]^p add up to one interval on a line.
+        let b_sum: f64 = sys.b.iter().map(|v| v.abs()).sum();
+        let samples: Vec<interval::Sample> = (s..=k)
+            .map(|t| {
+                let c = sys.c_at(t);
+                let eps = bd.eps / age_weight(bd.beta, k - t);
+                let strips = (0..c.nrows())
+                    .filter(|&i| !y[t][i].is_nan())
+                    .map(|i| {
+                        let h = y[t][i] - c[(i, 0)] * nominal[t][0];
+                        (c[(i, 0)], h - eps, h + eps)
+                    })
+                    .collect();
+                let noise = if sys.p() > 0 {
+                    b_sum * bd.tau / age_weight(bd.alpha, k - t)
+                } else {
+                    0.0
+                };
+                interval::Sample { strips, noise }
+            })
+            .collect();
+        let equal = match (bd.x0_sum, s) {
+            (Some(total), 0) => Some(total - bd.x0_center.sum()),
+            _ => None,
         };
-        if rank < r {
+        interval::propagate(sys.a[(0, 0)], start.map(|h| h[0]), equal, &samples)
+    }
+
+    /// With δ = ∞ (no bound on the window's first state e(s)), whether the window's data
+    /// determine the state: an unbounded set of x(k+1) is the error (`ubb.delta`), and the
+    /// answer is whether the set of x(k) is bounded too.
+    ///
+    /// The Remark after (44) asks for observability, rank [C; CA; …] = r, which is enough but
+    /// not necessary. T(h) is a polyhedron in the unknowns (e(s), u(s … k)) whose noise parts
+    /// are bounded, so its unbounded directions (its recession cone) are {(e, 0) : O e = 0},
+    /// O = [C(s); C(s+1)A; …; C(k)A^{k−s}] with the rows of the measurements present (a gap
+    /// drops its row; Example 4's Σx(0) adds a row of ones at s = 0). A linear image of a
+    /// polyhedron is bounded exactly when every recession direction maps to 0, and
+    /// x(k+1) = A^{len} e(s) + Σ A^i B u(k − i) (39): the set of x(k+1) is bounded iff
+    /// A^{len} ker O = {0}, the pair (A, C) reconstructible over the window (a singular A may
+    /// annihilate what the data leave free), and that of x(k) iff A^{len−1} ker O = {0}.
+    fn check_reconstructible(
+        &self,
+        pow: &[DMatrix<f64>],
+        y: &[DVector<f64>],
+        s: usize,
+        k: usize,
+    ) -> Result<bool> {
+        let sys = &self.system;
+        let r = sys.r();
+        let len = k + 1 - s;
+        let mut rows: Vec<nalgebra::RowDVector<f64>> = Vec::new();
+        let mut missing = 0;
+        for t in s..=k {
+            let m = sys.c_at(t) * &pow[t - s];
+            for (i, row) in m.row_iter().enumerate() {
+                if y[t].get(i).is_some_and(|v| v.is_nan()) {
+                    missing += 1;
+                } else {
+                    rows.push(row.into_owned());
+                }
+            }
+        }
+        if let (Some(_), 0) = (self.bounds.x0_sum, s) {
+            rows.push(nalgebra::RowDVector::from_element(r, 1.0));
+        }
+        // nalgebra's SVD panics on a NaN; overflowing powers of A must be an error. The outputs'
+        // rows (model.H, or ubb.basis) are checked finite when prepared, so a non-finite entry
+        // here is A's powers, or their product with those rows.
+        if rows.iter().flat_map(|r| r.iter()).any(|x| !x.is_finite()) {
+            return Err(Error::field(
+                "model.F",
+                format!("has powers that overflow double precision over the window y({s} … {k}): A^{} times the output rows passes 1.8e308; shorten ubb.window or scale the model", k - s),
+            ));
+        }
+        // ker O: the right singular vectors of O with a singular value below 1e-9 of its
+        // largest entry (zero rows pad O to r rows, so its thin SVD has every one of them).
+        while rows.len() < r {
+            rows.push(nalgebra::RowDVector::zeros(r));
+        }
+        let o = DMatrix::from_rows(&rows);
+        let tol = 1e-9 * o.amax().max(1e-300);
+        let svd = crate::linalg::try_svd(o, false, true).ok_or_else(|| {
+            Error::field(
+                "model.F",
+                format!("has an observability matrix over y({s} … {k}) without an SVD (an entry is not finite)"),
+            )
+        })?;
+        let v_t = svd.v_t.as_ref().ok_or_else(|| {
+            Error::field("model.F", "has an observability matrix without right singular vectors")
+        })?;
+        let free: Vec<DVector<f64>> = (0..r)
+            .filter(|&i| svd.singular_values[i] <= tol)
+            .map(|i| v_t.row(i).transpose())
+            .collect();
+        let rank = r - free.len();
+        let predicted = annihilated(&sys.a, &free, len);
+        if !predicted {
+            let gaps = if missing > 0 {
+                format!(", {missing} of its measurements missing")
+            } else {
+                String::new()
+            };
             return Err(Error::field(
                 "ubb.delta",
                 format!(
-                    "is ∞ (no bound on x(0)), but y({s} … {k}) determine only {rank} of the {r} state directions (rank [C; CA; …] = {rank} < {r}): the feasible set is unbounded; give δ or wait for more data"
+                    "is ∞ (no bound on x(0)), and y({s} … {k}) leave x({}) unbounded: they determine {rank} of the {r} state directions of x({s}) (rank [C; CA; …; CA^{}] = {rank} over the window{gaps}), and A^{len} does not map the rest to 0 (the pair (A, C) is not reconstructible over these {len} steps: the feasible set is unbounded); give δ or wait for more data",
+                    k + 1,
+                    len - 1,
                 ),
             ));
         }
-        Ok(())
+        Ok(annihilated(&sys.a, &free, len - 1))
     }
 }
 
+/// Whether A^steps maps the span of the orthonormal `free` vectors to 0, without forming the
+/// power (whose entries under- or overflow): the image's orthonormal basis is mapped one step
+/// at a time, dropping the directions A shrinks below 1e-9 of its norm (rounding of an exact
+/// 0). The dimension of A^j V stops changing by j = r (past it A^j V lies in A^r's range,
+/// where A is invertible), so at most r steps decide.
+fn annihilated(a: &DMatrix<f64>, free: &[DVector<f64>], steps: usize) -> bool {
+    let r = a.nrows();
+    let tol = 1e-9 * a.norm();
+    let mut basis: Vec<DVector<f64>> = free.to_vec();
+    for _ in 0..steps.min(r) {
+        if basis.is_empty() {
+            return true;
+        }
+        let image = DMatrix::from_columns(&basis.iter().map(|v| a * v).collect::<Vec<_>>());
+        let Some(svd) = crate::linalg::try_svd(image, true, false) else {
+            return false;
+        };
+        let Some(u) = svd.u.as_ref() else {
+            return false;
+        };
+        basis = (0..svd.singular_values.len())
+            .filter(|&i| svd.singular_values[i] > tol)
+            .map(|i| u.column(i).into_owned())
+            .collect();
+    }
+    basis.is_empty()
+}
+
 impl StateStep {
-    /// Interval hull of x(k+1): the polygon's min and max on the planar path, 2r LPs on the
-    /// LP path.
+    /// Interval hull of x(k+1) (of x(k) on the filtered view): the polygon's min and max on
+    /// the planar path, the interval itself on the line path, 2r LPs on the LP path.
     pub fn hull(&self) -> Result<IntervalHull> {
+        if let Some([lo, hi]) = self.interval {
+            return Ok(self.shift(IntervalHull {
+                lo: vec![lo],
+                hi: vec![hi],
+            }));
+        }
         if let Some(p) = &self.planar {
             let h = p.interval_hull();
             return Ok(self.shift(IntervalHull {
@@ -1354,11 +1602,39 @@ impl StateStep {
         Ok(self.shift(h))
     }
 
+    /// The interval hulls of the predicted set and of its filtered view (when bounded), from
+    /// one loaded solver on the LP path (4r support LPs on T(h) loaded once), with no LP on
+    /// the exact paths.
+    pub fn hulls(&self) -> Result<(IntervalHull, Option<IntervalHull>)> {
+        let exact = |s: &StateStep| s.planar.is_some() || s.interval.is_some();
+        let both_exact = exact(self) && self.filtered.as_deref().is_none_or(exact);
+        if both_exact {
+            let f = match &self.filtered {
+                Some(f) => Some(f.hull()?),
+                None => None,
+            };
+            return Ok((self.hull()?, f));
+        }
+        let mut solver = self.set.support_solver()?;
+        let mut hull_of = |s: &StateStep| -> Result<IntervalHull> {
+            if exact(s) {
+                return s.hull();
+            }
+            Ok(s.shift(solver.interval_hull(&s.s_map)?))
+        };
+        let predicted = hull_of(self)?;
+        let filtered = match &self.filtered {
+            Some(f) => Some(hull_of(f)?),
+            None => None,
+        };
+        Ok((predicted, filtered))
+    }
+
     /// [`StateStep::hull`], or `None` when the data contradict the bounds (the LP path's first
     /// support LP is infeasible; the planar path has already been checked when the step was
     /// built).
     pub fn hull_if_consistent(&self) -> Result<Option<IntervalHull>> {
-        if self.planar.is_some() {
+        if self.planar.is_some() || self.interval.is_some() {
             return self.hull().map(Some);
         }
         let mut solver = self.set.support_solver()?;
@@ -1378,8 +1654,20 @@ impl StateStep {
     /// prediction interval): support values of the polygon on the planar path, LPs otherwise.
     pub fn image_hull(&self, m: &DMatrix<f64>) -> Result<IntervalHull> {
         let off = m * &self.offset;
-        let h = match &self.planar {
-            Some(p) => {
+        let h = match (&self.planar, self.interval) {
+            (_, Some([lo, hi])) => {
+                // m·e over e ∈ [lo, hi]: the ends in the order of m's sign.
+                let ends = |c: f64| {
+                    let (a, b) = (c * lo, c * hi);
+                    (a.min(b), a.max(b))
+                };
+                let rows: Vec<(f64, f64)> = (0..m.nrows()).map(|i| ends(m[(i, 0)])).collect();
+                IntervalHull {
+                    lo: rows.iter().map(|e| e.0).collect(),
+                    hi: rows.iter().map(|e| e.1).collect(),
+                }
+            }
+            (Some(p), _) => {
                 let (mut lo, mut hi) = (Vec::new(), Vec::new());
                 for i in 0..m.nrows() {
                     let d = [m[(i, 0)], m[(i, 1)]];
@@ -1388,7 +1676,7 @@ impl StateStep {
                 }
                 IntervalHull { lo, hi }
             }
-            None => self.set.interval_hull(&(m * &self.s_map))?,
+            (None, None) => self.set.interval_hull(&(m * &self.s_map))?,
         };
         let add = |v: &[f64]| crate::linalg::zip_with(v, off.as_slice(), |a, b| a + b);
         Ok(IntervalHull {
@@ -1410,14 +1698,41 @@ impl StateStep {
         DMatrix::from_fn(2, self.s_map.ncols(), |i, j| self.s_map[(plane[i], j)])
     }
 
-    /// Interval hull of all of x(k+1) and the exact polygon of the `plane` components: on the
-    /// planar path from the polygon itself (no LP: `calls` = 0, the LP's size reported as
-    /// counted), otherwise from one loaded solver.
+    /// Interval hull of all of x(k+1) (x(k) on the filtered view) and the exact polygon of the
+    /// `plane` components: on the planar path from the polygon itself (no LP: `calls` = 0, the
+    /// LP's size reported as counted), otherwise from one loaded solver. With one state
+    /// (plane [0, 0]) the set is the interval [lo, hi] and its image in the plane (x₁, x₁) the
+    /// segment from (lo, lo) to (hi, hi).
     pub fn hull_and_polygon(
         &self,
         plane: [usize; 2],
         budget: usize,
     ) -> Result<(IntervalHull, SupportPolygon, LpSize)> {
+        if self.s_map.nrows() == 1 {
+            if plane != [0, 0] {
+                return Err(Error::field(
+                    "ubb.plane",
+                    format!("names {plane:?}, but the state has one component: its set is an interval (leave ubb.plane out)"),
+                ));
+            }
+            let (hull, calls) = match self.interval {
+                Some(_) => (self.hull()?, 0),
+                None => (self.hull()?, 2),
+            };
+            let (lo, hi) = (hull.lo[0], hull.hi[0]);
+            let polygon = SupportPolygon {
+                vertices: if hi > lo {
+                    vec![[lo, lo], [hi, hi]]
+                } else {
+                    vec![[lo, lo]]
+                },
+                exact: true,
+                gap: 0.0,
+                calls,
+                hull: [lo, hi, lo, hi],
+            };
+            return Ok((hull, polygon, self.set.size()));
+        }
         if let Some(p) = &self.planar {
             let p = match plane {
                 [0, 1] => p.clone(),
@@ -1458,6 +1773,14 @@ impl StateStep {
         ];
         Ok((hull, poly, solver.size))
     }
+}
+
+/// One step of the Kalman filter beside the sets: the filtered x(k|k) and the prediction
+/// x(k+1|k), each (mean, covariance).
+#[derive(Debug, Clone)]
+pub struct KalmanStep {
+    pub filtered: (DVector<f64>, DMatrix<f64>),
+    pub predicted: (DVector<f64>, DMatrix<f64>),
 }
 
 /// Noise in simulations: uniform within the bound, or at the bound with random signs.
@@ -1574,9 +1897,14 @@ impl StateProblem {
         }
     }
 
-    /// The Kalman filter's one-step predictions x(k+1|k) and covariances, k = 0 … steps−1, with
-    /// the variances of the simulated noise (level²/3 uniform, level² at the bound).
-    pub fn kalman(&self, run: &Run, mode: NoiseMode) -> Vec<(DVector<f64>, DMatrix<f64>)> {
+    /// The Kalman filter beside the sets, k = 0 … steps−1: the filtered x(k|k) and the
+    /// one-step prediction x(k+1|k) with their covariances, under the stated assumption that
+    /// the noise is Gaussian with the variances of the simulated noise: level²/3, the variance
+    /// of the uniform law on [−level, level] (`noise` "random"), or level² at the bound
+    /// (`noise` "bound"); x(0) the same within δ. A missing measurement (NaN) skips its row of
+    /// the update. With δ = ∞ the prior is diffuse in the data's own unit
+    /// ([`StateProblem::diffuse_prior`]).
+    pub fn kalman(&self, run: &Run, mode: NoiseMode) -> Vec<KalmanStep> {
         let sys = &self.system;
         let (r, p) = (sys.r(), sys.p());
         let var = |level: f64| match mode {
@@ -1587,28 +1915,56 @@ impl StateProblem {
         let mut x = self.bounds.x0_center.clone();
         let mut pm = match &self.bounds.delta {
             Some(d) => DMatrix::from_diagonal(&d.map(|v| var(v))),
-            None => DMatrix::identity(r, r) * 1e8,
+            None => DMatrix::identity(r, r) * self.diffuse_prior(&run.y),
         };
         let mut out = Vec::new();
         for (t, yt) in run.y.iter().enumerate() {
-            let c = sys.c_at(t);
-            if c.nrows() > 0 {
+            let c_all = sys.c_at(t);
+            let present: Vec<usize> = (0..c_all.nrows())
+                .filter(|&i| yt.get(i).is_some_and(|v| !v.is_nan()))
+                .collect();
+            if !present.is_empty() {
+                let c = c_all.select_rows(&present);
+                let yp = yt.select_rows(&present);
                 let rn = DMatrix::identity(c.nrows(), c.nrows()) * var(run.eta_level).max(1e-300);
-                let s = c * &pm * c.transpose() + rn;
+                let s = &c * &pm * c.transpose() + rn;
                 if let Some(si) = s.try_inverse() {
                     let g = &pm * c.transpose() * si;
-                    x = &x + &g * (yt - c * &x);
-                    pm = (DMatrix::identity(r, r) - &g * c) * &pm;
+                    x = &x + &g * (yp - &c * &x);
+                    pm = (DMatrix::identity(r, r) - &g * &c) * &pm;
                     pm = (&pm + pm.transpose()) * 0.5;
                 }
             }
+            let filtered = (x.clone(), pm.clone());
             x = &sys.a * &x;
             if let Some(v) = sys.v_at(t) {
                 x += v;
             }
             pm = &sys.a * &pm * sys.a.transpose() + &qn;
-            out.push((x.clone(), pm.clone()));
+            out.push(KalmanStep {
+                filtered,
+                predicted: (x.clone(), pm.clone()),
+            });
         }
         out
+    }
+
+    /// The Kalman filter's prior variance with δ = ∞ (issue 40, P2): diffuse in the data's own
+    /// unit, (10⁴·m)² with m the largest of |x̄(0)|, ε and the measurements' magnitudes. A fixed
+    /// 10⁸ was a constant in the data's unit: the same record in other units (×10⁴) met a prior
+    /// as tight as its data and gave other Kalman verdicts; scaled with the data, every verdict
+    /// is unit-free.
+    pub fn diffuse_prior(&self, y: &[DVector<f64>]) -> f64 {
+        let data = y
+            .iter()
+            .flat_map(|v| v.iter())
+            .filter(|v| v.is_finite())
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        let m = data.max(self.bounds.eps).max(self.bounds.x0_center.amax());
+        if m > 0.0 && (1e4 * m).powi(2).is_finite() {
+            (1e4 * m).powi(2)
+        } else {
+            1e8
+        }
     }
 }

@@ -8,7 +8,10 @@
 // ubb.sim_tau: what the simulation draws) is set apart from the assumed bounds ε, τ. The guarantee
 // runs fresh simulations with the true noise on every core (studypool.js) and counts how often
 // the truth left the set of the assumed bounds (never, while the true noise is within them) and
-// the KF ellipse.
+// the KF ellipse. The report holds two sets per step, the predicted X(k+1 | y(0 … k)) and the
+// filtered X(k | y(0 … k)); the "set drawn" control (ubb.set) chooses which the figures and the
+// read-out show. The report's warnings (gaps of a record, the Kalman comparison's assumption)
+// are shown above the figures by the panel skeleton (panel.js), as for every panel.
 // No estimation happens here: the page edits the preset's scenario and shows what the core says.
 import { Study, ellipsoidLevel } from './pkg/confset.js';
 import { mountPanel } from './panel.js';
@@ -65,6 +68,7 @@ function load(p, s) {
   ui.gamma.value = u.gamma ?? 0.1;
   ui.window.value = u.window ?? '';
   ui.norm.value = u.norm || 'linf';
+  ui.set.value = u.set || 'predicted';
   ui.noise.checked = u.noise === 'bound';
   ui.seed.value = s.simulate?.seed ?? 0;
   // The true noise (simulated) apart from the assumed bounds ε, τ: the preset's unless it says.
@@ -128,6 +132,8 @@ function build(p, s) {
   if (ui.window.value.trim() === '') delete u.window;
   else u.window = wholeNumber('ubb.window', ui.window.value);
   u.norm = ui.norm.value;
+  if (ui.set.value === 'filtered') u.set = 'filtered';
+  else delete u.set;
   u.noise = ui.noise.checked ? 'bound' : 'random';
   u.time = wholeNumber('ubb.time', ui.time.value);
   // The true noise the simulation draws, apart from ε and τ (the bounds the estimator assumes):
@@ -147,12 +153,18 @@ function build(p, s) {
 // holds for every step, and the rest marked as being computed).
 function showNumbers({ ui, st }, k) {
   const u = st.report.ubb;
-  const at = u.at.k === k ? u.at : null;
-  const step = u.track.find((t) => t.k === k);
+  // The set drawn (ubb.set): the predicted one (the step's own fields) or the filtered one
+  // (their `filtered` parts); `lag` is the state's time after k.
+  const filtered = u.set === 'filtered';
+  const lag = filtered ? 0 : 1;
+  const pick = (x) => (x && filtered ? x.filtered || null : x);
+  const detail = u.at.k === k ? u.at : null;
+  const at = pick(detail);
+  const step = pick(u.track.find((t) => t.k === k));
   const hull = at || step;
   if (!hull) {
     ui['num-title'].textContent = `At step k = ${k}${recordTime(st.report, k, true)}`;
-    ui.numbers.textContent = `No bounded set at step k = ${k}.`;
+    ui.numbers.textContent = `No bounded ${filtered ? 'filtered ' : ''}set at step k = ${k}.`;
     return;
   }
   const [i, j] = u.plane;
@@ -161,37 +173,46 @@ function showNumbers({ ui, st }, k) {
   // Example 1's state is the coefficient vector a: the report names it ("a₁ (1)", …).
   const names = (u.state_names || hull.lo.map((_, c) => `x${sub(c + 1)}`)).map(escapeHtml);
   const coef = !names[0].startsWith('x');
-  const target = coef ? 'the coefficients a' : `x(${k + 1})`;
-  ui['num-title'].textContent = `At step k = ${k}${recordTime(st.report, k, true)}: the set of ${target}${at ? ` from y(${at.first}) … y(${k})` : ''}, ${NORM[u.norm] || u.norm} bounds`;
+  const target = coef ? 'the coefficients a' : `x(${k + lag})`;
+  ui['num-title'].textContent = `At step k = ${k}${recordTime(st.report, k, true)}: the ${filtered ? 'filtered ' : ''}set of ${target}${detail ? ` from y(${detail.first}) … y(${k})` : ''}, ${NORM[u.norm] || u.norm} bounds`;
   const rows = [];
   const row = (a, b) => rows.push(`<tr><th>${a}</th><td>${b}</td></tr>`);
-  row('window', `${u.window} ${u.window === 1 ? 'step' : 'steps'}${at ? ` <span class="hint">(data y(${at.first}) … y(${k}))</span>` : ''}`);
-  const cones = at?.size.cones ? `, ${at.size.cones} cones (${at.size.cone_rows} rows)` : '';
-  row('LP size', at ? `${at.size.variables} variables, ${at.size.rows} rows${cones}` : pending);
-  row('polygon', at ? `${at.polygon.vertices.length} vertices from ${at.polygon.calls} LPs — ${at.polygon.exact
+  row('window', `${u.window} ${u.window === 1 ? 'step' : 'steps'}${detail ? ` <span class="hint">(data y(${detail.first}) … y(${k}))</span>` : ''}`);
+  const cones = detail?.size.cones ? `, ${detail.size.cones} cones (${detail.size.cone_rows} rows)` : '';
+  row('LP size', detail ? `${detail.size.variables} variables, ${detail.size.rows} rows${cones}` : pending);
+  if (u.r === 1) row('set', `an interval <span class="hint">(one state: drawn over the steps as a band)</span>`);
+  else row('polygon', at ? `${at.polygon.vertices.length} vertices from ${at.polygon.calls} LPs — ${at.polygon.exact
     ? '<b class="good">exact</b>' : `within ${fmt(at.polygon.gap)} of the set`}${u.r > 2 ? ` <span class="hint">(projection on x${sub(i + 1)}, x${sub(j + 1)})</span>` : ''}` : pending);
   row('estimates', estimates(u, at, hull, names));
   if (at?.linear) row('Theorem 2 active rows', activeRows(at.linear, names, u));
   row('interval hull', hull.lo.map((lo, c) => `<span class="nw">${names[c]} ∈ [${fmt(lo)}, ${fmt(hull.hi[c])}]</span>`).join(' '));
+  // The other set of the same step, for comparison.
+  const other = filtered ? (detail || u.track.find((t) => t.k === k)) : (detail?.filtered || u.track.find((t) => t.k === k)?.filtered);
+  if (other) {
+    row(filtered ? `predicted set of x(${k + 1})` : `filtered set of x(${k})`,
+      other.lo.map((lo, c) => `<span class="nw">${names[c]} ∈ [${fmt(lo)}, ${fmt(other.hi[c])}]</span>`).join(' '));
+  }
   row('radius', `${fmt(hull.radius)} <span class="hint">(largest half-width: the guaranteed error of the central estimate)</span>`);
   row('Theorem 4 bound', sm.limit != null ? `${fmt(sm.limit)} <span class="hint">(on the radius; ‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)})</span>`
     : `– <span class="hint">(‖A‖e<sup>1/α</sup> = ${fmt(sm.ratio)}${sm.b_norm === 0 ? ', no process noise' : ' ≥ 1'})</span>`);
   row('Theorem 5 j', sm.j != null ? `${sm.j} <span class="hint">(γ = ${fmt(u.gamma)}: window j + 1 = ${sm.j + 1}${sm.tail != null ? `, tail ${fmt(sm.tail)}` : ''})</span>`
     : `– <span class="hint">${sm.note ? richText(sm.note) : ''}</span>`);
-  const truth = u.x_true ? u.x_true[k + 1] : null;
-  row(coef ? 'true a' : `true x(${k + 1})`, truth ? vec(truth) : '– (data given)');
+  const truth = u.x_true ? u.x_true[k + lag] : null;
+  row(coef ? 'true a' : `true x(${k + lag})`, truth ? vec(truth) : '– (data given)');
   row('truth inside the set', `${verdict(step?.inside, 'yes', 'no')}${step?.inside === false
     ? ' <span class="hint">(ε or τ below the simulated noise: the bounds are wrong, so no guarantee)</span>' : ''}`);
-  const kfLevel = Math.round(100 * ellipsoidLevel(JSON.stringify(u.at.kf))); // ubb.kf_level: the same at every step
+  const kfLevel = Math.round(100 * ellipsoidLevel(JSON.stringify(u.at.kf))); // ubb.kf_level: the same at every step (its own dimension)
   row(`truth inside the KF ${kfLevel} % ellipsoid`, verdict(step?.kf_inside, 'yes', 'no'));
-  if (!at) {
+  if (!detail) {
     row(`prediction of y(${k + 1})`, pending);
-  } else if (at.prediction.length) {
-    row(`prediction of y(${k + 1})`, at.prediction.map(([lo, hi], o) => `<span class="nw">${at.prediction.length > 1 ? `y${sub(o + 1)} ` : ''}∈ [${fmt(lo)}, ${fmt(hi)}]</span>`).join(' '));
+  } else if (detail.prediction.length) {
+    row(`prediction of y(${k + 1})`, detail.prediction.map(([lo, hi], o) => `<span class="nw">${detail.prediction.length > 1 ? `y${sub(o + 1)} ` : ''}∈ [${fmt(lo)}, ${fmt(hi)}]</span>`).join(' '));
   } else {
     row(`prediction of y(${k + 1})`, '– <span class="hint">(no measurements)</span>');
   }
-  row('over the run', `truth outside the set ${u.outside} / ${u.track.length} steps, outside the KF ellipsoid ${u.kf_outside} / ${u.track.length}`
+  const counted = filtered ? u.track.filter((t) => t.filtered).length : u.track.length;
+  const [out, kfOut] = filtered ? [u.filtered_outside, u.filtered_kf_outside] : [u.outside, u.kf_outside];
+  row('over the run', `truth outside the set ${out} / ${counted} steps, outside the KF ellipsoid ${kfOut} / ${counted}`
     + (exceeds(st.scenario) ? ` <span class="hint">(<b class="warn">${NO_GUARANTEE}</b>)</span>` : ''));
   ui.numbers.innerHTML = `<table class="est"><tbody>${rows.join('')}</tbody></table>`;
   ui['window-out'].innerHTML = sm.j != null
@@ -202,11 +223,11 @@ function showNumbers({ ui, st }, k) {
 // The central estimate (31) with its half-widths, and Theorem 2's linear optimal estimate (25)
 // with its error E(φ₀) (22), in the plane components (the report's numbers).
 function estimates(u, at, hull, names) {
-  const [i, j] = u.plane;
+  const comps = u.r === 1 ? [0] : u.plane; // one state: its plane is [0, 0]
   const half = (c) => 0.5 * (hull.hi[c] - hull.lo[c]);
   const pm = (v, e) => `${fmt(v)} ± ${fmt(e)}`;
   const value = (c, v, e) => `<span class="nw">${names[c]} = ${pm(v, e)}</span>`;
-  const central = `central (strongly optimal, (31)): ${value(i, hull.center[i], half(i))}, ${value(j, hull.center[j], half(j))}`;
+  const central = `central (strongly optimal, (31)): ${comps.map((c) => value(c, hull.center[c], half(c))).join(', ')}`;
   let linear;
   if (u.norm !== 'linf') linear = 'linear optimal (Theorem 2): – <span class="hint">(needs l∞ bounds)</span>';
   else if (at?.linear_refused) linear = `linear optimal (Theorem 2): – <span class="hint">(${escapeHtml(at.linear_refused)})</span>`;
@@ -280,7 +301,7 @@ export const mountUbb = async (root, presets) => mountPanel(root, {
   prose: richText,
   ids: ['time-out', 'time-min', 'time-max', 'time-window', 'sim-out', 'true-noise', 'window-out', 'num-title',
     'runs', 'go', 'cancel', 'g-status', 'g-result', 'g-err'],
-  compute: ['eps', 'tau', 'sim-eps', 'sim-tau', 'delta', 'alpha', 'beta', 'gamma', 'window', 'norm', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
+  compute: ['eps', 'tau', 'sim-eps', 'sim-tau', 'delta', 'alpha', 'beta', 'gamma', 'window', 'norm', 'set', 'seed', 'noise', 'm-F', 'm-G', 'm-H'],
   redraw: ['time'],
   cursor: timeOf('ubb'),
   input: (p, id) => {

@@ -14,7 +14,11 @@
 //! v = `simulate.u` or `data.u` through `model.B` (Leontief demand) and x(0) in the box
 //! `x0_center ± delta` (δ = null: unbounded). Without `H` there are no measurements (Markov
 //! chain); `basis` makes H time-varying, H(t) = [g₁(t+1) … g_l(t+1)] (Example 1). Times are
-//! the paper's: y(0 … steps−1), and step k estimates x(k+1).
+//! the paper's: y(0 … steps−1), and step k (row k of the report's track, 0-based; the record's
+//! row k + 1) holds the predicted set X(k+1 | y(0 … k)) (38) and the filtered set
+//! X(k | y(0 … k)) (`track[k].filtered`); `ubb.set` chooses which the figures draw. A state of
+//! one component (r = 1) has intervals for sets. A missing measurement (`null` in `data.y`) is
+//! a step without a measurement strip ([`crate::ubb`]'s note), and the report says where.
 //!
 //! The file ends with the method's presets (`// Presets`: the menu entries and their
 //! builders), re-exported by [`crate::presets`].
@@ -34,8 +38,8 @@ use crate::sets::{box_corners, polygon_area, Ellipsoid, SupportPolygon};
 use crate::stats::chi2_quantile;
 use crate::study::{self, Runs, Study};
 use crate::ubb::{
-    Bounds, IntervalHull, L1Form, LinearEstimate, LpSize, NoiseMode, Norm, Run, Smoothing,
-    StateProblem, StateStep, System,
+    Bounds, IntervalHull, KalmanStep, L1Form, LinearEstimate, LpSize, NoiseMode, Norm, Run,
+    Smoothing, StateProblem, StateStep, System,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -92,6 +96,10 @@ pub struct UbbSpec {
     /// The step k shown (the set of x(k+1)); default: the last.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
+    /// The set the figures draw: "predicted", X(k+1 | y(0 … k)) (the paper's (38), the
+    /// default), or "filtered", X(k | y(0 … k)). The report holds both.
+    #[serde(default, skip_serializing_if = "SetChoice::is_predicted")]
+    pub set: SetChoice,
     /// State components of the polygon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane: Option<[usize; 2]>,
@@ -115,6 +123,23 @@ pub struct UbbSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub guarantee: Option<GuaranteeSpec>,
 }
+/// Which of a step's two sets the figures draw ([`UbbSpec::set`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SetChoice {
+    /// X(k+1 | y(0 … k)): the state one step ahead of the data (38).
+    #[default]
+    Predicted,
+    /// X(k | y(0 … k)): the state at the last measurement's time.
+    Filtered,
+}
+
+impl SetChoice {
+    pub fn is_predicted(&self) -> bool {
+        *self == SetChoice::Predicted
+    }
+}
+
 fn default_norm() -> Norm {
     Norm::Linf
 }
@@ -161,6 +186,22 @@ pub struct SmoothingReport {
     pub note: Option<String>,
 }
 
+/// The filtered set X(k | y(0 … k)) of a step of the track: its interval hull, central
+/// estimate and local error, and the Kalman filter's x(k|k), each with whether it holds the
+/// true x(k).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct FilteredHull {
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub center: Vec<f64>,
+    pub radius: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inside: Option<bool>,
+    pub kf_mean: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kf_inside: Option<bool>,
+}
+
 /// One step of the track: the interval hull of x(k+1).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct TrackStep {
@@ -177,6 +218,29 @@ pub struct TrackStep {
     pub kf_mean: Vec<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kf_inside: Option<bool>,
+    /// The filtered set X(k | y(0 … k)) of the same step; absent when it is unbounded though
+    /// the predicted set is not (δ = ∞ with a singular A: [`crate::ubb::StateStep::filtered`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered: Option<FilteredHull>,
+}
+
+/// The filtered set X(k | y(0 … k)) at the time cursor's step: its exact polygon in the
+/// plane, hull, centre, local error, the true x(k), the Kalman ellipse of x(k|k) and Theorem 2
+/// for x_i(k).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct UbbFiltered {
+    pub polygon: SupportPolygon,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub center: Vec<f64>,
+    pub radius: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth: Option<Vec<f64>>,
+    pub kf: Ellipsoid,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear: Option<Vec<LinearEstimate>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear_refused: Option<String>,
 }
 
 /// The step at the time cursor.
@@ -209,6 +273,9 @@ pub struct UbbStep {
     /// refused: the set itself does not depend on it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub linear_refused: Option<String>,
+    /// The filtered set X(k | y(0 … k)) at this step (absent when unbounded, as in the track).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered: Option<UbbFiltered>,
 }
 
 /// The report.
@@ -223,7 +290,12 @@ pub struct UbbReport {
     pub noise: NoiseMode,
     pub window: usize,
     pub gamma: f64,
+    /// The plotted components (with one state, [0, 0]: the polygon of the plane (x₁, x₁) is
+    /// the diagonal segment of the interval).
     pub plane: [usize; 2],
+    /// The set the figures draw (`ubb.set`).
+    #[serde(default, skip_serializing_if = "SetChoice::is_predicted")]
+    pub set: SetChoice,
     /// Names of the state components for axes and tables: "x₁", … or, with a basis
     /// (Example 1), the coefficients "a₁ (1)", "a₂ (k)", ….
     pub state_names: Vec<String>,
@@ -231,15 +303,19 @@ pub struct UbbReport {
     /// Per-component noise levels of the simulation.
     pub u_level: f64,
     pub eta_level: f64,
-    /// x(0 … steps) (simulation) and y(0 … steps−1).
+    /// x(0 … steps) (simulation) and y(0 … steps−1) (a gap of the record is `null`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x_true: Option<Vec<Vec<f64>>>,
+    #[serde(with = "super::gap_rows")]
     pub y: Vec<Vec<f64>>,
     /// Steps whose set is bounded (with δ = ∞ the first steps are not).
     pub track: Vec<TrackStep>,
     /// Steps where the truth left the hull (must be 0) and where it left the KF ellipsoid.
     pub outside: usize,
     pub kf_outside: usize,
+    /// The same counts for the filtered sets and the Kalman filter's x(k|k), against x(k).
+    pub filtered_outside: usize,
+    pub filtered_kf_outside: usize,
     pub at: UbbStep,
 }
 
@@ -265,8 +341,10 @@ pub struct UbbPrepared {
     pub x0: Option<DVector<f64>>,
     pub smoothing: SmoothingReport,
     pub plane: [usize; 2],
-    /// Given data (instead of a simulation).
+    /// Given data (instead of a simulation); a gap is NaN.
     pub data: Option<Vec<DVector<f64>>>,
+    /// The record's own times (`data.t`; empty for a simulation or a record without them).
+    pub times: Vec<super::RecordTime>,
 }
 
 /// Largest phase 2πk/P of a `sin:P` or `cos:P` basis function, in radians: a double's spacing
@@ -480,7 +558,17 @@ impl Scenario {
             None => DVector::zeros(r),
         };
         let plane = spec.plane.unwrap_or([0, 1.min(r - 1)]);
-        if r < 2 || plane[0] >= r || plane[1] >= r || plane[0] == plane[1] {
+        if r == 1 {
+            // One state: its set is an interval, drawn over time; there is no plane to name.
+            if plane != [0, 0] {
+                return Err(Error::field(
+                    "ubb.plane",
+                    format!(
+                        "is {plane:?}, but the state has one component (r = 1): its set is an interval [lo, hi], drawn as a band over the steps; leave ubb.plane out (or give [0, 0])"
+                    ),
+                ));
+            }
+        } else if plane[0] >= r || plane[1] >= r || plane[0] == plane[1] {
             return Err(Error::field(
                 "ubb.plane",
                 format!("must name two different state components below r = {r}"),
@@ -524,10 +612,12 @@ impl Scenario {
                 "is needed with ubb.x0_sum (a true x(0) on the simplex)",
             ));
         }
+        // A gap (NaN) stays in the data: each step leaves its strip out (the method's `gaps`).
         let data = match source {
-            Source::Data(_) => Some(source.measurements(c[0].nrows())?),
+            Source::Data(_) => Some(source.measurements_with_gaps(c[0].nrows())?),
             Source::Simulate(_) => None,
         };
+        let times = source.record_times().to_vec();
         ubb_resolution(
             self,
             &spec,
@@ -560,6 +650,7 @@ impl Scenario {
             smoothing,
             plane,
             data,
+            times,
         })
     }
 }
@@ -695,6 +786,70 @@ impl UbbPrepared {
         )
     }
 
+    /// What the reader must know beside the report ([`Report::warnings`]): the gaps of the
+    /// record and what the estimator did there, and the assumption behind the Kalman
+    /// comparison (it is not part of Tempo's method).
+    pub fn warnings(&self, s: &Scenario, u: &UbbReport) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(d) = &s.data {
+            let rows = d.gap_rows();
+            if !rows.is_empty() {
+                let q = u.q;
+                let partial = rows
+                    .iter()
+                    .filter(|&&k| d.y[k].iter().any(|v| !v.is_nan()))
+                    .count();
+                let partial = if partial > 0 && q > 1 {
+                    format!(" ({partial} of them miss only some of the {q} outputs: only those strips are left out)")
+                } else {
+                    String::new()
+                };
+                out.push(format!(
+                    "data.y has gaps (missing measurements) in {} of its {} rows: {}{partial}. At a gap step k the feasible set has no measurement strip: the set of x(k) is the previous prediction unclipped, and the set of x(k+1) is it mapped by A plus the noise set (Tempo's T(h) (3) with that row of the information (40) left out), so the sets can only grow there; the Kalman comparison skips the same rows of its update",
+                    rows.len(),
+                    d.y.len(),
+                    gap_ranges(d, &rows)
+                ));
+            }
+        }
+        let (eta, tau) = (u.eta_level, u.u_level);
+        let (law, var, v) = match u.noise {
+            NoiseMode::Random => (
+                "the variance of the uniform law on [−bound, bound], bound²/3",
+                "²/3",
+                1.0 / 3.0,
+            ),
+            NoiseMode::Bound => ("the variance of noise at ± the bound, bound²", "²", 1.0),
+        };
+        let mut noise = Vec::new();
+        if u.p > 0 {
+            noise.push(format!("Var u = {}{var} = {}", three_digits(tau), three_digits(v * tau * tau)));
+        }
+        if u.q > 0 {
+            noise.push(format!("Var η = {}{var} = {}", three_digits(eta), three_digits(v * eta * eta)));
+        }
+        let noise = if noise.is_empty() {
+            "no noise (no process noise and no measurements)".to_string()
+        } else {
+            format!("Gaussian noise with {law} ({} per component)", noise.join(", "))
+        };
+        let prior = match &self.problem.bounds.delta {
+            Some(_) => format!("x(0) with the variances δᵢ{var} of its box"),
+            None => {
+                let y: Vec<DVector<f64>> =
+                    u.y.iter().map(|r| DVector::from_column_slice(r)).collect();
+                format!(
+                    "x(0) diffuse (δ = ∞): variance {} on every component, (10⁴ times the data's magnitude)²",
+                    three_digits(self.problem.diffuse_prior(&y))
+                )
+            }
+        };
+        out.push(format!(
+            "the Kalman filter beside the sets (its ellipse at ubb.kf_level, kf_mean, kf_inside) is a comparison under a stated assumption, not part of Tempo's method: {noise}, and {prior}"
+        ));
+        out
+    }
+
     /// The report.
     pub fn report(&self) -> Result<UbbReport> {
         self.report_plain().map_err(|e| self.explained(e))
@@ -708,17 +863,37 @@ impl UbbPrepared {
         let chi_full = chi2_quantile(self.spec.kf_level, r)?;
         let mut track = Vec::new();
         let (mut outside, mut kf_outside) = (0, 0);
+        let (mut filtered_outside, mut filtered_kf_outside) = (0, 0);
         let first = self.first_bounded(&run.y)?;
         for k in first..self.steps {
             let Some(step) = self.bounded_step(&run.y, k)? else {
                 continue;
             };
-            let hull = step.hull()?;
-            let held = simulated.then(|| holds(&hull, &kf[k], chi_full, &run.x[k + 1]));
+            let (hull, filtered_hull) = step.hulls().map_err(|e| self.empty_at(k, e))?;
+            let held = simulated.then(|| holds(&hull, &kf[k].predicted, chi_full, &run.x[k + 1]));
             let (inside, kf_inside) = (held.map(|h| h.0), held.map(|h| h.1));
-            let m = &kf[k].0;
+            let m = &kf[k].predicted.0;
             outside += usize::from(inside == Some(false));
             kf_outside += usize::from(kf_inside == Some(false));
+            // The filtered set of the same T(h), against the true x(k) and the Kalman x(k|k).
+            let filtered = match filtered_hull {
+                Some(fh) => {
+                    let held = simulated.then(|| holds(&fh, &kf[k].filtered, chi_full, &run.x[k]));
+                    let (inside, kf_inside) = (held.map(|h| h.0), held.map(|h| h.1));
+                    filtered_outside += usize::from(inside == Some(false));
+                    filtered_kf_outside += usize::from(kf_inside == Some(false));
+                    Some(FilteredHull {
+                        center: fh.center(),
+                        radius: fh.radius(),
+                        lo: fh.lo,
+                        hi: fh.hi,
+                        inside,
+                        kf_mean: kf[k].filtered.0.iter().copied().collect(),
+                        kf_inside,
+                    })
+                }
+                None => None,
+            };
             track.push(TrackStep {
                 k,
                 center: hull.center(),
@@ -728,6 +903,7 @@ impl UbbPrepared {
                 inside,
                 kf_mean: m.iter().copied().collect(),
                 kf_inside,
+                filtered,
             });
         }
         let Some(last) = track.last() else {
@@ -749,6 +925,7 @@ impl UbbPrepared {
             window: self.problem.window,
             gamma: self.spec.gamma,
             plane: self.plane,
+            set: self.spec.set,
             state_names: self.state_names(),
             smoothing: self.smoothing.clone(),
             u_level: run.u_level,
@@ -758,17 +935,53 @@ impl UbbPrepared {
             track,
             outside,
             kf_outside,
+            filtered_outside,
+            filtered_kf_outside,
             at,
         })
     }
 
+    /// Where the data first contradict the bounds: an empty set's error (the LP's
+    /// infeasibility, `ubb.eps leaves no state consistent …`) with the step k at which the set
+    /// became empty and the record's row of y(k) (its time when `data.t` gives one). Other
+    /// errors pass unchanged.
+    fn empty_at(&self, k: usize, e: Error) -> Error {
+        if e.field != "ubb.eps" || !e.message.starts_with("leaves no state consistent") {
+            return e;
+        }
+        let row = if self.data.is_some() {
+            let record = super::DataSpec {
+                t: self.times.clone(),
+                ..Default::default()
+            };
+            format!(" ({} of the record)", record.row_words(k))
+        } else {
+            String::new()
+        };
+        // The window of step k (all the data without process noise), as StateProblem::step.
+        let len = if self.problem.system.p() == 0 {
+            k + 1
+        } else {
+            self.problem.window.clamp(1, k + 1)
+        };
+        Error::field(
+            e.field,
+            format!(
+                "{}; the set became empty at step k = {k}, when y({k}){row} joined the window y({} … {k})",
+                e.message,
+                k + 1 - len
+            ),
+        )
+    }
+
     /// Step k's feasible set, or `None` when it is unbounded (δ = ∞ and y(0 … k) do not fix
-    /// every direction yet): no set at that step.
+    /// x(k+1) yet): no set at that step. Data that contradict the bounds are the error, with
+    /// the step ([`UbbPrepared::empty_at`]).
     fn bounded_step(&self, y: &[DVector<f64>], k: usize) -> Result<Option<StateStep>> {
         match self.problem.step(y, k) {
             Ok(s) => Ok(Some(s)),
             Err(e) if e.field == "ubb.delta" => Ok(None),
-            Err(e) => Err(e),
+            Err(e) => Err(self.empty_at(k, e)),
         }
     }
 
@@ -801,11 +1014,32 @@ impl UbbPrepared {
         }
     }
 
-    /// The polygon, hull and prediction at step k.
-    pub fn at(&self, run: &Run, kf: &[(DVector<f64>, DMatrix<f64>)], k: usize) -> Result<UbbStep> {
-        let step = self.problem.step(&run.y, k)?;
-        let (hull, polygon, size): (IntervalHull, SupportPolygon, LpSize) =
-            step.hull_and_polygon(self.plane, self.spec.budget)?;
+    /// The components Theorem 2 estimates at the detail's step: the plane's two (one with a
+    /// single state).
+    fn plane_components(&self) -> Vec<usize> {
+        if self.plane[0] == self.plane[1] {
+            vec![self.plane[0]]
+        } else {
+            self.plane.to_vec()
+        }
+    }
+
+    /// The Kalman ellipse of (mean, covariance) in the plane at `ubb.kf_level`: the 2-D
+    /// projection at the χ²₂ level, or with one state the interval at the χ²₁ level.
+    fn kf_in_plane(&self, kf: &(DVector<f64>, DMatrix<f64>)) -> Result<Ellipsoid> {
+        let (m, p) = kf;
+        if self.problem.system.r() == 1 {
+            return Ok(Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 1)?));
+        }
+        Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 2)?).project(&self.plane)
+    }
+
+    /// The polygon, hull and prediction at step k, and the filtered set's.
+    pub fn at(&self, run: &Run, kf: &[KalmanStep], k: usize) -> Result<UbbStep> {
+        let step = self.problem.step(&run.y, k).map_err(|e| self.empty_at(k, e))?;
+        let (hull, polygon, size): (IntervalHull, SupportPolygon, LpSize) = step
+            .hull_and_polygon(self.plane, self.spec.budget)
+            .map_err(|e| self.empty_at(k, e))?;
         // y(k+1) = H(k+1) x(k+1) + η: the hull of H(k+1)x over the set, widened by the
         // newest sample's bound ε (weight 1 at age 0 in every norm).
         let sys = &self.problem.system;
@@ -818,16 +1052,38 @@ impl UbbPrepared {
                 .map(|i| [ph.lo[i] - self.spec.eps, ph.hi[i] + self.spec.eps])
                 .collect()
         };
-        let pl = [self.plane[0], self.plane[1]];
+        let pl = self.plane_components();
         // Theorem 2 beside the exact set, not in its place: where its LP (22) cannot be
         // solved (extreme scales: the metamorphic test's ×1e12 data) the step keeps its exact
         // polygon and hull and says why the linear estimate is missing.
-        let (linear, linear_refused) = match self.problem.theorem_2(&run.y, k, &pl) {
+        let split = |r: Result<Option<Vec<LinearEstimate>>>| match r {
             Ok(l) => (l, None),
             Err(e) => (None, Some(e.to_string())),
         };
-        let (m, p) = &kf[k];
-        let kf_plane = Ellipsoid::new(m, p, chi2_quantile(self.spec.kf_level, 2)?).project(&pl)?;
+        let (linear, linear_refused) = split(self.problem.theorem_2(&run.y, k, &pl));
+        let simulated = self.data.is_none();
+        let truth_at = |t: usize| -> Vec<f64> { self.plane.iter().map(|&i| run.x[t][i]).collect() };
+        let filtered = match &step.filtered {
+            Some(f) => {
+                let (fh, fpoly, _) = f
+                    .hull_and_polygon(self.plane, self.spec.budget)
+                    .map_err(|e| self.empty_at(k, e))?;
+                let (linear, linear_refused) =
+                    split(self.problem.theorem_2_filtered(&run.y, k, &pl));
+                Some(UbbFiltered {
+                    center: fh.center(),
+                    radius: fh.radius(),
+                    lo: fh.lo,
+                    hi: fh.hi,
+                    polygon: fpoly,
+                    truth: simulated.then(|| truth_at(k)),
+                    kf: self.kf_in_plane(&kf[k].filtered)?,
+                    linear,
+                    linear_refused,
+                })
+            }
+            None => None,
+        };
         Ok(UbbStep {
             k,
             first: step.first,
@@ -836,17 +1092,74 @@ impl UbbPrepared {
             lo: hull.lo,
             hi: hull.hi,
             polygon,
-            truth: self
-                .data
-                .is_none()
-                .then(|| pl.iter().map(|&i| run.x[k + 1][i]).collect()),
-            kf: kf_plane,
+            truth: simulated.then(|| truth_at(k + 1)),
+            kf: self.kf_in_plane(&kf[k].predicted)?,
             size,
             prediction,
             linear,
             linear_refused,
+            filtered,
         })
     }
+}
+
+/// A number in a sentence: about three significant digits, or 2.17e-5 for tiny and huge
+/// magnitudes.
+fn three_digits(v: f64) -> String {
+    let a = v.abs();
+    if v != 0.0 && v.is_finite() && !(1e-3..1e5).contains(&a) {
+        return format!("{v:.2e}");
+    }
+    let d = if v == 0.0 || !v.is_finite() {
+        0
+    } else {
+        (2.0 - a.log10().floor()).clamp(0.0, 8.0) as usize
+    };
+    let s = format!("{v:.d$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// The gap rows of a record (0-based, increasing) in words, runs of rows joined: "row 1
+/// (time 1959-03), rows 50–69 (times 1971-06 … 1976-03)", at most 12 runs and then how many
+/// rows more.
+fn gap_ranges(d: &super::DataSpec, rows: &[usize]) -> String {
+    const SHOWN: usize = 12;
+    let time = |k: usize| d.t.get(k).map(|t| t.label());
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &k in rows {
+        match runs.last_mut() {
+            Some((_, b)) if *b + 1 == k => *b = k,
+            _ => runs.push((k, k)),
+        }
+    }
+    let mut parts: Vec<String> = runs
+        .iter()
+        .take(SHOWN)
+        .map(|&(a, b)| {
+            if a == b {
+                match time(a) {
+                    Some(t) => format!("row {} (step k = {a}, time {t})", a + 1),
+                    None => format!("row {} (step k = {a})", a + 1),
+                }
+            } else {
+                match (time(a), time(b)) {
+                    (Some(ta), Some(tb)) => {
+                        format!("rows {}–{} (steps k = {a}–{b}, times {ta} … {tb})", a + 1, b + 1)
+                    }
+                    _ => format!("rows {}–{} (steps k = {a}–{b})", a + 1, b + 1),
+                }
+            }
+        })
+        .collect();
+    if runs.len() > SHOWN {
+        let more: usize = runs[SHOWN..].iter().map(|(a, b)| b - a + 1).sum();
+        parts.push(format!("and {more} rows more"));
+    }
+    parts.join(", ")
 }
 
 /// The set-membership cursor: the run, its Kalman predictions and the first bounded step made
@@ -855,11 +1168,18 @@ impl UbbPrepared {
 struct UbbCursor {
     prepared: UbbPrepared,
     run: Run,
-    kf: Vec<(DVector<f64>, DMatrix<f64>)>,
+    kf: Vec<KalmanStep>,
     first: usize,
 }
 
 impl UbbCursor {
+    /// The cursor of a scenario, within the report's work budget (its preparation finds the
+    /// first bounded step, a search as long as the report's).
+    fn of(s: &Scenario) -> Result<UbbCursor> {
+        s.work(Job::Report).check(Job::Report)?;
+        UbbCursor::new(s.prepare_ubb()?)
+    }
+
     fn new(prepared: UbbPrepared) -> Result<UbbCursor> {
         let run = prepared.run_data();
         let kf = prepared.problem.kalman(&run, prepared.spec.noise);
@@ -984,13 +1304,14 @@ impl UbbPrepared {
             let kf = self.problem.kalman(&run, self.spec.noise);
             match hull {
                 Some(hull) => {
-                    let (inside, kf_inside, excess) = holds(&hull, &kf[k], chi, &run.x[k + 1]);
+                    let (inside, kf_inside, excess) =
+                        holds(&hull, &kf[k].predicted, chi, &run.x[k + 1]);
                     count.worst_excess = count.worst_excess.max(excess);
                     count.outside += usize::from(!inside);
                     count.kf_outside += usize::from(!kf_inside);
                 }
                 None => {
-                    let (m, p) = &kf[k];
+                    let (m, p) = &kf[k].predicted;
                     let kf_inside = Ellipsoid::new(m, p, chi).contains(run.x[k + 1].as_slice());
                     count.empty += 1;
                     count.outside += 1;
@@ -1110,7 +1431,7 @@ fn explain_ubb(s: &Scenario, report: &Report, t: Option<usize>) -> Result<super:
     let at: UbbStep = if k == u.at.k {
         u.at.clone()
     } else {
-        let mut cursor = UbbCursor::new(s.prepare_ubb()?)?;
+        let mut cursor = UbbCursor::of(s)?;
         check_step(k, cursor.steps())?;
         detail_of(cursor.at(k)?)?
     };
@@ -1273,7 +1594,7 @@ impl MethodScenario for Ubb {
         )
     }
     fn gaps(&self) -> super::Gaps {
-        super::Gaps::Refused("its feasible set T(h) (3) intersects a measurement strip at every step (gaps are being added: until then, fill or cut the record)")
+        super::Gaps::Handled("a missing measurement drops its strip from the feasible set T(h) (3) (its row of the information (40) leaves the window's constraints): at that step the set is the previous one mapped by A plus the noise set, and it can only grow; the Kalman comparison skips the same rows of its update")
     }
     fn time_index(&self) -> super::TimeIndex {
         super::TimeIndex::ZeroBased
@@ -1301,8 +1622,10 @@ impl MethodScenario for Ubb {
         explain_ubb(s, report, t)
     }
     fn steps(&self) -> RangeInclusive<usize> {
-        // One LP window per step: ubb-series takes about 16 ms a step natively (33 s at 2000).
-        1..=150
+        // Up to the general count limit: what a record of N steps costs depends on the path
+        // (the exact planar or line recursion, or LPs), the window and the states, and the work
+        // budget (`work`) refuses a costly one before any work, naming its formula.
+        1..=super::MAX_COUNT as usize
     }
     fn data_shape(&self, s: &Scenario) -> Result<(usize, usize)> {
         // One output when `ubb.basis` gives the outputs (Example 1), else the rows of H; the
@@ -1324,20 +1647,16 @@ impl MethodScenario for Ubb {
         work(s, job)
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
-        let u = s.prepare_ubb()?.report()?;
-        let mut r = Report::of(
-            s,
-            s.alpha,
-            (u.r, u.q),
-            u.at.k,
-            u.plane.to_vec(),
-            u.y.clone(),
-        );
+        let prepared = s.prepare_ubb()?;
+        let u = prepared.report()?;
+        let plot = if u.r == 1 { vec![0] } else { u.plane.to_vec() };
+        let mut r = Report::of(s, s.alpha, (u.r, u.q), u.at.k, plot, u.y.clone());
+        r.warnings.extend(prepared.warnings(s, &u));
         r.ubb = Some(u);
         Ok(r)
     }
     fn cursor(&self, s: &Scenario) -> Result<Option<Box<dyn Cursor>>> {
-        Ok(Some(Box::new(UbbCursor::new(s.prepare_ubb()?)?)))
+        Ok(Some(Box::new(UbbCursor::of(s)?)))
     }
     fn table(&self, r: &Report) -> Table {
         // One row per step k: the outer box of x(k+1) (31), its centre and local error (5),
@@ -1345,6 +1664,8 @@ impl MethodScenario for Ubb {
         let Some(u) = &r.ubb else {
             return Table::new(vec!["k".into()]);
         };
+        // Then the same for the filtered set X(k | y(0 … k)) of the step, its columns named
+        // filtered_… (filtered_x_i: the true x(k); empty where that set is unbounded).
         let n = u.r;
         let truth = u.x_true.is_some();
         let mut columns = vec!["k".to_string()];
@@ -1356,6 +1677,15 @@ impl MethodScenario for Ubb {
         if truth {
             columns.extend(Table::numbered("x", n));
             columns.extend(["holds", "kf_holds"].map(String::from));
+        }
+        columns.extend(Table::numbered("filtered_center", n));
+        columns.extend(Table::numbered("filtered_lo", n));
+        columns.extend(Table::numbered("filtered_hi", n));
+        columns.push("filtered_radius".into());
+        columns.extend(Table::numbered("filtered_kf", n));
+        if truth {
+            columns.extend(Table::numbered("filtered_x", n));
+            columns.extend(["filtered_holds", "filtered_kf_holds"].map(String::from));
         }
         let mut table = Table::new(columns);
         for st in &u.track {
@@ -1369,6 +1699,20 @@ impl MethodScenario for Ubb {
                 let x = u.x_true.as_ref().and_then(|x| x.get(st.k + 1));
                 row.extend(cells(x.map(|x| x.as_slice()), n));
                 row.extend([flag(st.inside), flag(st.kf_inside)]);
+            }
+            let f = st.filtered.as_ref();
+            row.extend(cells(f.map(|f| f.center.as_slice()), n));
+            row.extend(cells(f.map(|f| f.lo.as_slice()), n));
+            row.extend(cells(f.map(|f| f.hi.as_slice()), n));
+            row.push(f.map(|f| f.radius));
+            row.extend(cells(f.map(|f| f.kf_mean.as_slice()), n));
+            if truth {
+                let x = u.x_true.as_ref().and_then(|x| x.get(st.k));
+                row.extend(cells(x.map(|x| x.as_slice()), n));
+                row.extend([
+                    flag(f.and_then(|f| f.inside)),
+                    flag(f.and_then(|f| f.kf_inside)),
+                ]);
             }
             table.push(row);
         }
@@ -1416,16 +1760,56 @@ const OPS_LP_ENUMERATED: f64 = 1300.0;
 /// Operations of one solve besides (setting it up, clarabel's start).
 const OPS_SOLVE: f64 = 30_000.0;
 /// Operations per entry of the dense constraint matrices a step builds (and reads into the
-/// solver's sparse form).
-const OPS_ENTRY: f64 = 1.5;
+/// solver's sparse form; a window of 400 times, 4 M entries, took 14 ms natively).
+const OPS_ENTRY: f64 = 3.0;
 /// Second-order cones (l2 bounds) against linear rows.
 const L2_FACTOR: f64 = 1.5;
+/// The exact planar recursion ([`crate::ubb::planar`]), per time of a window: a clip by one
+/// strip and the map by A of a polygon of about ten vertices, and per noise segment and time
+/// of the window OPS_VERTEX: a rotating A turns every segment of the window into its own
+/// pair of edges, so the polygon has up to 2·len vertices (measured: ubb-track, a window of
+/// 30 times, about 0.2 ms a step natively, a window of 400 about 36 ms; ubb-series without
+/// process noise about 2 µs per time).
+const OPS_CLIP: f64 = 1200.0;
+const OPS_MAP: f64 = 800.0;
+const OPS_VERTEX: f64 = 250.0;
+/// The line recursion ([`crate::ubb::interval`]) per time and unit of q + p + 1.
+const OPS_LINE: f64 = 100.0;
+/// Per earlier time k of every step: the nominal trajectory and the powers A⁰ … A^{k+1}
+/// rebuilt for the step (and with process noise the prior box of the window's first state,
+/// a sum over the times before it), OPS_HISTORY per matrix, OPS_HISTORY_SQUARE per entry and
+/// noise column (measured: 2.7e-7 s per step² with r = 2, p = 1; 1.7e-7 with r = 1).
+const OPS_HISTORY: f64 = 200.0;
+const OPS_HISTORY_SQUARE: f64 = 50.0;
+/// With δ = ∞, per row of a window's observability matrix and unit of r²: its SVD and the
+/// reconstructibility test.
+const OPS_OBSERVABILITY: f64 = 250.0;
+/// Per number of the report: computing it, its JSON tree in the finiteness check and its text
+/// (as SCF's), and the bytes it holds with its JSON.
+const OPS_NUMBER: f64 = 300.0;
+const BYTES_NUMBER: f64 = 80.0;
+
+/// Over the steps k = 0 … steps − 1 with a window len_k = min(k + 1, w): (Σ len, Σ len²) (the
+/// window grows until it reaches w, then slides; w = steps without process noise), and Σ k.
+fn window_sums(steps: usize, w: usize) -> (f64, f64, f64) {
+    let (n, w) = (f(steps), f(w.clamp(1, steps.max(1))));
+    let grow = w.min(n);
+    let rest = (n - grow).max(0.0);
+    let sum = grow * (grow + 1.0) / 2.0 + rest * w;
+    let sum2 = grow * (grow + 1.0) * (2.0 * grow + 1.0) / 6.0 + rest * w * w;
+    (sum, sum2, n * (n - 1.0) / 2.0)
+}
 
 /// The set-membership costs, step by step: the window (Theorem 5's j + 1, `ubb.window`, or all
-/// the data without process noise) sets the LP's size, dim = r(len + 1) + p·len unknowns; each
-/// step builds its dense constraint matrices ((q + p + r)·len × dim entries, the enumerated l1
-/// form 2^{m−1} rows) and solves 2r LPs for the hull; the step shown adds `ubb.budget` support
-/// LPs for the polygon. A study's run: one simulation and the hull at its step.
+/// the data without process noise) sets the size of each step's problem, dim = r(len + 1) +
+/// p·len unknowns. Every step rebuilds the nominal trajectory and the powers of A up to k
+/// (steps² terms), builds its dense constraint matrices ((q + p + r)·len × dim entries, the
+/// enumerated l1 form 2^{m−1} rows) and then either runs the exact recursion over its window
+/// (r ≤ 2 with l∞ bounds: no LP) or solves 4r LPs for the hulls of the predicted and the
+/// filtered set; with δ = ∞ it tests the window's observability matrix. The step shown adds,
+/// on the LP path, `ubb.budget` support LPs for each set's polygon, and Theorem 2's LP (22) per
+/// plotted component and set (a dense simplex, within [`crate::ubb::THEOREM_2_MAX_WORK`]). A
+/// study's run: one simulation and the hull at its step.
 fn work(s: &Scenario, job: Job) -> Work {
     let mut w = Work::default();
     let Some(spec) = &s.ubb else {
@@ -1440,6 +1824,7 @@ fn work(s: &Scenario, job: Job) -> Work {
     let g = s.model.g.as_deref().map_or((0, 0), rows_shape);
     let p = g.1;
     let steps = s.written_steps();
+    let steps_field = s.steps_field();
     let norm = |rows: Option<&Vec<Vec<f64>>>| {
         rows.map_or(0.0, |rows| {
             rows.iter()
@@ -1453,23 +1838,25 @@ fn work(s: &Scenario, job: Job) -> Work {
     };
     let sm = Smoothing::new(a_norm, norm(s.model.g.as_ref()), spec.tau, spec.alpha);
     let window = window_length(spec, &sm, p, steps).map_or(1, |(w, _, _)| w);
+    // Without process noise every step holds all the data: its window is k + 1.
+    let w_eff = if p == 0 { steps.max(1) } else { window };
+    let exact = (r == 1 || r == 2) && spec.norm == Norm::Linf;
     // Theorem 3's enumerated rows, when the longest window allows them (else refused first).
-    let longest = if p == 0 { steps } else { window.min(steps) };
+    let longest = w_eff.min(steps);
     let enumerated_form = spec.norm == Norm::L1
         && spec.l1_form == L1Form::Enumerated
         && (q * longest).max(p * longest) <= crate::ubb::MAX_ENUMERATED_M;
     let window_field = if spec.window.is_some() {
         "ubb.window"
     } else if p == 0 {
-        s.steps_field()
+        steps_field
     } else {
         "ubb.gamma"
     };
     let width = f(r + p + q);
-    // One step's solve and its dense matrices, for step k.
-    let solve = |k: usize| {
-        let len = if p == 0 { k + 1 } else { window.min(k + 1) };
-        let dim = if p == 0 { r } else { r * (len + 1) + p * len };
+    let dim = |len: usize| if p == 0 { r } else { r * (len + 1) + p * len };
+    // One LP solve of a step whose window holds len times, and its dense matrices' entries.
+    let solve = |len: usize| {
         let mut rows = 2 * (q + p) * len + r * len + 2 * r;
         let mut enumerated = 0;
         if enumerated_form {
@@ -1488,79 +1875,171 @@ fn work(s: &Scenario, job: Job) -> Work {
             L2_FACTOR
         } else {
             1.0
-        } + OPS_LP_ENUMERATED * f(enumerated) * f(dim);
-        (lp + OPS_SOLVE, OPS_ENTRY * f(rows) * f(dim))
+        } + OPS_LP_ENUMERATED * f(enumerated) * f(dim(len));
+        (lp + OPS_SOLVE, OPS_ENTRY * f(rows) * f(dim(len)))
     };
     let sizes = format!(
-        "({window}) with {} = {steps}, r = {r} states, p = {p} noise inputs, q = {q} outputs",
-        s.steps_field()
+        "= {steps} with a window of {} (ubb.window, or Theorem 5's j + 1 from ubb.gamma; all the data without process noise), r = {r} states, p = {p} noise inputs, q = {q} outputs",
+        if p == 0 { "k + 1".to_string() } else { window.to_string() }
     );
-    let hull = 2.0 * f(r);
+    let (sum_len, sum_len2, sum_k) = window_sums(steps, w_eff);
+    // Per step k: the nominal trajectory and the powers of A up to k (and the prior box).
+    let history = sum_k
+        * (OPS_HISTORY * if p > 0 { 2.0 } else { 1.0 }
+            + OPS_HISTORY_SQUARE * f(r * r) * f(1 + p));
     if let Job::Study { .. } = job {
         let k = spec.time.unwrap_or(steps.saturating_sub(1));
-        let (lp, fill) = solve(k);
+        let len = w_eff.min(k + 1);
+        let (lp, fill) = solve(len);
+        let hull = if exact { 0.0 } else { 2.0 * f(r) * lp };
         w.ops(
             Term::new(
                 window_field,
-                sizes,
-                "one run: the window's LP (2r solves for the hull) at the step checked",
-                hull * lp + fill + f(k) * f(r).powi(3),
+                format!("({window}) with ubb.time = {k}, r = {r} states"),
+                "one run: the window's set (2r LPs for the hull off the exact path) at the step checked",
+                hull + fill
+                    + f(k) * (OPS_HISTORY + OPS_HISTORY_SQUARE * f(r * r) * f(1 + p))
+                    + f(len) * (OPS_CLIP * f(q) + OPS_MAP + OPS_VERTEX * f(p * len)),
             )
             .advice("a shorter window or an earlier ubb.time"),
         );
         return w;
     }
-    let (mut solves, mut fills) = (0.0, 0.0);
-    for k in 0..steps {
-        let (lp, fill) = solve(k);
-        solves += hull * lp;
-        fills += fill;
-    }
     w.ops(
         Term::new(
-            window_field,
+            steps_field,
             sizes.clone(),
-            "steps · 2r LPs over the window's r(len + 1) + p·len unknowns",
-            solves,
+            "steps² · (r²(p + 1) + c) / 2: the nominal trajectory, the powers of A and the prior box rebuilt at every step",
+            history,
         )
-        .advice(
-            "fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states",
-        ),
+        .advice("fewer steps"),
     );
+    // The dense constraints of every step: (q + p + r)·len rows of dim = r(len + 1) + p·len.
+    let fills = OPS_ENTRY
+        * f(q + p + r)
+        * if p == 0 {
+            sum_len * f(r)
+        } else {
+            f(r + p) * sum_len2 + f(r) * sum_len
+        };
     w.ops(
         Term::new(
-            window_field,
+            steps_field,
             sizes.clone(),
-            "steps · (q + p + r)·len · dim: the dense constraints of every step",
+            "steps · (q + p + r)·len · dim: the dense constraints of every step's window",
             fills,
         )
-        .advice("fewer steps or a shorter window"),
+        .advice("fewer steps or a shorter window (ubb.window, or a larger ubb.gamma)"),
     );
+    if exact {
+        let recursion = if r == 2 {
+            sum_len * (OPS_CLIP * f(q) + OPS_MAP) + sum_len2 * OPS_VERTEX * f(p)
+        } else {
+            sum_len * OPS_LINE * f(q + p + 1)
+        };
+        w.ops(
+            Term::new(
+                steps_field,
+                sizes.clone(),
+                "steps · len · (q clips + the map + p·len polygon vertices): the exact recursion over every step's window (no LP)",
+                recursion,
+            )
+            .advice("fewer steps or a shorter window (ubb.window, or a larger ubb.gamma)"),
+        );
+    } else {
+        // 4r LPs per step: the hulls of the predicted and the filtered set on one loaded T(h).
+        let mut solves = 0.0;
+        if enumerated_form || p > 0 {
+            // The LP grows with the window until it slides: each distinct length once.
+            for len in 1..=w_eff.min(steps) {
+                let count = if len < w_eff.min(steps) { 1 } else { steps + 1 - len };
+                solves += f(count) * solve(len).0;
+            }
+        } else {
+            // Without process noise len = k + 1, and the solve is linear in it.
+            solves = OPS_LP_ROW * f(2 * q) * f(r + q) * sum_len
+                * if spec.norm == Norm::L2 { L2_FACTOR } else { 1.0 }
+                + OPS_SOLVE * f(steps);
+        }
+        w.ops(
+            Term::new(
+                steps_field,
+                sizes.clone(),
+                "steps · 4r LPs over the window's r(len + 1) + p·len unknowns (the hulls of the predicted and the filtered set)",
+                4.0 * f(r) * solves,
+            )
+            .advice(
+                "fewer steps, a shorter window (ubb.window, or a larger ubb.gamma) or fewer states",
+            ),
+        );
+    }
+    if spec.delta.is_none() {
+        w.ops(
+            Term::new(
+                steps_field,
+                sizes.clone(),
+                "steps · len · q · r²: the observability matrix of every window (δ = ∞)",
+                sum_len * f(q) * f(r * r) * OPS_OBSERVABILITY,
+            )
+            .advice("fewer steps, a bound δ on x(0) or a shorter window"),
+        );
+    }
     let k = spec.time.unwrap_or(steps.saturating_sub(1));
+    let len_k = w_eff.min(k + 1);
+    if !exact {
+        w.ops(
+            Term::new(
+                "ubb.budget",
+                format!("= {} with window {window} and r = {r} states", spec.budget),
+                "2·budget LPs for the predicted and the filtered polygon at the step shown",
+                f(2 * spec.budget + 2 * q + 2) * solve(len_k).0,
+            )
+            .advice("a smaller budget or a shorter window"),
+        );
+    }
+    // Theorem 2 at the step shown: per plotted component and set, a dense simplex on (22).
+    if spec.norm == Norm::Linf {
+        let n = f(r + p * len_k);
+        let rows = f((q + p) * len_k + r + 1);
+        let units = rows * n * (rows + n);
+        if units <= crate::ubb::THEOREM_2_MAX_WORK {
+            w.ops(
+                Term::new(
+                    window_field,
+                    format!("({window}) at the step shown with r = {r} states, p = {p}, q = {q}"),
+                    "2 sets · 2 components · rows·n·(rows + n): Theorem 2's LP (22) at the step shown",
+                    4.0 * (crate::ubb::THEOREM_2_OPS * units + OPS_SOLVE),
+                )
+                .advice("a shorter window"),
+            );
+        }
+    }
+    // The report: per step the two hulls, centres and Kalman means, the truth and the data.
+    let numbers = f(steps) * f(9 * r + q + 6);
     w.ops(
         Term::new(
-            "ubb.budget",
-            format!("= {} with window {window} and r = {r} states", spec.budget),
-            "budget LPs for the polygon (and Theorem 2's two) at the step shown",
-            f(spec.budget + 2 * q + 2) * solve(k).0,
+            steps_field,
+            format!("= {steps} with r = {r} states, q = {q} outputs"),
+            "steps · (9r + q): the numbers of the report and their JSON",
+            numbers * OPS_NUMBER,
         )
-        .advice("a smaller budget or a shorter window"),
+        .advice("fewer steps"),
     );
-    w.ops(
+    w.mem(
         Term::new(
-            s.steps_field(),
-            format!("= {steps} with r = {r} states, p = {p} noise inputs"),
-            "steps² · r³(p + 1): the powers of A and the prior box of each window",
-            f(steps) * f(steps) * f(r).powi(3) * f(p + 1),
+            steps_field,
+            format!("= {steps} with r = {r} states, q = {q} outputs"),
+            "steps · (9r + q): the report's hulls, centres, truth and data, and their JSON",
+            numbers * BYTES_NUMBER,
         )
         .advice("fewer steps"),
     );
     // The largest step's dense matrices (the solver's copy beside them).
-    let (_, fill) = solve(steps.saturating_sub(1));
+    let (_, fill) = solve(longest.max(1));
     w.mem(
         Term::new(
             window_field,
-            sizes,
+            format!("({window}) with {steps_field} = {steps}, r = {r} states, p = {p} noise inputs, q = {q} outputs"),
             "(q + p + r)·len · dim: the dense constraints of one step",
             fill / OPS_ENTRY * 8.0 * 2.0,
         )
@@ -1619,6 +2098,7 @@ impl CompareMember for Ubb {
             window: Some(p.window(t)),
             noise: default_noise(),
             time: Some(t - 1),
+            set: SetChoice::Predicted,
             plane: Some([i, j]),
             budget: POLYGON_BUDGET,
             basis: None,

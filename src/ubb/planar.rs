@@ -11,9 +11,19 @@
 //!
 //! Without a bound on e(s) (δ = ∞) the set starts as the whole plane; a strip stays a strip
 //! under an invertible map and a noise sum (it widens by |a·v|), and two independent strips
-//! close it into a parallelogram, after which the polygon engine takes over. When the data
-//! never close it (or a singular map meets an unbounded set) the recursion says so and the
-//! caller keeps the LP path.
+//! close it into a parallelogram, after which the polygon engine takes over. A singular map
+//! can close it too: A = v wᵀ of rank 1 takes the strip lo ≤ a·e ≤ hi to a segment when w is
+//! parallel to a (the strip's unbounded direction is A's kernel: the pair is reconstructible
+//! though not observable), and A = 0 takes anything to the origin. When the data never close
+//! it (or a singular map meets an unbounded set along another direction) the recursion says so
+//! and the caller keeps the LP path.
+//!
+//! A missing measurement (a gap of the record) has no strip: the caller leaves it out of its
+//! [`Sample`], and that time is only the map and the noise (the set can only grow).
+//!
+//! The recursion keeps the set of e(k) after the last time's strips, before the map: the
+//! filtered set X(k | y(s … k)) beside the predicted X(k+1 | y(s … k)), which is its image
+//! under A plus the noise zonotope.
 
 use crate::sets::convex_polygon::REL_TOL;
 use crate::sets::ConvexPolygon;
@@ -35,8 +45,13 @@ enum Region {
 /// How the recursion ended.
 #[derive(Debug, Clone)]
 pub enum Outcome {
-    /// The exact polygon of e(k+1).
-    Polygon(ConvexPolygon),
+    /// The exact polygon of e(k+1) (the predicted set) and of e(k) after the last strips (the
+    /// filtered set; `None` when it is not a bounded polygon: a strip or the plane that a
+    /// singular A closed into the predicted one).
+    Polygon {
+        predicted: ConvexPolygon,
+        filtered: Option<ConvexPolygon>,
+    },
     /// The data contradict the bounds.
     Empty,
     /// The data did not close the set (or a singular map met an unbounded one): use the LP.
@@ -61,7 +76,7 @@ fn dot(u: [f64; 2], w: [f64; 2]) -> f64 {
 }
 
 /// Whether [lo, hi] is empty beyond rounding.
-fn reversed(lo: f64, hi: f64) -> bool {
+pub(super) fn reversed(lo: f64, hi: f64) -> bool {
     lo > hi + REL_TOL * (lo.abs() + hi.abs())
 }
 
@@ -112,18 +127,41 @@ impl Region {
         }
     }
 
-    /// The image under A; `None` when A is singular and the set unbounded (left to the LP).
+    /// The image under A; `None` when A is singular and the image unbounded (left to the LP).
     fn map(self, m: [[f64; 2]; 2]) -> Option<Region> {
         let det = cross(m[0], m[1]);
         let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
         let invertible = det.abs() > REL_TOL * scale * scale && det.is_finite();
+        if scale == 0.0 {
+            // A = 0: every set goes to the origin.
+            return Some(Region::Polygon(ConvexPolygon::point([0.0, 0.0])));
+        }
         match self {
             Region::Polygon(p) => Some(Region::Polygon(p.map(m))),
             Region::Plane => invertible.then_some(Region::Plane),
-            Region::Strip { a, lo, hi } => {
-                if !invertible {
+            Region::Strip { a, lo, hi } if !invertible => {
+                // A = v wᵀ (rank 1; w the longer row, v the rows' coefficients on it): A e =
+                // v (w·e). When w = λ a, w·e runs over λ[lo, hi] and the image is a segment
+                // along v; otherwise w·e is unbounded on the strip, and so is the image.
+                let w = if m[0][0].hypot(m[0][1]) >= m[1][0].hypot(m[1][1]) {
+                    m[0]
+                } else {
+                    m[1]
+                };
+                let (ww, na) = (dot(w, w), a[0].hypot(a[1]));
+                if cross(a, w).abs() > REL_TOL * na * ww.sqrt() {
                     return None;
                 }
+                let v = [dot(m[0], w) / ww, dot(m[1], w) / ww];
+                let lam = dot(w, a) / dot(a, a);
+                let (t0, t1) = (lam * lo, lam * hi);
+                let ends = [[v[0] * t0, v[1] * t0], [v[0] * t1, v[1] * t1]];
+                ends.iter()
+                    .flatten()
+                    .all(|c| c.is_finite())
+                    .then(|| Region::Polygon(ConvexPolygon::segment(ends[0], ends[1])))
+            }
+            Region::Strip { a, lo, hi } => {
                 // {A e : lo ≤ a·e ≤ hi} = {x : lo ≤ (A⁻ᵀa)·x ≤ hi}.
                 let na = [
                     (m[1][1] * a[0] - m[1][0] * a[1]) / det,
@@ -171,12 +209,22 @@ pub fn propagate(
             None => return Outcome::Empty,
         }
     }
-    for sample in samples {
+    let mut filtered = None;
+    for (i, sample) in samples.iter().enumerate() {
         for &(row, lo, hi) in &sample.strips {
             match region.clip(row, lo, hi) {
                 Some(r) => region = r,
                 None => return Outcome::Empty,
             }
+        }
+        if i + 1 == samples.len() {
+            // e(k) given y(s … k): the filtered set, before the last map.
+            filtered = match &region {
+                Region::Polygon(p) if p.vertices().iter().flatten().all(|c| c.is_finite()) => {
+                    Some(p.clone())
+                }
+                _ => None,
+            };
         }
         match region.map(a) {
             Some(r) => region = r,
@@ -190,7 +238,10 @@ pub fn propagate(
     }
     match region {
         Region::Polygon(p) if p.vertices().iter().flatten().all(|c| c.is_finite()) => {
-            Outcome::Polygon(p)
+            Outcome::Polygon {
+                predicted: p,
+                filtered,
+            }
         }
         _ => Outcome::Open,
     }

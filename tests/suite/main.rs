@@ -78,6 +78,7 @@ mod shards;
 mod simplex;
 mod true_noise;
 mod ubb;
+mod ubb_records;
 mod uniform;
 #[cfg(target_arch = "wasm32")]
 mod web;

@@ -1,9 +1,12 @@
 //! The figures of set-membership reports (Tempo, method `"ubb"`): `ubbset` (`set.rs`: the
 //! exact feasible set of x(k+1) at the report's step k with its interval hull, the central
-//! estimate, the truth and the Kalman ellipse, with the checks both panels share) and
-//! `ubbwidth` (`width.rs`: the hull's widths over k with the Theorem 4 bound). In compare,
+//! estimate, the truth and the Kalman ellipse, with the checks both panels share; with one
+//! state, `band.rs`: the intervals over the steps) and `ubbwidth` (`width.rs`: the hull's
+//! widths over k with the Theorem 4 bound). Both draw the set `ubb.set` chooses: the predicted
+//! X(k+1 | y(0 … k)) or the filtered X(k | y(0 … k)). In compare,
 //! Tempo's set is bluish green with a light fill.
 
+mod band;
 mod set;
 mod width;
 

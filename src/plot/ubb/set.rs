@@ -7,8 +7,10 @@
 //! (`width.rs`: the hull's widths over k with the Theorem 4 bound, and the truth inside
 //! its hull bands).
 //!
-//! Step k's set is the set of x(k+1) consistent with y(0 … k) (the paper's prediction set);
-//! equal scales on both axes of the set panel.
+//! Step k's set is the set of x(k+1) consistent with y(0 … k) (the paper's prediction set), or
+//! with `ubb.set` "filtered" the set of x(k) ([`Chosen`]: what every panel reads from the
+//! report); equal scales on both axes of the set panel. With one state (r = 1) the set is an
+//! interval and the panel draws it over the steps as a band (`band.rs`).
 
 use crate::error::{Error, Result};
 use crate::plot::figures::{Area, Request};
@@ -16,8 +18,10 @@ use crate::plot::geom::Win;
 use crate::plot::style::{self, num, percent, sig, sub, Entry, Marker, Swatch, KF, TRUTH};
 use crate::plot::view::PanelSpec;
 use crate::plot::view::{Frame, Panel};
+use crate::scenario::ubb::{SetChoice, TrackStep};
 use crate::scenario::{Report, UbbReport};
-use crate::ubb::Norm;
+use crate::sets::{Ellipsoid, SupportPolygon};
+use crate::ubb::{LinearEstimate, Norm};
 use plotters::prelude::*;
 
 /// Set-membership (Tempo): the exact feasible set of x(k+1) at the report's step k (a
@@ -37,6 +41,132 @@ pub const SECOND: RGBColor = RGBColor(204, 121, 167);
 
 /// Points on the drawn Kalman ellipse.
 const ELLIPSE_POINTS: usize = 120;
+
+/// One step's hull of the set the figures draw.
+pub(crate) struct HullRef<'a> {
+    pub lo: &'a [f64],
+    pub hi: &'a [f64],
+    pub center: &'a [f64],
+    pub radius: f64,
+    pub kf_mean: &'a [f64],
+    pub inside: Option<bool>,
+}
+
+/// The detail step's exact set of the set the figures draw.
+pub(crate) struct DetailRef<'a> {
+    pub polygon: &'a SupportPolygon,
+    pub lo: &'a [f64],
+    pub hi: &'a [f64],
+    pub center: &'a [f64],
+    pub radius: f64,
+    pub truth: Option<&'a [f64]>,
+    pub kf: &'a Ellipsoid,
+    pub linear: Option<&'a [LinearEstimate]>,
+}
+
+/// The set the figures draw (`ubb.set`, the report's `set`): the predicted X(k+1 | y(0 … k))
+/// from the track's and the detail's own fields, or the filtered X(k | y(0 … k)) from their
+/// `filtered` parts; `lag` is the state's time after k (1 or 0).
+pub(crate) struct Chosen<'a> {
+    pub u: &'a UbbReport,
+    pub filtered: bool,
+}
+
+impl<'a> Chosen<'a> {
+    pub fn of(u: &'a UbbReport) -> Chosen<'a> {
+        Chosen {
+            u,
+            filtered: u.set == SetChoice::Filtered,
+        }
+    }
+    /// The time of the state after step k: x(k+1) predicted, x(k) filtered.
+    pub fn lag(&self) -> usize {
+        usize::from(!self.filtered)
+    }
+    /// "x(41)" for step k = 40 (predicted) or "x(40)" (filtered).
+    pub fn state_at(&self, k: usize) -> String {
+        format!("x({})", k + self.lag())
+    }
+    /// "x(k+1)" or "x(k)".
+    pub fn state_symbol(&self) -> &'static str {
+        if self.filtered {
+            "x(k)"
+        } else {
+            "x(k+1)"
+        }
+    }
+    /// "the predicted set" or "the filtered set".
+    pub fn name(&self) -> &'static str {
+        if self.filtered {
+            "filtered set"
+        } else {
+            "predicted set"
+        }
+    }
+    pub fn hull(&self, t: &'a TrackStep) -> Option<HullRef<'a>> {
+        if self.filtered {
+            t.filtered.as_ref().map(|f| HullRef {
+                lo: &f.lo,
+                hi: &f.hi,
+                center: &f.center,
+                radius: f.radius,
+                kf_mean: &f.kf_mean,
+                inside: f.inside,
+            })
+        } else {
+            Some(HullRef {
+                lo: &t.lo,
+                hi: &t.hi,
+                center: &t.center,
+                radius: t.radius,
+                kf_mean: &t.kf_mean,
+                inside: t.inside,
+            })
+        }
+    }
+    /// The steps of the track with a set to draw, with their hulls.
+    pub fn steps(&self) -> Vec<(usize, HullRef<'a>)> {
+        self.u
+            .track
+            .iter()
+            .filter_map(|t| self.hull(t).map(|h| (t.k, h)))
+            .collect()
+    }
+    pub fn detail(&self) -> Option<DetailRef<'a>> {
+        let at = &self.u.at;
+        if self.filtered {
+            at.filtered.as_ref().map(|f| DetailRef {
+                polygon: &f.polygon,
+                lo: &f.lo,
+                hi: &f.hi,
+                center: &f.center,
+                radius: f.radius,
+                truth: f.truth.as_deref(),
+                kf: &f.kf,
+                linear: f.linear.as_deref(),
+            })
+        } else {
+            Some(DetailRef {
+                polygon: &at.polygon,
+                lo: &at.lo,
+                hi: &at.hi,
+                center: &at.center,
+                radius: at.radius,
+                truth: at.truth.as_deref(),
+                kf: &at.kf,
+                linear: at.linear.as_deref(),
+            })
+        }
+    }
+    /// The true state of step k's set (x(k+1) or x(k)), when simulated.
+    pub fn truth(&self, k: usize) -> Option<&'a [f64]> {
+        self.u
+            .x_true
+            .as_ref()
+            .and_then(|x| x.get(k + self.lag()))
+            .map(|x| x.as_slice())
+    }
+}
 
 /// The report's set-membership part, or an error naming the panel.
 pub fn ubb_of(report: &Report, panel: Panel) -> Result<&UbbReport> {
@@ -70,19 +200,28 @@ pub(crate) fn check(report: &Report, panel: Panel) -> Result<&UbbReport> {
     let u = ubb_of(report, panel)?;
     let r = u.r;
     let bad = |what: &str| Err(Error::field("report.ubb", what.to_string()));
-    if r < 2 || u.plane[0] >= r || u.plane[1] >= r || u.plane[0] == u.plane[1] {
-        return bad("must name two distinct plane components below r");
+    let plane_ok = if r == 1 {
+        u.plane == [0, 0]
+    } else {
+        r >= 2 && u.plane[0] < r && u.plane[1] < r && u.plane[0] != u.plane[1]
+    };
+    if !plane_ok {
+        return bad("must name two distinct plane components below r (with one state, [0, 0])");
     }
     if u.track.is_empty() {
         return bad("has no step with a bounded set to draw");
     }
     let ok = |lo: &[f64], hi: &[f64]| lo.len() == r && hi.len() == r && finite(lo) && finite(hi);
     let point = |v: &[f64]| v.len() == r && finite(v);
-    if !u
-        .track
-        .iter()
-        .all(|t| ok(&t.lo, &t.hi) && point(&t.center) && point(&t.kf_mean) && t.radius.is_finite())
-    {
+    if !u.track.iter().all(|t| {
+        ok(&t.lo, &t.hi)
+            && point(&t.center)
+            && point(&t.kf_mean)
+            && t.radius.is_finite()
+            && t.filtered.as_ref().is_none_or(|f| {
+                ok(&f.lo, &f.hi) && point(&f.center) && point(&f.kf_mean) && f.radius.is_finite()
+            })
+    }) {
         return bad("holds track steps of the wrong dimension or with non-finite numbers");
     }
     if let Some(x) = &u.x_true {
@@ -113,11 +252,28 @@ pub(crate) fn check(report: &Report, panel: Panel) -> Result<&UbbReport> {
             "must hold the two plane coordinates of x(k+1)",
         ));
     }
-    if at.kf.dim() != 2 {
+    if at.kf.dim() != r.min(2) {
         return Err(Error::field(
             "report.ubb.at.kf",
-            "must be the Kalman ellipse in the plane (2-D)",
+            "must be the Kalman ellipse in the plane (2-D; with one state, its interval)",
         ));
+    }
+    if let Some(f) = &at.filtered {
+        let polygon_ok = f.polygon.vertices.iter().all(|p| finite(p)) && finite(&f.polygon.hull);
+        if !ok(&f.lo, &f.hi)
+            || !point(&f.center)
+            || !polygon_ok
+            || f.kf.dim() != r.min(2)
+            || f.truth.as_ref().is_some_and(|t| t.len() != 2 || !finite(t))
+        {
+            return Err(Error::field(
+                "report.ubb.at.filtered",
+                "must hold the filtered set's polygon, hull, centre, truth and Kalman ellipse of x(k) (finite, of the state's dimension)",
+            ));
+        }
+    }
+    if u.set == SetChoice::Filtered && !u.track.iter().any(|t| t.filtered.is_some()) {
+        return bad("draws the filtered sets (set \"filtered\"), but no step of its track has a bounded one");
     }
     Ok(u)
 }
@@ -127,69 +283,73 @@ pub fn level_2d(r2: f64) -> f64 {
     1.0 - (-0.5 * r2).exp()
 }
 
-/// The "ubbset" panel.
+/// The "ubbset" panel (with one state: the band of intervals over the steps, `band.rs`).
 pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
     let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, Panel::of(&SET_PANEL))?;
+    if u.r == 1 {
+        return super::band::draw(root, request);
+    }
+    let chosen = Chosen::of(u);
     let at = &u.at;
     // The step shown: the view's, else the report's. Its exact polygon, Kalman ellipse and LP
     // come with the report's `at` only; another step of the track is drawn from what the
     // report holds for every step (hull, centre, truth, Kalman mean) until its detail is set
     // (`Report::set_at`). A detail of one step is never drawn at another.
     let k = view.time.unwrap_or(at.k);
-    let detail = k == at.k;
+    let detail_ref = chosen.detail();
+    let detail = k == at.k && detail_ref.is_some();
     let step = u.track.iter().find(|t| t.k == k);
-    if step.is_none() && !detail {
+    let step_hull = step.and_then(|t| chosen.hull(t));
+    if step_hull.is_none() && !detail {
+        let held: Vec<usize> = chosen.steps().iter().map(|(k, _)| *k).collect();
         return Err(Error::field(
             "time",
-            format!(
-                "k = {k} has no bounded set in this report (its track holds k = {} … {})",
-                u.track[0].k,
-                u.track[u.track.len() - 1].k
-            ),
+            match (held.first(), held.last()) {
+                (Some(a), Some(b)) => format!(
+                    "k = {k} has no bounded {} in this report (its track holds k = {a} … {b})",
+                    chosen.name()
+                ),
+                _ => format!("k = {k} has no bounded {} in this report", chosen.name()),
+            },
         ));
     }
     let [i, j] = u.plane;
     let short = fonts.compact;
-    let poly: Vec<(f64, f64)> = if detail {
-        at.polygon.vertices.iter().map(|p| (p[0], p[1])).collect()
-    } else {
-        Vec::new()
+    let poly: Vec<(f64, f64)> = match (&detail_ref, detail) {
+        (Some(d), true) => d.polygon.vertices.iter().map(|p| (p[0], p[1])).collect(),
+        _ => Vec::new(),
     };
     // The hull, centre and radius: the detail's (from its own LPs) or the track's.
-    let (s_lo, s_hi, s_center, radius) = match step {
-        Some(t) if !detail => (&t.lo, &t.hi, &t.center, t.radius),
-        _ => (&at.lo, &at.hi, &at.center, at.radius),
+    let (s_lo, s_hi, s_center, radius) = match (&step_hull, &detail_ref) {
+        (Some(h), _) if !detail => (h.lo, h.hi, h.center, h.radius),
+        (_, Some(d)) => (d.lo, d.hi, d.center, d.radius),
+        (Some(h), None) => (h.lo, h.hi, h.center, h.radius),
+        (None, None) => return Err(Error::field("time", format!("k = {k} has no set to draw"))),
     };
     let (lo, hi) = ((s_lo[i], s_lo[j]), (s_hi[i], s_hi[j]));
     let hull = [(lo.0, lo.1), (hi.0, lo.1), (hi.0, hi.1), (lo.0, hi.1)];
     let center = (s_center[i], s_center[j]);
-    let truth = if detail {
-        at.truth.as_ref().map(|t| (t[0], t[1]))
-    } else {
-        u.x_true
-            .as_ref()
-            .and_then(|x| x.get(k + 1))
-            .map(|x| (x[i], x[j]))
+    let truth = match (&detail_ref, detail) {
+        (Some(d), true) => d.truth.map(|t| (t[0], t[1])),
+        _ => chosen.truth(k).map(|x| (x[i], x[j])),
     };
-    let ellipse = if detail {
-        at.kf.boundary_2d(ELLIPSE_POINTS)?
-    } else {
-        Vec::new()
+    let ellipse = match (&detail_ref, detail) {
+        (Some(d), true) => d.kf.boundary_2d(ELLIPSE_POINTS)?,
+        _ => Vec::new(),
     };
     // Theorem 2's linear optimal estimate φ of the plane components with its error box φ ± E
     // (22): the detail's only (one LP per component; not in the track).
-    let linear = if detail {
-        at.linear.as_ref().and_then(|l| {
+    let linear = match (&detail_ref, detail) {
+        (Some(d), true) => d.linear.and_then(|l| {
             let c = |comp: usize| l.iter().find(|e| e.component == comp);
             let (a, b) = (c(i)?, c(j)?);
             let ok = [a.estimate, a.error, b.estimate, b.error]
                 .iter()
                 .all(|v| v.is_finite());
             ok.then_some(((a.estimate, b.estimate), (a.error, b.error)))
-        })
-    } else {
-        None
+        }),
+        _ => None,
     };
     let linear_box = linear.map(|((x, y), (ex, ey))| {
         [
@@ -199,12 +359,15 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             (x - ex, y + ey),
         ]
     });
-    let kf_center = match step {
-        Some(t) if !detail => (t.kf_mean[i], t.kf_mean[j]),
-        _ => (at.kf.center[0], at.kf.center[1]),
+    let kf_center = match (&step_hull, &detail_ref) {
+        (Some(h), _) if !detail => (h.kf_mean[i], h.kf_mean[j]),
+        (_, Some(d)) => (d.kf.center[0], d.kf.center[1]),
+        (Some(h), None) => (h.kf_mean[i], h.kf_mean[j]),
+        (None, None) => return Err(Error::field("time", format!("k = {k} has no set to draw"))),
     };
     // The level is the same at every step (`ubb.kf_level`).
     let kf_level = percent(level_2d(at.kf.radius2));
+    let (first, polygon, size) = (at.first, detail_ref.as_ref().map(|d| d.polygon), &at.size);
 
     let mut w = Win::empty();
     w.add_points(&poly);
@@ -230,14 +393,15 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
 
     // Example 1's state is the coefficient vector a (constant in k): its names come as "a₁ (1)".
     let coefficients = u.state_names.first().is_some_and(|n| !n.starts_with('x'));
+    let lag = if chosen.filtered { "k" } else { "k+1" };
     let comp = |c: usize| match u.state_names.get(c) {
         Some(name) if coefficients => name.clone(),
-        _ => format!("x{}(k+1)", sub(c + 1)),
+        _ => format!("x{}({lag})", sub(c + 1)),
     };
     let target = if coefficients {
         "the coefficients a".to_string()
     } else {
-        format!("x({})", k + 1)
+        chosen.state_at(k)
     };
     let axis = |c: usize| match report.figure.names.get(c) {
         Some(name) if !name.is_empty() && !short => format!("{}: {name}", comp(c)),
@@ -248,39 +412,42 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
     let mut notes = vec![if u.q == 0 {
         format!("{target}: the image of the a-priori set (no measurements)")
     } else if detail {
-        format!(
-            "{target} consistent with y({}) … y({k}) and the {norm} noise bounds",
-            at.first
-        )
+        format!("{target} consistent with y({first}) … y({k}) and the {norm} noise bounds")
     } else {
         format!("{target} consistent with the data up to y({k}) and the {norm} noise bounds")
     }];
-    if detail {
+    if chosen.filtered {
         notes.push(format!(
-            "polygon: {} vertices from {} LPs{}",
-            poly.len(),
-            at.polygon.calls,
-            if at.polygon.exact {
-                " (exact)".to_string()
-            } else {
-                format!(", within {} of the set", sig(at.polygon.gap))
-            }
+            "the filtered set X(k | y(0 … k)); the predicted X(k+1 | …) is it mapped by A plus the noise"
         ));
-        notes.push(format!(
-            "LP: {} variables, {} rows{}",
-            at.size.variables,
-            at.size.rows,
-            if at.size.cones > 0 {
-                format!(", {} cones", at.size.cones)
-            } else {
-                String::new()
-            }
-        ));
-    } else {
-        notes.push(format!(
+    }
+    match (detail, polygon) {
+        (true, Some(polygon)) => {
+            notes.push(format!(
+                "polygon: {} vertices from {} LPs{}",
+                poly.len(),
+                polygon.calls,
+                if polygon.exact {
+                    " (exact)".to_string()
+                } else {
+                    format!(", within {} of the set", sig(polygon.gap))
+                }
+            ));
+            notes.push(format!(
+                "LP: {} variables, {} rows{}",
+                size.variables,
+                size.rows,
+                if size.cones > 0 {
+                    format!(", {} cones", size.cones)
+                } else {
+                    String::new()
+                }
+            ));
+        }
+        _ => notes.push(format!(
             "k = {k}: polygon and Kalman ellipse not in this report (it holds k = {})",
             at.k
-        ));
+        )),
     }
     if u.r > 2 {
         notes.push(format!(
@@ -302,7 +469,7 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             if coefficients {
                 "true coefficients a".to_string()
             } else {
-                format!("true state x({})", k + 1)
+                format!("true state {}", chosen.state_at(k))
             },
             marker(Marker::Diamond, TRUTH),
         ));
@@ -338,10 +505,11 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
         ));
     }
     entries.push(Entry::new(
-        if short {
-            "feasible set".to_string()
-        } else {
-            format!("feasible set ({norm} bounds)")
+        match (short, chosen.filtered) {
+            (true, false) => "feasible set".to_string(),
+            (true, true) => "filtered set".to_string(),
+            (false, false) => format!("feasible set ({norm} bounds)"),
+            (false, true) => format!("filtered feasible set ({norm} bounds)"),
         },
         Swatch::Region {
             color: SET,
@@ -357,11 +525,12 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             fill: false,
         },
     ));
+    let kf_what = if chosen.filtered { " of x(k|k)" } else { "" };
     entries.push(Entry::new(
         if short {
             format!("Kalman {kf_level} (× mean)")
         } else {
-            format!("Kalman {kf_level} ellipse (× its mean)")
+            format!("Kalman {kf_level} ellipse{kf_what} (× its mean)")
         },
         Swatch::Region {
             color: KF,
@@ -369,10 +538,12 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             fill: false,
         },
     ));
-    let what = format!(
-        "Feasible set at {}: {target}, {norm} bounds",
-        style::RecordTimes::of(&report.figure, crate::scenario::TimeIndex::ZeroBased).at("k", k)
-    );
+    let at_k = style::RecordTimes::of(&report.figure, crate::scenario::TimeIndex::ZeroBased).at("k", k);
+    let what = if chosen.filtered {
+        format!("Filtered set at {at_k}: {target}, {norm} bounds")
+    } else {
+        format!("Feasible set at {at_k}: {target}, {norm} bounds")
+    };
     let title = style::title(&report.figure, &fonts, &what, &what);
     let (area, side) = style::titled_legend_beside(root, &fonts, &title, &notes, &entries)?;
     let chart = style::equal_chart(&area, &fonts, win, &x_desc, &y_desc)?;
@@ -392,7 +563,16 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
         marks.extend(style::marks_of(&chart, &ellipse));
     }
     let mut points = vec![
-        (kf_center, Marker::Cross, KF, "KF prediction"),
+        (
+            kf_center,
+            Marker::Cross,
+            KF,
+            if chosen.filtered {
+                "KF estimate"
+            } else {
+                "KF prediction"
+            },
+        ),
         (center, Marker::Star, SET, "central estimate"),
     ];
     points.extend(linear.map(|(p, _)| (p, Marker::Ring, SECOND, "linear optimal estimate")));
@@ -400,17 +580,16 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
     let outside = style::markers_inside(root, &chart, &points, &mut marks)?;
 
     let mut chart_notes = Vec::new();
-    let inside = step.and_then(|t| t.inside);
+    let inside = step_hull.as_ref().and_then(|t| t.inside);
     match inside {
         Some(true) => chart_notes.push("truth inside the set (guaranteed)".to_string()),
         Some(false) => chart_notes.push("truth OUTSIDE the set (solver tolerance?)".to_string()),
         None => {}
     }
-    if detail && !at.polygon.exact {
-        chart_notes.push(format!(
-            "polygon within gap {} of the set",
-            sig(at.polygon.gap)
-        ));
+    if let (true, Some(polygon)) = (detail, polygon) {
+        if !polygon.exact {
+            chart_notes.push(format!("polygon within gap {} of the set", sig(polygon.gap)));
+        }
     }
     if kf_clipped {
         chart_notes.push(if short {

@@ -1,10 +1,11 @@
 //! The "ubbwidth" panel — over the steps k, the widths hi − lo of the interval hull of x(k+1) in
-//! the two `plane` components (and 2·radius over all components when r > 2) with the
-//! Theorem 4 bound 2·τ‖B‖/(1 − ‖A‖e^{1/α}) on the width of the a-priori set dashed (when it
-//! applies) and the step of the report's set as a cursor; below (figures at least 460 px
-//! high), the true components inside their hull bands.
+//! the two `plane` components (and 2·radius over all components when r > 2; the one component
+//! when r = 1) with the Theorem 4 bound 2·τ‖B‖/(1 − ‖A‖e^{1/α}) on the width of the a-priori
+//! set dashed (when it applies) and the step of the report's set as a cursor; below (figures
+//! at least 460 px high), the true components inside their hull bands. With `ubb.set`
+//! "filtered" the same for the filtered sets of x(k) ([`super::set::Chosen`]).
 
-use super::set::{check, HULL, SECOND, SET};
+use super::set::{check, Chosen, HULL, SECOND, SET};
 use crate::plot::geom::Win;
 use crate::plot::style::{self, num, sub, Axes, Entry, RecordTimes, Swatch, MUTED};
 use crate::scenario::TimeIndex;
@@ -15,6 +16,7 @@ use crate::plot::view::{Frame, Panel};
 use plotters::prelude::*;
 
 const STEP: &str = "step k (set of x(k+1) from y(0 … k))";
+const STEP_FILTERED: &str = "step k (set of x(k) from y(0 … k))";
 const STEP_SHORT: &str = "step k";
 
 fn time_win(k0: f64, k1: f64, ys: impl Iterator<Item = f64>) -> Win {
@@ -30,21 +32,34 @@ fn time_win(k0: f64, k1: f64, ys: impl Iterator<Item = f64>) -> Win {
 pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Frame> {
     let (report, view, fonts) = (request.report, request.view, request.fonts);
     let u = check(report, Panel::of(&super::set::WIDTH_PANEL))?;
-    let [i, j] = u.plane;
+    let chosen = Chosen::of(u);
+    let steps = chosen.steps();
+    // The plotted components: the plane's two, or the one state.
+    let comps: Vec<usize> = if u.r == 1 { vec![0] } else { u.plane.to_vec() };
+    let colors = [SET, SECOND];
     let short = fonts.compact;
     let cursor_k = view.time.unwrap_or(u.at.k);
     // Step k is row k of the record (Tempo's y(k)).
     let record = RecordTimes::of(&report.figure, TimeIndex::ZeroBased);
-    let ks: Vec<f64> = u.track.iter().map(|t| t.k as f64).collect();
-    let width = |c: usize| -> Vec<f64> { u.track.iter().map(|t| t.hi[c] - t.lo[c]).collect() };
-    let (wi, wj) = (width(i), width(j));
-    let wmax: Vec<f64> = u.track.iter().map(|t| 2.0 * t.radius).collect();
+    let ks: Vec<f64> = steps.iter().map(|(k, _)| *k as f64).collect();
+    let width = |c: usize| -> Vec<f64> { steps.iter().map(|(_, h)| h.hi[c] - h.lo[c]).collect() };
+    let widths: Vec<Vec<f64>> = comps.iter().map(|&c| width(c)).collect();
+    let wmax: Vec<f64> = steps.iter().map(|(_, h)| 2.0 * h.radius).collect();
     let bound = u.smoothing.limit.filter(|l| l.is_finite()).map(|l| 2.0 * l);
-    let (k0, k1) = (ks[0], (u.steps.max(1) - 1) as f64);
-    let (xi, xj) = (format!("x{}", sub(i + 1)), format!("x{}", sub(j + 1)));
+    let Some(&k0) = ks.first() else {
+        return Err(crate::error::Error::field(
+            "report.ubb",
+            format!("has no step with a bounded {} to draw", chosen.name()),
+        ));
+    };
+    let k1 = (u.steps.max(1) - 1) as f64;
+    let names: Vec<String> = comps.iter().map(|&c| format!("x{}", sub(c + 1))).collect();
+    let at_lag = if chosen.filtered { "(k)" } else { "(k+1)" };
 
     let mut notes = vec![format!(
-        "interval hull of the feasible set of x(k+1), {} bounds, window {} steps",
+        "interval hull of the {} of {}, {} bounds, window {} steps",
+        if chosen.filtered { "filtered set" } else { "feasible set" },
+        chosen.state_symbol(),
         super::set::norm_name(u.norm),
         u.window
     )];
@@ -69,10 +84,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         dashed,
         width,
     };
-    let mut entries = vec![
-        Entry::new(format!("width of {xi}(k+1)"), line(SET, false, 2)),
-        Entry::new(format!("width of {xj}(k+1)"), line(SECOND, false, 2)),
-    ];
+    let mut entries: Vec<Entry> = names
+        .iter()
+        .zip(colors)
+        .map(|(name, color)| Entry::new(format!("width of {name}{at_lag}"), line(color, false, 2)))
+        .collect();
     if u.r > 2 {
         entries.push(Entry::new(
             format!("2·radius (all {} components)", u.r),
@@ -119,8 +135,9 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let win = time_win(
         k0,
         k1,
-        wi.iter()
-            .chain(&wj)
+        widths
+            .iter()
+            .flatten()
             .chain(if u.r > 2 { wmax.as_slice() } else { &[] })
             .copied()
             .chain(bound)
@@ -131,8 +148,12 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     } else {
         "hull width hi − lo".to_string()
     };
-    let steps_name = if short { STEP_SHORT } else { STEP };
-    let step_label = record.axis_name(steps_name);
+    let step_label = match (short, chosen.filtered) {
+        (true, _) => STEP_SHORT,
+        (false, false) => STEP,
+        (false, true) => STEP_FILTERED,
+    };
+    let step_label = record.axis_name(step_label);
     let axes = Axes {
         win,
         x_desc: step_label,
@@ -159,7 +180,7 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     if u.r > 2 {
         style::path(root, &chart, &pts(&wmax), &MUTED, 1, None)?;
     }
-    for (ys, color) in [(&wi, SET), (&wj, SECOND)] {
+    for (ys, color) in widths.iter().zip(colors) {
         let p = pts(ys);
         style::path(root, &chart, &p, &color, 2, None)?;
         if p.len() == 1 {
@@ -178,14 +199,20 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
 
     if let Some(bottom) = bottom {
         let mut ys: Vec<f64> = Vec::new();
-        for t in &u.track {
-            ys.extend([t.lo[i], t.hi[i], t.lo[j], t.hi[j]]);
-            if let Some(x) = truth.and_then(|x| x.get(t.k + 1)) {
-                ys.extend([x[i], x[j]]);
+        for (k, h) in &steps {
+            for &c in &comps {
+                ys.extend([h.lo[c], h.hi[c]]);
+                if let Some(x) = chosen.truth(*k) {
+                    ys.push(x[c]);
+                }
             }
         }
         let win2 = time_win(k0, k1, ys.into_iter());
-        let y2 = format!("{xi}(k+1), {xj}(k+1)");
+        let y2 = names
+            .iter()
+            .map(|n| format!("{n}{at_lag}"))
+            .collect::<Vec<_>>()
+            .join(", ");
         let axes2 = Axes {
             win: win2,
             x_desc: step_label,
@@ -195,21 +222,20 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
             x_labels: true,
         };
         let chart2 = style::time_chart(&bottom, &fonts, &axes2, &record)?;
-        for (c, color) in [(i, SET), (j, SECOND)] {
-            let lo: Vec<f64> = u.track.iter().map(|t| t.lo[c]).collect();
-            let hi: Vec<f64> = u.track.iter().map(|t| t.hi[c]).collect();
+        for (&c, color) in comps.iter().zip(colors) {
+            let lo: Vec<f64> = steps.iter().map(|(_, h)| h.lo[c]).collect();
+            let hi: Vec<f64> = steps.iter().map(|(_, h)| h.hi[c]).collect();
             style::band(root, &chart2, &ks, &lo, &hi, &color)?;
             style::path(root, &chart2, &pts(&lo), &color, 1, None)?;
             style::path(root, &chart2, &pts(&hi), &color, 1, None)?;
         }
-        for (c, color) in [(i, SET), (j, SECOND)] {
+        for (&c, color) in comps.iter().zip(colors) {
             let line: Vec<(f64, f64)> = match truth {
-                Some(x) => u
-                    .track
+                Some(_) => steps
                     .iter()
-                    .filter_map(|t| x.get(t.k + 1).map(|v| (t.k as f64, v[c])))
+                    .filter_map(|(k, _)| chosen.truth(*k).map(|v| (*k as f64, v[c])))
                     .collect(),
-                None => u.track.iter().map(|t| (t.k as f64, t.center[c])).collect(),
+                None => steps.iter().map(|(k, h)| (*k as f64, h.center[c])).collect(),
             };
             style::path(
                 root,
