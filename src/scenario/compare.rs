@@ -45,6 +45,32 @@
 //!   promise is on average over runs, like Kalman's over states: at the study's fixed state it
 //!   counts what the Kalman region counts, not what SCF's does.
 //!
+//! Every model size: for n = 2 the sets are drawn in the state plane; for n ≥ 3 in the plane
+//! of two components `compare.plane` (default [0, 1]), each member giving its set of those two
+//! components of the target (SCF/Kalman: their region of the components ζ at level α, (40);
+//! GLLS, conformal: their set projected, its shadow; Tempo: its polygon of the plane by support
+//! LPs); for n = 1 each set is an interval, drawn side by side. A member that cannot take the
+//! size (LSCR for n ≠ 2, Tempo and Pavelková for n = 1, Pavelková's prediction for n ≥ 3) has
+//! no set and says why.
+//!
+//! No set is never a miss. A member whose method cannot give a set here (a singular ratio
+//! matrix, an unobservable horizon, an unbounded feasible set, a size or a gap it does not
+//! take) has no set: its own error says why and `CompareMember::remedy` (after the compare's
+//! own: a gap, a record past the method's steps) what would give one. A study counts those runs
+//! apart (`no_set`) and judges the promise over the runs with a set only, against the exact
+//! binomial band of those runs ([`stats::band`]); with none: "does not apply". An empty set
+//! (the solver finds no state consistent with the bounds: the data contradict them,
+//! [`crate::solve::is_infeasible`]) is a set, and holds nothing: a miss.
+//!
+//! Each member's own options (`compare.members.<method>`, e.g. `{"glls": {"horizon": 8}}`) are
+//! laid over the block its member derives, for the keys its `CompareMember::options` names;
+//! any other key is refused by name. The step cap is the work budget's: each member's own
+//! estimate on the record, read before the record is drawn (`work`).
+//!
+//! A gap in the record (`data.y` null) is each member's own: a member whose method takes gaps
+//! (its descriptor's `Gaps::Handled`) takes it; one that refuses them has no set from the first
+//! gap on, and says so; the report warns.
+//!
 //! The study (`compare.study`: `x`, `runs`, `seed`) fixes the true target state and draws
 //! records from their law given it: exactly, by the backward representation, for Gaussian
 //! noise ([`crate::model::ConditionedSampler`]); for the other laws no exact conditional
@@ -107,7 +133,7 @@ pub enum Target {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CompareStudySpec {
-    /// The true target state (x_{t+1} or x_t), both components.
+    /// The true target state (x_{t+1} or x_t), every one of its n components.
     pub x: Vec<f64>,
     #[serde(default = "default_study_runs")]
     pub runs: usize,
@@ -597,11 +623,7 @@ fn check_member_options(spec: &CompareSpec, members: &[Member]) -> Result<()> {
                 let which = if passed.is_empty() {
                     format!("a compare passes none of \"{}\"'s options", m.method)
                 } else {
-                    format!(
-                        "a compare passes {} to \"{}\"",
-                        passed.join(", "),
-                        m.method
-                    )
+                    format!("a compare passes {} to \"{}\"", passed.join(", "), m.method)
                 };
                 return Err(Error::field(
                     format!("{field}.{}", crate::error::cut(key, crate::error::ECHO_CHARS)),
@@ -1137,7 +1159,11 @@ impl ComparePrepared {
     /// were checked against the member's [`CompareMember::options`]): the scenario written as
     /// JSON, each option set in the block, and read back as a scenario, so the block's own
     /// types read them; an option they refuse names `compare.members.<method>.<key>`.
-    pub(crate) fn with_member_options(&self, method: Method, mut derived: Scenario) -> Result<Scenario> {
+    pub(crate) fn with_member_options(
+        &self,
+        method: Method,
+        mut derived: Scenario,
+    ) -> Result<Scenario> {
         let Some(options) = self
             .spec
             .members
@@ -1166,7 +1192,11 @@ impl ComparePrepared {
             }
         }
         let mut s = crate::parse::from_value::<Scenario>(&v, "").map_err(|e| {
-            match e.field.strip_prefix(block).filter(|rest| rest.starts_with('.')) {
+            match e
+                .field
+                .strip_prefix(block)
+                .filter(|rest| rest.starts_with('.'))
+            {
                 Some(rest) => Error::field(format!("compare.members.{method}{rest}"), e.message),
                 None => Error::field(format!("compare.members.{method}"), e.to_string()),
             }
@@ -1211,10 +1241,9 @@ impl ComparePrepared {
     fn method_set(&self, m: Member, t: usize, truth: Option<&[f64]>) -> MethodSet {
         let clock = CLOCK.get();
         let start = clock.map(|c| c());
-        let scenario = m
-            .of
-            .derived_scenario(self, t)
-            .and_then(|d| self.with_member_options(m.method, d));
+        let scenario =
+            m.of.derived_scenario(self, t)
+                .and_then(|d| self.with_member_options(m.method, d));
         let result = scenario
             .as_ref()
             .map_err(Clone::clone)
@@ -1280,7 +1309,12 @@ impl ComparePrepared {
             .members
             .iter()
             .partition(|m| matches!(super::make_method(m.method).gaps(), super::Gaps::Handled(_)));
-        let names = |ms: &[Member]| ms.iter().map(|m| m.method.name()).collect::<Vec<_>>().join(", ");
+        let names = |ms: &[Member]| {
+            ms.iter()
+                .map(|m| m.method.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
         let mut w = format!(
             "data.y has {} row{} with a gap (the first is data.y[{first}]): each method takes a gap as its own method does",
             rows.len(),
@@ -1398,10 +1432,7 @@ impl Tally for CompareCounts {
         // The shape is checked even against no runs: the zero counts have the study's.
         let k = self.holds.len();
         if later.holds.len() != k || later.no_set.len() != k || self.no_set.len() != k {
-            return Err(format!(
-                "counts of {} methods, not {k}",
-                later.holds.len(),
-            ));
+            return Err(format!("counts of {} methods, not {k}", later.holds.len(),));
         }
         if later.no_set_first.len() != later.no_set.len() {
             return Err(format!(
@@ -1650,7 +1681,12 @@ impl CompareStudy {
 /// One method's count against its promise: the verdict over the runs with a set (`holds` of
 /// `with_set`) against the exact binomial band of the promised level over those runs
 /// ([`stats::band`]); with no run with a set, no verdict: the promise does not apply.
-fn verdict(row: &CompareRow, holds: usize, with_set: usize, no_set: usize) -> (Option<[usize; 2]>, String, Standing) {
+fn verdict(
+    row: &CompareRow,
+    holds: usize,
+    with_set: usize,
+    no_set: usize,
+) -> (Option<[usize; 2]>, String, Standing) {
     let misses = with_set - holds;
     let apart = if no_set > 0 && with_set > 0 {
         format!(
@@ -1668,7 +1704,11 @@ fn verdict(row: &CompareRow, holds: usize, with_set: usize, no_set: usize) -> (O
         );
     }
     let Some(level) = row.level else {
-        return (None, "no probability promised".to_string(), Standing::NoPromise);
+        return (
+            None,
+            "no probability promised".to_string(),
+            Standing::NoPromise,
+        );
     };
     let (lo, hi) = stats::band(with_set, level);
     let band = Some([lo, hi]);
@@ -1690,13 +1730,25 @@ fn verdict(row: &CompareRow, holds: usize, with_set: usize, no_set: usize) -> (O
             )
         }
     } else if holds < lo {
-        ("below the 99.9 % band of its promise".to_string(), Standing::Broken)
+        (
+            "below the 99.9 % band of its promise".to_string(),
+            Standing::Broken,
+        )
     } else if holds > hi && !row.at_least {
-        ("above the 99.9 % band of its promise".to_string(), Standing::Broken)
+        (
+            "above the 99.9 % band of its promise".to_string(),
+            Standing::Broken,
+        )
     } else if holds > hi {
-        ("above its level (a lower bound): kept".to_string(), Standing::Kept)
+        (
+            "above its level (a lower bound): kept".to_string(),
+            Standing::Kept,
+        )
     } else {
-        ("inside the 99.9 % band of its promise".to_string(), Standing::Kept)
+        (
+            "inside the 99.9 % band of its promise".to_string(),
+            Standing::Kept,
+        )
     };
     (band, format!("{words}{apart}"), standing)
 }
@@ -1924,9 +1976,16 @@ impl MethodScenario for Compare {
         // whether it holds the truth. A method without a set has empty area and holds cells, and
         // a `# warning:` line above the header names it, its reason and what would give one.
         let mut table = Table::new(
-            ["method", "area", "holds", "level", "assumption_met", "has_set"]
-                .map(String::from)
-                .to_vec(),
+            [
+                "method",
+                "area",
+                "holds",
+                "level",
+                "assumption_met",
+                "has_set",
+            ]
+            .map(String::from)
+            .to_vec(),
         );
         let Some(c) = &r.compare else {
             return table;
@@ -2073,8 +2132,14 @@ mod tests {
                 // The same verdicts, and a reason exactly where there is no set (its words
                 // may differ: the fast path stops at the first window that fails).
                 assert_eq!(
-                    a.no_set_first.iter().map(Option::is_some).collect::<Vec<_>>(),
-                    b.no_set_first.iter().map(Option::is_some).collect::<Vec<_>>(),
+                    a.no_set_first
+                        .iter()
+                        .map(Option::is_some)
+                        .collect::<Vec<_>>(),
+                    b.no_set_first
+                        .iter()
+                        .map(Option::is_some)
+                        .collect::<Vec<_>>(),
                     "{name}: run {i}"
                 );
                 b.no_set_first = a.no_set_first.clone();

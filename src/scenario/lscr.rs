@@ -1271,7 +1271,9 @@ impl CompareMember for Lscr {
     }
     fn remedy(&self, p: &ComparePrepared, e: &Error) -> Option<String> {
         match (e.field.as_str(), p.n()) {
-            ("model.F", 1) => Some("a model of n ≥ 2 states (LSCR's scenario takes no scalar state)".to_string()),
+            ("model.F", 1) => {
+                Some("a model of n ≥ 2 states (LSCR's scenario takes no scalar state)".to_string())
+            }
             ("compare.plane", _) => Some("a model of n = 2 states".to_string()),
             _ => None,
         }

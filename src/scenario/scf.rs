@@ -1197,12 +1197,15 @@ impl CompareMember for Scf {
             target.kf.clone()
         } else {
             target.scf.clone().ok_or_else(|| {
-                let why = p.unobservable().unwrap_or_else(|| {
-                    "too few measurements to determine the state".to_string()
-                });
+                let why = p
+                    .unobservable()
+                    .unwrap_or_else(|| "too few measurements to determine the state".to_string());
                 Error::field(
                     "report.steps.target.scf",
-                    format!("is absent at t = {}: the ratio matrix (38) is singular: {why}", step.t),
+                    format!(
+                        "is absent at t = {}: the ratio matrix (38) is singular: {why}",
+                        step.t
+                    ),
                 )
             })?
         };

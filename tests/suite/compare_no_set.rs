@@ -29,12 +29,12 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 const NILE: [f64; 100] = [
     1120.0, 1160.0, 963.0, 1210.0, 1160.0, 1160.0, 813.0, 1230.0, 1370.0, 1140.0, 995.0, 935.0,
     1110.0, 994.0, 1020.0, 960.0, 1180.0, 799.0, 958.0, 1140.0, 1100.0, 1210.0, 1150.0, 1250.0,
-    1260.0, 1220.0, 1030.0, 1100.0, 774.0, 840.0, 874.0, 694.0, 940.0, 833.0, 701.0, 916.0,
-    692.0, 1020.0, 1050.0, 969.0, 831.0, 726.0, 456.0, 824.0, 702.0, 1120.0, 1100.0, 832.0, 764.0,
-    821.0, 768.0, 845.0, 864.0, 862.0, 698.0, 845.0, 744.0, 796.0, 1040.0, 759.0, 781.0, 865.0,
-    845.0, 944.0, 984.0, 897.0, 822.0, 1010.0, 771.0, 676.0, 649.0, 846.0, 812.0, 742.0, 801.0,
-    1040.0, 860.0, 874.0, 848.0, 890.0, 744.0, 749.0, 838.0, 1050.0, 918.0, 986.0, 797.0, 923.0,
-    975.0, 815.0, 1020.0, 906.0, 901.0, 1170.0, 912.0, 746.0, 919.0, 718.0, 714.0, 740.0,
+    1260.0, 1220.0, 1030.0, 1100.0, 774.0, 840.0, 874.0, 694.0, 940.0, 833.0, 701.0, 916.0, 692.0,
+    1020.0, 1050.0, 969.0, 831.0, 726.0, 456.0, 824.0, 702.0, 1120.0, 1100.0, 832.0, 764.0, 821.0,
+    768.0, 845.0, 864.0, 862.0, 698.0, 845.0, 744.0, 796.0, 1040.0, 759.0, 781.0, 865.0, 845.0,
+    944.0, 984.0, 897.0, 822.0, 1010.0, 771.0, 676.0, 649.0, 846.0, 812.0, 742.0, 801.0, 1040.0,
+    860.0, 874.0, 848.0, 890.0, 744.0, 749.0, 838.0, 1050.0, 918.0, 986.0, 797.0, 923.0, 975.0,
+    815.0, 1020.0, 906.0, 901.0, 1170.0, 912.0, 746.0, 919.0, 718.0, 714.0, 740.0,
 ];
 
 /// The methods a compare gives no set on the lag-embedded AR(1): (F, H) is unobservable.
@@ -140,7 +140,10 @@ fn an_unobservable_record_gives_no_set_with_reasons() {
     let r = s.run().expect("the compare runs");
     for m in NO_SET {
         let set = set_of(&r, m);
-        assert!(set.set.is_none() && set.holds.is_none() && set.area.is_none(), "{m}: {set:?}");
+        assert!(
+            set.set.is_none() && set.holds.is_none() && set.area.is_none(),
+            "{m}: {set:?}"
+        );
         let reason = set.reason.as_deref().expect("a reason");
         let remedy = set.remedy.as_deref().expect("a remedy");
         // Each member's own words, naming its own field.
@@ -154,8 +157,17 @@ fn an_unobservable_record_gives_no_set_with_reasons() {
         assert!(remedy.contains(says), "{m}: {remedy}");
     }
     // The others have their sets.
-    for m in [Method::Kf, Method::Conformal, Method::Lscr, Method::UniformLp] {
-        assert!(set_of(&r, m).set.is_some(), "{m}: {:?}", set_of(&r, m).reason);
+    for m in [
+        Method::Kf,
+        Method::Conformal,
+        Method::Lscr,
+        Method::UniformLp,
+    ] {
+        assert!(
+            set_of(&r, m).set.is_some(),
+            "{m}: {:?}",
+            set_of(&r, m).reason
+        );
     }
     // The CSV table: has_set 0 on their rows and a line naming each with its reason.
     let csv = r.table().expect("table").to_csv();
@@ -172,8 +184,10 @@ fn an_unobservable_record_gives_no_set_with_reasons() {
             set.method
         );
         let said = csv.lines().any(|l| {
-            l.starts_with(&format!("# warning: method {i} (\"{}\") has no set", set.method))
-                && l.contains(set.reason.as_deref().unwrap_or("?"))
+            l.starts_with(&format!(
+                "# warning: method {i} (\"{}\") has no set",
+                set.method
+            )) && l.contains(set.reason.as_deref().unwrap_or("?"))
         });
         assert_eq!(said, NO_SET.contains(&set.method), "{}: {csv}", set.method);
     }
@@ -183,7 +197,11 @@ fn an_unobservable_record_gives_no_set_with_reasons() {
     v["compare"]["members"] = json!({"ubb": {"delta": [2000.0, 2000.0]}});
     let r = scenario(&v).run().expect("with δ");
     let ubb = set_of(&r, Method::Ubb);
-    assert!(matches!(ubb.set, Some(PlaneSet::Polygon { .. })), "{:?}", ubb.reason);
+    assert!(
+        matches!(ubb.set, Some(PlaneSet::Polygon { .. })),
+        "{:?}",
+        ubb.reason
+    );
     let row = &r.compare.as_ref().expect("c").rows;
     let row = row.iter().find(|r| r.method == Method::Ubb).expect("row");
     assert_eq!(row.options, Some(json!({"delta": [2000.0, 2000.0]})));
@@ -219,8 +237,14 @@ fn the_study_counts_no_set_apart() {
             assert!(c["band"].is_null(), "{m}: no band over no runs");
             assert_eq!(verdict, "does not apply: no run gave a set (see why)");
             assert_eq!(c["standing"], "does_not_apply");
-            assert!(c["no_set_reason"].as_str().is_some_and(|r| !r.is_empty()), "{m}");
-            assert!(c["no_set_remedy"].as_str().is_some_and(|r| !r.is_empty()), "{m}");
+            assert!(
+                c["no_set_reason"].as_str().is_some_and(|r| !r.is_empty()),
+                "{m}"
+            );
+            assert!(
+                c["no_set_remedy"].as_str().is_some_and(|r| !r.is_empty()),
+                "{m}"
+            );
         } else if let Some(level) = c["level"].as_f64() {
             assert_eq!(no_set, 0, "{m}: {c}");
             let (lo, hi) = binomial_interval(with_set, level, 0.999);
@@ -269,8 +293,15 @@ fn the_band_is_over_the_runs_with_a_set() {
             "below the 99.9 % band of its promise (10 runs without a set not counted)"
         };
         assert_eq!(verdict, want);
-        let standing = if inside { Standing::Kept } else { Standing::Broken };
-        assert_eq!(kf["standing"], serde_json::to_value(standing).expect("json"));
+        let standing = if inside {
+            Standing::Kept
+        } else {
+            Standing::Broken
+        };
+        assert_eq!(
+            kf["standing"],
+            serde_json::to_value(standing).expect("json")
+        );
     }
     // A reason without a run without a set (or the reverse) is no count of this study.
     let mut p = part.clone();
@@ -295,11 +326,22 @@ fn an_empty_set_is_a_miss_not_no_set() {
     let ubb = set_of(&r, Method::Ubb);
     assert!(ubb.set.is_none() && ubb.empty, "{ubb:?}");
     assert_eq!(ubb.holds, Some(false));
-    assert!(ubb.reason.as_deref().expect("reason").contains("leaves no state consistent with the data"));
-    assert!(ubb.remedy.as_deref().expect("remedy").contains("compare.bound_scale"));
+    assert!(ubb
+        .reason
+        .as_deref()
+        .expect("reason")
+        .contains("leaves no state consistent with the data"));
+    assert!(ubb
+        .remedy
+        .as_deref()
+        .expect("remedy")
+        .contains("compare.bound_scale"));
     let csv = r.table().expect("table").to_csv();
     assert!(csv.lines().any(|l| l == "0,,0,1,0,1"), "{csv}");
-    assert!(csv.contains("has an empty set (it holds no state)"), "{csv}");
+    assert!(
+        csv.contains("has an empty set (it holds no state)"),
+        "{csv}"
+    );
     let result = run_study(&s);
     let k = count(&result, Method::Ubb);
     assert_eq!(k["no_set"], 0, "{k}");
@@ -318,15 +360,27 @@ in_browser!(an_empty_set_is_a_miss_not_no_set);
 
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn member_options_reach_the_member() {
-    let base = serde_json::to_value(presets::get("compare-gaussian").expect("preset")).expect("json");
+    let base =
+        serde_json::to_value(presets::get("compare-gaussian").expect("preset")).expect("json");
     let mut v = base.clone();
     v["compare"]["members"] = json!({"glls": {"horizon": 6}, "lscr": {"M": 100, "q": 2}});
     let r = scenario(&v).run().expect("report");
     let glls = set_of(&r, Method::Glls);
     assert!(glls.set.is_some(), "{:?}", glls.reason);
-    assert_eq!(glls.scenario.as_ref().expect("scenario")["glls"]["horizon"], 6);
-    assert!(glls.note.as_deref().expect("note").starts_with("horizon s = 6;"));
-    assert_eq!(panel(glls).glls.as_ref().expect("glls").s, 6, "the GLLS report's horizon");
+    assert_eq!(
+        glls.scenario.as_ref().expect("scenario")["glls"]["horizon"],
+        6
+    );
+    assert!(glls
+        .note
+        .as_deref()
+        .expect("note")
+        .starts_with("horizon s = 6;"));
+    assert_eq!(
+        panel(glls).glls.as_ref().expect("glls").s,
+        6,
+        "the GLLS report's horizon"
+    );
     // Without it the horizon is the method's own choice, not 6 here.
     let auto = scenario(&base).run().expect("report");
     assert_ne!(panel(set_of(&auto, Method::Glls)).glls.expect("glls").s, 6);
@@ -343,15 +397,39 @@ fn member_options_reach_the_member() {
     let r = scenario(&v).run().expect("report");
     let glls = set_of(&r, Method::Glls);
     assert!(glls.set.is_none());
-    assert!(glls.remedy.as_deref().expect("remedy").starts_with("a longer horizon"));
+    assert!(glls
+        .remedy
+        .as_deref()
+        .expect("remedy")
+        .starts_with("a longer horizon"));
     // Refused by name: an option the member does not pass, a value its block does not read,
     // a method the compare does not run.
     for (members, methods, field) in [
-        (json!({"glls": {"mu": 1.0}}), None, "compare.members.glls.mu"),
-        (json!({"glls": {"horizon": "long"}}), None, "compare.members.glls.horizon"),
-        (json!({"kf": {"asymptotic": true}}), None, "compare.members.kf.asymptotic"),
-        (json!({"ubb": {"delta": [1.0, 1.0]}}), Some(json!(["kf", "scf"])), "compare.members.ubb"),
-        (json!({"ubb": {"delta": "wide"}}), None, "compare.members.ubb.delta"),
+        (
+            json!({"glls": {"mu": 1.0}}),
+            None,
+            "compare.members.glls.mu",
+        ),
+        (
+            json!({"glls": {"horizon": "long"}}),
+            None,
+            "compare.members.glls.horizon",
+        ),
+        (
+            json!({"kf": {"asymptotic": true}}),
+            None,
+            "compare.members.kf.asymptotic",
+        ),
+        (
+            json!({"ubb": {"delta": [1.0, 1.0]}}),
+            Some(json!(["kf", "scf"])),
+            "compare.members.ubb",
+        ),
+        (
+            json!({"ubb": {"delta": "wide"}}),
+            None,
+            "compare.members.ubb.delta",
+        ),
     ] {
         let mut v = base.clone();
         v["compare"]["members"] = members.clone();
@@ -392,7 +470,16 @@ fn a_scalar_state_gives_intervals() {
     let y: Vec<DVector<f64>> = r.y.iter().map(|v| DVector::from_column_slice(v)).collect();
     let (f, v1, w1) = (mat(&[&[0.95]]), mat(&[&[0.1]]), mat(&[&[1.0]]));
     let g1 = mat(&[&[0.1 / (1.0 - 0.95 * 0.95)]]);
-    let kf = reference_kf(&f, &mat(&[&[1.0]]), &v1, &w1, &DVector::zeros(1), &g1, &DVector::zeros(1), &y);
+    let kf = reference_kf(
+        &f,
+        &mat(&[&[1.0]]),
+        &v1,
+        &w1,
+        &DVector::zeros(1),
+        &g1,
+        &DVector::zeros(1),
+        &y,
+    );
     let last = kf.last().expect("steps");
     let (m, p) = (0.95 * last.xhat[0], 0.95 * 0.95 * last.p[(0, 0)] + 0.1);
     let half = (ChiSquared::new(1.0).expect("χ²").inverse_cdf(0.9) * p).sqrt();
@@ -400,7 +487,11 @@ fn a_scalar_state_gives_intervals() {
     for set in &c.at.sets {
         let Some(PlaneSet::Interval { lo, hi }) = set.set else {
             assert!(set.set.is_none(), "{}: {:?}", set.method, set.set);
-            assert!(set.reason.is_some() && set.remedy.is_some(), "{}", set.method);
+            assert!(
+                set.reason.is_some() && set.remedy.is_some(),
+                "{}",
+                set.method
+            );
             assert!(
                 [Method::Lscr, Method::Ubb, Method::UniformLp].contains(&set.method),
                 "{}: {:?}",
@@ -414,7 +505,11 @@ fn a_scalar_state_gives_intervals() {
         let own = panel(set);
         let e = match set.method {
             Method::Kf | Method::Scf => {
-                let target = own.steps.last().and_then(|s| s.target.clone()).expect("target");
+                let target = own
+                    .steps
+                    .last()
+                    .and_then(|s| s.target.clone())
+                    .expect("target");
                 if set.method == Method::Kf {
                     target.kf
                 } else {
@@ -427,17 +522,42 @@ fn a_scalar_state_gives_intervals() {
         };
         let centre = e.center[0];
         let w = (e.radius2 * e.cov[0][0]).sqrt();
-        assert!(lo <= centre && centre <= hi, "{}: {centre} in [{lo}, {hi}]", set.method);
-        assert!(close(lo, centre - w, 1e-9) && close(hi, centre + w, 1e-9), "{}", set.method);
-        assert!(close(set.area.expect("length"), hi - lo, 1e-9), "{}", set.method);
-        assert_eq!(set.holds, Some(lo <= truth[0] && truth[0] <= hi), "{}", set.method);
+        assert!(
+            lo <= centre && centre <= hi,
+            "{}: {centre} in [{lo}, {hi}]",
+            set.method
+        );
+        assert!(
+            close(lo, centre - w, 1e-9) && close(hi, centre + w, 1e-9),
+            "{}",
+            set.method
+        );
+        assert!(
+            close(set.area.expect("length"), hi - lo, 1e-9),
+            "{}",
+            set.method
+        );
+        assert_eq!(
+            set.holds,
+            Some(lo <= truth[0] && truth[0] <= hi),
+            "{}",
+            set.method
+        );
         if set.method == Method::Kf {
-            assert!(close(lo, m - half, 1e-9) && close(hi, m + half, 1e-9), "KF: [{lo}, {hi}] vs {m} ± {half}");
+            assert!(
+                close(lo, m - half, 1e-9) && close(hi, m + half, 1e-9),
+                "KF: [{lo}, {hi}] vs {m} ± {half}"
+            );
         }
     }
     assert_eq!(with_set, 4, "KF, conformal, SCF and GLLS");
-    let svg = plot::report_svg(&r, &View::new(plot::Panel::from_name("compare").expect("panel")), 800, 500)
-        .expect("the intervals' figure");
+    let svg = plot::report_svg(
+        &r,
+        &View::new(plot::Panel::from_name("compare").expect("panel")),
+        800,
+        500,
+    )
+    .expect("the intervals' figure");
     assert!(svg.contains("Every method") && svg.contains("no set"));
     // The study of a scalar state: the full state is one number.
     let result = run_study(&s);
@@ -472,8 +592,15 @@ fn three_states_in_a_chosen_plane() {
         let m = set.method;
         match m {
             Method::Lscr | Method::UniformLp => {
-                let field = if m == Method::Lscr { "compare.plane" } else { "compare.target" };
-                assert!(set.reason.as_deref().expect("reason").starts_with(field), "{m}");
+                let field = if m == Method::Lscr {
+                    "compare.plane"
+                } else {
+                    "compare.target"
+                };
+                assert!(
+                    set.reason.as_deref().expect("reason").starts_with(field),
+                    "{m}"
+                );
                 assert!(set.remedy.is_some(), "{m}");
                 continue;
             }
@@ -483,9 +610,17 @@ fn three_states_in_a_chosen_plane() {
         let what = format!("{m} in the plane [0, 2]");
         match (&set.set, m) {
             (Some(PlaneSet::Ellipse(e)), Method::Kf | Method::Scf) => {
-                let target = own.steps.last().and_then(|s| s.target.clone()).expect("target");
+                let target = own
+                    .steps
+                    .last()
+                    .and_then(|s| s.target.clone())
+                    .expect("target");
                 assert_eq!(target.components, vec![0, 2]);
-                let want = if m == Method::Kf { target.kf } else { target.scf.expect("SCF") };
+                let want = if m == Method::Kf {
+                    target.kf
+                } else {
+                    target.scf.expect("SCF")
+                };
                 assert_ellipse_rel(e, &want, 1e-9, &what);
             }
             (Some(PlaneSet::Ellipse(e)), Method::Conformal) => {
@@ -506,8 +641,13 @@ fn three_states_in_a_chosen_plane() {
         }
         assert!(set.holds.is_some(), "{what}: a simulated truth is checked");
     }
-    plot::report_svg(&r, &View::new(plot::Panel::from_name("compare").expect("panel")), 800, 500)
-        .expect("the plane's figure");
+    plot::report_svg(
+        &r,
+        &View::new(plot::Panel::from_name("compare").expect("panel")),
+        800,
+        500,
+    )
+    .expect("the plane's figure");
     // The filtered x₃₀: Pavelková's consistent set projected on the plane is its panel's.
     v["compare"]["target"] = json!("filter");
     let r = scenario(&v).run().expect("filter");
@@ -521,11 +661,16 @@ fn three_states_in_a_chosen_plane() {
         other => panic!("uniform_lp: {other:?} ({:?})", set.reason),
     }
     // The plane is two different components below n, and only for n ≥ 3.
-    for (plane, model) in [(json!([0, 3]), None), (json!([1, 1]), None), (json!([1, 0]), Some("cascade"))] {
+    for (plane, model) in [
+        (json!([0, 3]), None),
+        (json!([1, 1]), None),
+        (json!([1, 0]), Some("cascade")),
+    ] {
         let mut bad = v.clone();
         bad["compare"]["plane"] = plane.clone();
         if model.is_some() {
-            bad = serde_json::to_value(presets::get("compare-gaussian").expect("preset")).expect("json");
+            bad = serde_json::to_value(presets::get("compare-gaussian").expect("preset"))
+                .expect("json");
             bad["compare"]["plane"] = plane.clone();
         }
         let e = Scenario::from_json(&bad.to_string())
@@ -541,14 +686,18 @@ in_browser!(three_states_in_a_chosen_plane);
 /// The cascade on a record of `rows` rows as data (a deterministic signal: only its length
 /// matters here).
 fn cascade_on_rows(rows: usize) -> Scenario {
-    let mut v = serde_json::to_value(presets::get("compare-gaussian").expect("preset")).expect("json");
+    let mut v =
+        serde_json::to_value(presets::get("compare-gaussian").expect("preset")).expect("json");
     let o = v.as_object_mut().expect("object");
     o.remove("simulate");
     let y: Vec<Value> = (0..rows)
         .map(|k| json!([0.3 * (0.37 * k as f64).sin() + 0.05 * (1.3 * k as f64).cos()]))
         .collect();
     o.insert("data".into(), json!({ "y": y }));
-    v["compare"].as_object_mut().expect("compare").remove("study");
+    v["compare"]
+        .as_object_mut()
+        .expect("compare")
+        .remove("study");
     scenario(&v)
 }
 
@@ -561,7 +710,14 @@ fn the_step_cap_is_the_budgets() {
     assert_eq!((c.steps, c.at.t), (203, 203));
     for set in &c.at.sets {
         if set.method == Method::Ubb {
-            assert!(set.reason.as_deref().expect("reason").contains("takes 1 to 150"), "{:?}", set.reason);
+            assert!(
+                set.reason
+                    .as_deref()
+                    .expect("reason")
+                    .contains("takes 1 to 150"),
+                "{:?}",
+                set.reason
+            );
             assert_eq!(
                 set.remedy.as_deref(),
                 Some("compare.time from 2 to 150: \"ubb\" takes 1 to 150 measurements")
@@ -577,14 +733,24 @@ fn the_step_cap_is_the_budgets() {
     assert_eq!(e.field, "data.y", "{e}");
     assert!(e.message.contains("is limited to about"), "{e}");
     assert!(e.message.contains("(method \"conformal\""), "{e}");
-    assert!(e.message.contains("(N + 2) · steps · (n² + nq + q²)"), "{e}");
-    let estimate = huge.work(Job::Report).check(Job::Report).expect_err("the estimate refuses");
+    assert!(
+        e.message.contains("(N + 2) · steps · (n² + nq + q²)"),
+        "{e}"
+    );
+    let estimate = huge
+        .work(Job::Report)
+        .check(Job::Report)
+        .expect_err("the estimate refuses");
     assert_eq!(estimate.to_string(), e.to_string());
     // Past every member's own range: the step check, naming the most any member takes.
     let limits = confset::scenario::limits();
-    let most = limits["simulate.steps"]["compare"][1].as_u64().expect("compare's steps") as usize;
+    let most = limits["simulate.steps"]["compare"][1]
+        .as_u64()
+        .expect("compare's steps") as usize;
     assert_eq!(most, 10_000);
-    let e = cascade_on_rows(most + 1).run().expect_err("past every member");
+    let e = cascade_on_rows(most + 1)
+        .run()
+        .expect_err("past every member");
     assert_eq!(e.field, "data.y");
     assert!(e.message.contains(&format!("takes 2 to {most}")), "{e}");
 }
@@ -604,7 +770,9 @@ fn a_gap_is_each_members_own() {
     let r = s.run().expect("a compare takes a record with a gap");
     assert!(r.y[19][0].is_nan());
     assert!(
-        r.warnings.iter().any(|w| w.starts_with("data.y has 1 row with a gap (the first is data.y[19])")),
+        r.warnings
+            .iter()
+            .any(|w| w.starts_with("data.y has 1 row with a gap (the first is data.y[19])")),
         "{:?}",
         r.warnings
     );
@@ -616,28 +784,49 @@ fn a_gap_is_each_members_own() {
         }
         refusing += 1;
         let reason = set.reason.as_deref().expect("reason");
-        assert!(reason.contains("cannot take a gap"), "{}: {reason}", set.method);
+        assert!(
+            reason.contains("cannot take a gap"),
+            "{}: {reason}",
+            set.method
+        );
         assert!(reason.starts_with("data.y[19]"), "{}: {reason}", set.method);
         assert!(
-            set.remedy.as_deref().expect("remedy").starts_with("compare.time at most 19"),
+            set.remedy
+                .as_deref()
+                .expect("remedy")
+                .starts_with("compare.time at most 19"),
             "{}: {:?}",
             set.method,
             set.remedy
         );
     }
-    assert!(refusing > 0, "on this branch every member still refuses a gap");
+    assert!(
+        refusing > 0,
+        "on this branch every member still refuses a gap"
+    );
     let csv = r.table().expect("table").to_csv();
-    assert!(csv.starts_with("# warning: data.y has 1 row with a gap"), "{csv}");
+    assert!(
+        csv.starts_with("# warning: data.y has 1 row with a gap"),
+        "{csv}"
+    );
     // Before the gap every member has its set, from the cursor as from a report at that time.
     let mut cursor = s.cursor().expect("cursor").expect("a compare has one");
     let detail = cursor.at(19).expect("t = 19");
     for set in detail["sets"].as_array().expect("sets") {
         assert!(set["set"].is_object(), "{}", set["method"]);
     }
-    cursor.at(30).expect("after the gap, the detail holds the gap as null");
+    cursor
+        .at(30)
+        .expect("after the gap, the detail holds the gap as null");
     let mut early = v.clone();
     early["compare"]["time"] = json!(19);
     let r = scenario(&early).run().expect("t = 19");
-    assert!(r.compare.expect("c").at.sets.iter().all(|s| s.set.is_some()));
+    assert!(r
+        .compare
+        .expect("c")
+        .at
+        .sets
+        .iter()
+        .all(|s| s.set.is_some()));
 }
 in_browser!(a_gap_is_each_members_own);

@@ -105,7 +105,11 @@ pub(crate) fn check(report: &Report, figures_of: FiguresOf) -> Result<&CompareRe
             ));
         }
     }
-    if c.at.truth.as_ref().is_some_and(|x| x.len() != dims || !finite(x)) {
+    if c.at
+        .truth
+        .as_ref()
+        .is_some_and(|x| x.len() != dims || !finite(x))
+    {
         return Err(Error::field(
             "report.compare.at.truth",
             format!("must be {dims} finite numbers (the true state in the plane)"),
@@ -332,7 +336,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
 fn which_state(report: &Report, c: &CompareReport) -> String {
     let at = &c.at;
     let part = if report.n > 2 {
-        let names: Vec<String> = report.plot.iter().map(|&i| format!("x{}", style::sub(i + 1))).collect();
+        let names: Vec<String> = report
+            .plot
+            .iter()
+            .map(|&i| format!("x{}", style::sub(i + 1)))
+            .collect();
         format!(" ({} of n = {})", names.join(", "), report.n)
     } else {
         String::new()
@@ -463,7 +471,14 @@ fn draw_intervals<DB: DrawingBackend>(
                 style::path(root, &chart, &[(a, y), (b, y)], &l.color, 4, dash)?;
                 for end in [lo, hi] {
                     if shown_win.contains(end, y) {
-                        style::path(root, &chart, &[(end, y - 0.18), (end, y + 0.18)], &l.color, 2, None)?;
+                        style::path(
+                            root,
+                            &chart,
+                            &[(end, y - 0.18), (end, y + 0.18)],
+                            &l.color,
+                            2,
+                            None,
+                        )?;
                     }
                 }
                 marks.extend(style::marks_of(&chart, &[(a, y), (b, y)]));
@@ -471,7 +486,11 @@ fn draw_intervals<DB: DrawingBackend>(
         }
         // The method's name just above its row, at the window's left.
         let at_px = style::px(&chart, (shown_win.x0, y + 0.22));
-        let color = if piece.is_some() { l.color } else { style::MUTED };
+        let color = if piece.is_some() {
+            l.color
+        } else {
+            style::MUTED
+        };
         style::text(
             root,
             &name,
@@ -481,7 +500,14 @@ fn draw_intervals<DB: DrawingBackend>(
         )?;
     }
     if let Some(x) = truth {
-        style::path(root, &chart, &[(x, -0.5), (x, rows - 0.5)], &TRUTH, 1, Some(style::DASH))?;
+        style::path(
+            root,
+            &chart,
+            &[(x, -0.5), (x, rows - 0.5)],
+            &TRUTH,
+            1,
+            Some(style::DASH),
+        )?;
         for i in 0..shown.len() {
             marks.push(style::px(&chart, (x, i as f64)));
         }

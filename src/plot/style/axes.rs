@@ -524,11 +524,8 @@ fn chart_with<'a, DB: DrawingBackend>(
         .light_line_style(GRID_LIGHT)
         .bold_line_style(GRID)
         .axis_style(MUTED);
-    if log_y {
-        mesh.y_label_formatter(&no_label)
-            .disable_y_mesh()
-            .set_tick_mark_size(LabelAreaPosition::Left, 0);
-    } else if y_axis == YAxis::Rows {
+    if log_y || y_axis == YAxis::Rows {
+        // Log values get the decades' labels below; rows are named by the caller.
         mesh.y_label_formatter(&no_label)
             .disable_y_mesh()
             .set_tick_mark_size(LabelAreaPosition::Left, 0);
