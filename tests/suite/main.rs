@@ -58,6 +58,7 @@ mod fuzz;
 mod gallery;
 mod generator;
 mod glls;
+mod honest;
 mod limits_io;
 mod lscr;
 mod merge_checks;
