@@ -248,12 +248,7 @@ impl Scenario {
     pub fn prepare_conformal(&self) -> Result<ConformalPrepared> {
         let spec = self.conformal.clone().unwrap_or_default();
         let level = self.alpha;
-        if !(level > 0.0 && level < 1.0) {
-            return Err(Error::field(
-                "alpha",
-                format!("must lie strictly between 0 and 1, found {level}"),
-            ));
-        }
+        crate::stats::check_level("alpha", level)?;
         let n0 = min_calibration(level);
         if spec.calibration < n0 || spec.calibration > MAX_CALIBRATION {
             return Err(Error::field(
@@ -299,8 +294,8 @@ impl Scenario {
             return Err(Error::field(
                 source.steps_field(),
                 format!(
-                    "gives {steps} steps: ACI's quantile of the past needs at least {} at level {level} (a finite quantile of the first {n0} normalized innovations)",
-                    n0 + 1
+                    "gives {steps_steps}: ACI's quantile of the past needs at least {} at level {level} (a finite quantile of the first {n0} normalized innovations)",
+                    n0 + 1, steps_steps = crate::error::counted(steps, "step", "steps")
                 ),
             ));
         }
@@ -309,7 +304,7 @@ impl Scenario {
             return Err(Error::field(
                 "conformal.window",
                 format!(
-                    "is {window}: the worst-window coverage's window must be from 1 to the record's {steps} steps"
+                    "is {window}: the worst-window coverage's window must be from 1 to the record's {steps_steps}", steps_steps = crate::error::counted(steps, "step", "steps")
                 ),
             ));
         }
@@ -916,8 +911,8 @@ fn work(s: &Scenario, job: Job) -> Work {
         Term::new(
             "conformal.calibration",
             format!(
-                "= {calibration} with {n} states and {} = {steps}",
-                s.steps_field()
+                "= {calibration} with {n_states} and {} = {steps}",
+                s.steps_field(), n_states = crate::error::counted(n, "state", "states")
             ),
             "(N + 2) · steps · (n² + nq + q²): every calibration run simulated and filtered",
             runs * f(steps) * 2.0 * per_step,

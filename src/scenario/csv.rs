@@ -240,11 +240,15 @@ fn header_columns(cells: &[&str], line: usize, q: usize, r: usize) -> Result<Vec
             Some(('y', i)) if i <= q => Column::Y(i - 1),
             Some(('u', i)) if i <= r => Column::U(i - 1),
             Some((kind, i)) => {
-                let (what, k) = if kind == 'y' { ("outputs", q) } else { ("inputs", r) };
-                let has = if k == 0 {
-                    format!("no {what}")
+                let (one, many, k) = if kind == 'y' {
+                    ("output", "outputs", q)
                 } else {
-                    format!("{k} {what} ({})", names(kind, k))
+                    ("input", "inputs", r)
+                };
+                let has = if k == 0 {
+                    format!("no {many}")
+                } else {
+                    format!("{} ({})", crate::error::counted(k, one, many), names(kind, k))
                 };
                 return Err(err(format!(
                     "{at}: {} names {kind}{i}, but the model has {has}",
@@ -275,9 +279,9 @@ fn header_columns(cells: &[&str], line: usize, q: usize, r: usize) -> Result<Vec
             .find(|&i| !columns.contains(&Column::U(i)))
             .unwrap_or(0);
         return Err(err(format!(
-            "header (row {line}) has {given} of the r = {r} inputs but no column u{}: give every input ({}) or none",
+            "header (row {line}) has {given} of the r = {r_inputs} but no column u{}: give every input ({}) or none",
             missing + 1,
-            names('u', r)
+            names('u', r), r_inputs = crate::error::counted(r, "input", "inputs")
         )));
     }
     Ok(columns)
@@ -400,7 +404,7 @@ fn parse(text: &str, q: usize, r: usize, limits: Limits) -> Result<DataSpec> {
     if rows > limits.rows {
         return Err(Error::field(
             "data",
-            format!("has {rows} rows, at most {}", limits.rows),
+            format!("has {rows_rows}, at most {}", limits.rows, rows_rows = crate::error::counted(rows, "row", "rows")),
         ));
     }
     if rows == 0 {

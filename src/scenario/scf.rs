@@ -133,12 +133,7 @@ impl Scenario {
                 ),
             ));
         }
-        if !(self.alpha > 0.0 && self.alpha < 1.0) {
-            return Err(Error::field(
-                "alpha",
-                format!("must lie strictly between 0 and 1, found {}", self.alpha),
-            ));
-        }
+        crate::stats::check_level("alpha", self.alpha)?;
         let model = LinearModel::from_spec(&self.model)?;
         let n = model.n();
         let source = self.source(&Scf { kalman_only: false })?;
@@ -181,7 +176,7 @@ impl Scenario {
         if y.len() < n {
             return Err(Error::field(
                 source.steps_field(),
-                format!("gives {} measurements: at least n = {n} are needed before an SCF region exists", y.len()),
+                format!("gives {}: at least n = {n} are needed before an SCF region exists", crate::error::counted(y.len(), "measurement", "measurements")),
             ));
         }
         if let Some(t) = self.time {
@@ -414,18 +409,61 @@ impl ScfPrepared {
     /// The conditional Monte Carlo of a scenario with `simulate.condition` and `experiment`
     /// (SCF Section II-B), not yet run.
     pub fn conditional_experiment(&self) -> Result<ConditionalExperiment> {
+        self.conditional_experiment_with(None)
+    }
+
+    /// The conditional experiment with `runs` runs. Without an `experiment` block, `runs`
+    /// given (the CLI's `--runs`, [`Scenario::study`]) stands for the block with seed 0 and
+    /// every state component, and the conditioning state is `simulate.condition`'s when there
+    /// is one, else x_T = m_T, the prior mean at the record's last step T (the state the
+    /// conditional coverage of the SCF paper's Fig. 1 is typical at).
+    fn conditional_experiment_with(&self, runs: Option<usize>) -> Result<ConditionalExperiment> {
         let s = &self.scenario;
-        let e = s
-            .experiment
-            .as_ref()
-            .ok_or_else(|| Error::field("experiment", "is missing (runs, seed, components)"))?;
-        let cond = s.condition("the experiment draws realizations conditioned on a state")?;
+        let n = self.model.n();
+        let (e, defaulted) = match (&s.experiment, runs) {
+            (Some(e), runs) => (
+                ExperimentSpec {
+                    runs: runs.unwrap_or(e.runs),
+                    ..e.clone()
+                },
+                false,
+            ),
+            (None, Some(runs)) => (
+                ExperimentSpec {
+                    runs,
+                    seed: 0,
+                    components: (0..n).collect(),
+                    warning_t: None,
+                    rng: Default::default(),
+                },
+                true,
+            ),
+            (None, None) => {
+                return Err(Error::field(
+                    "experiment",
+                    "is missing: give the block (runs, seed, components), or a number of runs (the command line's --runs), which takes seed 0 and every component",
+                ))
+            }
+        };
+        let given = s.simulate.as_ref().and_then(|sim| sim.condition.as_ref());
+        let (t_c, x_c) = match given {
+            Some(cond) => (cond.t, cond.x.clone()),
+            None if defaulted => {
+                let t = self.y.len();
+                let m = self.model.moments(t, &self.inputs);
+                (t, m.mean[t - 1].iter().copied().collect())
+            }
+            None => {
+                let cond = s.condition("the experiment draws realizations conditioned on a state")?;
+                (cond.t, cond.x.clone())
+            }
+        };
         ConditionalExperiment::new(
             (&self.model, &self.truth),
             &self.inputs,
             &self.options,
-            (cond.t, &cond.x),
-            e,
+            (t_c, &x_c),
+            &e,
             s.scf_options().collision.as_ref(),
         )
     }
@@ -600,7 +638,7 @@ impl ScfPrepared {
                     "(33)",
                     r"\hat x_t = (U_tA_t)^{-1}\,\hat x^{\mathrm{KF}}_t",
                     V::Text("none yet".into()),
-                    format!("U_tA_t is singular at t = {t} (t < n = {n} or too few informative measurements): no SCF region"),
+                    format!("no SCF region: {}", scf::singular_ratio(t, n, Some(&ratio))),
                 ),
             }
         }
@@ -714,12 +752,8 @@ impl MethodScenario for Scf {
         table
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
-        let mut s = s.clone();
-        if let (Some(r), Some(e)) = (runs, s.experiment.as_mut()) {
-            e.runs = r;
-        }
         Ok(Box::new(Chunked::new(
-            s.prepare_scf()?.conditional_experiment()?,
+            s.prepare_scf()?.conditional_experiment_with(runs)?,
         )))
     }
     fn read_moved_keys(
@@ -834,7 +868,7 @@ fn work(s: &Scenario, job: Job) -> Work {
     let steps = s.written_steps();
     let steps_field = s.steps_field();
     let mut w = Work::default();
-    let model = || format!("({n} states, {q} outputs) with {steps_field} = {steps}");
+    let model = || format!("({n_states}, {q_outputs}) with {steps_field} = {steps}", n_states = crate::error::counted(n, "state", "states"), q_outputs = crate::error::counted(q, "output", "outputs"));
     let per_step = OPS_STEP_CUBE * (f(n).powi(3) + f(n * n * q) + f(q).powi(3)) + OPS_STEP;
     w.ops(
         Term::new(
@@ -851,11 +885,12 @@ fn work(s: &Scenario, job: Job) -> Work {
             .simulate
             .as_ref()
             .and_then(|sim| sim.condition.as_ref())
-            .map_or(0, |c| c.t);
+            // Without a condition, a study given only its runs conditions at the last step.
+            .map_or(s.written_steps(), |c| c.t);
         w.ops(
             Term::new(
                 "simulate.condition.t",
-                format!("= {t_c} with {n} states"),
+                format!("= {t_c} with {n_states}", n_states = crate::error::counted(n, "state", "states")),
                 "t_c · (n³ + n²q + q³): the backward representation, then per run t_c filter steps",
                 f(t_c) * per_step,
             )
@@ -870,7 +905,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "scf.tau",
-                format!("= {} with {steps_field} = {steps} and {n} states", o.tau),
+                format!("= {} with {steps_field} = {steps} and {n_states}", o.tau, n_states = crate::error::counted(n, "state", "states")),
                 "steps · τ · n³: a τ-step prediction at every step (target region, collision check)",
                 f(predictions)
                     * f(steps)
@@ -889,7 +924,7 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "scf.coverage_curve.points",
-                format!("= {} with {n} states", c.points),
+                format!("= {} with {n_states}", c.points, n_states = crate::error::counted(n, "state", "states")),
                 "points · draws · n²: a Monte Carlo of the conditional coverage per point (n > 1)",
                 f(c.points) * per_point,
             )
@@ -989,9 +1024,17 @@ impl CompareMember for Scf {
             target.kf.clone()
         } else {
             target.scf.clone().ok_or_else(|| {
+                let ratio = target
+                    .ratio
+                    .as_ref()
+                    .and_then(|rows| linalg::from_rows("report.steps.target.ratio", rows).ok());
                 Error::field(
                     "report.steps.target.scf",
-                    format!("is absent at t = {}: the ratio matrix is still singular (too few measurements)", step.t),
+                    format!(
+                        "is absent at t = {}: {}",
+                        step.t,
+                        crate::scf::singular_ratio(step.t, target.components.len(), ratio.as_ref())
+                    ),
                 )
             })?
         };

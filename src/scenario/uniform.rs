@@ -816,8 +816,8 @@ fn data_trajectory(source: &Source, m: usize, r: usize) -> Result<uniform::Traje
             return Err(Error::field(
                 "data.u",
                 format!(
-                    "has {} rows for {steps} measurements: give one input row per measurement (or one row, held constant)",
-                    u.len()
+                    "has {} rows for {steps_measurements}: give one input row per measurement (or one row, held constant)",
+                    u.len(), steps_measurements = crate::error::counted(steps, "measurement", "measurements")
                 ),
             ))
         }
@@ -1085,8 +1085,8 @@ fn work(s: &Scenario) -> Work {
         Term::new(
             "uniform.window",
             format!(
-                "= {window} with {} = {steps} and n = {n} states, m = {m} outputs",
-                s.steps_field()
+                "= {window} with {} = {steps} and n = {n_states}, m = {m_outputs}",
+                s.steps_field(), n_states = crate::error::counted(n, "state", "states"), m_outputs = crate::error::counted(m, "output", "outputs")
             ),
             "steps · one LP over the window's ∂·n states, of (variables + rows) · variables",
             online,
@@ -1099,8 +1099,8 @@ fn work(s: &Scenario) -> Work {
         Term::new(
             "uniform.directions",
             format!(
-                "= {} with window = {window} and n = {n} states",
-                spec.directions
+                "= {} with window = {window} and n = {n_states}",
+                spec.directions, n_states = crate::error::counted(n, "state", "states")
             ),
             "(2(∂ + 1)·n + directions) LPs at the cursor: the optimal face and the polygon",
             resolves * RESOLVE * state(len),

@@ -305,17 +305,17 @@ fn draw_aci<DB: DrawingBackend>(
         .collect();
     let stacked = root.dim_in_pixel().1 >= 460;
     let mut notes = vec![format!(
-        "ACI (Gibbs & Candès): γ = {}, target miss rate α = {}; over {} steps ACI covers {}, Kalman {}",
+        "ACI (Gibbs & Candès): γ = {}, target miss rate α = {}; over {} ACI covers {}, Kalman {}",
         num(a.gamma, 3),
         num(a.miss, 3),
-        a.steps.len(),
+        crate::error::counted(a.steps.len(), "step", "steps"),
         percent(a.coverage),
         percent(a.kf_coverage)
     )];
     if let (Some(w), Some(k)) = (a.worst, a.kf_worst) {
         notes.push(format!(
-            "worst {} steps: ACI {} (from t = {}), Kalman {} (from t = {})",
-            a.window,
+            "worst {}: ACI {} (from t = {}), Kalman {} (from t = {})",
+            crate::error::counted(a.window, "step", "steps"),
             percent(w.0),
             w.1,
             percent(k.0),

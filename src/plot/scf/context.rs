@@ -50,8 +50,8 @@ impl<'a> Ctx<'a> {
             return Err(Error::field(
                 "plot",
                 format!(
-                    "names component {i}, but the state has {} components (0-based)",
-                    report.n
+                    "names component {i}, but the state has {} (0-based)",
+                    crate::error::counted(report.n, "component", "components")
                 ),
             ));
         }
