@@ -1263,7 +1263,11 @@ impl StateNoise {
         if rows < n {
             return Err(Error::field(
                 "glls.horizon",
-                format!("s = {s}: {rows_measurements} cannot determine n = {n_states}", rows_measurements = crate::error::counted(rows, "measurement", "measurements"), n_states = crate::error::counted(n, "state", "states")),
+                format!(
+                    "s = {s}: {rows_measurements} cannot determine n = {n_states}",
+                    rows_measurements = crate::error::counted(rows, "measurement", "measurements"),
+                    n_states = crate::error::counted(n, "state", "states")
+                ),
             ));
         }
         let l = model

@@ -79,7 +79,11 @@ pub fn vector(field: &str, v: &[f64], len: usize) -> Result<DVector<f64>> {
     if v.len() != len {
         return Err(Error::field(
             field,
-            format!("must have {len_entries}, found {}", v.len(), len_entries = crate::error::counted(len, "entry", "entries")),
+            format!(
+                "must have {len_entries}, found {}",
+                v.len(),
+                len_entries = crate::error::counted(len, "entry", "entries")
+            ),
         ));
     }
     if let Some(j) = v.iter().position(|x| !x.is_finite()) {

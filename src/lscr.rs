@@ -278,7 +278,10 @@ impl Regression {
         if t < n {
             return Err(Error::field(
                 "data.y",
-                format!("gives t = {t_measurements}: LSCR needs t ≥ n = {n}", t_measurements = crate::error::counted(t, "measurement", "measurements")),
+                format!(
+                    "gives t = {t_measurements}: LSCR needs t ≥ n = {n}",
+                    t_measurements = crate::error::counted(t, "measurement", "measurements")
+                ),
             ));
         }
         if let Target::Smooth(i) = target {
@@ -614,7 +617,8 @@ impl Strings {
                     field,
                     format!(
                         "must have t = {t_characters} 0/1, found {}",
-                        s.chars().count(), t_characters = crate::error::counted(t, "character", "characters")
+                        s.chars().count(),
+                        t_characters = crate::error::counted(t, "character", "characters")
                     ),
                 ));
             }

@@ -386,7 +386,10 @@ impl LinearModel {
         if self.m() > 0 && u.is_empty() {
             return Err(Error::field(
                 "u",
-                format!("is missing: model.B has {}", crate::error::counted(self.m(), "column", "columns")),
+                format!(
+                    "is missing: model.B has {}",
+                    crate::error::counted(self.m(), "column", "columns")
+                ),
             ));
         }
         for (k, uk) in u.0.iter().enumerate() {

@@ -230,7 +230,8 @@ impl Family {
                 return Err(bad(&format!(
                     "objective matrix is {}×{} for {n_variables}",
                     p.nrows(),
-                    p.ncols(), n_variables = crate::error::counted(n, "variable", "variables")
+                    p.ncols(),
+                    n_variables = crate::error::counted(n, "variable", "variables")
                 )))
             }
             None => CscMatrix::zeros((n, n)),

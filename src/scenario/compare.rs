@@ -377,7 +377,10 @@ impl Scenario {
             if !(lo..=hi).contains(&v) {
                 return Err(Error::field(
                     field,
-                    format!("must be a number from {lo} to {hi}, found {}", crate::error::shown(v)),
+                    format!(
+                        "must be a number from {lo} to {hi}, found {}",
+                        crate::error::shown(v)
+                    ),
                 ));
             }
         }
@@ -1175,7 +1178,8 @@ impl Runs for CompareStudy {
                                     ""
                                 } else {
                                     " (its assumption is violated)"
-                                }, misses_times = crate::error::counted(misses, "time", "times")
+                                },
+                                misses_times = crate::error::counted(misses, "time", "times")
                             )
                         }
                     }

@@ -912,7 +912,8 @@ fn work(s: &Scenario, job: Job) -> Work {
             "conformal.calibration",
             format!(
                 "= {calibration} with {n_states} and {} = {steps}",
-                s.steps_field(), n_states = crate::error::counted(n, "state", "states")
+                s.steps_field(),
+                n_states = crate::error::counted(n, "state", "states")
             ),
             "(N + 2) · steps · (n² + nq + q²): every calibration run simulated and filtered",
             runs * f(steps) * 2.0 * per_step,

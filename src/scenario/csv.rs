@@ -404,7 +404,11 @@ fn parse(text: &str, q: usize, r: usize, limits: Limits) -> Result<DataSpec> {
     if rows > limits.rows {
         return Err(Error::field(
             "data",
-            format!("has {rows_rows}, at most {}", limits.rows, rows_rows = crate::error::counted(rows, "row", "rows")),
+            format!(
+                "has {rows_rows}, at most {}",
+                limits.rows,
+                rows_rows = crate::error::counted(rows, "row", "rows")
+            ),
         ));
     }
     if rows == 0 {

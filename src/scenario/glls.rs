@@ -331,7 +331,10 @@ impl Scenario {
         if !(mu.is_finite() && mu >= 0.0) {
             return Err(Error::field(
                 "glls.mu",
-                format!("must be a finite bound ≥ 0, found {}", crate::error::shown(mu)),
+                format!(
+                    "must be a finite bound ≥ 0, found {}",
+                    crate::error::shown(mu)
+                ),
             ));
         }
         let plane = match spec.plane {
@@ -843,8 +846,11 @@ impl MethodScenario for Glls {
         let p = s.prepare_glls()?;
         let g = p.report()?;
         let mut r = Report::of(s, s.alpha, (g.n, g.m), g.k, g.plane.to_vec(), g.y.clone());
-        r.warnings
-            .extend(assumption_warnings(&p.model, p.spec.estimator, s.model.w.is_some()));
+        r.warnings.extend(assumption_warnings(
+            &p.model,
+            p.spec.estimator,
+            s.model.w.is_some(),
+        ));
         r.glls = Some(g);
         Ok(r)
     }
@@ -954,7 +960,9 @@ fn work(s: &Scenario, job: Job) -> Work {
                 "glls.max_horizon",
                 format!(
                     "= {} with n = {n_states} and m = {m_outputs}",
-                    spec.max_horizon, n_states = crate::error::counted(n, "state", "states"), m_outputs = crate::error::counted(m, "output", "outputs")
+                    spec.max_horizon,
+                    n_states = crate::error::counted(n, "state", "states"),
+                    m_outputs = crate::error::counted(m, "output", "outputs")
                 ),
                 "S · n²(n + m): the singular-value curves s = 0..S",
                 passes * one_horizon(f(spec.max_horizon)),
@@ -964,7 +972,12 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 horizon_field,
-                format!("(s = {horizon}) with n = {n_states}, m = {m_outputs}, r = {r_inputs}", n_states = crate::error::counted(n, "state", "states"), m_outputs = crate::error::counted(m, "output", "outputs"), r_inputs = crate::error::counted(r, "input", "inputs")),
+                format!(
+                    "(s = {horizon}) with n = {n_states}, m = {m_outputs}, r = {r_inputs}",
+                    n_states = crate::error::counted(n, "state", "states"),
+                    m_outputs = crate::error::counted(m, "output", "outputs"),
+                    r_inputs = crate::error::counted(r, "input", "inputs")
+                ),
                 "s · n²(n + m) + m·r·s²: Γ_{s+1}, its SVD and Φ_{s+1}",
                 passes * one_horizon(f(horizon)),
             )
@@ -973,7 +986,11 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.mem(
             Term::new(
                 horizon_field,
-                format!("(s = {horizon}) with m = {m_outputs}, r = {r_inputs}", m_outputs = crate::error::counted(m, "output", "outputs"), r_inputs = crate::error::counted(r, "input", "inputs")),
+                format!(
+                    "(s = {horizon}) with m = {m_outputs}, r = {r_inputs}",
+                    m_outputs = crate::error::counted(m, "output", "outputs"),
+                    r_inputs = crate::error::counted(r, "input", "inputs")
+                ),
                 "m·r·s² + m·n·s: Φ_{s+1}, Γ_{s+1} and the gains",
                 horizon_bytes(f(horizon)),
             )
@@ -985,7 +1002,11 @@ fn work(s: &Scenario, job: Job) -> Work {
             w.ops(
                 Term::new(
                     horizon_field,
-                    format!("(s = {horizon}) with n = {n_states} and m = {m_outputs}", n_states = crate::error::counted(n, "state", "states"), m_outputs = crate::error::counted(m, "output", "outputs")),
+                    format!(
+                        "(s = {horizon}) with n = {n_states} and m = {m_outputs}",
+                        n_states = crate::error::counted(n, "state", "states"),
+                        m_outputs = crate::error::counted(m, "output", "outputs")
+                    ),
                     "(m(s + 1) + n·s)³: the state-noise estimator and its QP",
                     state_noise(f(horizon)),
                 )
@@ -994,7 +1015,11 @@ fn work(s: &Scenario, job: Job) -> Work {
             w.mem(
                 Term::new(
                     horizon_field,
-                    format!("(s = {horizon}) with n = {n_states} and m = {m_outputs}", n_states = crate::error::counted(n, "state", "states"), m_outputs = crate::error::counted(m, "output", "outputs")),
+                    format!(
+                        "(s = {horizon}) with n = {n_states} and m = {m_outputs}",
+                        n_states = crate::error::counted(n, "state", "states"),
+                        m_outputs = crate::error::counted(m, "output", "outputs")
+                    ),
                     "(m(s + 1) + n·s)²: the state-noise estimator's matrices",
                     state_noise_bytes(f(horizon)),
                 )
@@ -1005,7 +1030,11 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.mem(
             Term::new(
                 steps_field,
-                format!("= {steps} with n = {n_states}, S = {}", spec.max_horizon, n_states = crate::error::counted(n, "state", "states")),
+                format!(
+                    "= {steps} with n = {n_states}, S = {}",
+                    spec.max_horizon,
+                    n_states = crate::error::counted(n, "state", "states")
+                ),
                 "steps · (n + m) + S · n: the trajectory and the curves in the report",
                 numbers * BYTES_NUMBER,
             )

@@ -373,7 +373,10 @@ impl Scenario {
         if t < n {
             return Err(Error::field(
                 source.steps_field(),
-                format!("gives t = {t_measurements}: LSCR needs t ≥ n = {n}", t_measurements = crate::error::counted(t, "measurement", "measurements")),
+                format!(
+                    "gives t = {t_measurements}: LSCR needs t ≥ n = {n}",
+                    t_measurements = crate::error::counted(t, "measurement", "measurements")
+                ),
             ));
         }
         let options = spec.options(n, t)?;
@@ -395,12 +398,10 @@ impl Scenario {
         let plot = match &self.plot {
             // A scalar state: one axis, the region a union of intervals on it.
             None if n == 1 => [0, 0],
-            Some(_) if n == 1 => {
-                return Err(Error::field(
-                    "plot",
-                    "must be absent for a scalar state (n = 1): its region is drawn on the one axis x",
-                ))
-            }
+            Some(_) if n == 1 => return Err(Error::field(
+                "plot",
+                "must be absent for a scalar state (n = 1): its region is drawn on the one axis x",
+            )),
             None => [0, 1],
             Some(p) if p.len() == 2 && p[0] < n && p[1] < n && p[0] != p[1] => [p[0], p[1]],
             Some(_) => {
@@ -852,7 +853,11 @@ impl LscrPrepared {
                 let pad = |open: bool| if open { 0.35 * span } else { 0.08 * span };
                 let lo = lo - pad(recession.contains(&[-1.0, 0.0]));
                 let hi = hi + pad(recession.contains(&[1.0, 0.0]));
-                let (lo, hi) = if hi - lo > 0.0 { (lo, hi) } else { (lo - 1.0, hi + 1.0) };
+                let (lo, hi) = if hi - lo > 0.0 {
+                    (lo, hi)
+                } else {
+                    (lo - 1.0, hi + 1.0)
+                };
                 BoxSet {
                     lo: vec![lo],
                     hi: vec![hi],
@@ -946,7 +951,10 @@ fn explain_lscr(
                 if n == 1 {
                     format!("has {} components: the state is scalar, give one", p.len())
                 } else {
-                    format!("has {}: give n = {n} or the plane's 2", crate::error::counted(p.len(), "component", "components"))
+                    format!(
+                        "has {}: give n = {n} or the plane's 2",
+                        crate::error::counted(p.len(), "component", "components")
+                    )
                 },
             ))
         }
@@ -1186,7 +1194,9 @@ impl MethodScenario for Lscr {
         Ok(r)
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
-        Ok(Box::new(Chunked::new(LscrStudy(s.lscr_experiment_with(runs)?))))
+        Ok(Box::new(Chunked::new(LscrStudy(
+            s.lscr_experiment_with(runs)?,
+        ))))
     }
     fn compare_member(&self) -> Option<&dyn CompareMember> {
         Some(self)
@@ -1276,7 +1286,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.ops(
         Term::new(
             steps_field,
-            format!("= {t_measurements}", t_measurements = crate::error::counted(t, "measurement", "measurements")),
+            format!(
+                "= {t_measurements}",
+                t_measurements = crate::error::counted(t, "measurement", "measurements")
+            ),
             "t³: the Karhunen–Loève basis of the data's covariance",
             OPS_T3 * f(t).powi(3),
         )
@@ -1285,13 +1298,22 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.mem(
         Term::new(
             steps_field,
-            format!("= {t_measurements}", t_measurements = crate::error::counted(t, "measurement", "measurements")),
+            format!(
+                "= {t_measurements}",
+                t_measurements = crate::error::counted(t, "measurement", "measurements")
+            ),
             "t²: the covariance, its eigenvectors and the regressors",
             BYTES_T2 * f(t).powi(2),
         )
         .advice("fewer measurements"),
     );
-    let strings = || format!("= {m} with t = {t_measurements} and n = {n_states}", t_measurements = crate::error::counted(t, "measurement", "measurements"), n_states = crate::error::counted(n, "state", "states"));
+    let strings = || {
+        format!(
+            "= {m} with t = {t_measurements} and n = {n_states}",
+            t_measurements = crate::error::counted(t, "measurement", "measurements"),
+            n_states = crate::error::counted(n, "state", "states")
+        )
+    };
     w.mem(
         Term::new(
             m_field,
@@ -1339,7 +1361,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.ops(
         Term::new(
             m_field,
-            format!("= {m} with n = {n_states} ({lines} lines)", n_states = crate::error::counted(n, "state", "states")),
+            format!(
+                "= {m} with n = {n_states} ({lines} lines)",
+                n_states = crate::error::counted(n, "state", "states")
+            ),
             "(n · M)² · log₂(n · M): the boundary sweeps every line against all others",
             OPS_PAIR * lines * lines * lines.max(2.0).log2(),
         )
@@ -1349,7 +1374,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.mem(
         Term::new(
             m_field,
-            format!("= {m} with n = {n_states}", n_states = crate::error::counted(n, "state", "states")),
+            format!(
+                "= {m} with n = {n_states}",
+                n_states = crate::error::counted(n, "state", "states")
+            ),
             "M · n · (n + 1): the region's functions in the report",
             numbers * BYTES_NUMBER,
         )
@@ -1379,7 +1407,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.ops(
         Term::new(
             "lscr.probes",
-            format!("({}) with {lines} lines", crate::error::counted(spec.probes.len(), "point", "points")),
+            format!(
+                "({}) with {lines} lines",
+                crate::error::counted(spec.probes.len(), "point", "points")
+            ),
             "probes · lines · n: the membership of every probe",
             f(spec.probes.len()) * lines * f(n),
         )
@@ -1390,7 +1421,11 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.mem(
         Term::new(
             "lscr.probes",
-            format!("({}) with n = {n_states}", crate::error::counted(spec.probes.len(), "point", "points"), n_states = crate::error::counted(n, "state", "states")),
+            format!(
+                "({}) with n = {n_states}",
+                crate::error::counted(spec.probes.len(), "point", "points"),
+                n_states = crate::error::counted(n, "state", "states")
+            ),
             "probes · (2n + 2): each probe's point and memberships in the report",
             f(spec.probes.len()) * f(2 * n + 2) * BYTES_NUMBER,
         )

@@ -700,7 +700,10 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
     if let Some((field, len, limit)) = overlong_list(v) {
         return Err(Error::field(
             field,
-            format!("has {len_entries}: at most {limit} are taken", len_entries = crate::error::counted(len, "entry", "entries")),
+            format!(
+                "has {len_entries}: at most {limit} are taken",
+                len_entries = crate::error::counted(len, "entry", "entries")
+            ),
         ));
     }
     if let Some((field, rows, cols)) = oversized_model_matrix(v) {

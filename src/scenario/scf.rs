@@ -176,7 +176,10 @@ impl Scenario {
         if y.len() < n {
             return Err(Error::field(
                 source.steps_field(),
-                format!("gives {}: at least n = {n} are needed before an SCF region exists", crate::error::counted(y.len(), "measurement", "measurements")),
+                format!(
+                    "gives {}: at least n = {n} are needed before an SCF region exists",
+                    crate::error::counted(y.len(), "measurement", "measurements")
+                ),
             ));
         }
         if let Some(t) = self.time {
@@ -454,7 +457,8 @@ impl ScfPrepared {
                 (t, m.mean[t - 1].iter().copied().collect())
             }
             None => {
-                let cond = s.condition("the experiment draws realizations conditioned on a state")?;
+                let cond =
+                    s.condition("the experiment draws realizations conditioned on a state")?;
                 (cond.t, cond.x.clone())
             }
         };
@@ -868,7 +872,13 @@ fn work(s: &Scenario, job: Job) -> Work {
     let steps = s.written_steps();
     let steps_field = s.steps_field();
     let mut w = Work::default();
-    let model = || format!("({n_states}, {q_outputs}) with {steps_field} = {steps}", n_states = crate::error::counted(n, "state", "states"), q_outputs = crate::error::counted(q, "output", "outputs"));
+    let model = || {
+        format!(
+            "({n_states}, {q_outputs}) with {steps_field} = {steps}",
+            n_states = crate::error::counted(n, "state", "states"),
+            q_outputs = crate::error::counted(q, "output", "outputs")
+        )
+    };
     let per_step = OPS_STEP_CUBE * (f(n).powi(3) + f(n * n * q) + f(q).powi(3)) + OPS_STEP;
     w.ops(
         Term::new(
@@ -890,7 +900,10 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "simulate.condition.t",
-                format!("= {t_c} with {n_states}", n_states = crate::error::counted(n, "state", "states")),
+                format!(
+                    "= {t_c} with {n_states}",
+                    n_states = crate::error::counted(n, "state", "states")
+                ),
                 "t_c · (n³ + n²q + q³): the backward representation, then per run t_c filter steps",
                 f(t_c) * per_step,
             )
@@ -924,7 +937,11 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 "scf.coverage_curve.points",
-                format!("= {} with {n_states}", c.points, n_states = crate::error::counted(n, "state", "states")),
+                format!(
+                    "= {} with {n_states}",
+                    c.points,
+                    n_states = crate::error::counted(n, "state", "states")
+                ),
                 "points · draws · n²: a Monte Carlo of the conditional coverage per point (n > 1)",
                 f(c.points) * per_point,
             )

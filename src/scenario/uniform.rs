@@ -1086,7 +1086,9 @@ fn work(s: &Scenario) -> Work {
             "uniform.window",
             format!(
                 "= {window} with {} = {steps} and n = {n_states}, m = {m_outputs}",
-                s.steps_field(), n_states = crate::error::counted(n, "state", "states"), m_outputs = crate::error::counted(m, "output", "outputs")
+                s.steps_field(),
+                n_states = crate::error::counted(n, "state", "states"),
+                m_outputs = crate::error::counted(m, "output", "outputs")
             ),
             "steps · one LP over the window's ∂·n states, of (variables + rows) · variables",
             online,
@@ -1100,7 +1102,8 @@ fn work(s: &Scenario) -> Work {
             "uniform.directions",
             format!(
                 "= {} with window = {window} and n = {n_states}",
-                spec.directions, n_states = crate::error::counted(n, "state", "states")
+                spec.directions,
+                n_states = crate::error::counted(n, "state", "states")
             ),
             "(2(∂ + 1)·n + directions) LPs at the cursor: the optimal face and the polygon",
             resolves * RESOLVE * state(len),

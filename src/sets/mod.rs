@@ -165,7 +165,10 @@ impl Ellipsoid {
         if point.len() != n {
             return Err(Error::field(
                 "slice.point",
-                format!("must have {n_entries}", n_entries = crate::error::counted(n, "entry", "entries")),
+                format!(
+                    "must have {n_entries}",
+                    n_entries = crate::error::counted(n, "entry", "entries")
+                ),
             ));
         }
         let rest: Vec<usize> = (0..n).filter(|i| !idx.contains(i)).collect();
@@ -254,7 +257,10 @@ impl Ellipsoid {
             if i >= n {
                 return Err(Error::field(
                     "components",
-                    format!("entry {k} is {i}, but the state has {n_components} (0-based)", n_components = crate::error::counted(n, "component", "components")),
+                    format!(
+                        "entry {k} is {i}, but the state has {n_components} (0-based)",
+                        n_components = crate::error::counted(n, "component", "components")
+                    ),
                 ));
             }
             if idx[..k].contains(&i) {

@@ -756,7 +756,10 @@ impl SignRegion {
         if self.dim != 1 {
             return Err(Error::field(
                 "region",
-                format!("is {}-dimensional: its intervals are for a scalar state", self.dim),
+                format!(
+                    "is {}-dimensional: its intervals are for a scalar state",
+                    self.dim
+                ),
             ));
         }
         let ng = self.groups.len();

@@ -65,9 +65,15 @@ fn uniform_default_bound_follows_the_record() {
         10.0 * largest
     );
     let (err, mean_y) = prediction_error(&r);
-    assert!(mean_y > 700.0 && mean_y < 1100.0, "the record's mean {mean_y}");
+    assert!(
+        mean_y > 700.0 && mean_y < 1100.0,
+        "the record's mean {mean_y}"
+    );
     // Uniform noise of half-width 150 has mean |e| = 75; the level walks by ±20 per step.
-    assert!(err < 200.0, "ŷ does not track the data: mean |ŷ − y| = {err}");
+    assert!(
+        err < 200.0,
+        "ŷ does not track the data: mean |ŷ − y| = {err}"
+    );
     assert!(
         r.warnings.is_empty(),
         "no estimate is on the derived bound, yet: {:?}",
@@ -76,7 +82,10 @@ fn uniform_default_bound_follows_the_record() {
 
     let small = run_json(&nile_uniform(Some(5.0))).expect("an explicit small bound runs");
     let (err_small, _) = prediction_error(&small);
-    assert!(err_small > 500.0, "the clamped states still predict within {err_small}");
+    assert!(
+        err_small > 500.0,
+        "the clamped states still predict within {err_small}"
+    );
     let w = small
         .warnings
         .iter()
@@ -87,7 +96,10 @@ fn uniform_default_bound_follows_the_record() {
     assert!(w.contains("raise uniform.x_bound"), "{w}");
     // Its CSV table carries the warning above the header.
     let table = small.table().expect("a table").to_csv();
-    assert!(table.contains("# warning: x₁ sits on uniform.x_bound = 5"), "{table}");
+    assert!(
+        table.contains("# warning: x₁ sits on uniform.x_bound = 5"),
+        "{table}"
+    );
 }
 in_browser!(uniform_default_bound_follows_the_record);
 
@@ -167,9 +179,17 @@ fn sign_region_intervals_match_membership() {
         // Some repeated roots and some constant functions, as the KL transform gives.
         let (c, d): (Vec<f64>, Vec<Vec<f64>>) = (0..count)
             .map(|k| {
-                let d: f64 = if k % 9 == 4 { 0.0 } else { rng.random::<f64>() * 4.0 - 2.0 };
+                let d: f64 = if k % 9 == 4 {
+                    0.0
+                } else {
+                    rng.random::<f64>() * 4.0 - 2.0
+                };
                 let root = (rng.random::<f64>() * 10.0 - 5.0).round() / 2.0;
-                let c = if d == 0.0 { rng.random::<f64>() - 0.5 } else { root * d };
+                let c = if d == 0.0 {
+                    rng.random::<f64>() - 0.5
+                } else {
+                    root * d
+                };
                 (c, vec![d])
             })
             .unzip();
@@ -179,10 +199,12 @@ fn sign_region_intervals_match_membership() {
             groups: vec![AffineGroup { c, d }],
         };
         let pieces = region.intervals_1d().expect("1-D");
-        let inside = |x: f64| pieces.iter().any(|i| {
-            let (lo, hi) = i.ends();
-            lo < x && x < hi
-        });
+        let inside = |x: f64| {
+            pieces.iter().any(|i| {
+                let (lo, hi) = i.ends();
+                lo < x && x < hi
+            })
+        };
         let mut probes: Vec<f64> = vec![-1e6, 1e6];
         for w in pieces.windows(2) {
             let (_, a) = w[0].ends();
@@ -238,14 +260,24 @@ fn lscr_scalar_state_gives_intervals_and_draws_them() {
     assert!(l.region.contains(&[blue]));
     for i in &l.intervals {
         let (lo, hi) = i.ends();
-        assert!(lo.is_finite() && hi.is_finite(), "a stationary AR(1): bounded {i:?}");
+        assert!(
+            lo.is_finite() && hi.is_finite(),
+            "a stationary AR(1): bounded {i:?}"
+        );
         assert!(l.region.contains(&[0.5 * (lo + hi)]));
         let eps = 1e-9 * (hi - lo).max(1.0);
-        assert!(!l.region.contains(&[lo - eps]) || l.intervals.len() > 1, "{lo}");
+        assert!(
+            !l.region.contains(&[lo - eps]) || l.intervals.len() > 1,
+            "{lo}"
+        );
     }
     assert!(l.bounded);
     let length: f64 = l.intervals.iter().map(|i| i.ends().1 - i.ends().0).sum();
-    assert!((l.area - length).abs() <= 1e-9 * length, "area {} vs length {length}", l.area);
+    assert!(
+        (l.area - length).abs() <= 1e-9 * length,
+        "area {} vs length {length}",
+        l.area
+    );
     let panels = useful_panels(&r);
     assert!(!panels.is_empty());
     let svg = report_svg(&r, &View::new(panels[0]), 960, 640).expect("the region panel draws");
@@ -341,7 +373,12 @@ fn a_singular_covariance_states_its_rule() {
     }
     s["model"]["W"] = json!([[1.0, 0.0], [0.0, -2.0]]);
     let e = run_json(&s).err().expect("a negative eigenvalue");
-    assert!(e.message.contains("its smallest eigenvalue is -2.000e0, negative"), "{}", e.message);
+    assert!(
+        e.message
+            .contains("its smallest eigenvalue is -2.000e0, negative"),
+        "{}",
+        e.message
+    );
 }
 in_browser!(a_singular_covariance_states_its_rule);
 
@@ -366,7 +403,10 @@ in_browser!(a_count_of_one_is_singular);
 #[test]
 fn scf_singular_ratio_states_the_rule() {
     let words = confset::scf::singular_ratio(100, 2, None);
-    assert!(words.contains("t ≥ n = 2") && words.contains("not observable"), "{words}");
+    assert!(
+        words.contains("t ≥ n = 2") && words.contains("not observable"),
+        "{words}"
+    );
     assert!(!words.contains("too few"), "{words}");
     let early = confset::scf::singular_ratio(1, 2, None);
     assert!(early.contains("t = 1 is before t = n = 2"), "{early}");
@@ -387,8 +427,17 @@ fn lscr_unstable_model_message_reads_as_a_sentence() {
         .err()
         .expect("a random walk is refused");
     assert_eq!(e.field, "model.F");
-    assert!(e.message.starts_with("must be stable (every eigenvalue inside the unit circle)"), "{}", e.message);
-    assert!(e.message.contains("spectral radius is 1.000000"), "{}", e.message);
+    assert!(
+        e.message
+            .starts_with("must be stable (every eigenvalue inside the unit circle)"),
+        "{}",
+        e.message
+    );
+    assert!(
+        e.message.contains("spectral radius is 1.000000"),
+        "{}",
+        e.message
+    );
     assert!(!e.message.contains(" — is needed"), "{}", e.message);
 }
 in_browser!(lscr_unstable_model_message_reads_as_a_sentence);
@@ -408,7 +457,10 @@ fn a_tiny_alpha_is_refused_with_the_range() {
         assert!(e.message.contains("1.000e-100"), "{method}: {e}");
         assert!(e.message.contains("from 1e-6 to 1 − 1e-9"), "{method}: {e}");
         assert!(!e.message.contains("0.00000000"), "{method}: {e}");
-        assert!(!e.message.contains("could not be computed"), "{method}: {e}");
+        assert!(
+            !e.message.contains("could not be computed"),
+            "{method}: {e}"
+        );
     }
     let e = confset::stats::chi2_quantile(1e-100, 2).unwrap_err();
     assert!(e.message.contains("1.000e-100"), "{e}");

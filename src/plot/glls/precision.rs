@@ -160,7 +160,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
     // Texts.
     let short = fonts.compact;
     let runs = if p.runs < p.total {
-        format!("{} of {} so far", p.runs, crate::error::counted(p.total, "run", "runs"))
+        format!(
+            "{} of {} so far",
+            p.runs,
+            crate::error::counted(p.total, "run", "runs")
+        )
     } else {
         crate::error::counted(p.runs, "run", "runs")
     };

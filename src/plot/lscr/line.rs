@@ -113,10 +113,16 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     notes.push(match pieces {
         0 => "X̂ is empty".to_string(),
         1 => "n = 1: X̂ is an interval of the line".to_string(),
-        k => format!("n = 1: X̂ is a union of {k_intervals}", k_intervals = crate::error::counted(k, "interval", "intervals")),
+        k => format!(
+            "n = 1: X̂ is a union of {k_intervals}",
+            k_intervals = crate::error::counted(k, "interval", "intervals")
+        ),
     });
     if let Some(inside) = l.truth_inside {
-        notes.push(format!("true {xt} in X̂: {}", if inside { "yes" } else { "no" }));
+        notes.push(format!(
+            "true {xt} in X̂: {}",
+            if inside { "yes" } else { "no" }
+        ));
     }
     if l.blue.is_none() {
         if let Some(why) = &l.blue_note {
