@@ -365,7 +365,7 @@ impl Horizon {
                 .count();
             return Err(Error::field(
                 "glls.horizon",
-                format!("s = {s}: Γ_{{s+1}} has rank {rank} < n = {n}: x(k−s) is not observable from {} measurements (lengthen the horizon, or check that (A, C) is observable)", s + 1),
+                format!("s = {s}: Γ_{{s+1}} has rank {rank} < n = {n}: x(k−s) is not observable from {} (lengthen the horizon, or check that (A, C) is observable)", crate::error::counted(s + 1, "measurement", "measurements")),
             ));
         }
         let (gain_past, kappa_past) = svd_gain(&p1, &sigma, &r, &omega_inv, n)?;
@@ -1263,7 +1263,11 @@ impl StateNoise {
         if rows < n {
             return Err(Error::field(
                 "glls.horizon",
-                format!("s = {s}: {rows} measurements cannot determine n = {n} states"),
+                format!(
+                    "s = {s}: {rows_measurements} cannot determine n = {n_states}",
+                    rows_measurements = crate::error::counted(rows, "measurement", "measurements"),
+                    n_states = crate::error::counted(n, "state", "states")
+                ),
             ));
         }
         let l = model

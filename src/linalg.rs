@@ -79,7 +79,11 @@ pub fn vector(field: &str, v: &[f64], len: usize) -> Result<DVector<f64>> {
     if v.len() != len {
         return Err(Error::field(
             field,
-            format!("must have {len} entries, found {}", v.len()),
+            format!(
+                "must have {len_entries}, found {}",
+                v.len(),
+                len_entries = crate::error::counted(len, "entry", "entries")
+            ),
         ));
     }
     if let Some(j) = v.iter().position(|x| !x.is_finite()) {
@@ -153,12 +157,19 @@ pub fn check_covariance(field: &str, m: &DMatrix<f64>, definite: bool) -> Result
             format!("must be square, found {}×{}", m.nrows(), m.ncols()),
         ));
     }
+    // Every tolerance is relative to the largest entry s: rounding of a computed covariance
+    // is of that size, and a definite matrix whose smallest eigenvalue is below 10⁻⁹·s is
+    // singular to the precision the methods invert it with.
     let s = scale(m);
-    let asym = (m - m.transpose()).amax();
+    let diff = m - m.transpose();
+    let asym = diff.amax();
     if asym > SYM_TOL * s {
+        let (i, j) = diff.iamax_full();
         return Err(Error::field(
             field,
-            format!("must be symmetric {kind} (largest asymmetry {asym:.3e})"),
+            format!(
+                "must be symmetric {kind}: {field}[{i}][{j}] and {field}[{j}][{i}] differ by {asym:.3e} (the largest asymmetry), more than 1e-9 × its largest entry ({s:.3e})"
+            ),
         ));
     }
     let lmin = min_eigenvalue(m);
@@ -168,15 +179,25 @@ pub fn check_covariance(field: &str, m: &DMatrix<f64>, definite: bool) -> Result
             "must be a finite symmetric matrix (an entry is not a finite number)",
         ));
     }
-    let bad = if definite {
-        lmin <= SYM_TOL * s
-    } else {
-        lmin < -SYM_TOL * s
-    };
-    if bad {
+    let floor = SYM_TOL * s;
+    if definite && lmin <= floor {
         return Err(Error::field(
             field,
-            format!("must be symmetric {kind} (smallest eigenvalue {lmin:.3e})"),
+            if lmin < -floor {
+                format!("must be symmetric positive definite: its smallest eigenvalue is {lmin:.3e}, negative")
+            } else {
+                format!(
+                    "must be symmetric positive definite: its smallest eigenvalue {lmin:.2e} is not above 1e-9 × its largest entry ({s:.2e}), so it is numerically singular; give it a smallest eigenvalue above {floor:.2e}"
+                )
+            },
+        ));
+    }
+    if !definite && lmin < -floor {
+        return Err(Error::field(
+            field,
+            format!(
+                "must be symmetric positive semidefinite: its smallest eigenvalue is {lmin:.3e}, below the rounding allowed, −1e-9 × its largest entry ({s:.3e})"
+            ),
         ));
     }
     Ok(())

@@ -121,16 +121,30 @@ impl LscrModel {
             ModelSpec::constant(field, m, Method::Lscr)?;
         }
         let linear = LinearModel::from_spec(spec).map_err(|e| {
-            if e.field == "model.x1_cov" {
-                Error::field(
+            // The model layer's complaint is about the prior of x_1 (its default is the
+            // stationary law); LSCR has no prior to give: the stationarity itself is what it
+            // assumes, so the message is about F.
+            if e.field != "model.x1_cov" {
+                return e;
+            }
+            let rho = ModelSpec::constant("model.F", &spec.f, Method::Lscr)
+                .ok()
+                .flatten()
+                .map(|f| linalg::spectral_radius(&f));
+            match rho {
+                Some(rho) if !(rho < 1.0 - 1e-9) => Error::field(
                     "model.F",
                     format!(
-                        "must be stable: LSCR needs a stationary x_t (Assumption 2) — {}",
+                        "must be stable (every eigenvalue inside the unit circle): LSCR assumes a stationary x_t (Assumption 2), and F's spectral radius is {rho:.6}, so x_t has no stationary law; a random walk or trend (ρ(F) ≥ 1) needs a method with a prior of x_1, such as kf or scf with model.x1_cov"
+                    ),
+                ),
+                _ => Error::field(
+                    "model.F",
+                    format!(
+                        "must give a stationary x_t, which LSCR assumes (Assumption 2), but its stationary covariance cannot be computed: {}",
                         e.message
                     ),
-                )
-            } else {
-                e
+                ),
             }
         })?;
         let n = linear.n();
@@ -264,7 +278,10 @@ impl Regression {
         if t < n {
             return Err(Error::field(
                 "data.y",
-                format!("gives t = {t} measurements: LSCR needs t ≥ n = {n}"),
+                format!(
+                    "gives t = {t_measurements}: LSCR needs t ≥ n = {n}",
+                    t_measurements = crate::error::counted(t, "measurement", "measurements")
+                ),
             ));
         }
         if let Target::Smooth(i) = target {
@@ -599,8 +616,9 @@ impl Strings {
                 return Err(Error::field(
                     field,
                     format!(
-                        "must have t = {t} characters 0/1, found {}",
-                        s.chars().count()
+                        "must have t = {t_characters} 0/1, found {}",
+                        s.chars().count(),
+                        t_characters = crate::error::counted(t, "character", "characters")
                     ),
                 ));
             }
@@ -666,7 +684,10 @@ pub fn choose_m_q(level: f64, n: usize, construction: Construction) -> Result<(u
     if !(level > 0.0 && level < 1.0) {
         return Err(Error::field(
             "lscr.level",
-            format!("must lie strictly between 0 and 1, found {level}"),
+            format!(
+                "must lie strictly between 0 and 1, found {}",
+                crate::error::shown(level)
+            ),
         ));
     }
     let miss = 1.0 - level;

@@ -265,7 +265,7 @@ impl LinearModel {
                 model.x1_cov = model.stationary_covariance().map_err(|e| {
                     Error::field(
                         "model.x1_cov",
-                        format!("is needed: no stationary prior exists ({e})"),
+                        format!("is needed: no stationary prior exists ({e}), and without model.x1_cov x_1 would start from it; give the covariance of x_1"),
                     )
                 })?;
                 model.stationary_prior = true;
@@ -386,7 +386,10 @@ impl LinearModel {
         if self.m() > 0 && u.is_empty() {
             return Err(Error::field(
                 "u",
-                format!("is missing: model.B has {} columns", self.m()),
+                format!(
+                    "is missing: model.B has {}",
+                    crate::error::counted(self.m(), "column", "columns")
+                ),
             ));
         }
         for (k, uk) in u.0.iter().enumerate() {
@@ -394,8 +397,8 @@ impl LinearModel {
                 return Err(Error::field(
                     format!("u[{k}]"),
                     format!(
-                        "must have {} entries (columns of model.B), found {}",
-                        self.m(),
+                        "must have {} (columns of model.B), found {}",
+                        crate::error::counted(self.m(), "entry", "entries"),
                         uk.len()
                     ),
                 ));

@@ -271,7 +271,10 @@ fn expected_words(e: &str) -> Option<String> {
         _ if e.starts_with("struct ") => "an object".to_string(),
         _ if e.starts_with("tuple struct ") || e.starts_with("tuple of ") => "a list".to_string(),
         _ => match e.strip_prefix("an array of length ") {
-            Some(n) => format!("a list of {n} entries"),
+            Some(n) => format!(
+                "a list of {n} {}",
+                if n == "1" { "entry" } else { "entries" }
+            ),
             None => "a value of another kind".to_string(),
         },
     })
@@ -321,7 +324,10 @@ fn accepted_names<T: DeserializeOwned>(value: &Value, segments: &[Segment]) -> O
 fn accepted_length<T: DeserializeOwned>(value: &Value, segments: &[Segment]) -> Option<String> {
     let message = probe::<T>(value, segments, Value::Array(Vec::new()))?;
     let n = message.strip_prefix("invalid length 0, expected an array of length ")?;
-    Some(format!("a list of {n} entries"))
+    Some(format!(
+        "a list of {n} {}",
+        if n == "1" { "entry" } else { "entries" }
+    ))
 }
 
 /// A hint for a value of the right meaning written the wrong way.

@@ -239,9 +239,10 @@ impl Family {
             Some(p) if p.shape() == (n, n) => csc(&((p + p.transpose()) * 0.5), true),
             Some(p) => {
                 return Err(bad(&format!(
-                    "objective matrix is {}×{} for {n} variables",
+                    "objective matrix is {}×{} for {n_variables}",
                     p.nrows(),
-                    p.ncols()
+                    p.ncols(),
+                    n_variables = crate::error::counted(n, "variable", "variables")
                 )))
             }
             None => CscMatrix::zeros((n, n)),

@@ -35,13 +35,39 @@ pub fn ellipsoid_level(radius2: f64, k: usize) -> Option<f64> {
     (radius2 >= 0.0 && p.is_finite()).then_some(p)
 }
 
-fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
+/// The levels a region is drawn at: from [`LEVEL_MIN`] to [`LEVEL_MAX`]. Below, the χ²
+/// quantile is lost in the lower tail (statrs' inverse returns NaN or 0 there); above, 1 − α
+/// has lost most of its digits to the rounding of α itself.
+pub const LEVEL_MIN: f64 = 1e-6;
+pub const LEVEL_MAX: f64 = 1.0 - 1e-9;
+const LEVEL_WORDS: &str = "a level is a probability strictly between 0 and 1, accepted from 1e-6 to 1 − 1e-9 (0.999999999)";
+
+/// A level α of a region (`alpha`, `lscr.level`, …) in the accepted range, or an error on
+/// `field` saying the range.
+pub fn check_level(field: &str, alpha: f64) -> Result<()> {
     if !(alpha > 0.0 && alpha < 1.0) {
         return Err(Error::field(
-            "alpha",
-            format!("must lie strictly between 0 and 1, found {alpha}"),
+            field,
+            format!(
+                "must lie strictly between 0 and 1, found {} ({LEVEL_WORDS})",
+                crate::error::shown(alpha)
+            ),
         ));
     }
+    if !(LEVEL_MIN..=LEVEL_MAX).contains(&alpha) {
+        return Err(Error::field(
+            field,
+            format!(
+                "= {} is outside the accepted range: {LEVEL_WORDS}, where its χ² quantile is resolved in double precision",
+                crate::error::shown(alpha)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
+    check_level("alpha", alpha)?;
     if k == 0 {
         return Err(Error::field("alpha", "needs at least one dimension"));
     }
@@ -62,7 +88,10 @@ fn chi2_quantile_uncached(alpha: f64, k: usize) -> Result<f64> {
     if !r2.is_finite() || (law.cdf(r2) - alpha).abs() > 1e-8 {
         return Err(Error::field(
             "alpha",
-            format!("χ² quantile for α = {alpha}, k = {k} could not be computed accurately"),
+            format!(
+                "has no χ² quantile (k = {k}) that double precision resolves at α = {}: {LEVEL_WORDS}",
+                crate::error::shown(alpha)
+            ),
         ));
     }
     Ok(r2)

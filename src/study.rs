@@ -206,8 +206,8 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "partial.total",
                 format!(
-                    "{k} is a shard of a study of {} runs, this study has {total}",
-                    p.total
+                    "{k} is a shard of a study of {}, this study has {total}",
+                    crate::error::counted(p.total, "run", "runs")
                 ),
             ));
         }
@@ -248,8 +248,8 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 "partial.counts",
                 format!(
-                    "{k} covers runs {a}..{b} but counts {} runs",
-                    p.counts.runs()
+                    "{k} covers runs {a}..{b} but counts {}",
+                    crate::error::counted(p.counts.runs(), "run", "runs")
                 ),
             ));
         }
@@ -260,7 +260,7 @@ impl<R: Runs> Chunked<R> {
             return Err(Error::field(
                 format!("partial.counts.{field}"),
                 format!(
-                    "{k}'s counts.{field} is {n}, more than the {runs} runs it counts (runs {a}..{b}): a count of runs is a whole number from 0 to its runs"
+                    "{k}'s counts.{field} is {n}, more than the {runs_runs} it counts (runs {a}..{b}): a count of runs is a whole number from 0 to its runs", runs_runs = crate::error::counted(runs, "run", "runs")
                 ),
             ));
         }

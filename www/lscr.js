@@ -172,7 +172,9 @@ function showNumbers({ ui, st }) {
   html += `<p><b>M = ${l.M}</b>, <b>q = ${l.q}</b> · ${constr} · ${l.guaranteed
     ? '<span class="good">guaranteed by Theorem 3.2</span>' : '<span class="warn">not guaranteed (explicit strings)</span>'}</p>`;
   const names = l.plot.map((i) => `x${sub(i + 1)}`).join(', ');
-  if (l.bounded) {
+  if (l.bounded && l.region.dim === 1) {
+    html += `<p>Region <b>bounded</b>: ${l.intervals.length === 1 ? 'one interval' : `${l.intervals.length} intervals`}, length ${fmt(l.area)}</p>`;
+  } else if (l.bounded) {
     html += `<p>Region <b>bounded</b>, area ${fmt(l.area)} (in the ${names} plane)</p>`;
   } else {
     // Opposite recession directions (a band) read as one ± direction.
@@ -208,11 +210,14 @@ function placeTruth(p, e) {
   if (!at) return;
   const l = st.report.lscr;
   // A few significant digits of the window's size; other components (n > 2) keep their values.
-  const span = Math.max(l.window.hi[0] - l.window.lo[0], l.window.hi[1] - l.window.lo[1]);
+  // A scalar state (n = 1) is drawn on one axis: its window is one interval, the click's x.
+  const scalar = l.region.dim === 1;
+  const span = scalar ? l.window.hi[0] - l.window.lo[0]
+    : Math.max(l.window.hi[0] - l.window.lo[0], l.window.hi[1] - l.window.lo[1]);
   const digits = Math.max(0, 3 - Math.floor(Math.log10(span)));
   const x = (l.x_true || l.slice_at || Array(l.region.dim).fill(0)).slice();
   x[l.plot[0]] = at.x;
-  x[l.plot[1]] = at.y;
+  if (!scalar) x[l.plot[1]] = at.y;
   ui.xbar.value = x.map((v) => +v.toFixed(digits)).join(' ');
   ui.fix.checked = true;
   updateVisibility(p);

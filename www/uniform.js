@@ -71,7 +71,8 @@ function load(p, s) {
   ui.prior.value = +(100 * (u.prior_rel ?? 0.3)).toPrecision(6);
   ui.xrmax.value = half(u.xr_max || [1]);
   ui.yrmax.value = half(u.yr_max || [1]);
-  ui.xbound.value = u.x_bound ?? 5;
+  // Empty: the core derives the bound from the record (its report says which).
+  ui.xbound.value = u.x_bound ?? '';
   ui.seed.value = s.simulate?.seed ?? 0;
   ui.steps.value = s.simulate ? s.simulate.steps : s.data.y.length;
   timeRange(p, true);
@@ -134,7 +135,8 @@ function build(p, s) {
   u.prior_rel = parseNumber('uniform.prior_rel', ui.prior.value) / 100;
   u.xr_max = halfWidths('uniform.xr_max', ui.xrmax.value, n);
   u.yr_max = halfWidths('uniform.yr_max', ui.yrmax.value, m);
-  u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
+  if (ui.xbound.value.trim() === '') delete u.x_bound;
+  else u.x_bound = parseNumber('uniform.x_bound', ui.xbound.value);
   // A scalar state has no polygon, hence no plane (the polygon card then says why).
   if (n === 1) delete u.plane;
   if (s.simulate) {

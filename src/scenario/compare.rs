@@ -464,7 +464,10 @@ impl Scenario {
             if !(lo..=hi).contains(&v) {
                 return Err(Error::field(
                     field,
-                    format!("must be a number from {lo} to {hi}, found {v}"),
+                    format!(
+                        "must be a number from {lo} to {hi}, found {}",
+                        crate::error::shown(v)
+                    ),
                 ));
             }
         }
@@ -1547,12 +1550,28 @@ struct CompareStudy {
 
 impl CompareStudy {
     fn new(prepared: ComparePrepared, runs: Option<usize>) -> Result<CompareStudy> {
-        let spec = prepared.spec.study.clone().ok_or_else(|| {
-            Error::field(
-                "compare.study",
-                "is missing: give the true state x (and runs, seed) to count",
-            )
-        })?;
+        // Without a compare.study block, runs given (the CLI's --runs) stand for the block
+        // with seed 0 and the true state at its prior mean m (E x at the target time).
+        let spec = match (prepared.spec.study.clone(), runs) {
+            (Some(spec), _) => spec,
+            (None, Some(runs)) => {
+                let target = prepared.target_time(prepared.time);
+                let m = prepared
+                    .model
+                    .moments(target, &crate::model::Inputs::none());
+                CompareStudySpec {
+                    x: m.mean[target - 1].iter().copied().collect(),
+                    runs,
+                    seed: 0,
+                }
+            }
+            (None, None) => {
+                return Err(Error::field(
+                    "compare.study",
+                    "is missing: give the true state x (and runs, seed) to count, or a number of runs (the command line's --runs), which counts at the prior mean of the target state with seed 0",
+                ))
+            }
+        };
         let x = linalg::vector("compare.study.x", &spec.x, prepared.n())?;
         let total = runs.unwrap_or(spec.runs);
         if !(1..=super::MAX_STUDY_RUNS).contains(&total) {

@@ -292,12 +292,7 @@ impl Scenario {
     pub fn prepare_conformal(&self) -> Result<ConformalPrepared> {
         let spec = self.conformal.clone().unwrap_or_default();
         let level = self.alpha;
-        if !(level > 0.0 && level < 1.0) {
-            return Err(Error::field(
-                "alpha",
-                format!("must lie strictly between 0 and 1, found {level}"),
-            ));
-        }
+        crate::stats::check_level("alpha", level)?;
         let n0 = min_calibration(level);
         if spec.calibration < n0 || spec.calibration > MAX_CALIBRATION {
             return Err(Error::field(
@@ -368,7 +363,7 @@ impl Scenario {
             return Err(Error::field(
                 "conformal.window",
                 format!(
-                    "is {window}: the worst-window coverage's window must be from 1 to the record's {steps} steps"
+                    "is {window}: the worst-window coverage's window must be from 1 to the record's {steps_steps}", steps_steps = crate::error::counted(steps, "step", "steps")
                 ),
             ));
         }

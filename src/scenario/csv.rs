@@ -671,9 +671,9 @@ fn named_columns(
     if given > 0 && given < r {
         let missing = (0..r).find(|&i| !slots.contains(&Slot::U(i))).unwrap_or(0);
         return Err(err(format!(
-            "header (row {line}) has {given} of the r = {r} inputs but no column u{}: give every input ({}) or none",
+            "header (row {line}) has {given} of the r = {r_inputs} but no column u{}: give every input ({}) or none",
             missing + 1,
-            names('u', r)
+            names('u', r), r_inputs = crate::error::counted(r, "input", "inputs")
         )));
     }
     Ok(())
@@ -914,7 +914,11 @@ fn parse(text: &str, q: usize, r: usize, chosen: &[String], limits: Limits) -> R
     if rows > limits.rows {
         return Err(Error::field(
             "data",
-            format!("has {rows} rows, at most {}", limits.rows),
+            format!(
+                "has {rows_rows}, at most {}",
+                limits.rows,
+                rows_rows = crate::error::counted(rows, "row", "rows")
+            ),
         ));
     }
     if rows == 0 {

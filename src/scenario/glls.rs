@@ -280,6 +280,33 @@ fn window(v: &[DVector<f64>], k: usize, s: usize) -> DVector<f64> {
     )
 }
 
+/// What the report must say when the scenario's model is not the one a result assumes:
+/// * the guaranteed ball and box (35) bound the error of the LLS/GLLS estimate through
+///   ‖δ(k, s)‖₂ ≤ √(s+1)·μ for the model (7)–(8), x(k+1) = A·x(k) + B·u(k) with no state
+///   noise; with model.V ≠ 0 (ξ of (54)) the measurements also carry Ψ·ξ (59), which μ does not
+///   bound, so the sets are drawn but guarantee nothing;
+/// * the state-noise estimator (60)–(64) fits the measurements exactly ((61), (64): y = C·x,
+///   (55)), so it has no place for measurement noise: a non-zero model.W = Ω (the identity when
+///   absent) is ignored, and that noise is read as state noise.
+fn assumption_warnings(model: &GllsModel, estimator: GllsEstimator, w_given: bool) -> Vec<String> {
+    let mut out = Vec::new();
+    let nonzero = |m: &DMatrix<f64>| m.iter().any(|&v| v != 0.0);
+    if nonzero(&model.xi) {
+        out.push(format!(
+            "model.V is not zero (state noise ξ of (54), largest variance {:.3e}): the guaranteed ball and box of x(k) (35) assume x(k+1) = A·x(k) + B·u(k) with no state noise, so here they guarantee nothing; the state noise reaches the measurements through Ψ (59), which the bound μ does not cover",
+            model.xi.diagonal().max()
+        ));
+    }
+    if estimator == GllsEstimator::StateNoise && nonzero(&model.omega) {
+        out.push(format!(
+            "the state-noise estimator (60)–(64) takes the measurements as exact (y = C·x, (55)) and ignores model.W{} (measurement noise of largest variance {:.3e}): that noise is read as state noise; give model.W = 0 if the measurements are exact, or use \"lls\" or \"glls\"",
+            if w_given { "" } else { " (the identity when absent)" },
+            model.omega.diagonal().max()
+        ));
+    }
+    out
+}
+
 impl Scenario {
     /// Validate a GLLS scenario and produce its data.
     pub fn prepare_glls(&self) -> Result<GllsPrepared> {
@@ -304,7 +331,10 @@ impl Scenario {
         if !(mu.is_finite() && mu >= 0.0) {
             return Err(Error::field(
                 "glls.mu",
-                format!("must be a finite bound ≥ 0, found {mu}"),
+                format!(
+                    "must be a finite bound ≥ 0, found {}",
+                    crate::error::shown(mu)
+                ),
             ));
         }
         let plane = match spec.plane {
@@ -689,6 +719,22 @@ impl GllsPrepared {
     }
 }
 
+/// The study of a scenario without a glls.monte_carlo block given only its runs (the CLI's
+/// `--runs`): seed 0 and the study of the estimator, Section 5.2's (state noise against LLS)
+/// for "state_noise", else Section 5.1's precision against the horizon.
+fn default_monte_carlo(estimator: GllsEstimator, runs: usize) -> GllsMonteCarloSpec {
+    GllsMonteCarloSpec {
+        runs,
+        seed: 0,
+        study: match estimator {
+            GllsEstimator::StateNoise => GllsStudyKind::StateNoise,
+            _ => GllsStudyKind::Precision,
+        },
+        steps: None,
+        max_horizon: None,
+    }
+}
+
 /// GLLS (Gubarev & Mishchenko): the `glls` block, curves, estimates, guaranteed sets and the
 /// Section 5 Monte Carlo.
 pub(crate) struct Glls;
@@ -797,19 +843,30 @@ impl MethodScenario for Glls {
         table
     }
     fn run(&self, s: &Scenario) -> Result<Report> {
-        let g = s.prepare_glls()?.report()?;
+        let p = s.prepare_glls()?;
+        let g = p.report()?;
         let mut r = Report::of(s, s.alpha, (g.n, g.m), g.k, g.plane.to_vec(), g.y.clone());
+        r.warnings.extend(assumption_warnings(
+            &p.model,
+            p.spec.estimator,
+            s.model.w.is_some(),
+        ));
         r.glls = Some(g);
         Ok(r)
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn crate::study::Study>> {
         let p = s.prepare_glls()?;
-        let mut mc = p.spec.monte_carlo.clone().ok_or_else(|| {
-            Error::field(
-                "glls.monte_carlo",
-                "is missing: the study needs glls.monte_carlo (runs, seed, study)",
-            )
-        })?;
+        // Without a glls.monte_carlo block, runs given stand for the block ([`default_monte_carlo`]).
+        let mut mc = match (p.spec.monte_carlo.clone(), runs) {
+            (Some(mc), _) => mc,
+            (None, Some(runs)) => default_monte_carlo(p.spec.estimator, runs),
+            (None, None) => {
+                return Err(Error::field(
+                    "glls.monte_carlo",
+                    "is missing: the study needs glls.monte_carlo (runs, seed, study), or a number of runs (the command line's --runs), which takes seed 0 and the estimator's study",
+                ))
+            }
+        };
         if let Some(r) = runs {
             mc.runs = r;
         }
@@ -885,7 +942,11 @@ fn work(s: &Scenario, job: Job) -> Work {
     let state_noise = |s: f64| OPS_STATE_NOISE * (f(m) * (s + 1.0) + f(n) * s).powi(3);
     let state_noise_bytes = |s: f64| 8.0 * 3.0 * (f(m) * (s + 1.0) + f(n) * s).powi(2);
     let horizon_bytes = |s: f64| 8.0 * (f(m * r) * s * s + 6.0 * f(m * n) * s);
-    let mc = spec.monte_carlo.as_ref();
+    let defaulted = match (&spec.monte_carlo, job) {
+        (None, Job::Study { runs: Some(r) }) => Some(default_monte_carlo(spec.estimator, r)),
+        _ => None,
+    };
+    let mc = spec.monte_carlo.as_ref().or(defaulted.as_ref());
     // A study prepares the scenario too: a worst-case simulation computes its horizon.
     let worst = spec.noise == GllsNoise::Worst;
     let passes = if job == Job::Report {
@@ -898,8 +959,10 @@ fn work(s: &Scenario, job: Job) -> Work {
             Term::new(
                 "glls.max_horizon",
                 format!(
-                    "= {} with n = {n} states and m = {m} outputs",
-                    spec.max_horizon
+                    "= {} with n = {n_states} and m = {m_outputs}",
+                    spec.max_horizon,
+                    n_states = crate::error::counted(n, "state", "states"),
+                    m_outputs = crate::error::counted(m, "output", "outputs")
                 ),
                 "S · n²(n + m): the singular-value curves s = 0..S",
                 passes * one_horizon(f(spec.max_horizon)),
@@ -909,7 +972,12 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.ops(
             Term::new(
                 horizon_field,
-                format!("(s = {horizon}) with n = {n} states, m = {m} outputs, r = {r} inputs"),
+                format!(
+                    "(s = {horizon}) with n = {n_states}, m = {m_outputs}, r = {r_inputs}",
+                    n_states = crate::error::counted(n, "state", "states"),
+                    m_outputs = crate::error::counted(m, "output", "outputs"),
+                    r_inputs = crate::error::counted(r, "input", "inputs")
+                ),
                 "s · n²(n + m) + m·r·s²: Γ_{s+1}, its SVD and Φ_{s+1}",
                 passes * one_horizon(f(horizon)),
             )
@@ -918,7 +986,11 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.mem(
             Term::new(
                 horizon_field,
-                format!("(s = {horizon}) with m = {m} outputs, r = {r} inputs"),
+                format!(
+                    "(s = {horizon}) with m = {m_outputs}, r = {r_inputs}",
+                    m_outputs = crate::error::counted(m, "output", "outputs"),
+                    r_inputs = crate::error::counted(r, "input", "inputs")
+                ),
                 "m·r·s² + m·n·s: Φ_{s+1}, Γ_{s+1} and the gains",
                 horizon_bytes(f(horizon)),
             )
@@ -930,7 +1002,11 @@ fn work(s: &Scenario, job: Job) -> Work {
             w.ops(
                 Term::new(
                     horizon_field,
-                    format!("(s = {horizon}) with n = {n} states and m = {m} outputs"),
+                    format!(
+                        "(s = {horizon}) with n = {n_states} and m = {m_outputs}",
+                        n_states = crate::error::counted(n, "state", "states"),
+                        m_outputs = crate::error::counted(m, "output", "outputs")
+                    ),
                     "(m(s + 1) + n·s)³: the state-noise estimator and its QP",
                     state_noise(f(horizon)),
                 )
@@ -939,7 +1015,11 @@ fn work(s: &Scenario, job: Job) -> Work {
             w.mem(
                 Term::new(
                     horizon_field,
-                    format!("(s = {horizon}) with n = {n} states and m = {m} outputs"),
+                    format!(
+                        "(s = {horizon}) with n = {n_states} and m = {m_outputs}",
+                        n_states = crate::error::counted(n, "state", "states"),
+                        m_outputs = crate::error::counted(m, "output", "outputs")
+                    ),
                     "(m(s + 1) + n·s)²: the state-noise estimator's matrices",
                     state_noise_bytes(f(horizon)),
                 )
@@ -950,7 +1030,11 @@ fn work(s: &Scenario, job: Job) -> Work {
         w.mem(
             Term::new(
                 steps_field,
-                format!("= {steps} with n = {n} states, S = {}", spec.max_horizon),
+                format!(
+                    "= {steps} with n = {n_states}, S = {}",
+                    spec.max_horizon,
+                    n_states = crate::error::counted(n, "state", "states")
+                ),
                 "steps · (n + m) + S · n: the trajectory and the curves in the report",
                 numbers * BYTES_NUMBER,
             )
@@ -1015,8 +1099,8 @@ fn work(s: &Scenario, job: Job) -> Work {
             Term::new(
                 run_field,
                 format!(
-                    "= {} with {mc_steps} steps, horizons 0..{s_max}, n = {n}",
-                    if job == Job::Report { runs } else { mc_steps }
+                    "= {} with {mc_steps_steps}, horizons 0..{s_max}, n = {n}",
+                    if job == Job::Report { runs } else { mc_steps }, mc_steps_steps = crate::error::counted(mc_steps, "step", "steps")
                 ),
                 "runs · (steps · n(n + m + r) + n·m·S²): a simulation and every horizon's estimate per run",
                 f(run_count) * per_run,

@@ -31,7 +31,7 @@ use crate::linalg;
 use crate::lscr::{self, Construction, Coverage, Estimator, LscrModel, Options, Target};
 use crate::method::Method;
 use crate::model::{ConditionedSampler, Inputs, LinearModel, MatrixSpec, ModelSpec};
-use crate::sets::{BoxSet, Ellipsoid, GridRegion, Loop, SignRegion};
+use crate::sets::{BoxSet, Ellipsoid, GridRegion, LineInterval, Loop, SignRegion};
 use crate::study::{self, Chunked, Runs, Study};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -154,7 +154,11 @@ pub struct LscrReport {
     pub rank: usize,
     /// X̂ in the full state space: g_{i,l}(x) = c − d·x per group l.
     pub region: SignRegion,
-    /// Components drawn.
+    /// A scalar state (n = 1): X̂ exactly, as the open intervals of the line it is made of
+    /// ([`SignRegion::intervals_1d`]; an absent end is unbounded). Absent for n ≥ 2.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub intervals: Vec<LineInterval>,
+    /// Components drawn ([0, 0] for a scalar state: one axis).
     pub plot: [usize; 2],
     /// Point the 2-D slice goes through (n > 2).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -176,9 +180,10 @@ pub struct LscrReport {
     /// Unit directions in the plotted plane along which the (sliced) region contains rays.
     pub recession: Vec<[f64; 2]>,
     pub bounded: bool,
-    /// The figure's window (given, or fitted to the region, truth and ellipses).
+    /// The figure's window (given, or fitted to the region, truth and ellipses): a 2-D box, or
+    /// for a scalar state one interval of the line.
     pub window: BoxSet,
-    /// Exact area of the (sliced) region inside the window.
+    /// Exact area of the (sliced) region inside the window (for a scalar state its length).
     pub area: f64,
     /// Boundary of the (sliced) region inside the window.
     pub boundary: Vec<Loop>,
@@ -368,7 +373,10 @@ impl Scenario {
         if t < n {
             return Err(Error::field(
                 source.steps_field(),
-                format!("gives t = {t} measurements: LSCR needs t ≥ n = {n}"),
+                format!(
+                    "gives t = {t_measurements}: LSCR needs t ≥ n = {n}",
+                    t_measurements = crate::error::counted(t, "measurement", "measurements")
+                ),
             ));
         }
         let options = spec.options(n, t)?;
@@ -387,14 +395,14 @@ impl Scenario {
                 (y, Some(x))
             }
         };
-        if n < 2 {
-            return Err(Error::field(
-                "model.F",
-                "is 1×1: the LSCR figure needs n ≥ 2 (the region of a scalar state is an interval)",
-            ));
-        }
         let plot = match &self.plot {
-            None => [0, 1.min(n - 1)],
+            // A scalar state: one axis, the region a union of intervals on it.
+            None if n == 1 => [0, 0],
+            Some(_) if n == 1 => return Err(Error::field(
+                "plot",
+                "must be absent for a scalar state (n = 1): its region is drawn on the one axis x",
+            )),
+            None => [0, 1],
             Some(p) if p.len() == 2 && p[0] < n && p[1] < n && p[0] != p[1] => [p[0], p[1]],
             Some(_) => {
                 return Err(Error::field(
@@ -412,13 +420,33 @@ impl Scenario {
             linalg::vector("lscr.slice_at", p, n)?;
         }
         if let Some(w) = &spec.window {
-            SignRegion {
-                dim: 2,
-                q: 1,
-                groups: vec![],
+            if n == 1 {
+                let ok = w.lo.len() == 1
+                    && w.hi.len() == 1
+                    && w.lo[0].is_finite()
+                    && w.hi[0].is_finite()
+                    && w.lo[0] < w.hi[0];
+                if !ok {
+                    return Err(Error::field(
+                        "lscr.window",
+                        "must be one finite interval {\"lo\": [a], \"hi\": [b]} with a < b: the state is scalar (n = 1)",
+                    ));
+                }
+            } else {
+                SignRegion {
+                    dim: 2,
+                    q: 1,
+                    groups: vec![],
+                }
+                .raster(w, 1, 1)
+                .map_err(|e| Error::field("lscr.window", e.message))?;
             }
-            .raster(w, 1, 1)
-            .map_err(|e| Error::field("lscr.window", e.message))?;
+        }
+        if let (Some(_), 1) = (spec.resolution, n) {
+            return Err(Error::field(
+                "lscr.resolution",
+                "is the size of the plane's membership raster: a scalar state's region (n = 1) is given exactly as intervals of the line (report.lscr.intervals); remove it",
+            ));
         }
         if let Some([w, h]) = spec.resolution {
             if w == 0 || h == 0 || w > 4096 || h > 4096 {
@@ -452,24 +480,46 @@ impl Scenario {
 
     /// A chunked coverage experiment for the scenario's conditioned true state.
     pub fn lscr_experiment(&self) -> Result<lscr::Experiment> {
+        self.lscr_experiment_with(None)
+    }
+
+    /// The coverage experiment with `runs` runs. Without an `lscr.coverage` block, `runs`
+    /// given (the CLI's `--runs`, [`Scenario::study`]) stands for the block with seed 0, and
+    /// the true state is `simulate.condition`'s when there is one, else x_τ = 0, the mean of
+    /// the stationary state LSCR assumes (Assumption 2).
+    fn lscr_experiment_with(&self, runs: Option<usize>) -> Result<lscr::Experiment> {
         let p = self.prepare_lscr()?;
-        let c = p
-            .spec
-            .coverage
-            .clone()
-            .ok_or_else(|| Error::field("lscr.coverage", "is missing (runs, seed)"))?;
-        let cond = self.condition("lscr.coverage needs the fixed true state")?;
+        let (c, defaulted) = match (p.spec.coverage.clone(), runs) {
+            (Some(c), runs) => (
+                LscrCoverageSpec {
+                    runs: runs.unwrap_or(c.runs),
+                    ..c
+                },
+                false,
+            ),
+            (None, Some(runs)) => (LscrCoverageSpec { runs, seed: 0 }, true),
+            (None, None) => return Err(Error::field("lscr.coverage", "is missing (runs, seed)")),
+        };
         let tau = p.estimator.problem.regression.target.time(p.y.len());
-        if cond.t != tau {
-            return Err(Error::field(
-                "simulate.condition.t",
-                format!(
-                    "must be the estimated time {tau} for the coverage experiment, found {}",
-                    cond.t
-                ),
-            ));
-        }
-        lscr::Experiment::new(p.estimator, &cond.x, c.runs, c.seed)?.with_truth(&p.truth)
+        let given = self.simulate.as_ref().and_then(|s| s.condition.as_ref());
+        let x = match given {
+            Some(cond) if cond.t != tau => {
+                return Err(Error::field(
+                    "simulate.condition.t",
+                    format!(
+                        "must be the estimated time {tau} for the coverage experiment, found {}",
+                        cond.t
+                    ),
+                ))
+            }
+            Some(cond) => cond.x.clone(),
+            None if defaulted => vec![0.0; p.estimator.problem.n()],
+            None => self
+                .condition("lscr.coverage needs the fixed true state")?
+                .x
+                .clone(),
+        };
+        lscr::Experiment::new(p.estimator, &x, c.runs, c.seed)?.with_truth(&p.truth)
     }
 }
 
@@ -578,6 +628,18 @@ fn ellipse_box(e: &Ellipsoid, plot: [usize; 2], slice_at: Option<&[f64]>) -> Opt
     }
 }
 
+/// What the figure takes from the region besides the region itself ([`LscrReport`]'s fields
+/// of the same names).
+struct Drawn {
+    recession: Vec<[f64; 2]>,
+    bounded: bool,
+    window: BoxSet,
+    area: f64,
+    loops: Vec<Loop>,
+    raster: Option<GridRegion>,
+    intervals: Vec<LineInterval>,
+}
+
 impl LscrPrepared {
     /// The report.
     pub fn report(&self) -> Result<LscrReport> {
@@ -610,49 +672,18 @@ impl LscrPrepared {
         } else {
             None
         };
-        let plane = plane_region(&region, self.plot, slice_at.as_deref())?;
-        let recession = plane.recession_2d()?;
-        let bounded = recession.is_empty();
-        let mut extra: Vec<BoxSet> = Vec::new();
-        if let Some(x) = &self.x_true {
-            extra.push(BoxSet::point(&[x[self.plot[0]], x[self.plot[1]]]));
-        }
-        for e in [&blue, &kf].into_iter().flatten() {
-            extra.extend(ellipse_box(e, self.plot, slice_at.as_deref()));
-        }
-        if extra.is_empty() || !bounded {
-            extra.push(BoxSet::point(&[ls[self.plot[0]], ls[self.plot[1]]]));
-        }
-        let (window, loops) = match &self.spec.window {
-            Some(w) => (w.clone(), plane.boundary(w)?),
-            None => {
-                let (w, loops) = fit_window(&plane, &extra, bounded)?;
-                if bounded && !loops.is_empty() {
-                    (w, loops)
-                } else {
-                    let l = plane.boundary(&w)?;
-                    (w, l)
-                }
-            }
-        };
-        let area: f64 = loops
-            .iter()
-            .map(|l| crate::sets::sign_region::signed_area(&l.points))
-            .sum();
-        // Outer loops run counter-clockwise and holes clockwise, so the sum is X̂'s area: a
-        // negative sum means rounding broke the loops, and is never shown as an area.
-        if area < 0.0 || !area.is_finite() {
-            return Err(Error::field(
-                "lscr.window",
-                format!(
-                    "holds a region whose boundary double precision cannot resolve (its loops sum to an area of {area:.3e}): \
-                     choose a window nearer the region or data nearer the origin"
-                ),
-            ));
-        }
-        let raster = match self.spec.resolution {
-            Some([w, h]) => Some(plane.raster(&window, w, h)?),
-            None => None,
+        let Drawn {
+            recession,
+            bounded,
+            window,
+            area,
+            loops,
+            raster,
+            intervals,
+        } = if n == 1 {
+            self.line_parts(&region, [&blue, &kf], &ls)?
+        } else {
+            self.plane_parts(&region, [&blue, &kf], &ls, slice_at.as_deref())?
         };
         let probes = self
             .spec
@@ -695,6 +726,7 @@ impl LscrPrepared {
             rank: est.problem.kl.rank,
             invariant_directions: region.invariant_directions(),
             region,
+            intervals,
             plot: self.plot,
             slice_at,
             x_true: self.x_true.clone(),
@@ -712,6 +744,142 @@ impl LscrPrepared {
             probes,
             coverage: None,
             strings: est.strings.texts(),
+        })
+    }
+
+    /// What a figure of the plane takes from the region (n ≥ 2): its recession directions, the
+    /// window, the boundary loops in it, their area and the raster.
+    fn plane_parts(
+        &self,
+        region: &SignRegion,
+        ellipses: [&Option<Ellipsoid>; 2],
+        ls: &[f64],
+        slice_at: Option<&[f64]>,
+    ) -> Result<Drawn> {
+        let plane = plane_region(region, self.plot, slice_at)?;
+        let recession = plane.recession_2d()?;
+        let bounded = recession.is_empty();
+        let mut extra: Vec<BoxSet> = Vec::new();
+        if let Some(x) = &self.x_true {
+            extra.push(BoxSet::point(&[x[self.plot[0]], x[self.plot[1]]]));
+        }
+        for e in ellipses.into_iter().flatten() {
+            extra.extend(ellipse_box(e, self.plot, slice_at));
+        }
+        if extra.is_empty() || !bounded {
+            extra.push(BoxSet::point(&[ls[self.plot[0]], ls[self.plot[1]]]));
+        }
+        let (window, loops) = match &self.spec.window {
+            Some(w) => (w.clone(), plane.boundary(w)?),
+            None => {
+                let (w, loops) = fit_window(&plane, &extra, bounded)?;
+                if bounded && !loops.is_empty() {
+                    (w, loops)
+                } else {
+                    let l = plane.boundary(&w)?;
+                    (w, l)
+                }
+            }
+        };
+        let area: f64 = loops
+            .iter()
+            .map(|l| crate::sets::sign_region::signed_area(&l.points))
+            .sum();
+        // Outer loops run counter-clockwise and holes clockwise, so the sum is X̂'s area: a
+        // negative sum means rounding broke the loops, and is never shown as an area.
+        if area < 0.0 || !area.is_finite() {
+            return Err(Error::field(
+                "lscr.window",
+                format!(
+                    "holds a region whose boundary double precision cannot resolve (its loops sum to an area of {area:.3e}): \
+                     choose a window nearer the region or data nearer the origin"
+                ),
+            ));
+        }
+        let raster = match self.spec.resolution {
+            Some([w, h]) => Some(plane.raster(&window, w, h)?),
+            None => None,
+        };
+        Ok(Drawn {
+            recession,
+            bounded,
+            window,
+            area,
+            loops,
+            raster,
+            intervals: Vec::new(),
+        })
+    }
+
+    /// The same for a scalar state (n = 1): X̂ as exact intervals of the line
+    /// ([`SignRegion::intervals_1d`]), the window one interval around the finite ends, the
+    /// truth and the BLUE and Kalman intervals (the ellipses of one dimension), and the length
+    /// of X̂ inside it. Unbounded towards −∞ or +∞: the recession direction [−1, 0] or [1, 0].
+    fn line_parts(
+        &self,
+        region: &SignRegion,
+        ellipses: [&Option<Ellipsoid>; 2],
+        ls: &[f64],
+    ) -> Result<Drawn> {
+        let intervals = region.intervals_1d()?;
+        let mut recession = Vec::new();
+        if intervals.first().is_some_and(|i| i.lo.is_none()) {
+            recession.push([-1.0, 0.0]);
+        }
+        if intervals.last().is_some_and(|i| i.hi.is_none()) {
+            recession.push([1.0, 0.0]);
+        }
+        let bounded = recession.is_empty();
+        let window = match &self.spec.window {
+            Some(w) => w.clone(),
+            None => {
+                let mut points: Vec<f64> = intervals
+                    .iter()
+                    .flat_map(|i| [i.lo, i.hi])
+                    .flatten()
+                    .collect();
+                points.extend(self.x_true.iter().flatten());
+                for e in ellipses.into_iter().flatten() {
+                    let b = e.bounding_box();
+                    points.extend([b.lo[0], b.hi[0]]);
+                }
+                if points.is_empty() || !bounded {
+                    points.push(ls[0]);
+                }
+                let lo = points.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = points.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                // An unbounded side gets a third of the window to show that it goes on.
+                let span = (hi - lo).max(1e-6 * lo.abs().max(hi.abs())).max(1e-300);
+                let pad = |open: bool| if open { 0.35 * span } else { 0.08 * span };
+                let lo = lo - pad(recession.contains(&[-1.0, 0.0]));
+                let hi = hi + pad(recession.contains(&[1.0, 0.0]));
+                let (lo, hi) = if hi - lo > 0.0 {
+                    (lo, hi)
+                } else {
+                    (lo - 1.0, hi + 1.0)
+                };
+                BoxSet {
+                    lo: vec![lo],
+                    hi: vec![hi],
+                }
+            }
+        };
+        let (a, b) = (window.lo[0], window.hi[0]);
+        let area = intervals
+            .iter()
+            .map(|i| {
+                let (lo, hi) = i.ends();
+                (hi.min(b) - lo.max(a)).max(0.0)
+            })
+            .sum();
+        Ok(Drawn {
+            recession,
+            bounded,
+            window,
+            area,
+            loops: Vec::new(),
+            raster: None,
+            intervals,
         })
     }
 
@@ -770,7 +938,7 @@ fn explain_lscr(
     let n = r.dim;
     let x: Vec<f64> = match point {
         Some(p) if p.len() == n => p.to_vec(),
-        Some(p) if p.len() == 2 => {
+        Some(p) if p.len() == 2 && n >= 2 => {
             // A point of the figure's plane: the other components at the section's point.
             let mut x = l.slice_at.clone().unwrap_or_else(|| vec![0.0; n]);
             x[l.plot[0]] = p[0];
@@ -780,7 +948,14 @@ fn explain_lscr(
         Some(p) => {
             return Err(Error::field(
                 "explain.x",
-                format!("has {} components: give n = {n} or the plane's 2", p.len()),
+                if n == 1 {
+                    format!("has {} components: the state is scalar, give one", p.len())
+                } else {
+                    format!(
+                        "has {}: give n = {n} or the plane's 2",
+                        crate::error::counted(p.len(), "component", "components")
+                    )
+                },
             ))
         }
         None => l
@@ -1007,18 +1182,21 @@ impl MethodScenario for Lscr {
             l.level,
             (p.estimator.problem.n(), 1),
             l.time,
-            l.plot.to_vec(),
+            // A scalar state is drawn on its one axis.
+            if l.region.dim == 1 {
+                vec![0]
+            } else {
+                l.plot.to_vec()
+            },
             y,
         );
         r.lscr = Some(l);
         Ok(r)
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
-        let mut s = s.clone();
-        if let (Some(r), Some(c)) = (runs, s.lscr.as_mut().and_then(|l| l.coverage.as_mut())) {
-            c.runs = r;
-        }
-        Ok(Box::new(Chunked::new(LscrStudy(s.lscr_experiment()?))))
+        Ok(Box::new(Chunked::new(LscrStudy(
+            s.lscr_experiment_with(runs)?,
+        ))))
     }
     fn compare_member(&self) -> Option<&dyn CompareMember> {
         Some(self)
@@ -1108,7 +1286,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.ops(
         Term::new(
             steps_field,
-            format!("= {t} measurements"),
+            format!(
+                "= {t_measurements}",
+                t_measurements = crate::error::counted(t, "measurement", "measurements")
+            ),
             "t³: the Karhunen–Loève basis of the data's covariance",
             OPS_T3 * f(t).powi(3),
         )
@@ -1117,13 +1298,22 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.mem(
         Term::new(
             steps_field,
-            format!("= {t} measurements"),
+            format!(
+                "= {t_measurements}",
+                t_measurements = crate::error::counted(t, "measurement", "measurements")
+            ),
             "t²: the covariance, its eigenvectors and the regressors",
             BYTES_T2 * f(t).powi(2),
         )
         .advice("fewer measurements"),
     );
-    let strings = || format!("= {m} with t = {t} measurements and n = {n} states");
+    let strings = || {
+        format!(
+            "= {m} with t = {t_measurements} and n = {n_states}",
+            t_measurements = crate::error::counted(t, "measurement", "measurements"),
+            n_states = crate::error::counted(n, "state", "states")
+        )
+    };
     w.mem(
         Term::new(
             m_field,
@@ -1171,7 +1361,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.ops(
         Term::new(
             m_field,
-            format!("= {m} with n = {n} states ({lines} lines)"),
+            format!(
+                "= {m} with n = {n_states} ({lines} lines)",
+                n_states = crate::error::counted(n, "state", "states")
+            ),
             "(n · M)² · log₂(n · M): the boundary sweeps every line against all others",
             OPS_PAIR * lines * lines * lines.max(2.0).log2(),
         )
@@ -1181,7 +1374,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.mem(
         Term::new(
             m_field,
-            format!("= {m} with n = {n} states"),
+            format!(
+                "= {m} with n = {n_states}",
+                n_states = crate::error::counted(n, "state", "states")
+            ),
             "M · n · (n + 1): the region's functions in the report",
             numbers * BYTES_NUMBER,
         )
@@ -1211,7 +1407,10 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.ops(
         Term::new(
             "lscr.probes",
-            format!("({} points) with {lines} lines", spec.probes.len()),
+            format!(
+                "({}) with {lines} lines",
+                crate::error::counted(spec.probes.len(), "point", "points")
+            ),
             "probes · lines · n: the membership of every probe",
             f(spec.probes.len()) * lines * f(n),
         )
@@ -1222,7 +1421,11 @@ fn work(s: &Scenario, job: Job) -> Work {
     w.mem(
         Term::new(
             "lscr.probes",
-            format!("({} points) with n = {n} states", spec.probes.len()),
+            format!(
+                "({}) with n = {n_states}",
+                crate::error::counted(spec.probes.len(), "point", "points"),
+                n_states = crate::error::counted(n, "state", "states")
+            ),
             "probes · (2n + 2): each probe's point and memberships in the report",
             f(spec.probes.len()) * f(2 * n + 2) * BYTES_NUMBER,
         )

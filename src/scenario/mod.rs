@@ -712,15 +712,18 @@ fn check_sizes_and_magnitudes(v: &serde_json::Value) -> Result<()> {
         return Err(Error::field(
             field,
             format!(
-                "has {chars} characters: a text field holds at most {MAX_TEXT_CHARS} (a figure shows the first {})",
-                crate::error::DISPLAY_CHARS
+                "has {chars_characters}: a text field holds at most {MAX_TEXT_CHARS} (a figure shows the first {})",
+                crate::error::DISPLAY_CHARS, chars_characters = crate::error::counted(chars, "character", "characters")
             ),
         ));
     }
     if let Some((field, len, limit)) = overlong_list(v) {
         return Err(Error::field(
             field,
-            format!("has {len} entries: at most {limit} are taken"),
+            format!(
+                "has {len_entries}: at most {limit} are taken",
+                len_entries = crate::error::counted(len, "entry", "entries")
+            ),
         ));
     }
     if let Some((field, rows, cols)) = oversized_model_matrix(v) {
@@ -920,9 +923,9 @@ impl DataSpec {
             return Err(Error::field(
                 "data.t",
                 format!(
-                    "has {} times for {} rows of data.y: give one time per row, or none",
-                    self.t.len(),
-                    self.y.len()
+                    "has {} for {} of data.y: give one time per row, or none",
+                    crate::error::counted(self.t.len(), "time", "times"),
+                    crate::error::counted(self.y.len(), "row", "rows")
                 ),
             ));
         }
@@ -1562,7 +1565,10 @@ impl Scenario {
             let found = if steps == 0 && source.is_data() {
                 "is empty".to_string()
             } else {
-                format!("gives {steps} {what}")
+                format!(
+                    "gives {}",
+                    crate::error::counted(steps, what.trim_end_matches('s'), what)
+                )
             };
             return Err(Error::field(
                 source.steps_field(),
@@ -1589,9 +1595,9 @@ impl Scenario {
             return Err(Error::field(
                 u_field,
                 format!(
-                    "has {} rows, but the run uses u_1 … u_{used} (one row per step{}; fewer rows hold the last one): give at most {used} rows",
+                    "has {} rows, but the run uses u_1 … u_{used} (one row per step{}; fewer rows hold the last one): give at most {used_rows}",
                     u_rows.len(),
-                    if tau > 0 { ", and one per predicted step of scf.tau" } else { "" }
+                    if tau > 0 { ", and one per predicted step of scf.tau" } else { "" }, used_rows = crate::error::counted(used, "row", "rows")
                 ),
             ));
         }

@@ -133,12 +133,7 @@ impl Scenario {
                 ),
             ));
         }
-        if !(self.alpha > 0.0 && self.alpha < 1.0) {
-            return Err(Error::field(
-                "alpha",
-                format!("must lie strictly between 0 and 1, found {}", self.alpha),
-            ));
-        }
+        crate::stats::check_level("alpha", self.alpha)?;
         let model = LinearModel::from_spec(&self.model)?;
         let n = model.n();
         let source = self.source(&Scf { kalman_only: false })?;
@@ -467,18 +462,62 @@ impl ScfPrepared {
     /// The conditional Monte Carlo of a scenario with `simulate.condition` and `experiment`
     /// (SCF Section II-B), not yet run.
     pub fn conditional_experiment(&self) -> Result<ConditionalExperiment> {
+        self.conditional_experiment_with(None)
+    }
+
+    /// The conditional experiment with `runs` runs. Without an `experiment` block, `runs`
+    /// given (the CLI's `--runs`, [`Scenario::study`]) stands for the block with seed 0 and
+    /// every state component, and the conditioning state is `simulate.condition`'s when there
+    /// is one, else x_T = m_T, the prior mean at the record's last step T (the state the
+    /// conditional coverage of the SCF paper's Fig. 1 is typical at).
+    fn conditional_experiment_with(&self, runs: Option<usize>) -> Result<ConditionalExperiment> {
         let s = &self.scenario;
-        let e = s
-            .experiment
-            .as_ref()
-            .ok_or_else(|| Error::field("experiment", "is missing (runs, seed, components)"))?;
-        let cond = s.condition("the experiment draws realizations conditioned on a state")?;
+        let n = self.model.n();
+        let (e, defaulted) = match (&s.experiment, runs) {
+            (Some(e), runs) => (
+                ExperimentSpec {
+                    runs: runs.unwrap_or(e.runs),
+                    ..e.clone()
+                },
+                false,
+            ),
+            (None, Some(runs)) => (
+                ExperimentSpec {
+                    runs,
+                    seed: 0,
+                    components: (0..n).collect(),
+                    warning_t: None,
+                    rng: Default::default(),
+                },
+                true,
+            ),
+            (None, None) => {
+                return Err(Error::field(
+                    "experiment",
+                    "is missing: give the block (runs, seed, components), or a number of runs (the command line's --runs), which takes seed 0 and every component",
+                ))
+            }
+        };
+        let given = s.simulate.as_ref().and_then(|sim| sim.condition.as_ref());
+        let (t_c, x_c) = match given {
+            Some(cond) => (cond.t, cond.x.clone()),
+            None if defaulted => {
+                let t = self.y.len();
+                let m = self.model.moments(t, &self.inputs);
+                (t, m.mean[t - 1].iter().copied().collect())
+            }
+            None => {
+                let cond =
+                    s.condition("the experiment draws realizations conditioned on a state")?;
+                (cond.t, cond.x.clone())
+            }
+        };
         ConditionalExperiment::new(
             (&self.model, &self.truth),
             &self.inputs,
             &self.options,
-            (cond.t, &cond.x),
-            e,
+            (t_c, &x_c),
+            &e,
             s.scf_options().collision.as_ref(),
         )
     }
@@ -905,12 +944,8 @@ impl MethodScenario for Scf {
         table
     }
     fn study(&self, s: &Scenario, runs: Option<usize>) -> Result<Box<dyn Study>> {
-        let mut s = s.clone();
-        if let (Some(r), Some(e)) = (runs, s.experiment.as_mut()) {
-            e.runs = r;
-        }
         Ok(Box::new(Chunked::new(
-            s.prepare_scf()?.conditional_experiment()?,
+            s.prepare_scf()?.conditional_experiment_with(runs)?,
         )))
     }
     fn read_moved_keys(
@@ -1048,7 +1083,8 @@ fn work(s: &Scenario, job: Job) -> Work {
             .simulate
             .as_ref()
             .and_then(|sim| sim.condition.as_ref())
-            .map_or(0, |c| c.t);
+            // Without a condition, a study given only its runs conditions at the last step.
+            .map_or(s.written_steps(), |c| c.t);
         w.ops(
             Term::new(
                 "simulate.condition.t",
@@ -1197,14 +1233,17 @@ impl CompareMember for Scf {
             target.kf.clone()
         } else {
             target.scf.clone().ok_or_else(|| {
-                let why = p
-                    .unobservable()
-                    .unwrap_or_else(|| "too few measurements to determine the state".to_string());
+                let ratio = target
+                    .ratio
+                    .as_ref()
+                    .and_then(|rows| linalg::from_rows("report.steps.target.ratio", rows).ok());
                 Error::field(
                     "report.steps.target.scf",
                     format!(
-                        "is absent at t = {}: the ratio matrix (38) is singular: {why}",
-                        step.t
+                        "is absent at t = {}: {}{}",
+                        step.t,
+                        crate::scf::singular_ratio(step.t, target.components.len(), ratio.as_ref()),
+                        p.unobservable().map_or(String::new(), |why| format!(" ({why})"))
                     ),
                 )
             })?

@@ -93,9 +93,11 @@ pub struct UniformSpec {
     pub xr_max: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub yr_max: Option<Vec<f64>>,
-    /// Bound on every entry of the window's states (±5 in the paper).
-    #[serde(default = "default_x_bound")]
-    pub x_bound: f64,
+    /// Bound on every entry of the window's states (±5 in the paper's example, made for its
+    /// scale). Absent: derived from the record ([`derived_x_bound`]), so that a record of
+    /// another scale (the Nile's flows near 900) is not clamped by a box made for the paper's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_bound: Option<f64>,
     /// The time cursor (default: the last step).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<usize>,
@@ -116,9 +118,6 @@ fn default_window() -> usize {
 }
 fn default_rel() -> f64 {
     0.3
-}
-fn default_x_bound() -> f64 {
-    5.0
 }
 fn default_directions() -> usize {
     64
@@ -197,6 +196,12 @@ pub struct UniformReport {
     pub rms_prediction: f64,
     /// Total doublings of the half-width bounds over the run.
     pub extended: usize,
+    /// The bound |x| ≤ x_bound of every state entry in the LP's prior box (10): the
+    /// scenario's `uniform.x_bound`, or derived from the record when absent
+    /// (`x_bound_derived`, by 10·‖C⁺‖∞·max_t ‖y_t − D·u_t‖∞).
+    pub x_bound: f64,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub x_bound_derived: bool,
     pub at: WindowReport,
 }
 
@@ -221,6 +226,115 @@ struct Truth {
 
 /// The reason a scalar state has no polygon.
 const NO_PLANE: &str = "the state is scalar (n = 1): there is no plane for the consistent-state polygon; the optimal-face range of x_t is the window's answer";
+
+/// The derived bound's factor over the states the data point at (see [`derived_x_bound`]).
+const X_BOUND_FACTOR: f64 = 10.0;
+
+/// The derived bound's formula, as messages and warnings state it.
+const DERIVED_RULE: &str = "10·‖C⁺‖∞·max_t ‖y_t − D·u_t‖∞";
+
+/// A state estimate within this fraction of the bound is on it (the simplex's vertices sit
+/// on the bound exactly; an interior-point answer within its tolerance).
+const ON_BOUND: f64 = 1e-6;
+
+/// The bound of the state LP's prior box |x| ≤ x_bound (10): the scenario's `uniform.x_bound`
+/// or, when absent, derived from the record.
+#[derive(Debug, Clone, Copy)]
+struct StateBound {
+    value: f64,
+    derived: bool,
+}
+
+impl StateBound {
+    fn of(spec: &UniformSpec, theta: &Theta, traj: &uniform::Trajectory) -> Result<StateBound> {
+        match spec.x_bound {
+            Some(value) => Ok(StateBound {
+                value,
+                derived: false,
+            }),
+            None => derived_x_bound(theta, traj).map(|value| StateBound {
+                value,
+                derived: true,
+            }),
+        }
+    }
+
+    /// How the warnings name the bound.
+    fn words(&self) -> String {
+        if self.derived {
+            format!(
+                "the bound {:.3e} derived from the record (uniform.x_bound absent: {DERIVED_RULE})",
+                self.value
+            )
+        } else {
+            format!("uniform.x_bound = {}", self.value)
+        }
+    }
+}
+
+/// The default bound of every state entry when `uniform.x_bound` is absent. The paper's ±5 is
+/// made for its example's scale; a record of another scale must not be clamped by it (the
+/// Nile's flows near 900 would all sit at 5). The states the data point at are C⁺(y_t − D u_t)
+/// (C⁺ the pseudo-inverse of the nominal C: the least-squares state of one sample), so
+/// |x_i| ≲ ‖C⁺‖∞ · max_t ‖y_t − D u_t‖∞; the bound is 10 times that, generous enough for the
+/// ±prior_rel freedom of the joint estimators' C (a C 30 % smaller scales the states by 1.43)
+/// and for states between samples, while staying at the data's scale. A state C does not see
+/// (an unobservable direction) is decided by the bound whatever it is: the report's warning
+/// says so. Refused when the formula gives no positive bound (the data all zero, or C = 0).
+fn derived_x_bound(theta: &Theta, traj: &uniform::Trajectory) -> Result<f64> {
+    let c = &theta.c;
+    let svd = linalg::try_svd(c.clone(), true, true)
+        .ok_or_else(|| Error::field("model.H", "its singular values do not converge"))?;
+    let top = svd.singular_values.iter().copied().fold(0.0, f64::max);
+    let pinv = svd
+        .pseudo_inverse(1e-9 * top.max(f64::MIN_POSITIVE))
+        .map_err(|e| Error::field("model.H", e.to_string()))?;
+    let largest = (1..traj.y.len())
+        .map(|t| (&traj.y[t] - &theta.d * &traj.u[t]).amax())
+        .fold(0.0, f64::max);
+    let bound = X_BOUND_FACTOR * linalg::norm_inf(&pinv) * largest;
+    if bound.is_finite() && bound > 0.0 {
+        Ok(bound)
+    } else {
+        Err(Error::field(
+            "uniform.x_bound",
+            format!(
+                "is needed: the bound derived from the record, {DERIVED_RULE}, is {bound:e} (the measurements are all zero, or C = 0): give the bound on every state entry"
+            ),
+        ))
+    }
+}
+
+/// The warnings of an on-line run: every state component whose estimate sits on the prior
+/// box's bound (within [`ON_BOUND`] of it) at some step, with the count. There the bound, not
+/// the data, decides the estimate. With `"parameters"` the states are the measured ones, not
+/// estimates: nothing to say.
+fn bound_warnings(steps: &[OnlineStep], n: usize, bound: StateBound, joint: Joint) -> Vec<String> {
+    if joint == Joint::Parameters || steps.is_empty() {
+        return Vec::new();
+    }
+    (0..n)
+        .filter_map(|i| {
+            let on = steps
+                .iter()
+                .filter(|s| s.x.get(i).is_some_and(|x| x.abs() >= bound.value * (1.0 - ON_BOUND)))
+                .count();
+            (on > 0).then(|| {
+                format!(
+                    "x{} sits on {} at {on} of {} steps: the bound, not the data, decides it there; {}",
+                    super::subscript(i + 1),
+                    bound.words(),
+                    steps.len(),
+                    if bound.derived {
+                        "the data do not tie this state to the measurements (an unobservable direction), or give uniform.x_bound larger"
+                    } else {
+                        "raise uniform.x_bound"
+                    }
+                )
+            })
+        })
+        .collect()
+}
 
 /// Most states of a uniform-innovation model: a report within about 2 s.
 pub const MAX_STATES: usize = 8;
@@ -275,11 +389,13 @@ impl Scenario {
                 "must be a finite half-width ≥ 0",
             ));
         }
-        if !(spec.x_bound.is_finite() && spec.x_bound > 0.0) {
-            return Err(Error::field(
-                "uniform.x_bound",
-                "must be a finite bound > 0",
-            ));
+        if let Some(b) = spec.x_bound {
+            if !(b.is_finite() && b > 0.0) {
+                return Err(Error::field(
+                    "uniform.x_bound",
+                    format!("must be a finite bound > 0, found {b:e}"),
+                ));
+            }
         }
         if !(spec.prior_rel.is_finite() && spec.prior_rel >= 0.0) {
             return Err(Error::field(
@@ -330,13 +446,6 @@ impl Scenario {
                 };
                 let traj =
                     uniform::simulate(&theta, &xr, &yr, &x0, spec.u_half, sim.steps, sim.seed);
-                if !traj
-                    .x
-                    .iter()
-                    .all(|x| x.iter().all(|v| v.is_finite() && v.abs() <= spec.x_bound))
-                {
-                    return Err(Error::field("uniform.x_bound", format!("= {} is violated by the simulated states (|x| reaches {:.3}): the prior box must hold the truth", spec.x_bound, traj.x.iter().map(|x| x.amax()).fold(0.0, f64::max))));
-                }
                 (traj, Some(Truth { xr, yr, x0 }))
             }
             Source::Data(_) => {
@@ -349,6 +458,21 @@ impl Scenario {
                 (data_trajectory(&source, m, r)?, None)
             }
         };
+        let x_bound = StateBound::of(&spec, &theta, &traj)?;
+        if truth.is_some() {
+            // The prior box (5) must hold the simulated truth, or the LP is asked for a state
+            // it excludes by construction.
+            let reach = traj.x.iter().map(|x| x.amax()).fold(0.0, f64::max);
+            if !traj.x.iter().all(|x| x.iter().all(|v| v.is_finite())) || reach > x_bound.value {
+                return Err(Error::field(
+                    "uniform.x_bound",
+                    match x_bound.derived {
+                        false => format!("= {} is violated by the simulated states (|x| reaches {reach:.3}): the prior box must hold the truth", x_bound.value),
+                        true => format!("is absent, and the bound derived from the data ({DERIVED_RULE} = {:.3e}) does not hold the simulated states (|x| reaches {reach:.3e}): give a bound that holds the truth", x_bound.value),
+                    },
+                ));
+            }
+        }
         uniform_resolution(
             self,
             &traj,
@@ -401,8 +525,8 @@ impl Scenario {
             yr_max: yr_max.clone(),
         };
         let state_prior = StatePrior {
-            x_lo: -spec.x_bound,
-            x_hi: spec.x_bound,
+            x_lo: -x_bound.value,
+            x_hi: x_bound.value,
             x0: None,
             xr_max: xr_max.clone(),
             yr_max: yr_max.clone(),
@@ -423,6 +547,7 @@ impl Scenario {
             theta,
             traj,
             truth,
+            x_bound,
             state_prior,
             online,
             thetas: Vec::new(),
@@ -498,6 +623,8 @@ pub struct UniformPrepared {
     theta: Theta,
     traj: uniform::Trajectory,
     truth: Option<Truth>,
+    /// The bound |x| ≤ x_bound of the state LP's prior box (10): the scenario's or derived.
+    x_bound: StateBound,
     state_prior: StatePrior,
     online: Online,
     /// Θ̂ after step t (index t − 1): the Θ the window at t is solved with.
@@ -605,6 +732,7 @@ impl UniformPrepared {
             traj,
             truth,
             online,
+            x_bound,
             ..
         } = self;
         let r = theta.r();
@@ -657,6 +785,8 @@ impl UniformPrepared {
             rms_kf,
             rms_prediction,
             steps: online.steps,
+            x_bound: x_bound.value,
+            x_bound_derived: x_bound.derived,
             at,
         })
     }
@@ -686,8 +816,8 @@ fn data_trajectory(source: &Source, m: usize, r: usize) -> Result<uniform::Traje
             return Err(Error::field(
                 "data.u",
                 format!(
-                    "has {} rows for {steps} measurements: give one input row per measurement (or one row, held constant)",
-                    u.len()
+                    "has {} rows for {steps_measurements}: give one input row per measurement (or one row, held constant)",
+                    u.len(), steps_measurements = crate::error::counted(steps, "measurement", "measurements")
                 ),
             ))
         }
@@ -829,6 +959,12 @@ impl MethodScenario for Uniform {
             // index 0).
             u.y.get(1..).unwrap_or_default().to_vec(),
         );
+        let bound = StateBound {
+            value: u.x_bound,
+            derived: u.x_bound_derived,
+        };
+        r.warnings
+            .extend(bound_warnings(&u.steps, u.n, bound, u.estimator));
         r.uniform = Some(u);
         Ok(r)
     }
@@ -949,8 +1085,10 @@ fn work(s: &Scenario) -> Work {
         Term::new(
             "uniform.window",
             format!(
-                "= {window} with {} = {steps} and n = {n} states, m = {m} outputs",
-                s.steps_field()
+                "= {window} with {} = {steps} and n = {n_states}, m = {m_outputs}",
+                s.steps_field(),
+                n_states = crate::error::counted(n, "state", "states"),
+                m_outputs = crate::error::counted(m, "output", "outputs")
             ),
             "steps · one LP over the window's ∂·n states, of (variables + rows) · variables",
             online,
@@ -963,8 +1101,9 @@ fn work(s: &Scenario) -> Work {
         Term::new(
             "uniform.directions",
             format!(
-                "= {} with window = {window} and n = {n} states",
-                spec.directions
+                "= {} with window = {window} and n = {n_states}",
+                spec.directions,
+                n_states = crate::error::counted(n, "state", "states")
             ),
             "(2(∂ + 1)·n + directions) LPs at the cursor: the optimal face and the polygon",
             resolves * RESOLVE * state(len),
@@ -1047,7 +1186,7 @@ impl CompareMember for Uniform {
             prior_overrides: Vec::new(),
             xr_max: Some(xr),
             yr_max: Some(vec![bound_w; p.model().q()]),
-            x_bound: X_BOUND_PER_SCALE * p.record_scale(),
+            x_bound: Some(X_BOUND_PER_SCALE * p.record_scale()),
             time: Some(t),
             plane: Some([i, j]),
             directions: POLYGON_BUDGET,
@@ -1277,7 +1416,7 @@ pub fn uniform_paper() -> Scenario {
         }],
         xr_max: Some(vec![1.0, 1.0]),
         yr_max: Some(vec![1.0]),
-        x_bound: 5.0,
+        x_bound: Some(5.0),
         time: None,
         plane: Some([0, 1]),
         directions: 64,

@@ -590,6 +590,10 @@ pub struct ExperimentResult {
     pub runs_total: usize,
     pub alpha: f64,
     pub condition_t: usize,
+    /// The conditioning state x_{t_c} (the scenario's `simulate.condition.x`, or the prior
+    /// mean m_{t_c} of a study given only its runs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub condition_x: Vec<f64>,
     pub components: Vec<usize>,
     /// Runs with the true ζ_{t_c} inside X^KF / X^SCF.
     pub kf_inside: usize,
@@ -824,13 +828,7 @@ impl ConditionalExperiment {
         {
             return Err(Error::field(
                 "model",
-                format!(
-                    "couples {} state{} and {} output{} in one block: the Monte Carlo supports blocks of at most 16 states and 8 outputs",
-                    b.states.len(),
-                    if b.states.len() == 1 { "" } else { "s" },
-                    b.outputs.len(),
-                    if b.outputs.len() == 1 { "" } else { "s" }
-                ),
+                format!("couples {} and {} in one block: the Monte Carlo supports blocks of at most 16 states and 8 outputs", crate::error::counted(b.states.len(), "state", "states"), crate::error::counted(b.outputs.len(), "output", "outputs")),
             ));
         }
         Ok(ConditionalExperiment {
@@ -859,6 +857,7 @@ impl ConditionalExperiment {
                 runs_total: e.runs,
                 alpha: opts.alpha,
                 condition_t: t_c,
+                condition_x: x_c.to_vec(),
                 components: e.components.clone(),
                 warning_t: e.warning_t,
                 scf_expected_range: lo_hi,

@@ -89,6 +89,26 @@ pub fn ratio_closed_form(p: &DMatrix<f64>, gamma: &DMatrix<f64>) -> Result<DMatr
     Ok(DMatrix::identity(p.nrows(), p.ncols()) - p * g_inv)
 }
 
+/// Why there is no SCF region at time t for `n` estimated components, in words with the
+/// numbers: before t = n there are fewer measurements than states; after, the ratio matrix
+/// (`ratio`, when known) is singular to [`RATIO_RCOND_MIN`] because the measurements do not
+/// determine every component (Assumption 3).
+pub fn singular_ratio(t: usize, n: usize, ratio: Option<&DMatrix<f64>>) -> String {
+    if t < n {
+        return format!(
+            "t = {t} is before t = n = {n}, from which on the SCF region (40) is formed (with one output per step the ratio matrix U_tA_t (38) has rank at most t before)"
+        );
+    }
+    let rc = ratio.map(linalg::rcond).filter(|r| r.is_finite());
+    format!(
+        "the ratio matrix U_tA_t (38) is singular at t = {t}{} although t ≥ n = {n}: the measurements so far do not determine every component (the pair (F^b, H) is not observable, Assumption 3), so the SCF region (40) would be unbounded; estimate the observable components only (scf.components)",
+        match rc {
+            Some(r) => format!(" (reciprocal condition {r:.1e}, below {RATIO_RCOND_MIN:.0e})"),
+            None => String::new(),
+        }
+    )
+}
+
 /// SCF center and shape from the KF ones and a ratio matrix: x̂ = m + R⁻¹(x̂^KF − m) (33, V-E),
 /// Π = R⁻¹P (34). `None` while R is singular (fewer informative measurements than states).
 pub fn scf_from_ratio(

@@ -28,7 +28,7 @@ pub use plane::{
     box_corners, box_image_corners, convex_hull, map_ellipse, map_point, minkowski_sum,
     point_in_convex, polygon_area, signed_area,
 };
-pub use sign_region::{AffineGroup, GridRegion, Loop, SignRegion, Span};
+pub use sign_region::{AffineGroup, GridRegion, LineInterval, Loop, SignRegion, Span};
 pub use support_polygon::{polygon_from_support, SupportPolygon};
 
 /// {x : (x − c)ᵀ cov⁻¹ (x − c) ≤ radius2}. JSON: `{"center", "cov", "radius2"}`.
@@ -165,7 +165,10 @@ impl Ellipsoid {
         if point.len() != n {
             return Err(Error::field(
                 "slice.point",
-                format!("must have {n} entries"),
+                format!(
+                    "must have {n_entries}",
+                    n_entries = crate::error::counted(n, "entry", "entries")
+                ),
             ));
         }
         let rest: Vec<usize> = (0..n).filter(|i| !idx.contains(i)).collect();
@@ -254,7 +257,10 @@ impl Ellipsoid {
             if i >= n {
                 return Err(Error::field(
                     "components",
-                    format!("entry {k} is {i}, but the state has {n} components (0-based)"),
+                    format!(
+                        "entry {k} is {i}, but the state has {n_components} (0-based)",
+                        n_components = crate::error::counted(n, "component", "components")
+                    ),
                 ));
             }
             if idx[..k].contains(&i) {

@@ -89,6 +89,27 @@ pub struct Span {
     pub excluded: u32,
 }
 
+/// A piece of the line of a 1-D region (a scalar state): the open interval (lo, hi), an
+/// absent end unbounded ([`SignRegion::intervals_1d`]). JSON has no infinity: an unbounded
+/// end is an absent key, never a `null`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LineInterval {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lo: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hi: Option<f64>,
+}
+
+impl LineInterval {
+    /// The ends with ±∞ for the unbounded ones.
+    pub fn ends(&self) -> (f64, f64) {
+        (
+            self.lo.unwrap_or(f64::NEG_INFINITY),
+            self.hi.unwrap_or(f64::INFINITY),
+        )
+    }
+}
+
 /// A closed boundary polygon of X inside a window; counter-clockwise around the region
 /// (`hole == false`) or clockwise around a hole.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -721,6 +742,89 @@ impl SignRegion {
             }
             self.mask(&p, &n) == 0
         })
+    }
+
+    /// X of a 1-D region (dim = 1, a scalar state) exactly: the maximal open intervals of the
+    /// line in X, in increasing order. Each g = c − d·x changes sign once, at its root c/d, so X
+    /// is constant between consecutive roots; one sweep over the sorted roots updates the
+    /// counts (d > 0: positive left of its root, negative right; d < 0 the reverse; d = 0 or a
+    /// root beyond double precision: the sign of c everywhere). At a root the functions with that
+    /// root are zero and count on neither side, so the root is in X only when both cells beside
+    /// it are (then the two cells join into one interval): X has no isolated points, and it is
+    /// a union of open intervals. O(N log N) for N functions.
+    pub fn intervals_1d(&self) -> Result<Vec<LineInterval>> {
+        if self.dim != 1 {
+            return Err(Error::field(
+                "region",
+                format!(
+                    "is {}-dimensional: its intervals are for a scalar state",
+                    self.dim
+                ),
+            ));
+        }
+        let ng = self.groups.len();
+        let (mut pos, mut neg) = (vec![0usize; ng], vec![0usize; ng]);
+        // (root, group, d > 0): crossing the root left to right turns the function's sign.
+        let mut roots: Vec<(f64, usize, bool)> = Vec::new();
+        for (l, g) in self.groups.iter().enumerate() {
+            for (&c, d) in g.c.iter().zip(&g.d) {
+                let d = d[0];
+                let root = c / d;
+                if d != 0.0 && root.is_finite() {
+                    roots.push((root, l, d > 0.0));
+                    // Far left (x → −∞): g has the sign of d.
+                    if d > 0.0 {
+                        pos[l] += 1;
+                    } else {
+                        neg[l] += 1;
+                    }
+                } else if c > 0.0 {
+                    pos[l] += 1;
+                } else if c < 0.0 {
+                    neg[l] += 1;
+                }
+            }
+        }
+        roots.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut out: Vec<LineInterval> = Vec::new();
+        // The left end of the interval being built (None: −∞), when the current cell is in X.
+        let mut open: Option<Option<f64>> = (self.mask(&pos, &neg) == 0).then_some(None);
+        let mut k = 0;
+        while k < roots.len() {
+            let r = roots[k].0;
+            let mut j = k;
+            // At r: the functions with this root are zero.
+            let (mut p_at, mut n_at) = (pos.clone(), neg.clone());
+            while j < roots.len() && roots[j].0 == r {
+                let (_, l, up) = roots[j];
+                if up {
+                    p_at[l] -= 1;
+                    pos[l] -= 1;
+                    neg[l] += 1;
+                } else {
+                    n_at[l] -= 1;
+                    neg[l] -= 1;
+                    pos[l] += 1;
+                }
+                j += 1;
+            }
+            let point_in = self.mask(&p_at, &n_at) == 0;
+            let right_in = self.mask(&pos, &neg) == 0;
+            match open {
+                // The interval goes on through r only when r itself is in X.
+                Some(lo) if !(point_in && right_in) => {
+                    out.push(LineInterval { lo, hi: Some(r) });
+                    open = right_in.then_some(Some(r));
+                }
+                Some(_) => {}
+                None => open = right_in.then_some(Some(r)),
+            }
+            k = j;
+        }
+        if let Some(lo) = open {
+            out.push(LineInterval { lo, hi: None });
+        }
+        Ok(out)
     }
 
     /// Directions along which every g is constant (the null space of the stacked d's): X is

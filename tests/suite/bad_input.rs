@@ -429,7 +429,7 @@ fn data_problems() {
     assert_err(
         &with(b.clone(), &["data", "y"], json!([[0.1], [0.2, 0.3], [0.0]])),
         "data.y[1]",
-        &["1 entries", "found 2"],
+        &["1 entry,", "found 2"],
     );
     assert_err(
         &with(b.clone(), &["data", "u"], json!([[1.0]])),
@@ -441,7 +441,7 @@ fn data_problems() {
     assert_err(
         &with(with_b.clone(), &["data", "u"], json!([[1.0, 2.0]])),
         "data.u[0]",
-        &["1 entries"],
+        &["1 entry "],
     );
     run(&with(with_b, &["data", "u"], json!([[1.0]]))).unwrap();
     let mut neither = b.clone();

@@ -1021,8 +1021,10 @@ fn bad_input_names_the_field() {
             json!({"simulate": {"condition": {"t": 0, "x": [0, 0]}}}),
         ),
         ("model.F", json!({"model": {"F": [[1.2, 0.0], [1.0, 0.7]]}})),
+        // A scalar state runs (its region is intervals of the line); the plane's two
+        // components are refused for it.
         (
-            "model.F",
+            "plot",
             json!({"model": {"F": [[0.5]], "H": [[1]], "G": [[1]]}}),
         ),
         // A NaN becomes null in JSON: the parse error names the entry.

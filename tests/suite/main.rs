@@ -60,6 +60,7 @@ mod gaps;
 mod gallery;
 mod generator;
 mod glls;
+mod honest;
 mod limits_io;
 mod lscr;
 mod merge_checks;

@@ -740,10 +740,14 @@ fn every_useful_panel_of_every_preset_draws_at_page_sizes() {
 /// Runs of every study here: small, and not a multiple of the SCF batch of 8.
 const STUDY_RUNS: usize = 20;
 
-/// The presets whose method has a study for them (`Scenario::study` accepts them).
+/// The presets whose method has a study for them (`Scenario::study` accepts them) of their
+/// own: a study given only its runs would run on every preset of a method with a study, with
+/// the defaults of `confset experiment --runs` (`honest::a_study_given_only_its_runs_…`);
+/// here the presets whose scenario asks for one (its block, or a method whose study needs none).
 pub(crate) fn study_presets() -> Vec<(String, Scenario)> {
     presets::all()
         .into_iter()
+        .filter(|p| p.scenario.study(None).is_ok())
         .filter_map(|p| match p.scenario.study(Some(STUDY_RUNS)) {
             Ok(_) => Some((p.name, p.scenario)),
             Err(e) => {

@@ -276,8 +276,8 @@ fn every_uniform_preset_matches_the_clarabel_path() {
         };
         let (u, y) = (rows("u"), rows("y"));
         let prior = confset::uniform::StatePrior {
-            x_lo: -spec.x_bound,
-            x_hi: spec.x_bound,
+            x_lo: -fast.x_bound,
+            x_hi: fast.x_bound,
             x0: None,
             xr_max: DVector::from_vec(spec.xr_max.clone().expect("xr_max")),
             yr_max: DVector::from_vec(spec.yr_max.clone().expect("yr_max")),
@@ -349,8 +349,8 @@ fn every_uniform_preset_matches_the_clarabel_path() {
         assert_eq!(got.len(), ranges.len(), "{name}: {n} states");
         for (k, (g, want)) in got.iter().zip(&ranges).enumerate() {
             assert!(
-                (g.0 - want.0).abs() <= 1e-7 * spec.x_bound
-                    && (g.1 - want.1).abs() <= 1e-7 * spec.x_bound,
+                (g.0 - want.0).abs() <= 1e-7 * fast.x_bound
+                    && (g.1 - want.1).abs() <= 1e-7 * fast.x_bound,
                 "{name}: range {k} over the face: simplex {g:?}, clarabel {want:?}"
             );
         }

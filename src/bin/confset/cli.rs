@@ -68,7 +68,12 @@ enum Command {
     Experiment {
         #[command(flatten)]
         input: Input,
-        /// Runs of the study (default: the scenario's own count)
+        /// Runs of the study (default: the scenario's own count). A scenario without its study
+        /// block runs with N runs and seed 0: kf/scf every component, conditioned on
+        /// simulate.condition or else on the prior mean at the last step; lscr at
+        /// simulate.condition or else x = 0 at the estimated time; glls the estimator's study
+        /// (state_noise: Section 5.2, else 5.1's precision); compare at the target's prior
+        /// mean; ubb and conformal their own defaults
         #[arg(long, value_name = "N")]
         runs: Option<usize>,
         /// Only shard i of N (0 ≤ i < N), printed as one JSON line for `confset merge`
@@ -93,7 +98,8 @@ enum Command {
         input: Input,
         #[command(flatten)]
         data: DataArg,
-        /// Runs of the study (default: compare.study.runs)
+        /// Runs of the study (default: compare.study.runs); without compare.study, the study
+        /// at the target's prior mean with seed 0
         #[arg(long, value_name = "N")]
         runs: Option<usize>,
         /// The report only, without the study's counts
@@ -714,7 +720,9 @@ fn run(command: Command) -> Result<(), Error> {
             let report = s.run()?;
             print_warnings(&report.warnings);
             let study = match (&s.compare, no_study) {
-                (Some(c), false) if c.study.is_some() => Some(run_study(&s, runs)?),
+                (Some(c), false) if c.study.is_some() || runs.is_some() => {
+                    Some(run_study(&s, runs)?)
+                }
                 _ => None,
             };
             let mut v = serde_json::Map::new();

@@ -343,7 +343,7 @@ fn draw_aci<DB: DrawingBackend>(
     if let (Some(w), Some(k)) = (a.worst, a.kf_worst) {
         notes.push(format!(
             "worst {}: ACI {} (from t = {}), Kalman {} (from t = {})",
-            if a.window == 1 { "step".to_string() } else { format!("{} steps", a.window) },
+            crate::error::counted(a.window, "step", "steps"),
             percent(w.0),
             w.1,
             percent(k.0),

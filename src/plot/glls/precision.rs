@@ -160,9 +160,13 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, report: &Report, fonts: Fonts) 
     // Texts.
     let short = fonts.compact;
     let runs = if p.runs < p.total {
-        format!("{} of {} runs so far", p.runs, p.total)
+        format!(
+            "{} of {} so far",
+            p.runs,
+            crate::error::counted(p.total, "run", "runs")
+        )
     } else {
-        format!("{} runs", p.runs)
+        crate::error::counted(p.runs, "run", "runs")
     };
     let (c1, c2) = if paired {
         (STATE_NOISE, GLLS_EST)

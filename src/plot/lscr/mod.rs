@@ -1,7 +1,9 @@
-//! The figures of LSCR reports (Weyer & Campi): one panel, [`REGION`] (`region.rs`, Figs. 1–3),
+//! The figures of LSCR reports (Weyer & Campi): one panel, [`REGION`] (`region.rs`, Figs. 1–3;
+//! for a scalar state `line.rs`: X̂'s intervals on one axis),
 //! since an LSCR report has no time steps. In compare, LSCR's region is black over its yellow
 //! tint, as on its panel, and drawn first (under the others).
 
+mod line;
 pub(crate) mod region;
 
 use crate::error::Result;

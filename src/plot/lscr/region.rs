@@ -60,7 +60,7 @@ pub fn lscr_of(report: &Report) -> Result<&LscrReport> {
 }
 
 /// What the estimate is, for the title and subtitle ("prediction of x₃₁ from y₁ … y₃₀").
-fn what(l: &LscrReport) -> (String, String) {
+pub(super) fn what(l: &LscrReport) -> (String, String) {
     let x = format!("x{}", sub(l.time));
     let ys = format!("y₁ … y{}", sub(l.t));
     let kind = match l.estimate {
@@ -72,7 +72,7 @@ fn what(l: &LscrReport) -> (String, String) {
 }
 
 /// Level of an ellipsoid {(x − c)ᵀ Σ⁻¹ (x − c) ≤ r²} of a Gaussian in `dim` dimensions.
-fn ellipse_level(radius2: f64, dim: usize) -> Option<f64> {
+pub(super) fn ellipse_level(radius2: f64, dim: usize) -> Option<f64> {
     let chi = ChiSquared::new(dim as f64).ok()?;
     let p = chi.cdf(radius2);
     p.is_finite().then_some(p)
@@ -396,6 +396,10 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let (report, view, fonts) = (request.report, request.view, request.fonts);
     let l = lscr_of(report)?;
     l.region.validate("report.lscr.region")?;
+    if l.region.dim == 1 {
+        // A scalar state: intervals on one axis.
+        return super::line::draw(root, request);
+    }
     if l.plot[0] >= l.region.dim || l.plot[1] >= l.region.dim || l.plot[0] == l.plot[1] {
         return Err(Error::field(
             "report.lscr.plot",

@@ -50,9 +50,8 @@ impl<'a> Ctx<'a> {
             return Err(Error::field(
                 "plot",
                 format!(
-                    "names component {i}, but the state has {} component{} (0-based)",
-                    report.n,
-                    if report.n == 1 { "" } else { "s" }
+                    "names component {i}, but the state has {} (0-based)",
+                    crate::error::counted(report.n, "component", "components")
                 ),
             ));
         }

@@ -148,12 +148,12 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     } else {
         "hull width hi − lo".to_string()
     };
-    let step_label = match (short, chosen.filtered) {
+    let steps_name = match (short, chosen.filtered) {
         (true, _) => STEP_SHORT,
         (false, false) => STEP,
         (false, true) => STEP_FILTERED,
     };
-    let step_label = record.axis_name(step_label);
+    let step_label = record.axis_name(steps_name);
     let axes = Axes {
         win,
         x_desc: step_label,

@@ -128,8 +128,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
         }
         if at.extended > 0 {
             notes.push(format!(
-                "the window's LP doubled the half-width bounds {} times: the polygon uses the extended bounds",
-                at.extended
+                "the window's LP doubled the half-width bounds {}: the polygon uses the extended bounds",
+                crate::error::counted(at.extended, "time", "times")
             ));
         }
     } else {

@@ -826,8 +826,8 @@ pub fn draw_output<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Re
     ));
     if u.u.extended > 0 {
         notes.push(format!(
-            "the half-width bounds were doubled {} times where the LP was infeasible",
-            u.u.extended
+            "the half-width bounds were doubled {} where the LP was infeasible",
+            crate::error::counted(u.u.extended, "time", "times")
         ));
     }
     let (rows, side, layout) = values_over_errors(
