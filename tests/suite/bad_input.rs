@@ -212,8 +212,9 @@ fn non_finite_entries() {
     assert_eq!(e.field, "model.V");
     assert!(e.to_string().contains("non-finite"), "{e}");
 
+    // (A NaN in data.y is a gap, a missing measurement: `records.rs`; an infinity is not.)
     let mut s = Scenario::from_json(&base().to_string()).unwrap();
-    s.data.as_mut().unwrap().y[2][0] = f64::NAN;
+    s.data.as_mut().unwrap().y[2][0] = f64::INFINITY;
     let e = s.run().unwrap_err();
     assert_eq!(e.field, "data.y[2]");
     assert!(e.to_string().contains("non-finite"), "{e}");
@@ -252,9 +253,11 @@ fn non_finite_entries() {
             "{msg}"
         );
     }
-    let text = with(base(), &["data", "y"], json!([[0.1], [null], [0.2]])).to_string();
+    // In data.y a null is a gap (a missing measurement, `records.rs`); in data.u, which has
+    // none (an input is known by definition), it is refused naming the entry.
+    let text = with(base(), &["data", "u"], json!([[0.1], [null], [0.2]])).to_string();
     let e = Scenario::from_json(&text).unwrap_err();
-    assert_eq!(e.field, "data.y[1][0]", "{e}");
+    assert_eq!(e.field, "data.u[1][0]", "{e}");
     assert!(e.to_string().contains("found null"), "{e}");
     // A list where a number belongs: the first entry decides the reading (a sequence of
     // matrices), and the entry that breaks it is named.
