@@ -187,14 +187,21 @@
 //!     over t, and the study at a fixed true state counting every member's hits beside its
 //!     promise's band. It loops over the members and never asks a method's kind;
 //!   - [`scenario::preset`]: the [`presets::Preset`] type the files build their presets with
-//! * [`scenario::csv`]: measured data from CSV text, the one parser of the page (wasm
-//!   `withCsvData`, `dataShape`), the CLI (`confset run --data FILE.csv`) and the tests:
-//!   [`scenario::data_from_csv`] and [`scenario::Scenario::with_csv_data`] (columns y₁ … y_q then
-//!   optionally u₁ … u_r; optional header naming them in any order; tab, semicolon, comma or space
-//!   delimited; `#` comments, CRLF, BOM; at most [`scenario::csv::MAX_CSV_BYTES`] and
-//!   [`scenario::csv::MAX_CSV_ROWS`] rows, checked before any cell is read; every cell in the
-//!   scenario's number range, by the same [`scenario::magnitude_problem`] as JSON; errors name
-//!   `data`, `data.y`, `data.u` with the file's line number and the column)
+//! * [`scenario::csv`]: measured data from CSV text, the one reader of the page (wasm
+//!   `withCsvData`, `csvColumns`, `dataShape`), the CLI (`confset run --data FILE.csv
+//!   [--columns NAME,…]`) and the tests: [`scenario::data_from_csv`],
+//!   [`scenario::data_from_csv_columns`], [`scenario::csv::read_csv`] (with its notes) and
+//!   [`scenario::Scenario::with_csv_file_columns`]. It never drops or shifts a row: every line
+//!   after the header is a row (a blank line a row of gaps), comments only above it. Columns
+//!   y₁ … y_q then optionally u₁ … u_r, by position or by a header's names (`y1`, `u2`; a time
+//!   column `t`/`time`/`year`/`date`/`index` or a data frame's unnamed index into `data.t`;
+//!   for q = 1 the one column besides the time whatever its name; other names chosen by
+//!   name); empty, `NA`, `nan`, `null`, `#N/A` and spreadsheet error cells are gaps (NaN) in y,
+//!   refused in u and the time; tab, semicolon, comma or space delimited; CRLF, BOM; at most
+//!   [`scenario::csv::MAX_CSV_BYTES`] and [`scenario::csv::MAX_CSV_ROWS`] rows, checked before
+//!   any cell is read; every cell in the scenario's number range, by the same
+//!   [`scenario::magnitude_problem`] as JSON; errors name `data`, `data.y`, `data.u`, `data.t`
+//!   or `columns` with the file's line number and the column)
 //! * [`presets`]: the menu of the papers' examples as scenarios (used by page, CLI and tests):
 //!   [`presets::all`] (every method of [`Method::ALL`] in turn, from its scenario file's presets;
 //!   no names listed), [`presets::get`], and re-exports of the builders that live in the scenario
@@ -228,7 +235,7 @@
 //!   index, entries, SVG figures and JSON downloads with relative links and no script
 //! * `web`: (wasm32 only) thin wasm-bindgen bindings: JSON in, JSON out, errors as JS
 //!   exceptions; `presets`, `limits`, `methodPanels` (a method's figures with their text
-//!   alternatives), `withCsvData` (CSV data for a scenario, titled after its file: [`scenario::Scenario::with_csv_file`]) and `dataShape`, `firstAccepted`, `ellipsoidLevel`;
+//!   alternatives), `withCsvData` (CSV data for a scenario, titled after its file, its columns optionally chosen by name: [`scenario::Scenario::with_csv_file_columns`]), `csvColumns` (a header's names and time column, for the page's column picker) and `dataShape`, `firstAccepted`, `ellipsoidLevel`;
 //!   `Session` (run, `setReport` (a report computed in the page's worker), `setAt` (a step's
 //!   detail from the worker's cursor into the kept report), `setStudy` (a study's result into
 //!   the report), `cursorSteps`, `usefulPanels`, draw, svg, LSCR raster), `Cursor` (a

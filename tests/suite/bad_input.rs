@@ -276,6 +276,12 @@ fn non_finite_entries() {
     let text = with(base(), &["data", "y"], json!([[0.1], ["NaN"], [0.2]])).to_string();
     let e = Scenario::from_json(&text).unwrap_err();
     assert_eq!(e.field, "data.y[1][0]", "{e}");
+    // In data.y a null is a gap (a missing measurement, `records.rs`); in data.u, which has
+    // none (an input is known by definition), it is refused naming the entry.
+    let text = with(base(), &["data", "u"], json!([[0.1], [null], [0.2]])).to_string();
+    let e = Scenario::from_json(&text).unwrap_err();
+    assert_eq!(e.field, "data.u[1][0]", "{e}");
+    assert!(e.to_string().contains("found null"), "{e}");
     // A list where a number belongs: the first entry decides the reading (a sequence of
     // matrices), and the entry that breaks it is named.
     let text = with(base(), &["model", "F"], json!([[[0.9], 0.1], [0.0, 0.8]])).to_string();
