@@ -376,7 +376,7 @@ impl ScfPrepared {
         let mut w = format!(
             "The record has gaps at {}: the Kalman update is skipped at {} (x̂ₜ = x̂ₜ⁻, Pₜ = Pₜ⁻), so the sets widen there",
             gaps.words(),
-            if gaps.full == gaps.rows.len() { "each" } else { "each row with no output measured" },
+            if gaps.full == gaps.rows.len() { "each of them" } else { "each row with no output measured" },
         );
         if scf {
             w.push_str(

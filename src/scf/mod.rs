@@ -11,6 +11,9 @@
 //! * components ζ only: R^(s) = I − P^(s) (Γ^(s))⁻¹ with the upper-left blocks (V-A);
 //! * τ-step prediction: the same with P_{t+τ|t} and Γ_{t+τ} (V-B, V-C);
 //! * time-varying / non-stationary systems: Γ_t propagated, F^b_t from (45) (V-D);
+//! * gaps in the record (a missing y_t, or some of its outputs): (38) with the Kalman gain of
+//!   the measured outputs, zero at a full gap, so the ratio only propagates there (derived in
+//!   [`ratio_recursion`]); the asymptotic filter refuses a gap;
 //! * measured inputs: x̂_t = R_t⁻¹ x̂^KF_t + (I − R_t⁻¹) d_t with d_t the input response
 //!   (V-E). We write it as x̂_t = m_t + R_t⁻¹(x̂^KF_t − m_t) with m_t = E(x_t), which is the same
 //!   formula and also covers a non-zero prior mean of x_1.

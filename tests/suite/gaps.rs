@@ -86,7 +86,8 @@ impl Lgm {
     }
 
     fn json(&self) -> Value {
-        let mut m = json!({"F": rows(&self.f), "H": rows(&self.h), "V": rows(&self.v), "W": rows(&self.w)});
+        let mut m =
+            json!({"F": rows(&self.f), "H": rows(&self.h), "V": rows(&self.v), "W": rows(&self.w)});
         if !self.stationary {
             m["x1_mean"] = json!(self.m1.iter().copied().collect::<Vec<_>>());
             m["x1_cov"] = rows(&self.p1);
@@ -239,15 +240,25 @@ fn cases() -> Vec<(&'static str, Lgm, Vec<DVector<f64>>)> {
         y2[k][j] = f64::NAN;
     }
     vec![
-        ("local level", level.clone(), with_gaps(&level.record(STEPS, 3), &gap_rows())),
-        ("one output", one.clone(), with_gaps(&one.record(STEPS, 4), &gap_rows())),
+        (
+            "local level",
+            level.clone(),
+            with_gaps(&level.record(STEPS, 3), &gap_rows()),
+        ),
+        (
+            "one output",
+            one.clone(),
+            with_gaps(&one.record(STEPS, 4), &gap_rows()),
+        ),
         ("two outputs", two, y2),
     ]
 }
 
 /// The rows a record has a gap in (0-based).
 fn gappy(y: &[DVector<f64>]) -> Vec<usize> {
-    (0..y.len()).filter(|&k| y[k].iter().any(|x| x.is_nan())).collect()
+    (0..y.len())
+        .filter(|&k| y[k].iter().any(|x| x.is_nan()))
+        .collect()
 }
 
 /// The report keeps one step per row, its y keeps the gaps where the record has them, and
@@ -318,12 +329,22 @@ fn scf_ratio_with_gaps_is_the_closed_form() {
             let ratio = DMatrix::identity(n, n) - &reference.p[i] * g_inv;
             // R is dimensionless, of order 1: compared to 1e-9 absolutely.
             let gap = (mat(&st.ratio) - &ratio).amax();
-            assert!(gap <= 1e-9, "{what}: R from (38) {:?} vs (41) {ratio}", st.ratio);
+            assert!(
+                gap <= 1e-9,
+                "{what}: R from (38) {:?} vs (41) {ratio}",
+                st.ratio
+            );
             if measured < n {
-                assert!(st.scf.is_none(), "{what}: an SCF region before n measured steps");
+                assert!(
+                    st.scf.is_none(),
+                    "{what}: an SCF region before n measured steps"
+                );
                 continue;
             }
-            let e = st.scf.as_ref().unwrap_or_else(|| panic!("{what}: no SCF region"));
+            let e = st
+                .scf
+                .as_ref()
+                .unwrap_or_else(|| panic!("{what}: no SCF region"));
             let r_inv = ratio.try_inverse().expect("R_t");
             let centre = &reference.m[i] + &r_inv * (&reference.xhat[i] - &reference.m[i]);
             assert_vec_close(&e.center, &centre, 1e-9, &what);
@@ -338,9 +359,15 @@ fn scf_ratio_with_gaps_is_the_closed_form() {
         };
         assert!(grow(64) > grow(44), "{name}: {} vs {}", grow(64), grow(44));
         let words = r.warnings.join(" ");
-        assert!(words.contains("UₜAₜ (38) only propagates"), "{name}: {words}");
+        assert!(
+            words.contains("UₜAₜ (38) only propagates"),
+            "{name}: {words}"
+        );
         if name == "two outputs" {
-            assert!(words.contains("at 4 rows only some outputs are missing"), "{words}");
+            assert!(
+                words.contains("at 4 rows only some outputs are missing"),
+                "{words}"
+            );
         }
     }
 }
@@ -359,7 +386,9 @@ fn what_cannot_take_a_gap_is_refused_precisely() {
     // Too few measured rows for an SCF region: said in words, in the singular too.
     let level = Lgm::local_level(1.0, 1.0, 0.0, 10.0);
     let y: Vec<DVector<f64>> = (0..3).map(|_| DVector::from_element(1, f64::NAN)).collect();
-    let e = scenario("scf", &level, &y, json!({})).run().expect_err("no measurement");
+    let e = scenario("scf", &level, &y, json!({}))
+        .run()
+        .expect_err("no measurement");
     assert_eq!(e.field, "data.y", "{e}");
     assert!(e.message.contains("0 measured rows of 3"), "{e}");
     // KF takes a record with no measurement at all: the prior moved by the model.
@@ -377,7 +406,9 @@ fn explain_says_the_update_is_skipped() {
             let s = scenario(method, &m, &y, json!({}));
             let r = run(&s);
             for t in [1, 31, 50, STEPS, 6] {
-                let e = s.explain(&r, Some(t), None).unwrap_or_else(|e| panic!("{name} {t}: {e}"));
+                let e = s
+                    .explain(&r, Some(t), None)
+                    .unwrap_or_else(|e| panic!("{name} {t}: {e}"));
                 let value = |row: &str| {
                     e.rows
                         .iter()
@@ -391,9 +422,17 @@ fn explain_says_the_update_is_skipped() {
                 assert_slice_rel(&est, &r.steps[t - 1].kf.center, 1e-12, name);
                 let full = y[t - 1].iter().all(|x| x.is_nan());
                 if full {
-                    assert!(matches!(value("innovation").value, StepValue::Text(_)), "{name}");
-                    let StepValue::Matrix(k) = value("gain").value else { panic!("gain") };
-                    assert!(k.iter().flatten().all(|x| *x == 0.0), "{name} t = {t}: K = {k:?}");
+                    assert!(
+                        matches!(value("innovation").value, StepValue::Text(_)),
+                        "{name}"
+                    );
+                    let StepValue::Matrix(k) = value("gain").value else {
+                        panic!("gain")
+                    };
+                    assert!(
+                        k.iter().flatten().all(|x| *x == 0.0),
+                        "{name} t = {t}: K = {k:?}"
+                    );
                     assert!(value("innovation").note.contains("skipped"), "{name}");
                 }
             }
@@ -443,7 +482,11 @@ fn a_gap_filled_by_the_prediction_keeps_the_centre_and_is_no_smaller() {
             for i in k + 1..y.len() {
                 let (a, b) = (&gap.steps[i].kf.cov, &full.steps[i].kf.cov);
                 let lowest = (mat(a) - mat(b)).symmetric_eigen().eigenvalues.min();
-                assert!(lowest >= -1e-12 * mat(a).amax(), "{what}, t = {}: {lowest}", i + 1);
+                assert!(
+                    lowest >= -1e-12 * mat(a).amax(),
+                    "{what}, t = {}: {lowest}",
+                    i + 1
+                );
             }
         }
     }
@@ -476,17 +519,33 @@ fn nile_variance_grows_through_each_gap() {
         let p: Vec<f64> = r.steps.iter().map(|s| s.kf.cov[0][0]).collect();
         let reference = textbook(&m, &y);
         for (i, x) in p.iter().enumerate() {
-            assert!(rel_close(*x, reference.p[i][(0, 0)], 1e-12), "t = {}", i + 1);
+            assert!(
+                rel_close(*x, reference.p[i][(0, 0)], 1e-12),
+                "t = {}",
+                i + 1
+            );
         }
         for stretch in [20..40usize, 60..80] {
             for k in stretch {
-                assert!(p[k] > p[k - 1], "{method}: P at t = {} not above t = {}", k + 1, k);
-                assert!(rel_close(p[k], p[k - 1] + 1469.1, 1e-12), "{method} t = {}", k + 1);
+                assert!(
+                    p[k] > p[k - 1],
+                    "{method}: P at t = {} not above t = {}",
+                    k + 1,
+                    k
+                );
+                assert!(
+                    rel_close(p[k], p[k - 1] + 1469.1, 1e-12),
+                    "{method} t = {}",
+                    k + 1
+                );
             }
         }
         // The CSV table: the record's years beside t, the gap's cells empty, never NaN.
         let csv = r.table().expect("the table").to_csv();
-        assert!(csv.starts_with("# warning: The record has gaps at 40 rows"), "{csv}");
+        assert!(
+            csv.starts_with("# warning: The record has gaps at 40 rows"),
+            "{csv}"
+        );
         let row21 = csv.lines().find(|l| l.starts_with("21,")).expect("row 21");
         assert!(row21.starts_with("21,1891,,"), "{row21}");
         assert!(!csv.contains("NaN") && !csv.contains("nan"), "{csv}");
@@ -501,7 +560,12 @@ in_browser!(nile_variance_grows_through_each_gap);
 fn conformal_region_uses_the_filter_with_skipped_updates() {
     for (name, m, y) in cases() {
         let time = 50; // inside the stretch of 20
-        let s = scenario("conformal", &m, &y, json!({"time": time, "conformal": {"calibration": 49}}));
+        let s = scenario(
+            "conformal",
+            &m,
+            &y,
+            json!({"time": time, "conformal": {"calibration": 49}}),
+        );
         let r = run(&s);
         let c = r.conformal.as_ref().expect("conformal");
         let reference = textbook(&m, &y);
@@ -607,25 +671,48 @@ fn aci_is_counted_honestly_against_an_independent_aci() {
     all.push(("no gaps", one.clone(), one.record(300, 9)));
     for (name, m, y) in all {
         for gamma in [0.005, 0.05, 0.5] {
-            let s = scenario("conformal", &m, &y, json!({"conformal": {"gamma": gamma, "calibration": 19}}));
+            let s = scenario(
+                "conformal",
+                &m,
+                &y,
+                json!({"conformal": {"gamma": gamma, "calibration": 19}}),
+            );
             let r = run(&s);
             let a = &r.conformal.as_ref().expect("conformal").aci;
             let own = own_aci(&m, &y, 0.9, gamma);
             let what = format!("{name} γ = {gamma}");
             for (st, o) in a.steps.iter().zip(&own) {
                 let w = format!("{what} t = {}", st.t);
-                assert!(rel_close(st.alpha_t, o.alpha_t, 1e-12), "{w}: α {} vs {}", st.alpha_t, o.alpha_t);
+                assert!(
+                    rel_close(st.alpha_t, o.alpha_t, 1e-12),
+                    "{w}: α {} vs {}",
+                    st.alpha_t,
+                    o.alpha_t
+                );
                 assert_eq!(st.q.is_none(), o.q.is_infinite(), "{w}");
                 if let Some(q) = st.q {
                     assert!(rel_close(q, o.q, 1e-9), "{w}: q {q} vs {}", o.q);
                 }
-                assert_eq!((st.empty, st.err, st.warmup), (o.empty, o.err, o.warmup), "{w}");
-                assert_eq!(st.err.is_none(), y[st.t - 1].iter().any(|x| x.is_nan()), "{w}");
+                assert_eq!(
+                    (st.empty, st.err, st.warmup),
+                    (o.empty, o.err, o.warmup),
+                    "{w}"
+                );
+                assert_eq!(
+                    st.err.is_none(),
+                    y[st.t - 1].iter().any(|x| x.is_nan()),
+                    "{w}"
+                );
             }
             let scored: Vec<&OwnAci> = own.iter().filter(|o| o.err.is_some()).collect();
-            let with_interval: Vec<&&OwnAci> =
-                scored.iter().filter(|o| o.q.is_finite() || o.empty).collect();
-            let warmup = scored.iter().take_while(|o| o.q.is_infinite() && !o.empty).count();
+            let with_interval: Vec<&&OwnAci> = scored
+                .iter()
+                .filter(|o| o.q.is_finite() || o.empty)
+                .collect();
+            let warmup = scored
+                .iter()
+                .take_while(|o| o.q.is_infinite() && !o.empty)
+                .count();
             let cover = |v: &[&&OwnAci]| {
                 v.iter().filter(|o| o.err == Some(false)).count() as f64 / v.len() as f64
             };
@@ -633,9 +720,12 @@ fn aci_is_counted_honestly_against_an_independent_aci() {
             assert!(warmup >= 1, "{what}: the first step has no past");
             assert_eq!(a.covered_steps, with_interval.len(), "{what}");
             assert_eq!(a.scored, scored.len(), "{what}");
-            assert!(rel_close(a.coverage, cover(&with_interval), 1e-12), "{what}");
-            let long_run = scored.iter().filter(|o| o.err == Some(false)).count() as f64
-                / scored.len() as f64;
+            assert!(
+                rel_close(a.coverage, cover(&with_interval), 1e-12),
+                "{what}"
+            );
+            let long_run =
+                scored.iter().filter(|o| o.err == Some(false)).count() as f64 / scored.len() as f64;
             assert!(rel_close(a.long_run_coverage, long_run, 1e-12), "{what}");
             let t = scored.len() as f64;
             let bound = (0.9f64.max(0.1) + gamma) / (gamma * t);
@@ -644,7 +734,10 @@ fn aci_is_counted_honestly_against_an_independent_aci() {
             // Vacuous: the bound at or above max(α, 1 − α) = 0.9 rules out nothing, said so.
             let vacuous = bound >= 0.9;
             assert_eq!(a.bound_vacuous, vacuous, "{what}");
-            let said = r.warnings.iter().any(|w| w.contains("rules out no coverage at all"));
+            let said = r
+                .warnings
+                .iter()
+                .any(|w| w.contains("rules out no coverage at all"));
             assert_eq!(said, vacuous, "{what}: {:?}", r.warnings);
             // The table: √S, qₜ, ŷ ± qₜ√S, and the warm-up flag.
             let table = r.table().expect("table");
@@ -657,23 +750,43 @@ fn aci_is_counted_honestly_against_an_independent_aci() {
             };
             for (row, o) in table.rows.iter().zip(&own) {
                 let w = format!("{what} t = {:?}", row[0]);
-                assert!(rel_close(row[col("sd_1")].expect("sd"), o.sd[0], 1e-12), "{w}");
+                assert!(
+                    rel_close(row[col("sd_1")].expect("sd"), o.sd[0], 1e-12),
+                    "{w}"
+                );
                 let bounds = (o.q.is_finite() && !o.empty)
                     .then(|| (o.y_hat[0] - o.q * o.sd[0], o.y_hat[0] + o.q * o.sd[0]));
                 match bounds {
                     Some((lo, hi)) => {
                         assert!(rel_close(row[col("aci_q")].expect("q"), o.q, 1e-9), "{w}");
-                        let (l, h) = (row[col("aci_lower_1")].expect("lo"), row[col("aci_upper_1")].expect("hi"));
-                        assert!((l - lo).abs() <= 1e-9 * (1.0 + lo.abs()), "{w}: {l} vs {lo}");
-                        assert!((h - hi).abs() <= 1e-9 * (1.0 + hi.abs()), "{w}: {h} vs {hi}");
+                        let (l, h) = (
+                            row[col("aci_lower_1")].expect("lo"),
+                            row[col("aci_upper_1")].expect("hi"),
+                        );
+                        assert!(
+                            (l - lo).abs() <= 1e-9 * (1.0 + lo.abs()),
+                            "{w}: {l} vs {lo}"
+                        );
+                        assert!(
+                            (h - hi).abs() <= 1e-9 * (1.0 + hi.abs()),
+                            "{w}: {h} vs {hi}"
+                        );
                     }
                     None => {
                         assert_eq!(row[col("aci_lower_1")], None, "{w}");
                         assert_eq!(row[col("aci_upper_1")], None, "{w}");
                     }
                 }
-                assert_eq!(row[col("aci_warmup")], Some(if o.warmup { 1.0 } else { 0.0 }), "{w}");
-                assert_eq!(row[col("aci_miss")], o.err.map(|e| if e { 1.0 } else { 0.0 }), "{w}");
+                assert_eq!(
+                    row[col("aci_warmup")],
+                    Some(if o.warmup { 1.0 } else { 0.0 }),
+                    "{w}"
+                );
+                assert_eq!(
+                    row[col("aci_miss")],
+                    o.err.map(|e| if e { 1.0 } else { 0.0 }),
+                    "{w}"
+                );
             }
         }
     }
