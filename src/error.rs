@@ -92,6 +92,23 @@ pub fn quoted(s: &str) -> String {
 /// Result with the crate's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// A count with its noun in the right number, for messages: `counted(1, "state", "states")`
+/// is "1 state", `counted(3, …)` "3 states" (never "1 outputs").
+pub fn counted(k: usize, one: &str, many: &str) -> String {
+    format!("{k} {}", if k == 1 { one } else { many })
+}
+
+/// A number a user gave, as a message repeats it: as written when that is short (`0.95`,
+/// `1200`), else in scientific notation with four digits (`1.000e-100`, not a hundred zeros).
+pub fn shown(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -111,22 +128,5 @@ mod tests {
             displayed(&"y".repeat(DISPLAY_CHARS)),
             "y".repeat(DISPLAY_CHARS)
         );
-    }
-}
-
-/// A count with its noun in the right number, for messages: `counted(1, "state", "states")`
-/// is "1 state", `counted(3, …)` "3 states" (never "1 outputs").
-pub fn counted(k: usize, one: &str, many: &str) -> String {
-    format!("{k} {}", if k == 1 { one } else { many })
-}
-
-/// A number a user gave, as a message repeats it: as written when that is short (`0.95`,
-/// `1200`), else in scientific notation with four digits (`1.000e-100`, not a hundred zeros).
-pub fn shown(x: f64) -> String {
-    let plain = format!("{x}");
-    if plain.len() <= 12 {
-        plain
-    } else {
-        format!("{x:.3e}")
     }
 }

@@ -46,9 +46,12 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let (report, fonts) = (request.report, request.fonts);
     let l = lscr_of(report)?;
     let w = &l.window;
-    if !(w.lo.len() == 1 && w.hi.len() == 1 && w.lo[0].is_finite() && w.hi[0].is_finite())
-        || !(w.lo[0] < w.hi[0])
-    {
+    let one_interval = w.lo.len() == 1
+        && w.hi.len() == 1
+        && w.lo[0].is_finite()
+        && w.hi[0].is_finite()
+        && w.lo[0] < w.hi[0];
+    if !one_interval {
         return Err(Error::field(
             "report.lscr.window",
             "must be one finite interval lo < hi for a scalar state",
