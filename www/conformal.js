@@ -115,7 +115,7 @@ function showNumbers({ ui, st }) {
   }
   row('truth in the regions', `conformal ${verdict(c.inside, 'inside', 'outside')} · Kalman ${verdict(c.kf_inside, 'inside', 'outside')}`);
   row(`ACI: coverage of y${r.q > 1 ? sub(1) : ''}`, `ACI <b>${pct(a.coverage)}</b> · Kalman <b>${pct(a.kf_coverage)}</b>`
-    + `${hint(`${int(a.steps.length)} steps, target ${pct(c.level)}, γ = ${fmt(a.gamma)}`)}`);
+    + `${hint(`over the ${int(a.covered_steps)} steps with an interval (${int(a.warmup)} warm-up steps apart), target ${pct(c.level)}, γ = ${fmt(a.gamma)}`)}`);
   const worst = (w) => (w ? `${pct(w[0])} from t = ${w[1]}` : '–');
   row(`worst ${a.window}-step window`, `ACI ${worst(a.worst)} · Kalman ${worst(a.kf_worst)}`);
   row('ACI’s bound', `|miss rate − ${fmt(a.miss)}| ≤ ${fmt(a.bound)}${hint('Gibbs & Candès, Prop. 4.1: on any record of this length')}`);
