@@ -359,20 +359,45 @@ impl Slot {
 }
 
 /// How the columns are read, and what the user should know about it.
-struct Plan {
+struct Plan<'a> {
     slots: Vec<Slot>,
-    /// How a message names each column: `y1`, `y1 ('flow')`, `'year' (the record's time)`.
-    labels: Vec<String>,
+    /// The header's names (empty without header), for [`Plan::label`].
+    header: Vec<&'a str>,
+    q: usize,
+    r: usize,
     notes: Vec<String>,
 }
 
-impl Plan {
-    fn positional(slots: Vec<Slot>) -> Plan {
-        let labels = slots.iter().map(|s| s.name()).collect();
+impl<'a> Plan<'a> {
+    fn positional(slots: Vec<Slot>, q: usize, r: usize) -> Plan<'a> {
         Plan {
             slots,
-            labels,
+            header: Vec::new(),
+            q,
+            r,
             notes: Vec::new(),
+        }
+    }
+
+    /// How a message names column k: `y1`, `y1 ('flow')`, `'year' (the record's time)`. Made
+    /// for the one message that needs it (a header may have millions of columns).
+    fn label(&self, k: usize) -> String {
+        let slot = self.slots[k];
+        let Some(&cell) = self.header.get(k) else {
+            return slot.name();
+        };
+        match slot {
+            Slot::Y(_) | Slot::U(_) => {
+                let own = column_name(cell, self.q, self.r)
+                    .is_some_and(|(kind, i)| slot.name() == format!("{kind}{i}"));
+                if own {
+                    slot.name()
+                } else {
+                    format!("{} ({})", slot.name(), column_words(&self.header, k))
+                }
+            }
+            Slot::Time => format!("{} (the record's time)", column_words(&self.header, k)),
+            Slot::Unused => column_words(&self.header, k),
         }
     }
 }
@@ -477,7 +502,13 @@ fn column_name(cell: &str, q: usize, r: usize) -> Option<(char, usize)> {
 
 /// How the columns of a header are read (module docs): by the names in `chosen` when given,
 /// else by the header's own names.
-fn header_plan(cells: &[&str], line: usize, q: usize, r: usize, chosen: &[String]) -> Result<Plan> {
+fn header_plan<'a>(
+    cells: &[&'a str],
+    line: usize,
+    q: usize,
+    r: usize,
+    chosen: &[String],
+) -> Result<Plan<'a>> {
     let n = cells.len();
     let mut slots = vec![Slot::Unused; n];
     let mut notes = Vec::new();
@@ -488,14 +519,19 @@ fn header_plan(cells: &[&str], line: usize, q: usize, r: usize, chosen: &[String
         if let Some(k) = time_column(cells, |k| slots[k] != Slot::Unused) {
             slots[k] = Slot::Time;
         }
-        let unused: Vec<String> = (0..n)
+        let count = slots.iter().filter(|&&s| s == Slot::Unused).count();
+        let mut unused: Vec<String> = (0..n)
             .filter(|&k| slots[k] == Slot::Unused)
+            .take(LISTED_NAMES)
             .map(|k| column_words(cells, k))
             .collect();
-        if !unused.is_empty() {
+        if count > LISTED_NAMES {
+            unused.push(format!("… ({count} in all)"));
+        }
+        if count > 0 {
             notes.push(format!(
                 "{} not used (the columns chosen: {})",
-                if unused.len() == 1 {
+                if count == 1 {
                     format!("column {} is", unused[0])
                 } else {
                     format!("columns {} are", unused.join(", "))
@@ -504,27 +540,11 @@ fn header_plan(cells: &[&str], line: usize, q: usize, r: usize, chosen: &[String
             ));
         }
     }
-    let labels = slots
-        .iter()
-        .zip(cells)
-        .enumerate()
-        .map(|(k, (&slot, &cell))| match slot {
-            Slot::Y(_) | Slot::U(_) => {
-                let own = column_name(cell, q, r)
-                    .is_some_and(|(kind, i)| Slot::name(slot) == format!("{kind}{i}"));
-                if own {
-                    slot.name()
-                } else {
-                    format!("{} ({})", slot.name(), column_words(cells, k))
-                }
-            }
-            Slot::Time => format!("{} (the record's time)", column_words(cells, k)),
-            Slot::Unused => column_words(cells, k),
-        })
-        .collect();
     Ok(Plan {
         slots,
-        labels,
+        header: cells.to_vec(),
+        q,
+        r,
         notes,
     })
 }
@@ -938,7 +958,7 @@ fn parse(text: &str, q: usize, r: usize, chosen: &[String], limits: Limits) -> R
         ));
     } else {
         positional_columns(first_cells.len(), first_line, q, r)
-            .map(Plan::positional)
+            .map(|slots| Plan::positional(slots, q, r))
             .map_err(|e| {
                 let count = first_cells.len();
                 let halves = count == 2 * q || (r > 0 && count == 2 * (q + r));
@@ -1025,7 +1045,7 @@ fn parse(text: &str, q: usize, r: usize, chosen: &[String], limits: Limits) -> R
         let mut yr = vec![f64::NAN; q];
         let mut ur = vec![0.0; if with_u { r } else { 0 }];
         for (k, (&cell, &slot)) in cells.iter().zip(&plan.slots).enumerate() {
-            let at = || format!("row {line}, column {}", plan.labels[k]);
+            let at = || format!("row {line}, column {}", plan.label(k));
             match slot {
                 Slot::Y(i) if is_gap(cell) => yr[i] = f64::NAN,
                 Slot::Y(i) => yr[i] = number(cell, &at(), "data.y")?,
@@ -1542,6 +1562,19 @@ mod tests {
                 vec![vec![1.0], vec![2.0]],
                 years(10, 20).into_iter().step_by(10).collect()
             )
+        );
+        // Many columns not used: the note lists a few.
+        let wide: Vec<String> = (0..1000).map(|k| format!("c{k}")).collect();
+        let text = format!("{}\n{}\n", wide.join(","), vec!["1"; 1000].join(","));
+        let read = chosen(&text, 1, 0, &["c500"]).expect("read");
+        assert_eq!(read.notes.len(), 1);
+        assert!(
+            read.notes[0].starts_with("columns 'c0', 'c1',")
+                && read.notes[0].contains(
+                    "'c11', … (999 in all) are not used (the columns chosen: y1 = 'c500')"
+                ),
+            "{:?}",
+            read.notes
         );
         // The header's names for the page's picker, and its time column.
         assert_eq!(
