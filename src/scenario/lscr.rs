@@ -1528,6 +1528,35 @@ impl CompareMember for Lscr {
             .lscr
             .as_ref()
             .ok_or_else(|| Error::field("report.lscr", "has no lscr part"))?;
+        if l.plot == [0, 0] {
+            // A scalar state: X̂ is a union of open intervals of the line (`intervals`). The
+            // compare draws one interval per method, so X̂ is drawn when it is one bounded
+            // interval; a union or an unbounded piece is said in words, never replaced by a
+            // hull that would hold states X̂ does not.
+            return match l.intervals.as_slice() {
+                [one] => match (one.lo, one.hi) {
+                    (Some(lo), Some(hi)) => Ok(PlaneReading {
+                        holds: truth.map(|x| l.region.contains(x)),
+                        area: Some(hi - lo),
+                        note: Some(format!("M = {}, q = {}", l.m, l.q)),
+                        set: PlaneSet::Interval { lo, hi },
+                        outline: None,
+                    }),
+                    _ => Err(Error::field(
+                        "lscr",
+                        "gives an unbounded interval X̂ for this record: too few measurements or a level too high for a bounded region",
+                    )),
+                },
+                [] => Err(Error::field("lscr", "gives an empty X̂ for this record")),
+                many => Err(Error::field(
+                    "lscr",
+                    format!(
+                        "gives X̂ as a union of {} intervals, which the compare's one interval per method cannot draw: the LSCR view draws them",
+                        many.len()
+                    ),
+                )),
+            };
+        }
         Ok(PlaneReading {
             holds: truth.map(|x| l.region.contains(x)),
             area: l.bounded.then_some(l.area),

@@ -199,7 +199,7 @@ fn contradictory_bounds_name_the_bound() {
     assert_eq!(e.field, "ubb.eps");
     assert_eq!(
         e.message,
-        "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta); the set became empty at step k = 0, when y(0) joined the window y(0 … 0); the true noise (|η| ≤ 0.2, |u| ≤ 0.1: ubb.sim_eps, ubb.sim_tau) exceeds the bounds the estimator assumes (ε = 0.000001, τ = 0.1), so the data may contradict them"
+        "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta); the set became empty at step k = 1, when y(1) joined the window y(0 … 1); the true noise (|η| ≤ 0.2, |u| ≤ 0.1: ubb.sim_eps, ubb.sim_tau) exceeds the bounds the estimator assumes (ε = 0.000001, τ = 0.1), so the data may contradict them"
     );
     // Given data (no simulation): the plain message.
     let mut d = preset("ubb-track");
@@ -211,7 +211,7 @@ fn contradictory_bounds_name_the_bound() {
     assert_eq!(e.field, "ubb.eps");
     assert_eq!(
         e.message,
-        "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta); the set became empty at step k = 0, when y(0) (row 1 (t = 1) of the record) joined the window y(0 … 0)"
+        "leaves no state consistent with the data under these bounds — ubb.eps may be too small (or ubb.tau, or ubb.delta); the set became empty at step k = 1, when y(1) (row 2 (t = 2) of the record) joined the window y(0 … 1)"
     );
 }
 in_browser!(contradictory_bounds_name_the_bound);

@@ -131,7 +131,7 @@ fn record_times_are_checked() {
     };
     let e = with(vec![RecordTime::Number(1.0)]).unwrap_err();
     assert_eq!(e.field, "data.t", "{e}");
-    assert!(e.message.contains(&format!("1 times for {rows} rows")), "{e}");
+    assert!(e.message.contains(&format!("1 time for {rows} rows")), "{e}");
     let mut t: Vec<RecordTime> = (0..rows).map(|k| RecordTime::Number(k as f64)).collect();
     t[5] = RecordTime::Number(3.0);
     let e = with(t).unwrap_err();
