@@ -469,7 +469,7 @@ export const TRIES = {
       id: 'gamma-up',
       name: 'raise γ to 0.05',
       move: 'Raise “ACI step γ” from 0.01 to 0.05.',
-      watch: 'ACI follows the drift faster: its worst 50-step window rises from 78 % to 84 %, its coverage over the record nears 90 %, and its bound tightens from 0.23 to 0.05. The Kalman interval stays at 66 %.',
+      watch: 'ACI follows the drift faster: its worst 50-step window rises from 78 % to 84 %, its long-run coverage nears 90 %, and its bound tightens from 0.23 to 0.05. The Kalman interval stays near 66 %.',
       apply: { 'cf-gamma': 0.05 },
     },
     {
@@ -483,7 +483,7 @@ export const TRIES = {
       id: 'level-up',
       name: 'raise α to 0.95',
       move: 'Raise the “Probability level α” slider to 0.95.',
-      watch: 'ACI’s interval follows to about 94 % of the steps; the Kalman interval, too narrow once the noise has grown, covers 75 %.',
+      watch: 'ACI’s interval follows to about 93 % of the steps with an interval; the Kalman interval, too narrow once the noise has grown, covers 74 %.',
       apply: { 'cf-alpha': 0.95 },
     },
   ],
