@@ -363,7 +363,8 @@ pub struct Report {
     pub time: usize,
     pub plot: Vec<usize>,
     pub steps: Vec<ScfStep>,
-    /// Measurements used.
+    /// Measurements used (a gap of the record is `null`, read back as NaN).
+    #[serde(with = "gap_rows")]
     pub y: Vec<Vec<f64>>,
     /// True states (simulation only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
