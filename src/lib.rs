@@ -93,7 +93,10 @@
 //!   as second-order cones), its interval hull and central estimate (31) with the local error (5),
 //!   the exact 2-D polygon (a 2-D state with l∞ bounds: by the planar recursion of
 //!   [`ubb::planar`], clip by the measurement strips, map by A, add the noise zonotope, with no
-//!   LP; otherwise by support LPs), Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear
+//!   LP; a 1-D state the same on intervals, [`ubb::interval`]; otherwise by support LPs), the
+//!   filtered set X(k | y(0 … k)) beside the predicted X(k+1 | y(0 … k)) of every step, a
+//!   record's gaps (a missing measurement drops its strip), boundedness with δ = ∞ by
+//!   reconstructibility over the window, Theorem 1 (Hilbert norms: Gauss–Markov or zero), Theorem 2 (linear
 //!   optimal algorithm from the active constraints of (22), by the certified simplex's vertex; on
 //!   the state problem [`ubb::StateProblem::theorem_2`]: each plotted component's estimate (25),
 //!   error E(φ₀) and active rows named by time and bound, the report's `at.linear`), Theorems 4

@@ -1543,9 +1543,10 @@ impl StateProblem {
             return Err(Error::field(
                 "ubb.delta",
                 format!(
-                    "is ∞ (no bound on x(0)), and y({s} … {k}) leave x({}) unbounded: they determine {rank} of the {r} state directions of x({s}) (rank [C; CA; …; CA^{}] = {rank} over the window{gaps}), and A^{len} does not map the rest to 0 (the pair (A, C) is not reconstructible over these {len} steps: the feasible set is unbounded); give δ or wait for more data",
+                    "is ∞ (no bound on x(0)), and y({s} … {k}) leave x({}) unbounded: they determine {rank} of the {r} state directions of x({s}) (rank [C; CA; …; CA^{}] = {rank} over the window{gaps}), and A^{len} does not map the rest to 0 (the pair (A, C) is not reconstructible over the window of {len} {}: the feasible set is unbounded); give δ or wait for more data",
                     k + 1,
                     len - 1,
+                    if len == 1 { "step" } else { "steps" },
                 ),
             ));
         }

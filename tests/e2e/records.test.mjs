@@ -31,6 +31,9 @@ export default async function records({ newPage, baseUrl, waitReady, assert }) {
   assert.equal(await page.$eval(`${picker} label`, (l) => l.textContent.trim().split(/\s/)[0]), 'y1', 'the select is labelled y1');
   assert.equal(await page.$eval(`${picker} select`, (s) => s.selectedOptions[0].textContent), 'flow', 'the default skips the time column');
   await page.selectOption(`${picker} select`, { label: 'rain' });
+  // The old refusal and status cleared first, so `settled` waits for this run's answer.
+  await page.$eval('#lscr-section .share-status', (e) => { e.textContent = ''; });
+  await page.$eval('#lscr-section .data-err', (e) => { e.textContent = ''; });
   await page.click(`${picker} button`);
   await settled();
   assert.equal(await dataErr(page), '', 'the chosen column is read and run');
