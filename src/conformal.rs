@@ -301,7 +301,9 @@ mod tests {
         // until α_t ≤ 0 opens the whole space, which holds it.
         let rising: Vec<Option<f64>> = (0..50).map(|i| Some(f64::from(i))).collect();
         let steps = aci(&rising, 0.1, 0.5);
-        assert!(steps.iter().all(|s| s.q.is_infinite() || s.err == Some(true)));
+        assert!(steps
+            .iter()
+            .all(|s| s.q.is_infinite() || s.err == Some(true)));
         assert!(steps
             .iter()
             .skip(1)
@@ -332,7 +334,10 @@ mod tests {
             let t = aci_informative_steps(miss, gamma);
             let m = aci_largest_gap(miss);
             assert!(aci_bound(miss, gamma, t) < m, "{miss} {gamma}");
-            assert!(t == 1 || aci_bound(miss, gamma, t - 1) >= m, "{miss} {gamma}");
+            assert!(
+                t == 1 || aci_bound(miss, gamma, t - 1) >= m,
+                "{miss} {gamma}"
+            );
         }
     }
 }

@@ -93,7 +93,9 @@ fn update_observed(
 /// gap, [`crate::scenario::DataSpec`]); every output for a step beyond the record (`None`).
 pub fn observed_outputs(y: Option<&DVector<f64>>, q: usize) -> Vec<usize> {
     match y {
-        Some(y) => (0..q).filter(|&j| y.get(j).is_some_and(|x| !x.is_nan())).collect(),
+        Some(y) => (0..q)
+            .filter(|&j| y.get(j).is_some_and(|x| !x.is_nan()))
+            .collect(),
         None => (0..q).collect(),
     }
 }

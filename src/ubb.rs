@@ -1526,7 +1526,10 @@ impl StateProblem {
             )
         })?;
         let v_t = svd.v_t.as_ref().ok_or_else(|| {
-            Error::field("model.F", "has an observability matrix without right singular vectors")
+            Error::field(
+                "model.F",
+                "has an observability matrix without right singular vectors",
+            )
         })?;
         let free: Vec<DVector<f64>> = (0..r)
             .filter(|&i| svd.singular_values[i] <= tol)

@@ -495,9 +495,10 @@ fn compare_table(c: &crate::scenario::CompareReport, study: Option<&Value>) -> S
                 "{}: {}{}",
                 if set.empty { "empty set" } else { "no set" },
                 notation(set.reason.as_deref().unwrap_or("")),
-                set.remedy
-                    .as_deref()
-                    .map_or(String::new(), |r| format!("<br>a set needs: {}", notation(r)))
+                set.remedy.as_deref().map_or(String::new(), |r| format!(
+                    "<br>a set needs: {}",
+                    notation(r)
+                ))
             ),
             (Some(_), None) => "unbounded".to_string(),
             (Some(_), Some(a)) => number(a),

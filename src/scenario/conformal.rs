@@ -167,8 +167,18 @@ impl AciReportStep {
     /// `None` where the set is the whole line or empty.
     pub fn bounds(&self) -> Option<(Vec<f64>, Vec<f64>)> {
         let q = self.q.filter(|_| !self.empty)?;
-        let lo = self.y_hat.iter().zip(&self.sd).map(|(y, s)| y - q * s).collect();
-        let hi = self.y_hat.iter().zip(&self.sd).map(|(y, s)| y + q * s).collect();
+        let lo = self
+            .y_hat
+            .iter()
+            .zip(&self.sd)
+            .map(|(y, s)| y - q * s)
+            .collect();
+        let hi = self
+            .y_hat
+            .iter()
+            .zip(&self.sd)
+            .map(|(y, s)| y + q * s)
+            .collect();
         Some((lo, hi))
     }
 }
@@ -336,7 +346,10 @@ impl Scenario {
         // The record's gaps (empty for a simulation): the filter skips or narrows its update
         // there, in the record and in every calibration run alike.
         let record = source.measurements_with_gaps(model.q())?;
-        let unscored = record.iter().filter(|y| y.iter().any(|x| x.is_nan())).count();
+        let unscored = record
+            .iter()
+            .filter(|y| y.iter().any(|x| x.is_nan()))
+            .count();
         if unscored > 0 && steps - unscored < n0 + 1 {
             return Err(Error::field(
                 "data.y",
@@ -680,12 +693,14 @@ impl AciSummary {
                 .filter(|s| if kf { s.kf_err } else { s.err } == Some(true))
                 .count()
         };
-        let rate = |v: &[&AciReportStep], kf: bool| {
-            1.0 - misses(v, kf) as f64 / v.len().max(1) as f64
-        };
+        let rate =
+            |v: &[&AciReportStep], kf: bool| 1.0 - misses(v, kf) as f64 / v.len().max(1) as f64;
         let warmup = scored.iter().filter(|s| s.warmup).count();
         let err: Vec<bool> = with_interval.iter().map(|s| s.err == Some(true)).collect();
-        let kf_err: Vec<bool> = with_interval.iter().map(|s| s.kf_err == Some(true)).collect();
+        let kf_err: Vec<bool> = with_interval
+            .iter()
+            .map(|s| s.kf_err == Some(true))
+            .collect();
         // A window's first step as the step t it starts at.
         let at = |w: Option<(f64, usize)>| w.map(|(c, k)| (c, with_interval[k - 1].t));
         AciSummary {
@@ -1207,7 +1222,11 @@ fn drifting_record() -> DataSpec {
             f[1][0] * x[0] + f[1][1] * x[1] + v * normal(),
         ];
     }
-    DataSpec { y, u: vec![], t: vec![] }
+    DataSpec {
+        y,
+        u: vec![],
+        t: vec![],
+    }
 }
 
 fn presets() -> Vec<Preset> {

@@ -517,7 +517,11 @@ impl FigureContext {
                 .data
                 .as_ref()
                 .filter(|d| d.t.len() == d.y.len())
-                .map(|d| d.t.iter().map(|t| crate::error::displayed(&t.label())).collect())
+                .map(|d| {
+                    d.t.iter()
+                        .map(|t| crate::error::displayed(&t.label()))
+                        .collect()
+                })
                 .unwrap_or_default(),
         }
     }
@@ -955,7 +959,11 @@ impl DataSpec {
             }
             last = Some((key, k));
         }
-        let kinds = self.t.iter().filter(|t| matches!(t, RecordTime::Number(_))).count();
+        let kinds = self
+            .t
+            .iter()
+            .filter(|t| matches!(t, RecordTime::Number(_)))
+            .count();
         if kinds != 0 && kinds != self.t.len() {
             return Err(Error::field(
                 "data.t",
@@ -1063,21 +1071,24 @@ impl<'a> Source<'a> {
     /// that step ([`DataSpec`]). For the methods whose [`Gaps`] is `Handled`.
     pub fn measurements_with_gaps(&self, q: usize) -> Result<Vec<DVector<f64>>> {
         match self {
-            Source::Data(d) => d
-                .y
-                .iter()
-                .enumerate()
-                .map(|(k, r)| {
-                    let field = format!("data.y[{k}]");
-                    if r.len() != q {
-                        return linalg::vector(&field, r, q);
-                    }
-                    if let Some(j) = r.iter().position(|x| x.is_infinite()) {
-                        return Err(Error::field(field, format!("has a non-finite entry at position {j}")));
-                    }
-                    Ok(DVector::from_column_slice(r))
-                })
-                .collect(),
+            Source::Data(d) => {
+                d.y.iter()
+                    .enumerate()
+                    .map(|(k, r)| {
+                        let field = format!("data.y[{k}]");
+                        if r.len() != q {
+                            return linalg::vector(&field, r, q);
+                        }
+                        if let Some(j) = r.iter().position(|x| x.is_infinite()) {
+                            return Err(Error::field(
+                                field,
+                                format!("has a non-finite entry at position {j}"),
+                            ));
+                        }
+                        Ok(DVector::from_column_slice(r))
+                    })
+                    .collect()
+            }
             Source::Simulate(_) => Ok(Vec::new()),
         }
     }
@@ -1551,7 +1562,10 @@ impl Scenario {
             // The one gate of gaps (a missing measurement): a method that cannot take one is
             // refused here, naming the row and its time, before any work.
             if let (Some((k, _)), Gaps::Refused(why)) = (d.first_gap(), method.gaps()) {
-                return Err(d.gap_error(k, &format!("method \"{}\" cannot take a gap: {why}", self.method)));
+                return Err(d.gap_error(
+                    k,
+                    &format!("method \"{}\" cannot take a gap: {why}", self.method),
+                ));
             }
         }
         let range = method.steps();

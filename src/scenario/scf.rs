@@ -412,8 +412,12 @@ impl ScfPrepared {
             ));
         }
         let tau = self.options.tau;
-        let o =
-            crate::kalman::Offline::with_gaps(&self.model, steps.len() + tau, &self.inputs, &self.y)?;
+        let o = crate::kalman::Offline::with_gaps(
+            &self.model,
+            steps.len() + tau,
+            &self.inputs,
+            &self.y,
+        )?;
         let mut out = Vec::new();
         for st in steps {
             let g = &o.gains.steps[st.t - 1];
@@ -556,11 +560,17 @@ impl GapRows {
         if rows.is_empty() {
             return None;
         }
-        let full = rows.iter().filter(|&&k| y[k].iter().all(|x| x.is_nan())).count();
+        let full = rows
+            .iter()
+            .filter(|&&k| y[k].iter().all(|x| x.is_nan()))
+            .count();
         Some(GapRows {
             rows,
             full,
-            times: times.iter().map(|t| crate::error::displayed(&t.label())).collect(),
+            times: times
+                .iter()
+                .map(|t| crate::error::displayed(&t.label()))
+                .collect(),
         })
     }
 
@@ -605,7 +615,15 @@ impl GapRows {
                 .take(SHOWN)
                 .map(|&r| span(r, &|k| self.times[k].clone()))
                 .collect();
-            out.push_str(&format!("; {} {}", if self.rows.len() == 1 { "time" } else { "times" }, times.join(", ")));
+            out.push_str(&format!(
+                "; {} {}",
+                if self.rows.len() == 1 {
+                    "time"
+                } else {
+                    "times"
+                },
+                times.join(", ")
+            ));
         }
         out.push(')');
         out
@@ -723,8 +741,20 @@ impl ScfPrepared {
         );
         if observed.is_empty() {
             let none = || V::Text("none: y is missing at this step".into());
-            out.row("innovation", "(35a)", r"e_t = y_t - H \hat x^-_t", none(), gap_note(""));
-            out.row("innovation covariance", "(35b)", r"S_t = H P^-_t H^\top + W", none(), "");
+            out.row(
+                "innovation",
+                "(35a)",
+                r"e_t = y_t - H \hat x^-_t",
+                none(),
+                gap_note(""),
+            );
+            out.row(
+                "innovation covariance",
+                "(35b)",
+                r"S_t = H P^-_t H^\top + W",
+                none(),
+                "",
+            );
         } else {
             out.row(
                 "innovation",
@@ -1243,7 +1273,8 @@ impl CompareMember for Scf {
                         "is absent at t = {}: {}{}",
                         step.t,
                         crate::scf::singular_ratio(step.t, target.components.len(), ratio.as_ref()),
-                        p.unobservable().map_or(String::new(), |why| format!(" ({why})"))
+                        p.unobservable()
+                            .map_or(String::new(), |why| format!(" ({why})"))
                     ),
                 )
             })?

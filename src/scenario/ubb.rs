@@ -823,15 +823,26 @@ impl UbbPrepared {
         };
         let mut noise = Vec::new();
         if u.p > 0 {
-            noise.push(format!("Var u = {}{var} = {}", three_digits(tau), three_digits(v * tau * tau)));
+            noise.push(format!(
+                "Var u = {}{var} = {}",
+                three_digits(tau),
+                three_digits(v * tau * tau)
+            ));
         }
         if u.q > 0 {
-            noise.push(format!("Var η = {}{var} = {}", three_digits(eta), three_digits(v * eta * eta)));
+            noise.push(format!(
+                "Var η = {}{var} = {}",
+                three_digits(eta),
+                three_digits(v * eta * eta)
+            ));
         }
         let noise = if noise.is_empty() {
             "no noise (no process noise and no measurements)".to_string()
         } else {
-            format!("Gaussian noise with {law} ({} per component)", noise.join(", "))
+            format!(
+                "Gaussian noise with {law} ({} per component)",
+                noise.join(", ")
+            )
         };
         let prior = match &self.problem.bounds.delta {
             Some(_) => format!("x(0) with the variances δᵢ{var} of its box"),
@@ -1036,7 +1047,10 @@ impl UbbPrepared {
 
     /// The polygon, hull and prediction at step k, and the filtered set's.
     pub fn at(&self, run: &Run, kf: &[KalmanStep], k: usize) -> Result<UbbStep> {
-        let step = self.problem.step(&run.y, k).map_err(|e| self.empty_at(k, e))?;
+        let step = self
+            .problem
+            .step(&run.y, k)
+            .map_err(|e| self.empty_at(k, e))?;
         let (hull, polygon, size): (IntervalHull, SupportPolygon, LpSize) = step
             .hull_and_polygon(self.plane, self.spec.budget)
             .map_err(|e| self.empty_at(k, e))?;
@@ -1148,7 +1162,11 @@ fn gap_ranges(d: &super::DataSpec, rows: &[usize]) -> String {
             } else {
                 match (time(a), time(b)) {
                     (Some(ta), Some(tb)) => {
-                        format!("rows {}–{} (steps k = {a}–{b}, times {ta} … {tb})", a + 1, b + 1)
+                        format!(
+                            "rows {}–{} (steps k = {a}–{b}, times {ta} … {tb})",
+                            a + 1,
+                            b + 1
+                        )
                     }
                     _ => format!("rows {}–{} (steps k = {a}–{b})", a + 1, b + 1),
                 }
@@ -1885,8 +1903,7 @@ fn work(s: &Scenario, job: Job) -> Work {
     let (sum_len, sum_len2, sum_k) = window_sums(steps, w_eff);
     // Per step k: the nominal trajectory and the powers of A up to k (and the prior box).
     let history = sum_k
-        * (OPS_HISTORY * if p > 0 { 2.0 } else { 1.0 }
-            + OPS_HISTORY_SQUARE * f(r * r) * f(1 + p));
+        * (OPS_HISTORY * if p > 0 { 2.0 } else { 1.0 } + OPS_HISTORY_SQUARE * f(r * r) * f(1 + p));
     if let Job::Study { .. } = job {
         let k = spec.time.unwrap_or(steps.saturating_sub(1));
         let len = w_eff.min(k + 1);
@@ -1952,13 +1969,24 @@ fn work(s: &Scenario, job: Job) -> Work {
         if enumerated_form || p > 0 {
             // The LP grows with the window until it slides: each distinct length once.
             for len in 1..=w_eff.min(steps) {
-                let count = if len < w_eff.min(steps) { 1 } else { steps + 1 - len };
+                let count = if len < w_eff.min(steps) {
+                    1
+                } else {
+                    steps + 1 - len
+                };
                 solves += f(count) * solve(len).0;
             }
         } else {
             // Without process noise len = k + 1, and the solve is linear in it.
-            solves = OPS_LP_ROW * f(2 * q) * f(r + q) * sum_len
-                * if spec.norm == Norm::L2 { L2_FACTOR } else { 1.0 }
+            solves = OPS_LP_ROW
+                * f(2 * q)
+                * f(r + q)
+                * sum_len
+                * if spec.norm == Norm::L2 {
+                    L2_FACTOR
+                } else {
+                    1.0
+                }
                 + OPS_SOLVE * f(steps);
         }
         w.ops(

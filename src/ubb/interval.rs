@@ -47,7 +47,11 @@ fn clip(i: [f64; 2], c: f64, l: f64, h: f64) -> Option<[f64; 2]> {
     if reversed(l, h) {
         return None;
     }
-    let (a, b) = if c > 0.0 { (l / c, h / c) } else { (h / c, l / c) };
+    let (a, b) = if c > 0.0 {
+        (l / c, h / c)
+    } else {
+        (h / c, l / c)
+    };
     let (lo, hi) = (i[0].max(a), i[1].min(b));
     (!reversed(lo, hi)).then_some([lo, hi.max(lo)])
 }

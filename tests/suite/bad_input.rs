@@ -683,7 +683,9 @@ fn fields_at_their_limits_together_are_refused_by_the_work_budget() {
             .work(Job::Report)
             .check(Job::Report)
             .err()
-            .unwrap_or_else(|| panic!("{method}: the fields at their limits together exceed the budget"));
+            .unwrap_or_else(|| {
+                panic!("{method}: the fields at their limits together exceed the budget")
+            });
         let e = sc.run().expect_err("refused");
         assert_eq!(
             e, estimate,

@@ -509,8 +509,17 @@ fn a_scalar_state_gives_intervals() {
         // verdict is its own membership.
         if matches!(set.method, Method::Lscr | Method::Ubb) {
             assert!(lo < hi, "{}: [{lo}, {hi}]", set.method);
-            assert!(close(set.area.expect("length"), hi - lo, 1e-9), "{}", set.method);
-            assert_eq!(set.holds, Some(lo <= truth[0] && truth[0] <= hi), "{}", set.method);
+            assert!(
+                close(set.area.expect("length"), hi - lo, 1e-9),
+                "{}",
+                set.method
+            );
+            assert_eq!(
+                set.holds,
+                Some(lo <= truth[0] && truth[0] <= hi),
+                "{}",
+                set.method
+            );
             continue;
         }
         // The panel's own set of x₄₁, as an ellipsoid of one dimension.
@@ -562,7 +571,10 @@ fn a_scalar_state_gives_intervals() {
             );
         }
     }
-    assert!(with_set >= 5, "KF, conformal, SCF, GLLS and Tempo's interval at least: {with_set}");
+    assert!(
+        with_set >= 5,
+        "KF, conformal, SCF, GLLS and Tempo's interval at least: {with_set}"
+    );
     let svg = plot::report_svg(
         &r,
         &View::new(plot::Panel::from_name("compare").expect("panel")),
@@ -574,7 +586,10 @@ fn a_scalar_state_gives_intervals() {
     // The study of a scalar state: the full state is one number.
     let result = run_study(&s);
     assert_eq!(result["x"], json!([0.5]));
-    assert_eq!(count(&result, Method::UniformLp)["standing"], "does_not_apply");
+    assert_eq!(
+        count(&result, Method::UniformLp)["standing"],
+        "does_not_apply"
+    );
     assert_eq!(count(&result, Method::Kf)["with_set"], 20);
 }
 in_browser!(a_scalar_state_gives_intervals);

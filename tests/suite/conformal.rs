@@ -209,8 +209,7 @@ fn aci_long_run_miss_rate_within_its_bound() {
             let a = &report.conformal.as_ref().expect("conformal").aci;
             let t = a.steps.len();
             assert_eq!(t, 2000);
-            let misses =
-                a.steps.iter().filter(|s| s.err == Some(true)).count() as f64 / t as f64;
+            let misses = a.steps.iter().filter(|s| s.err == Some(true)).count() as f64 / t as f64;
             assert_eq!(a.scored, t);
             assert!(rel_close(1.0 - a.long_run_coverage, misses, 1e-12));
             let bound = (0.9f64.max(0.1) + gamma) / (gamma * t as f64);

@@ -108,7 +108,11 @@ fn simulating_presets() -> Vec<(String, Scenario, Scenario)> {
             );
             let mut direct = s.clone();
             direct.simulate = None;
-            direct.data = Some(DataSpec { y: sim.y, u, t: Vec::new() });
+            direct.data = Some(DataSpec {
+                y: sim.y,
+                u,
+                t: Vec::new(),
+            });
             (p.name, s, direct)
         })
         .collect()

@@ -50,15 +50,25 @@ fn check(csv: &str, name: &str, pinned: &[(usize, f64, f64)]) -> confset::scenar
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     let d = s.data.as_ref().unwrap();
     assert_eq!(d.y.len(), 100, "{name}: every row kept");
-    assert_eq!(d.t.len(), 100, "{name}: the year column is the record's time");
+    assert_eq!(
+        d.t.len(),
+        100,
+        "{name}: the year column is the record's time"
+    );
     let r = s.run().unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(r.steps.len(), 100, "{name}: one step per row");
     assert_eq!(r.figure.time_label(20), Some("1890"));
     for &(t, mean, var) in pinned {
         let kf = &r.steps[t - 1].kf;
         let (m, p) = (kf.center[0], kf.cov[0][0]);
-        assert!((m - mean).abs() <= 1e-9 * mean.abs(), "{name} t = {t}: mean {m} vs statsmodels {mean}");
-        assert!((p - var).abs() <= 1e-9 * var, "{name} t = {t}: variance {p} vs statsmodels {var}");
+        assert!(
+            (m - mean).abs() <= 1e-9 * mean.abs(),
+            "{name} t = {t}: mean {m} vs statsmodels {mean}"
+        );
+        assert!(
+            (p - var).abs() <= 1e-9 * var,
+            "{name} t = {t}: variance {p} vs statsmodels {var}"
+        );
     }
     r
 }
@@ -79,7 +89,11 @@ fn the_nile_with_its_missing_stretches_equals_statsmodels() {
         let vars: Vec<f64> = stretch.map(|t| r.steps[t - 1].kf.cov[0][0]).collect();
         assert!(vars.windows(2).all(|w| w[1] > w[0]), "{vars:?}");
     }
-    assert!(r.warnings.iter().any(|w| w.contains("gap")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().any(|w| w.contains("gap")),
+        "{:?}",
+        r.warnings
+    );
     // The CSV table reads out the years.
     let csv = r.table().unwrap().to_csv();
     assert!(csv.lines().any(|l| l.starts_with("21,1891,")), "{csv}");

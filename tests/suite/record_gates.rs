@@ -41,7 +41,9 @@ fn every_method_reads_out_the_records_own_time() {
             continue;
         };
         let rows = s.data.as_ref().unwrap().y.len();
-        let r: Report = s.run().unwrap_or_else(|e| panic!("{name} ({m}) with times: {e}"));
+        let r: Report = s
+            .run()
+            .unwrap_or_else(|e| panic!("{name} ({m}) with times: {e}"));
         assert_eq!(r.figure.times.len(), rows, "{name} ({m}): figure.times");
         assert_eq!(r.figure.time_label(1), Some("1871"), "{name} ({m})");
         let csv = r.table().unwrap().to_csv();
@@ -131,7 +133,10 @@ fn record_times_are_checked() {
     };
     let e = with(vec![RecordTime::Number(1.0)]).unwrap_err();
     assert_eq!(e.field, "data.t", "{e}");
-    assert!(e.message.contains(&format!("1 time for {rows} rows")), "{e}");
+    assert!(
+        e.message.contains(&format!("1 time for {rows} rows")),
+        "{e}"
+    );
     let mut t: Vec<RecordTime> = (0..rows).map(|k| RecordTime::Number(k as f64)).collect();
     t[5] = RecordTime::Number(3.0);
     let e = with(t).unwrap_err();
@@ -171,7 +176,10 @@ fn the_readme_gap_table_is_the_descriptors() {
         let row = section
             .lines()
             .map(str::trim)
-            .find(|l| l.starts_with(&format!("| {} | takes it", m.name())) || l.starts_with(&format!("| {} | refuses", m.name())))
+            .find(|l| {
+                l.starts_with(&format!("| {} | takes it", m.name()))
+                    || l.starts_with(&format!("| {} | refuses", m.name()))
+            })
             .unwrap_or_else(|| panic!("README's gap table has no row for {m}"));
         let takes = row.starts_with(&format!("| {} | takes it", m.name()));
         assert_eq!(

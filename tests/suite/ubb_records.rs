@@ -107,7 +107,10 @@ fn boxes(y: &[Vec<f64>], k: usize, i: usize) -> ([f64; 2], [f64; 2]) {
             let e = EPS * grow(k - t);
             lo = lo.max((v - e) / H[i]);
             hi = hi.min((v + e) / H[i]);
-            assert!(lo <= hi + 1e-12, "the data contradict the bounds at t = {t}");
+            assert!(
+                lo <= hi + 1e-12,
+                "the data contradict the bounds at t = {t}"
+            );
         }
         if t == k {
             filtered = [lo, hi];
@@ -215,14 +218,26 @@ fn gaps_drop_their_strips_and_only_widen_the_sets() {
         assert_eq!(g.k, f.k);
         let (gf, ff) = (g.filtered.as_ref().unwrap(), f.filtered.as_ref().unwrap());
         for i in 0..2 {
-            assert!(g.lo[i] <= f.lo[i] + 1e-12 && g.hi[i] >= f.hi[i] - 1e-12, "k = {}", g.k);
-            assert!(gf.lo[i] <= ff.lo[i] + 1e-12 && gf.hi[i] >= ff.hi[i] - 1e-12, "k = {}", g.k);
+            assert!(
+                g.lo[i] <= f.lo[i] + 1e-12 && g.hi[i] >= f.hi[i] - 1e-12,
+                "k = {}",
+                g.k
+            );
+            assert!(
+                gf.lo[i] <= ff.lo[i] + 1e-12 && gf.hi[i] >= ff.hi[i] - 1e-12,
+                "k = {}",
+                g.k
+            );
         }
         if whole.contains(&g.k) && width(&gf.lo, &gf.hi) > width(&ff.lo, &ff.hi) + 1e-9 {
             wider_at_gaps += 1;
         }
     }
-    assert_eq!(wider_at_gaps, whole.len(), "a whole-row gap widens the filtered box");
+    assert_eq!(
+        wider_at_gaps,
+        whole.len(),
+        "a whole-row gap widens the filtered box"
+    );
     // The exact polygons of a gap step (the time cursor's detail): the full record's inside.
     let mut cursor = Scenario::from_json(&gapped.to_string())
         .unwrap()
@@ -246,7 +261,10 @@ fn gaps_drop_their_strips_and_only_widen_the_sets() {
             };
             let (outer, inner) = (poly(&g), poly(&f));
             for v in &inner {
-                assert!(inside(&outer, *v, 1e-9), "k = {k} {path:?}: {v:?} outside {outer:?}");
+                assert!(
+                    inside(&outer, *v, 1e-9),
+                    "k = {k} {path:?}: {v:?} outside {outer:?}"
+                );
             }
         }
     }
@@ -288,7 +306,16 @@ fn inside(poly: &[[f64; 2]], p: [f64; 2], tol: f64) -> bool {
 /// x(k+1) = a x(k) + g u(k), y(k) = h x(k) + η(k): its sets by hand, all the data in the
 /// window and no smoothing: from [c − δ, c + δ], clip by |y − h x| ≤ ε (none at a gap), keep
 /// the filtered interval, map by a (the ends swap for a < 0), add [−|g|τ, |g|τ].
-fn scalar_intervals(y: &[f64], a: f64, g: f64, h: f64, eps: f64, tau: f64, c: f64, delta: f64) -> Vec<([f64; 2], [f64; 2])> {
+fn scalar_intervals(
+    y: &[f64],
+    a: f64,
+    g: f64,
+    h: f64,
+    eps: f64,
+    tau: f64,
+    c: f64,
+    delta: f64,
+) -> Vec<([f64; 2], [f64; 2])> {
     let (mut lo, mut hi) = (c - delta, c + delta);
     let mut out = Vec::new();
     for &v in y {
@@ -333,12 +360,20 @@ fn one_state_is_an_interval_recursion() {
         ] {
             assert_close(got, want, 1e-12, &format!("k = {}: {what}", st.k));
         }
-        assert_eq!((st.inside, f.inside), (Some(true), Some(true)), "k = {}", st.k);
+        assert_eq!(
+            (st.inside, f.inside),
+            (Some(true), Some(true)),
+            "k = {}",
+            st.k
+        );
     }
     // The detail's "polygon" is the interval on the diagonal of the plane (x₁, x₁), its
     // Kalman comparison the 1-D interval.
     let at = &u.at;
-    assert_eq!(at.polygon.vertices, vec![[at.lo[0], at.lo[0]], [at.hi[0], at.hi[0]]]);
+    assert_eq!(
+        at.polygon.vertices,
+        vec![[at.lo[0], at.lo[0]], [at.hi[0], at.hi[0]]]
+    );
     assert_eq!(at.kf.dim(), 1);
 
     // With gaps (the same recursion without their strips), and on the LP path (l2 bounds on
@@ -360,8 +395,12 @@ fn one_state_is_an_interval_recursion() {
         let r = run(&v).unwrap();
         for panel in ["ubbset", "ubbwidth"] {
             let view = View::new(Panel::from_name(panel).unwrap());
-            let svg = report_svg(&r, &view, 640, 480).unwrap_or_else(|e| panic!("{panel}, {set}: {e}"));
-            assert!(svg.contains("<svg") && svg.contains("one state") == (panel == "ubbset"), "{panel}");
+            let svg =
+                report_svg(&r, &view, 640, 480).unwrap_or_else(|e| panic!("{panel}, {set}: {e}"));
+            assert!(
+                svg.contains("<svg") && svg.contains("one state") == (panel == "ubbset"),
+                "{panel}"
+            );
         }
         let explained = Scenario::from_json(&v.to_string())
             .unwrap()
@@ -379,7 +418,8 @@ fn one_state_never_asks_for_two_components() {
     let e = run(&v).expect_err("no second component");
     assert_eq!(e.field, "ubb.plane");
     assert!(
-        !e.message.contains("must name two different state components")
+        !e.message
+            .contains("must name two different state components")
             && e.message.contains("one component (r = 1)")
             && e.message.contains("an interval"),
         "{e}"
@@ -456,12 +496,25 @@ fn the_filtered_set_is_the_clipped_prediction_and_maps_onto_the_next() {
             for i in 0..DIRECTIONS {
                 let d = direction(i);
                 // X(k+1 | k) = A X(k | k) + B[−τ, τ]: h(d) = h_filtered(Aᵀd) + τ|Bᵀd|.
-                let at_d = [a[0][0] * d[0] + a[1][0] * d[1], a[0][1] * d[0] + a[1][1] * d[1]];
+                let at_d = [
+                    a[0][0] * d[0] + a[1][0] * d[1],
+                    a[0][1] * d[0] + a[1][1] * d[1],
+                ];
                 let mapped = support(&filtered, at_d) + tau * (b[0] * d[0] + b[1] * d[1]).abs();
-                assert_close(support(&predicted, d), mapped, 1e-9 * scale, &format!("k = {k}, map, d = {d:?}"));
+                assert_close(
+                    support(&predicted, d),
+                    mapped,
+                    1e-9 * scale,
+                    &format!("k = {k}, map, d = {d:?}"),
+                );
                 if clipped {
                     let clip = clip_x1(&polygon(&before["polygon"]), y[k] - eps, y[k] + eps);
-                    assert_close(support(&filtered, d), support(&clip, d), 1e-9 * scale, &format!("k = {k}, clip, d = {d:?}"));
+                    assert_close(
+                        support(&filtered, d),
+                        support(&clip, d),
+                        1e-9 * scale,
+                        &format!("k = {k}, clip, d = {d:?}"),
+                    );
                     // ⊆ beside =: no vertex of the filtered set outside the clipped prediction.
                     for v in &filtered {
                         assert!(inside(&clip, *v, 1e-9), "k = {k}: {v:?}");
@@ -479,7 +532,13 @@ fn the_filtered_set_is_the_clipped_prediction_and_maps_onto_the_next() {
     }
     // The table carries both sets, the figures draw the one `ubb.set` chooses.
     let table = run(&sliding).unwrap().table().unwrap();
-    for c in ["lo_1", "filtered_lo_1", "filtered_radius", "filtered_x_2", "filtered_holds"] {
+    for c in [
+        "lo_1",
+        "filtered_lo_1",
+        "filtered_radius",
+        "filtered_x_2",
+        "filtered_holds",
+    ] {
         assert!(table.columns.iter().any(|x| x == c), "{c}");
     }
     let mut v = sliding.clone();
@@ -487,9 +546,21 @@ fn the_filtered_set_is_the_clipped_prediction_and_maps_onto_the_next() {
     let r = run(&v).unwrap();
     // At the page's desktop size: Firefox measures text wider than Chromium (crate docs), and
     // the width panel's stacked charts under a filtered title leave 105 px at 640 × 480 there.
-    let svg = report_svg(&r, &View::new(Panel::from_name("ubbset").unwrap()), 960, 720).unwrap();
+    let svg = report_svg(
+        &r,
+        &View::new(Panel::from_name("ubbset").unwrap()),
+        960,
+        720,
+    )
+    .unwrap();
     assert!(svg.contains("Filtered set at k = 40") && svg.contains("x(40)"));
-    let svg = report_svg(&r, &View::new(Panel::from_name("ubbwidth").unwrap()), 960, 720).unwrap();
+    let svg = report_svg(
+        &r,
+        &View::new(Panel::from_name("ubbwidth").unwrap()),
+        960,
+        720,
+    )
+    .unwrap();
     assert!(svg.contains("filtered set of x(k)"));
 }
 in_browser!(the_filtered_set_is_the_clipped_prediction_and_maps_onto_the_next);
@@ -508,15 +579,29 @@ fn long_records_run_within_the_budget_and_huge_ones_are_refused() {
     // 1000 steps are within the budget (they take about half a second natively).
     v["simulate"]["steps"] = json!(1000);
     let s = Scenario::from_json(&v.to_string()).unwrap();
-    s.work(Job::Report).check(Job::Report).expect("1000 steps fit the budget");
+    s.work(Job::Report)
+        .check(Job::Report)
+        .expect("1000 steps fit the budget");
     // 10⁶ steps: refused by the budget before any work, naming the steps and the formula.
     v["simulate"]["steps"] = json!(1_000_000);
     let s = Scenario::from_json(&v.to_string()).unwrap();
-    let refusal = s.work(Job::Report).check(Job::Report).expect_err("refused by the budget");
+    let refusal = s
+        .work(Job::Report)
+        .check(Job::Report)
+        .expect_err("refused by the budget");
     let e = s.run().expect_err("refused");
-    assert_eq!(e, refusal, "the run is refused by the estimate, before any work");
+    assert_eq!(
+        e, refusal,
+        "the run is refused by the estimate, before any work"
+    );
     assert_eq!(e.field, "simulate.steps");
-    for words in ["= 1000000 with a window of 30", "steps²", "operations", "limited to about", "fewer steps"] {
+    for words in [
+        "= 1000000 with a window of 30",
+        "steps²",
+        "operations",
+        "limited to about",
+        "fewer steps",
+    ] {
         assert!(e.message.contains(words), "{words:?} in {e}");
     }
     // The time cursor of such a scenario is refused the same way.
@@ -623,7 +708,10 @@ fn the_kalman_comparison_states_its_assumption() {
     let mut at_bound = r.clone();
     at_bound["ubb"]["noise"] = json!("bound");
     let words = run(&at_bound).unwrap().warnings.join(" ");
-    assert!(words.contains("noise at ± the bound, bound²") && words.contains("Var η = 0.2² = 0.04"), "{words}");
+    assert!(
+        words.contains("noise at ± the bound, bound²") && words.contains("Var η = 0.2² = 0.04"),
+        "{words}"
+    );
     // The CSV table carries it above its header.
     let table = run(&r).unwrap().table().unwrap();
     assert!(table.warnings.iter().any(|w| w.contains("bound²/3")));
@@ -649,7 +737,10 @@ fn the_diffuse_kalman_prior_scales_with_the_data() {
             .collect()
     };
     assert_eq!(verdicts(ua), verdicts(ub));
-    assert_eq!((ua.kf_outside, ua.filtered_kf_outside), (ub.kf_outside, ub.filtered_kf_outside));
+    assert_eq!(
+        (ua.kf_outside, ua.filtered_kf_outside),
+        (ub.kf_outside, ub.filtered_kf_outside)
+    );
     for (s, t) in ua.track.iter().zip(&ub.track) {
         for i in 0..2 {
             assert_close(t.lo[i], 1e4 * s.lo[i], 1e-9, "scaled hull");

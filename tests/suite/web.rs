@@ -739,12 +739,20 @@ fn csv_data_is_read_as_the_core_reads_it() {
     // columns chosen, as the core reads it (gaps as null, the times read).
     let river = "year,flow,rain\n1871,1120,3\n1872,,4\n";
     let header: Value = serde_json::from_str(&csv_columns(river).expect("header")).expect("JSON");
-    assert_eq!(header, serde_json::json!({"columns": ["year", "flow", "rain"], "time": 0}));
-    let none: Value = serde_json::from_str(&csv_columns("1\n2\n").expect("no header")).expect("JSON");
+    assert_eq!(
+        header,
+        serde_json::json!({"columns": ["year", "flow", "rain"], "time": 0})
+    );
+    let none: Value =
+        serde_json::from_str(&csv_columns("1\n2\n").expect("no header")).expect("JSON");
     assert_eq!(none, serde_json::json!({"columns": [], "time": null}));
-    let (message, field) = thrown(with_csv_data(&scenario, river, "river.csv", None).expect_err("two candidates"));
+    let (message, field) =
+        thrown(with_csv_data(&scenario, river, "river.csv", None).expect_err("two candidates"));
     assert_eq!(field, "data");
-    assert!(message.ends_with("or the column picker (page)"), "{message}");
+    assert!(
+        message.ends_with("or the column picker (page)"),
+        "{message}"
+    );
     let got: Value = serde_json::from_str(
         &with_csv_data(&scenario, river, "river.csv", Some(vec!["rain".into()])).expect("chosen"),
     )
@@ -761,10 +769,14 @@ fn csv_data_is_read_as_the_core_reads_it() {
     .expect("JSON");
     assert_eq!(flow["data"]["y"], serde_json::json!([[1120.0], [null]]));
     let (message, field) = thrown(
-        with_csv_data(&scenario, river, "river.csv", Some(vec!["flux".into()])).expect_err("unknown"),
+        with_csv_data(&scenario, river, "river.csv", Some(vec!["flux".into()]))
+            .expect_err("unknown"),
     );
     assert_eq!(field, "columns");
-    assert!(message.contains("'flux' (for y1) is not a column of the header"), "{message}");
+    assert!(
+        message.contains("'flux' (for y1) is not a column of the header"),
+        "{message}"
+    );
 }
 in_browser!(csv_data_is_read_as_the_core_reads_it);
 

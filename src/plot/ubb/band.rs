@@ -26,8 +26,14 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let ks: Vec<f64> = steps.iter().map(|(k, _)| *k as f64).collect();
     let lo: Vec<f64> = steps.iter().map(|(_, h)| h.lo[0]).collect();
     let hi: Vec<f64> = steps.iter().map(|(_, h)| h.hi[0]).collect();
-    let centers: Vec<(f64, f64)> = steps.iter().map(|(k, h)| (*k as f64, h.center[0])).collect();
-    let kf_line: Vec<(f64, f64)> = steps.iter().map(|(k, h)| (*k as f64, h.kf_mean[0])).collect();
+    let centers: Vec<(f64, f64)> = steps
+        .iter()
+        .map(|(k, h)| (*k as f64, h.center[0]))
+        .collect();
+    let kf_line: Vec<(f64, f64)> = steps
+        .iter()
+        .map(|(k, h)| (*k as f64, h.kf_mean[0]))
+        .collect();
     let truth_line: Vec<(f64, f64)> = steps
         .iter()
         .filter_map(|(k, _)| chosen.truth(*k).map(|x| (*k as f64, x[0])))
@@ -46,7 +52,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     // The Kalman interval mean ± √(r²·P) at the detail's step (its χ²₁ level).
     let kf_interval = detail.as_ref().and_then(|d| {
         let half = (d.kf.radius2 * d.kf.cov.first()?.first()?).sqrt();
-        half.is_finite().then(|| (d.kf.center[0] - half, d.kf.center[0] + half))
+        half.is_finite()
+            .then(|| (d.kf.center[0] - half, d.kf.center[0] + half))
     });
     let linear = detail.as_ref().and_then(|d| {
         d.linear
@@ -76,7 +83,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let kf_interval = kf_interval.map(|(a, b)| (clip(a), clip(b)));
     ys.extend(kf_line.iter().map(|p| p.1));
     ys.extend(kf_interval.iter().flat_map(|i| [i.0, i.1]));
-    let x_range = if k1 > k0 { (k0, k1) } else { (k0 - 0.5, k0 + 0.5) };
+    let x_range = if k1 > k0 {
+        (k0, k1)
+    } else {
+        (k0 - 0.5, k0 + 0.5)
+    };
     let win = Win::time(x_range, ys.into_iter());
 
     let coefficients = u.state_names.first().is_some_and(|n| !n.starts_with('x'));
@@ -186,7 +197,8 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
     let mut marks = Vec::new();
     if !ks.is_empty() {
         style::band(root, &chart, &ks, &lo, &hi, &SET)?;
-        let edge = |v: &[f64]| -> Vec<(f64, f64)> { ks.iter().copied().zip(v.iter().copied()).collect() };
+        let edge =
+            |v: &[f64]| -> Vec<(f64, f64)> { ks.iter().copied().zip(v.iter().copied()).collect() };
         style::path(root, &chart, &edge(&lo), &SET, 1, None)?;
         style::path(root, &chart, &edge(&hi), &SET, 1, None)?;
         marks.extend(style::marks_of(&chart, &edge(&lo)));

@@ -538,7 +538,8 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
             fill: false,
         },
     ));
-    let at_k = style::RecordTimes::of(&report.figure, crate::scenario::TimeIndex::ZeroBased).at("k", k);
+    let at_k =
+        style::RecordTimes::of(&report.figure, crate::scenario::TimeIndex::ZeroBased).at("k", k);
     let what = if chosen.filtered {
         format!("Filtered set at {at_k}: {target}, {norm} bounds")
     } else {
@@ -588,7 +589,10 @@ pub fn draw_set<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Resul
     }
     if let (true, Some(polygon)) = (detail, polygon) {
         if !polygon.exact {
-            chart_notes.push(format!("polygon within gap {} of the set", sig(polygon.gap)));
+            chart_notes.push(format!(
+                "polygon within gap {} of the set",
+                sig(polygon.gap)
+            ));
         }
     }
     if kf_clipped {

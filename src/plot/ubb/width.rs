@@ -58,7 +58,11 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
 
     let mut notes = vec![format!(
         "interval hull of the {} of {}, {} bounds, window {} steps",
-        if chosen.filtered { "filtered set" } else { "feasible set" },
+        if chosen.filtered {
+            "filtered set"
+        } else {
+            "feasible set"
+        },
         chosen.state_symbol(),
         super::set::norm_name(u.norm),
         u.window
@@ -235,7 +239,10 @@ pub fn draw<DB: DrawingBackend>(root: &Area<DB>, request: &Request) -> Result<Fr
                     .iter()
                     .filter_map(|(k, _)| chosen.truth(*k).map(|v| (*k as f64, v[c])))
                     .collect(),
-                None => steps.iter().map(|(k, h)| (*k as f64, h.center[c])).collect(),
+                None => steps
+                    .iter()
+                    .map(|(k, h)| (*k as f64, h.center[c]))
+                    .collect(),
             };
             style::path(
                 root,
